@@ -1,0 +1,44 @@
+# nephele — thin wrapper around CMake/CTest (like Neovim's Makefile).
+#   make deps   install the Debian packages the project needs (idempotent)
+#   make        configure + build (Release with debug info, Ninja)
+#   make test   deps + build + the whole CTest suite (unit and GL tests on llvmpipe)
+#   make demo   deps + build + render the built-in sample storm
+#   make bench  deps + build + Google Benchmark suite, JSON/CSV into build/bench/
+BUILD_DIR  ?= build
+BUILD_TYPE ?= RelWithDebInfo
+CMAKE_ARGS ?=
+CTEST_ARGS ?=
+# Warnings are errors in CI (CI=true) and whenever NEPHELE_WERROR=ON is passed.
+ifeq ($(CI),true)
+  CMAKE_ARGS += -DNEPHELE_WERROR=ON
+endif
+
+.PHONY: all deps build test demo bench clean install
+all: build
+
+deps:
+	@bash tools/install-deps.sh
+
+$(BUILD_DIR)/build.ninja:
+	cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_ARGS)
+
+build: $(BUILD_DIR)/build.ninja
+	cmake --build $(BUILD_DIR)
+
+test: deps
+	$(MAKE) build
+	cd $(BUILD_DIR) && ctest --output-on-failure $(CTEST_ARGS)
+
+demo: deps
+	$(MAKE) build
+	@bash tools/demo.sh $(BUILD_DIR)
+
+bench: deps
+	$(MAKE) build
+	@bash tools/bench.sh $(BUILD_DIR)
+
+install: build
+	cmake --install $(BUILD_DIR)
+
+clean:
+	rm -rf $(BUILD_DIR)

@@ -1,0 +1,28 @@
+# nephele_warnings(<target>): the project's warning set; -Werror when NEPHELE_WERROR is ON.
+function(nephele_warnings target)
+  target_compile_options(${target} PRIVATE
+    $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+        -Wold-style-cast -Wcast-align -Woverloaded-virtual -Wconversion -Wno-sign-conversion
+        -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough>
+    $<$<COMPILE_LANG_AND_ID:C,GNU,Clang>:-Wall -Wextra -Wpedantic>
+    $<$<BOOL:${NEPHELE_WERROR}>:-Werror>)
+endfunction()
+
+# nephele_module(<name> SOURCES ... DEPS ...): one library target per module, nephele::<name>.
+function(nephele_module name)
+  cmake_parse_arguments(M "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(nephele_${name} ${M_SOURCES})
+  add_library(nephele::${name} ALIAS nephele_${name})
+  set_target_properties(nephele_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME nephele_${name})
+  target_include_directories(nephele_${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/nephele>)
+  target_link_libraries(nephele_${name} PUBLIC ${M_PUBLIC_DEPS} PRIVATE ${M_PRIVATE_DEPS})
+  target_compile_features(nephele_${name} PUBLIC cxx_std_20)
+  nephele_warnings(nephele_${name})
+  install(TARGETS nephele_${name} EXPORT nepheleTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/nephele/${name}
+          FILES_MATCHING PATTERN "*.h")
+endfunction()

@@ -1,0 +1,74 @@
+#pragma once
+// The contract between the model loaders (io/: WRF, ICON) and the optics (physics/).
+// A loader turns one timestep of one file into ModelTimestep: fields on the model's own
+// (terrain-following, non-uniform) levels, SI units, with the georeference of the horizontal grid.
+// Layout of every 3-D field: x fastest, then y, then level k (bottom to top):
+//   index(i, j, k) = (k * ny + j) * nx + i.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nph::io {
+
+/// Hydrometeor classes (Nes 2008 §2.2.3; WRF Q*, ICON q*).
+enum class Hydrometeor : std::uint8_t { Cloud, Rain, Ice, Snow, Graupel, Hail };
+inline constexpr std::array kAllHydrometeors = {Hydrometeor::Cloud, Hydrometeor::Rain,
+                                                Hydrometeor::Ice,   Hydrometeor::Snow,
+                                                Hydrometeor::Graupel, Hydrometeor::Hail};
+
+/// Which model produced the file; decides how mixing ratios are to be read (see below).
+enum class ModelKind : std::uint8_t { Wrf, Icon };
+
+/// Horizontal georeference of the native grid.
+struct Georeference {
+  /// PROJ definition of the map projection ("+proj=lcc ... +R=6370000"); empty for Cartesian
+  /// (idealized) runs without geolocation.
+  std::string proj_definition;
+  double dx_m = 0.0;  ///< grid spacing in projected metres (or degrees for lat-lon grids, see below)
+  double dy_m = 0.0;
+  /// Projected coordinates of the centre of mass point (0, 0) in the units of proj_definition.
+  double x0 = 0.0;
+  double y0 = 0.0;
+  /// true when x/y are longitude/latitude in degrees (regular lat-lon and rotated-pole grids).
+  bool geographic = false;
+  /// Geolocation of mass points from the file (XLAT/XLONG, lat/lon), nx*ny each, may be empty.
+  std::vector<float> lat_deg;
+  std::vector<float> lon_deg;
+};
+
+/// One timestep of model output on model levels.
+struct ModelTimestep {
+  std::string source_file;   ///< path of the file this timestep came from
+  std::int64_t time_index = 0;  ///< index of the timestep inside source_file
+  std::string time_utc;      ///< ISO 8601, e.g. "2026-09-01T12:00:00Z"
+  ModelKind model = ModelKind::Wrf;
+  int nx = 0, ny = 0, nz = 0;  ///< mass points
+
+  /// Mixing ratios [kg/kg] per class present in the file. WRF: per kg of dry air.
+  /// ICON: specific contents, per kg of moist air. Absent classes are absent from the map.
+  std::map<Hydrometeor, std::vector<float>> q_kg_per_kg;
+  /// Number concentrations [1/kg] where a two-moment scheme wrote them (WRF QN*).
+  std::map<Hydrometeor, std::vector<float>> number_per_kg;
+  std::vector<float> water_vapour_kg_per_kg;  ///< QVAPOR (dry mixing ratio) or qv (specific)
+  std::vector<float> pressure_pa;             ///< full pressure (WRF P+PB)
+  std::vector<float> temperature_k;           ///< air temperature (WRF: from θ and Exner)
+  std::vector<float> height_m;                ///< mass-level height above mean sea level
+  std::vector<float> terrain_height_m;        ///< nx*ny surface height above MSL
+  std::vector<float> cloud_cover_fraction;    ///< ICON clc / 100, may be empty
+
+  /// WRF MP_PHYSICS option (e.g. 3 = WSM3: no separate ice, frozen condensate lives in
+  /// QCLOUD/QRAIN below 0 °C). -1 when unknown or not WRF.
+  int microphysics_scheme = -1;
+
+  Georeference georef;
+
+  std::size_t voxelCount() const { return std::size_t(nx) * std::size_t(ny) * std::size_t(nz); }
+  std::size_t index(int i, int j, int k) const {
+    return (std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i);
+  }
+};
+
+}  // namespace nph::io
