@@ -1,0 +1,139 @@
+// nephele-gen: writes the synthetic sample data sets (WRF hurricane, ICON scene) deterministically
+// from a seed. Run `nephele-gen --help` or `nephele-gen <command> --help`.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "core/error.h"
+#include "presets.h"
+
+namespace {
+
+using nph::datagen::SampleSize;
+
+const std::map<std::string, SampleSize> kSizes = {{"tiny", SampleSize::Tiny}, {"realistic", SampleSize::Realistic}};
+const std::map<std::string, nph::datagen::WrfProjection> kProjections = {
+    {"lambert", nph::datagen::WrfProjection::Lambert},
+    {"polar", nph::datagen::WrfProjection::PolarStereographic},
+    {"mercator", nph::datagen::WrfProjection::Mercator},
+    {"latlon", nph::datagen::WrfProjection::LatLon},
+    {"rotated", nph::datagen::WrfProjection::RotatedLatLon},
+    {"cartesian", nph::datagen::WrfProjection::Cartesian}};
+const std::map<std::string, nph::datagen::WrfScheme> kSchemes = {
+    {"thompson", nph::datagen::WrfScheme::ThompsonLike}, {"wsm3", nph::datagen::WrfScheme::Wsm3Like}};
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "nephele-gen: synthetic weather-model output for nephele, convention-exact NetCDF through "
+      "NetCDF-C, deterministic from --seed.\n"
+      "  wrf   idealized hurricane as a WRF ARW wrfout file (Lambert/Mercator/..., Thompson-like or WSM3-like)\n"
+      "  icon  ICON cloud scene (stratus, cumulus, cirrus) on a regular lat-lon or native triangular grid\n"
+      "  all   the standard set of files into a directory\n"
+      "Sizes: tiny (40x36x20, for tests) or realistic (500x500x60, for benchmarks; ~1.5 GB for wrf)."};
+  app.require_subcommand(1);
+
+  std::string size_name = "tiny";
+  std::uint64_t seed = 1;
+  bool compress = false;
+
+  auto add_common = [&](CLI::App* sub) {
+    sub->add_option("--size", size_name, "tiny | realistic")->check(CLI::IsMember({"tiny", "realistic"}));
+    sub->add_option("--seed", seed, "random seed; same seed, same bytes");
+    sub->add_flag("--compress", compress, "write NetCDF-4 with shuffle + deflate (default for realistic)");
+  };
+
+  CLI::App* wrf = app.add_subcommand("wrf", "idealized hurricane as wrfout");
+  std::string wrf_out = "wrfout_d01_2026-09-01_12:00:00";
+  std::string proj_name = "lambert", scheme_name = "thompson";
+  int times = 6, start_hour = 0;
+  bool hail = false;
+  add_common(wrf);
+  wrf->add_option("-o,--output", wrf_out, "output file");
+  wrf->add_option("--proj", proj_name, "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | cartesian (0, no XLAT/XLONG)")
+      ->check(CLI::IsMember({"lambert", "polar", "mercator", "latlon", "rotated", "cartesian"}));
+  wrf->add_option("--scheme", scheme_name, "thompson (MP_PHYSICS=8, separate ice, number concentrations) | wsm3 (MP_PHYSICS=3, only QCLOUD/QRAIN)")
+      ->check(CLI::IsMember({"thompson", "wsm3"}));
+  wrf->add_option("--times", times, "hourly timesteps in the file (>= 1)")->check(CLI::PositiveNumber);
+  wrf->add_option("--start-hour", start_hour, "hours after 2026-09-01_12:00:00 of the first timestep (for file series)");
+  wrf->add_flag("--hail", hail, "add QHAIL/QNHAIL");
+
+  CLI::App* icon = app.add_subcommand("icon", "ICON cloud scene");
+  std::string icon_out = "icon_scene.nc";
+  bool native = false, descending = false;
+  int icon_times = 2;
+  add_common(icon);
+  icon->add_option("-o,--output", icon_out, "output file");
+  icon->add_flag("--native", native, "native triangular grid (ncells, clon/clat in radians) instead of regular lat-lon");
+  icon->add_flag("--lat-descending", descending, "write latitudes north to south");
+  icon->add_option("--times", icon_times, "hourly timesteps (>= 1)")->check(CLI::PositiveNumber);
+
+  CLI::App* all = app.add_subcommand("all", "standard set: wrf lambert/mercator x thompson/wsm3, icon regular + native");
+  std::string dir = "sample-data";
+  add_common(all);
+  all->add_option("-d,--dir", dir, "output directory");
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const SampleSize size = kSizes.at(size_name);
+    const auto format = [&](nph::datagen::NcFormat preset) {
+      return compress ? nph::datagen::NcFormat::Netcdf4Deflate : preset;
+    };
+    auto write_wrf = [&](const std::string& path, nph::datagen::WrfProjection p, nph::datagen::WrfScheme s) {
+      auto spec = nph::datagen::wrfPreset(size);
+      spec.projection = p;
+      spec.scheme = s;
+      spec.seed = seed;
+      spec.ntimes = times;
+      spec.first_hour = start_hour;
+      spec.include_hail = hail;
+      spec.format = format(spec.format);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto truth = nph::datagen::writeWrfHurricane(spec, path);
+      fmt::print("{}: wrfout {}x{}x{} x {} times, MAP_PROJ={}, MP_PHYSICS={}, {:.2f} s\n", path, truth.nx,
+                 truth.ny, truth.nz, truth.ntimes, truth.map_proj, truth.mp_physics, secondsSince(t0));
+    };
+    auto write_icon = [&](const std::string& path, bool nat) {
+      auto spec = nph::datagen::iconPreset(size, nat);
+      spec.seed = seed;
+      spec.ntimes = icon_times;
+      spec.lat_descending = descending;
+      spec.format = format(spec.format);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto truth = nph::datagen::writeIconScene(spec, path);
+      fmt::print("{}: ICON {} {}x{}x{} x {} times, {} cells with CLC=0 & QC+QI>0, {} with CLC>0 & QC+QI=0, {:.2f} s\n",
+                 path, nat ? fmt::format("native ({} cells)", truth.ncells) : std::string("regular"), truth.nlon,
+                 truth.nlat, truth.nz, truth.ntimes, truth.clc_zero_with_condensate, truth.clc_without_condensate,
+                 secondsSince(t0));
+    };
+    if (wrf->parsed()) {
+      write_wrf(wrf_out, kProjections.at(proj_name), kSchemes.at(scheme_name));
+    } else if (icon->parsed()) {
+      write_icon(icon_out, native);
+    } else if (all->parsed()) {
+      std::filesystem::create_directories(dir);
+      using nph::datagen::WrfProjection;
+      using nph::datagen::WrfScheme;
+      write_wrf(dir + "/wrfout_lambert_thompson.nc", WrfProjection::Lambert, WrfScheme::ThompsonLike);
+      write_wrf(dir + "/wrfout_lambert_wsm3.nc", WrfProjection::Lambert, WrfScheme::Wsm3Like);
+      write_wrf(dir + "/wrfout_mercator_thompson.nc", WrfProjection::Mercator, WrfScheme::ThompsonLike);
+      write_wrf(dir + "/wrfout_mercator_wsm3.nc", WrfProjection::Mercator, WrfScheme::Wsm3Like);
+      write_icon(dir + "/icon_regular.nc", false);
+      write_icon(dir + "/icon_native.nc", true);
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "nephele-gen: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,636 @@
+#include "wrf_hurricane.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "atmosphere.h"
+#include "civil_time.h"
+#include "core/error.h"
+#include "geo_transform.h"
+
+namespace nph::datagen {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kRdOverCp = kWrfGasConstantDryAir_J_per_kgK / kWrfSpecificHeatDryAir_J_per_kgK;
+/// Ratio of the gas constants of dry air and water vapour (287.0 / 461.6), for q_s = eps e/(p - e).
+constexpr double kEpsilonRdOverRv = 0.622;
+
+// ---- storm geometry (kilometres, hours) ------------------------------------------------------
+constexpr double kRadiusMaxWind_km = 40.0;      ///< eyewall radius at the surface
+constexpr double kEyewallTilt_km_per_km = 2.5;  ///< outward slope of the eyewall with height
+constexpr double kEyeClearRadius_km = 14.0;
+constexpr double kCentralPressureDeficit_pa = 5000.0;
+constexpr double kMaxWind_m_per_s = 55.0;
+constexpr double kWarmCore_k = 8.0;
+constexpr double kStormMotionX_m_per_s = -4.0;  ///< north-westward drift
+constexpr double kStormMotionY_m_per_s = 3.0;
+constexpr double kBandRotation_rad_per_h = 0.35;
+constexpr double kSpiralPitch_rad = 18.0 * kPi / 180.0;
+constexpr int kSpiralArms = 2;
+
+// ---- particle sizes for the two-moment variant: N = q / (4/3 pi r^3 rho_p) ------------------
+struct ParticleClass {
+  const char* q_name;
+  const char* n_name;
+  const char* q_description;
+  const char* n_description;
+  double radius_m;
+  double density_kg_per_m3;
+};
+// Mean radii/densities typical of the Thompson scheme's assumptions (Thompson et al. 2008,
+// Mon. Wea. Rev. 136): cloud 10 µm water, rain 0.5 mm, ice 30 µm (rho 890), snow 0.5 mm with
+// bulk density 100 kg/m3, graupel 1 mm (rho 400), hail 2.5 mm (rho 900).
+constexpr ParticleClass kCloud{"QCLOUD", "QNCLOUD", "Cloud water mixing ratio",
+                               "cloud water Number concentration", 10e-6, 1000.0};
+constexpr ParticleClass kRain{"QRAIN", "QNRAIN", "Rain water mixing ratio", "Rain Number concentration",
+                              0.5e-3, 1000.0};
+constexpr ParticleClass kIce{"QICE", "QNICE", "Ice mixing ratio", "Ice Number concentration", 30e-6,
+                             890.0};
+constexpr ParticleClass kSnow{"QSNOW", "QNSNOW", "Snow mixing ratio", "Snow Number concentration",
+                              0.5e-3, 100.0};
+constexpr ParticleClass kGraupel{"QGRAUP", "QNGRAUPEL", "Graupel mixing ratio",
+                                 "Graupel Number concentration", 1.0e-3, 400.0};
+constexpr ParticleClass kHail{"QHAIL", "QNHAIL", "Hail mixing ratio", "Hail Number concentration",
+                              2.5e-3, 900.0};
+
+double smoothstep(double e0, double e1, double x) {
+  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+double gaussian(double x, double centre, double width) {
+  const double d = (x - centre) / width;
+  return std::exp(-d * d);
+}
+/// Smooth bump that is 1 between lo and hi and falls off over `edge` outside.
+double layer(double z, double lo, double hi, double edge) {
+  return smoothstep(lo - edge, lo, z) * (1.0 - smoothstep(hi, hi + edge, z));
+}
+
+struct ProjectionSetup {
+  int map_proj = 0;
+  std::string proj_definition;  // empty for Cartesian
+  bool geographic = false;
+  double truelat1 = 0.0, truelat2 = 0.0, stand_lon = 0.0, pole_lat = 90.0, pole_lon = 0.0;
+  std::string name;
+};
+
+constexpr double kCenLat_deg = 25.0;
+constexpr double kCenLon_deg = -75.0;
+
+ProjectionSetup projectionSetup(WrfProjection p) {
+  ProjectionSetup s;
+  const double r = kWrfEarthRadius_m;
+  // The generator deliberately uses a different but equivalent parameterisation from the loader
+  // (lat_0 = TRUELAT1 instead of MOAD_CEN_LAT, CF-style rotated pole), so that a test comparing
+  // the loader's georeference with XLAT/XLONG checks the loader rather than repeating it.
+  switch (p) {
+    case WrfProjection::Lambert:
+      s = {1, "", false, 20.0, 30.0, -77.0, 90.0, 0.0, "Lambert Conformal"};
+      s.proj_definition = fmt::format("+proj=lcc +lat_1=20 +lat_2=30 +lat_0=20 +lon_0=-77 +R={} +units=m +no_defs", r);
+      break;
+    case WrfProjection::PolarStereographic:
+      s = {2, "", false, 60.0, 0.0, -77.0, 90.0, 0.0, "Polar Stereographic"};
+      s.proj_definition = fmt::format("+proj=stere +lat_0=90 +lat_ts=60 +lon_0=-77 +R={} +units=m +no_defs", r);
+      break;
+    case WrfProjection::Mercator:
+      s = {3, "", false, 22.5, 0.0, -77.0, 90.0, 0.0, "Mercator"};
+      s.proj_definition = fmt::format("+proj=merc +lat_ts=22.5 +lon_0=-77 +R={} +units=m +no_defs", r);
+      break;
+    case WrfProjection::LatLon:
+      s = {6, "", true, 0.0, 0.0, 0.0, 90.0, 0.0, "Cylindrical Equidistant"};
+      s.proj_definition = fmt::format("+proj=longlat +R={} +no_defs", r);
+      break;
+    case WrfProjection::RotatedLatLon:
+      // WPS convention for a rotated grid centred on (lat0, lon0): POLE_LAT = 90 - lat0,
+      // POLE_LON = 180, STAND_LON = 180 - lon0. As CF grid_mapping: grid_north_pole_latitude =
+      // 90 - lat0, grid_north_pole_longitude = lon0 - 180, i.e. PROJ o_lat_p = 90 - lat0, lon_0 = lon0.
+      s = {6, "", true, 0.0, 0.0, 180.0 - kCenLon_deg, 90.0 - kCenLat_deg, 180.0, "Cylindrical Equidistant"};
+      s.proj_definition = fmt::format(
+          "+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p=0 +lon_0={} +R={} +no_defs",
+          90.0 - kCenLat_deg, kCenLon_deg, r);
+      break;
+    case WrfProjection::Cartesian:
+      s = {0, "", false, 0.0, 0.0, 0.0, 90.0, 0.0, "Cartesian"};
+      break;
+  }
+  return s;
+}
+
+/// Column state shared by all variables of one timestep.
+struct Grid {
+  int nx, ny, nz;
+  std::size_t n2() const { return std::size_t(nx) * std::size_t(ny); }
+  std::size_t n3() const { return n2() * std::size_t(nz); }
+  std::size_t at(int i, int j, int k) const {
+    return (std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i);
+  }
+};
+
+class Writer {
+ public:
+  Writer(const WrfHurricaneSpec& spec, const std::string& path)
+      : spec_(spec), nc_(path, spec.format), proj_(projectionSetup(spec.projection)),
+        noise_(spec.seed) {}
+
+  WrfTruth run();
+
+ private:
+  void defineFile();
+  int defField(const std::string& name, const std::vector<int>& dims, const std::string& memory_order,
+               const std::string& description, const std::string& units, const std::string& stagger);
+  void writeTimestep(int t);
+  void put3d(const std::string& name, int t, const std::vector<float>& data, int nz_var, int ny_var,
+             int nx_var);
+  void put2d(const std::string& name, int t, const std::vector<float>& data);
+
+  // Storm position of timestep t in metres from grid point (0, 0).
+  void stormCentre(int t, double& x_m, double& y_m) const;
+
+  const WrfHurricaneSpec& spec_;
+  NcWriter nc_;
+  ProjectionSetup proj_;
+  ValueNoise noise_;
+  Grid g_{0, 0, 0};
+  std::vector<double> znw_, znu_;
+  std::vector<double> terrain_m_;
+  std::vector<float> lat_, lon_;
+  std::map<std::string, int> var_;
+  WrfTruth truth_;
+  CivilTime start_{2026, 9, 1, 12, 0, 0};
+};
+
+void Writer::stormCentre(int t, double& x_m, double& y_m) const {
+  const double hours = spec_.first_hour + t;
+  const double lx = (g_.nx - 1) * spec_.dx_m, ly = (g_.ny - 1) * spec_.dx_m;
+  // Starts south-east of the domain centre and drifts north-west across it over 6 hours.
+  x_m = 0.5 * lx + (hours - 2.5) * 3600.0 * kStormMotionX_m_per_s;
+  y_m = 0.5 * ly + (hours - 2.5) * 3600.0 * kStormMotionY_m_per_s;
+}
+
+int Writer::defField(const std::string& name, const std::vector<int>& dims,
+                     const std::string& memory_order, const std::string& description,
+                     const std::string& units, const std::string& stagger) {
+  const int id = nc_.defVar(name, NC_FLOAT, dims);
+  nc_.attInt(id, "FieldType", 104);
+  nc_.attText(id, "MemoryOrder", memory_order);
+  nc_.attText(id, "description", description);
+  nc_.attText(id, "units", units);
+  nc_.attText(id, "stagger", stagger);
+  if (proj_.map_proj != 0 && dims.size() >= 3) nc_.attText(id, "coordinates", "XLONG XLAT XTIME");
+  var_[name] = id;
+  return id;
+}
+
+void Writer::defineFile() {
+  const int d_time = nc_.defDim("Time", 0);
+  const int d_str = nc_.defDim("DateStrLen", 19);
+  const int d_we = nc_.defDim("west_east", std::size_t(g_.nx));
+  const int d_sn = nc_.defDim("south_north", std::size_t(g_.ny));
+  const int d_bt = nc_.defDim("bottom_top", std::size_t(g_.nz));
+  const int d_bts = nc_.defDim("bottom_top_stag", std::size_t(g_.nz + 1));
+  const int d_wes = nc_.defDim("west_east_stag", std::size_t(g_.nx + 1));
+  const int d_sns = nc_.defDim("south_north_stag", std::size_t(g_.ny + 1));
+
+  const int id_times = nc_.defVar("Times", NC_CHAR, {d_time, d_str});
+  var_["Times"] = id_times;
+  const int id_xtime = nc_.defVar("XTIME", NC_FLOAT, {d_time});
+  nc_.attInt(id_xtime, "FieldType", 104);
+  nc_.attText(id_xtime, "MemoryOrder", "0  ");
+  nc_.attText(id_xtime, "description", "minutes since 2026-09-01 12:00:00");
+  nc_.attText(id_xtime, "units", "minutes since 2026-09-01 12:00:00");
+  nc_.attText(id_xtime, "stagger", "");
+  var_["XTIME"] = id_xtime;
+
+  if (proj_.map_proj != 0) {
+    defField("XLAT", {d_time, d_sn, d_we}, "XY ", "LATITUDE, SOUTH IS NEGATIVE", "degree_north", "");
+    defField("XLONG", {d_time, d_sn, d_we}, "XY ", "LONGITUDE, WEST IS NEGATIVE", "degree_east", "");
+  }
+  defField("ZNU", {d_time, d_bt}, "Z  ", "eta values on half (mass) levels", "", "");
+  defField("ZNW", {d_time, d_bts}, "Z  ", "eta values on full (w) levels", "", "Z");
+  defField("U", {d_time, d_bt, d_sn, d_wes}, "XYZ", "x-wind component", "m s-1", "X");
+  defField("V", {d_time, d_bt, d_sns, d_we}, "XYZ", "y-wind component", "m s-1", "Y");
+  defField("PH", {d_time, d_bts, d_sn, d_we}, "XYZ", "perturbation geopotential", "m2 s-2", "Z");
+  defField("PHB", {d_time, d_bts, d_sn, d_we}, "XYZ", "base-state geopotential", "m2 s-2", "Z");
+  defField("T", {d_time, d_bt, d_sn, d_we}, "XYZ", "perturbation potential temperature (theta-t0)", "K", "");
+  defField("P", {d_time, d_bt, d_sn, d_we}, "XYZ", "perturbation pressure", "Pa", "");
+  defField("PB", {d_time, d_bt, d_sn, d_we}, "XYZ", "BASE STATE PRESSURE", "Pa", "");
+  defField("P_TOP", {d_time}, "0  ", "PRESSURE TOP OF THE MODEL", "Pa", "");
+  defField("QVAPOR", {d_time, d_bt, d_sn, d_we}, "XYZ", "Water vapor mixing ratio", "kg kg-1", "");
+
+  const bool thompson = spec_.scheme == WrfScheme::ThompsonLike;
+  std::vector<const ParticleClass*> classes = {&kCloud, &kRain};
+  if (thompson) {
+    classes.insert(classes.end(), {&kIce, &kSnow, &kGraupel});
+    if (spec_.include_hail) classes.push_back(&kHail);
+  }
+  for (const ParticleClass* c : classes) {
+    defField(c->q_name, {d_time, d_bt, d_sn, d_we}, "XYZ", c->q_description, "kg kg-1", "");
+  }
+  if (thompson) {
+    for (const ParticleClass* c : classes) {
+      defField(c->n_name, {d_time, d_bt, d_sn, d_we}, "XYZ", c->n_description, "  kg-1", "");
+    }
+  }
+  defField("HGT", {d_time, d_sn, d_we}, "XY ", "Terrain Height", "m", "");
+
+  // ---- global attributes as WRF ARW v4 writes them -------------------------------------------
+  const int G = NC_GLOBAL;
+  nc_.attText(G, "TITLE", " OUTPUT FROM WRF V4.5.2 MODEL");
+  nc_.attText(G, "NEPHELE_SYNTHETIC",
+              fmt::format("idealized hurricane written by nephele-gen, seed {}", spec_.seed));
+  const std::string start = wrfTimeString(start_);
+  nc_.attText(G, "START_DATE", start);
+  nc_.attText(G, "SIMULATION_START_DATE", start);
+  nc_.attInt(G, "WEST-EAST_GRID_DIMENSION", g_.nx + 1);
+  nc_.attInt(G, "SOUTH-NORTH_GRID_DIMENSION", g_.ny + 1);
+  nc_.attInt(G, "BOTTOM-TOP_GRID_DIMENSION", g_.nz + 1);
+  nc_.attFloat(G, "DX", static_cast<float>(spec_.dx_m));
+  nc_.attFloat(G, "DY", static_cast<float>(spec_.dx_m));
+  nc_.attInt(G, "AERCU_OPT", 0);
+  nc_.attText(G, "GRIDTYPE", "C");
+  nc_.attInt(G, "DIFF_OPT", 1);
+  nc_.attInt(G, "KM_OPT", 4);
+  nc_.attInt(G, "DAMP_OPT", 3);
+  nc_.attFloat(G, "DAMPCOEF", 0.2f);
+  nc_.attInt(G, "MP_PHYSICS", thompson ? 8 : 3);
+  nc_.attInt(G, "RA_LW_PHYSICS", 4);
+  nc_.attInt(G, "RA_SW_PHYSICS", 4);
+  nc_.attInt(G, "SF_SFCLAY_PHYSICS", 1);
+  nc_.attInt(G, "SF_SURFACE_PHYSICS", 2);
+  nc_.attInt(G, "BL_PBL_PHYSICS", 1);
+  nc_.attInt(G, "CU_PHYSICS", 0);
+  nc_.attInt(G, "HYBRID_OPT", 0);
+  nc_.attFloat(G, "ETAC", 0.0f);
+  nc_.attInt(G, "WEST-EAST_PATCH_START_UNSTAG", 1);
+  nc_.attInt(G, "WEST-EAST_PATCH_END_UNSTAG", g_.nx);
+  nc_.attInt(G, "WEST-EAST_PATCH_START_STAG", 1);
+  nc_.attInt(G, "WEST-EAST_PATCH_END_STAG", g_.nx + 1);
+  nc_.attInt(G, "SOUTH-NORTH_PATCH_START_UNSTAG", 1);
+  nc_.attInt(G, "SOUTH-NORTH_PATCH_END_UNSTAG", g_.ny);
+  nc_.attInt(G, "SOUTH-NORTH_PATCH_START_STAG", 1);
+  nc_.attInt(G, "SOUTH-NORTH_PATCH_END_STAG", g_.ny + 1);
+  nc_.attInt(G, "BOTTOM-TOP_PATCH_START_UNSTAG", 1);
+  nc_.attInt(G, "BOTTOM-TOP_PATCH_END_UNSTAG", g_.nz);
+  nc_.attInt(G, "BOTTOM-TOP_PATCH_START_STAG", 1);
+  nc_.attInt(G, "BOTTOM-TOP_PATCH_END_STAG", g_.nz + 1);
+  nc_.attInt(G, "GRID_ID", 1);
+  nc_.attInt(G, "PARENT_ID", 0);
+  nc_.attInt(G, "I_PARENT_START", 1);
+  nc_.attInt(G, "J_PARENT_START", 1);
+  nc_.attInt(G, "PARENT_GRID_RATIO", 1);
+  nc_.attFloat(G, "DT", static_cast<float>(6.0 * spec_.dx_m / 1000.0));
+  const bool has_geo = proj_.map_proj != 0;
+  nc_.attFloat(G, "CEN_LAT", has_geo ? static_cast<float>(kCenLat_deg) : 0.0f);
+  nc_.attFloat(G, "CEN_LON", has_geo ? static_cast<float>(kCenLon_deg) : 0.0f);
+  nc_.attFloat(G, "TRUELAT1", static_cast<float>(proj_.truelat1));
+  nc_.attFloat(G, "TRUELAT2", static_cast<float>(proj_.truelat2));
+  nc_.attFloat(G, "MOAD_CEN_LAT", has_geo ? static_cast<float>(kCenLat_deg) : 0.0f);
+  nc_.attFloat(G, "STAND_LON", static_cast<float>(proj_.stand_lon));
+  nc_.attFloat(G, "POLE_LAT", static_cast<float>(proj_.pole_lat));
+  nc_.attFloat(G, "POLE_LON", static_cast<float>(proj_.pole_lon));
+  nc_.attFloat(G, "GMT", static_cast<float>(start_.hour));
+  nc_.attInt(G, "JULYR", start_.year);
+  nc_.attInt(G, "JULDAY", dayOfYear(start_));
+  nc_.attInt(G, "MAP_PROJ", proj_.map_proj);
+  nc_.attText(G, "MAP_PROJ_CHAR", proj_.name);
+  nc_.attText(G, "MMINLU", "MODIFIED_IGBP_MODIS_NOAH");
+  nc_.attInt(G, "NUM_LAND_CAT", 21);
+  nc_.attInt(G, "ISWATER", 17);
+  nc_.attInt(G, "ISLAKE", 21);
+  nc_.attInt(G, "ISICE", 15);
+  nc_.attInt(G, "ISURBAN", 13);
+  nc_.attInt(G, "ISOILWATER", 14);
+  nc_.endDef();
+}
+
+void Writer::put3d(const std::string& name, int t, const std::vector<float>& data, int nz_var,
+                   int ny_var, int nx_var) {
+  nc_.putFloat(var_.at(name), {std::size_t(t), 0, 0, 0},
+               {1, std::size_t(nz_var), std::size_t(ny_var), std::size_t(nx_var)}, data.data());
+}
+void Writer::put2d(const std::string& name, int t, const std::vector<float>& data) {
+  nc_.putFloat(var_.at(name), {std::size_t(t), 0, 0}, {1, std::size_t(g_.ny), std::size_t(g_.nx)},
+               data.data());
+}
+
+void Writer::writeTimestep(int t) {
+  const int nx = g_.nx, ny = g_.ny, nz = g_.nz;
+  const double dx = spec_.dx_m;
+  const double hours = spec_.first_hour + t;
+  double cx = 0.0, cy = 0.0;
+  stormCentre(t, cx, cy);
+  if (t == 0) {
+    truth_.storm_centre_x_m = cx;
+    truth_.storm_centre_y_m = cy;
+  }
+  const double intensity = 0.85 + 0.05 * hours;  // intensifying storm
+
+  const CivilTime now = addHours(start_, spec_.first_hour + t);
+  const std::string time_string = wrfTimeString(now);
+  truth_.times.push_back(time_string);
+  nc_.putText(var_.at("Times"), {std::size_t(t), 0}, {1, 19}, time_string.c_str());
+  const float xtime = static_cast<float>(60.0 * hours);
+  nc_.putFloat(var_.at("XTIME"), {std::size_t(t)}, {1}, &xtime);
+  const float ptop = static_cast<float>(kWrfModelTopPressure_pa);
+  nc_.putFloat(var_.at("P_TOP"), {std::size_t(t)}, {1}, &ptop);
+  {
+    std::vector<float> znu(znu_.begin(), znu_.end()), znw(znw_.begin(), znw_.end());
+    nc_.putFloat(var_.at("ZNU"), {std::size_t(t), 0}, {1, std::size_t(nz)}, znu.data());
+    nc_.putFloat(var_.at("ZNW"), {std::size_t(t), 0}, {1, std::size_t(nz + 1)}, znw.data());
+  }
+  if (proj_.map_proj != 0) {
+    put2d("XLAT", t, lat_);
+    put2d("XLONG", t, lon_);
+  }
+  {
+    std::vector<float> hgt(terrain_m_.begin(), terrain_m_.end());
+    put2d("HGT", t, hgt);
+  }
+
+  // ---- thermodynamic state column by column ---------------------------------------------------
+  const std::size_t n2 = g_.n2(), n3 = g_.n3();
+  const std::size_t n3w = n2 * std::size_t(nz + 1);
+  std::vector<float> ph(n3w), phb(n3w), p(n3), pb(n3), theta_pert(n3), qv(n3);
+  std::vector<float> z_mass(n3), t_mass(n3), r_km(n2), phi_rad(n2);
+  const double ptop_d = kWrfModelTopPressure_pa;
+  if (spec_.keep_truth) {
+    truth_.height_m.emplace_back(n3);
+    truth_.pressure_pa.emplace_back(n3);
+    truth_.temperature_k.emplace_back(n3);
+  }
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+      const double ddx = i * dx - cx, ddy = j * dx - cy;
+      const double r = std::hypot(ddx, ddy) / 1000.0;
+      r_km[c] = static_cast<float>(r);
+      phi_rad[c] = static_cast<float>(std::atan2(ddy, ddx));
+      // Holland-like surface pressure deficit: dp0 (1 - exp(-(R_mw/r)^1.5)).
+      const double rr = std::max(r, 1e-3);
+      const double dp = intensity * kCentralPressureDeficit_pa *
+                        (1.0 - std::exp(-std::pow(kRadiusMaxWind_km / rr, 1.5)));
+      const double hgt = terrain_m_[c];
+      const double ps_base = standardPressurePa(hgt);
+      const double ps = ps_base - dp;
+      // Dry hydrostatic eta coordinate (Skamarock et al. 2019, WRF ARW v4 tech note §2.1, with
+      // HYBRID_OPT = 0): p_d(eta) = eta (p_s - p_top) + p_top.
+      const double z_surface_full = standardHeightM(ps);
+      for (int k = 0; k <= nz; ++k) {
+        const double pw_base = znw_[std::size_t(k)] * (ps_base - ptop_d) + ptop_d;
+        const double pw = znw_[std::size_t(k)] * (ps - ptop_d) + ptop_d;
+        const double zb = k == 0 ? hgt : standardHeightM(pw_base);
+        // The perturbed column keeps its surface at the terrain: heights above it follow the
+        // standard atmosphere's hydrostatic thickness between the perturbed pressures.
+        const double z = k == 0 ? hgt : hgt + standardHeightM(pw) - z_surface_full;
+        const std::size_t w = std::size_t(k) * n2 + c;
+        phb[w] = static_cast<float>(kWrfGravity_m_per_s2 * zb);
+        ph[w] = static_cast<float>(kWrfGravity_m_per_s2 * z - double(phb[w]));
+      }
+      for (int k = 0; k < nz; ++k) {
+        const std::size_t m = std::size_t(k) * n2 + c;
+        const double eta = znu_[std::size_t(k)];
+        const double p_base = eta * (ps_base - ptop_d) + ptop_d;
+        const double p_full = eta * (ps - ptop_d) + ptop_d;
+        pb[m] = static_cast<float>(p_base);
+        p[m] = static_cast<float>(p_full - p_base);
+        // Heights of mass levels as a loader sees them: average of the staggered geopotentials.
+        const double z_lo = (double(ph[m]) + double(phb[m])) / kWrfGravity_m_per_s2;
+        const double z_hi = (double(ph[m + n2]) + double(phb[m + n2])) / kWrfGravity_m_per_s2;
+        const double z = 0.5 * (z_lo + z_hi);
+        // Warm core: +8 K at 9 km in the eye, decaying over the radius of maximum wind.
+        const double temp = standardTemperatureK(z) + intensity * kWarmCore_k *
+                                                          gaussian(r, 0.0, 1.5 * kRadiusMaxWind_km) *
+                                                          gaussian(z, 9000.0, 3500.0);
+        const double theta = temp * std::pow(kWrfReferencePressure_pa / p_full, kRdOverCp);
+        theta_pert[m] = static_cast<float>(theta - kWrfThetaOffset_k);
+        z_mass[m] = static_cast<float>(z);
+        t_mass[m] = static_cast<float>(temp);
+        // Relative humidity 90 % in the storm, 60 % outside, drying above 10 km.
+        const double rh = (0.6 + 0.3 * gaussian(r, 0.0, 300.0)) * (1.0 - 0.8 * smoothstep(8000.0, 14000.0, z));
+        const double e = rh * saturationVapourPressurePa(temp);
+        qv[m] = static_cast<float>(kEpsilonRdOverRv * e / std::max(p_full - e, 1.0));
+        if (spec_.keep_truth) {
+          truth_.height_m.back()[m] = z;
+          truth_.pressure_pa.back()[m] = double(pb[m]) + double(p[m]);
+          // The truth is the temperature a loader recovers from the stored float fields.
+          const double p_stored = double(pb[m]) + double(p[m]);
+          truth_.temperature_k.back()[m] =
+              (double(theta_pert[m]) + kWrfThetaOffset_k) * std::pow(p_stored / kWrfReferencePressure_pa, kRdOverCp);
+        }
+      }
+    }
+  }
+  put3d("PH", t, ph, nz + 1, ny, nx);
+  put3d("PHB", t, phb, nz + 1, ny, nx);
+  put3d("P", t, p, nz, ny, nx);
+  put3d("PB", t, pb, nz, ny, nx);
+  put3d("T", t, theta_pert, nz, ny, nx);
+  put3d("QVAPOR", t, qv, nz, ny, nx);
+  ph = {};
+  phb = {};
+
+  // ---- winds: Rankine-like tangential wind, cyclonic, decaying with height ---------------------
+  auto tangential = [&](double x_m, double y_m, double z_m, double& u, double& v) {
+    const double ddx = x_m - cx, ddy = y_m - cy;
+    const double r = std::max(std::hypot(ddx, ddy) / 1000.0, 1e-3);
+    const double vt = intensity * kMaxWind_m_per_s *
+                      (r < kRadiusMaxWind_km ? r / kRadiusMaxWind_km : std::pow(kRadiusMaxWind_km / r, 0.6)) *
+                      std::max(0.0, 1.0 - z_m / 16000.0);
+    const double phi = std::atan2(ddy, ddx);
+    u = -vt * std::sin(phi) + kStormMotionX_m_per_s;
+    v = vt * std::cos(phi) + kStormMotionY_m_per_s;
+  };
+  {
+    std::vector<float> u(std::size_t(nx + 1) * std::size_t(ny) * std::size_t(nz));
+    std::vector<float> v(std::size_t(nx) * std::size_t(ny + 1) * std::size_t(nz));
+    for (int k = 0; k < nz; ++k) {
+      for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i <= nx; ++i) {
+          const double z = z_mass[g_.at(std::min(i, nx - 1), j, k)];
+          double uu = 0, vv = 0;
+          tangential((i - 0.5) * dx, j * dx, z, uu, vv);
+          u[(std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx + 1) + std::size_t(i)] =
+              static_cast<float>(uu);
+        }
+      }
+      for (int j = 0; j <= ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+          const double z = z_mass[g_.at(i, std::min(j, ny - 1), k)];
+          double uu = 0, vv = 0;
+          tangential(i * dx, (j - 0.5) * dx, z, uu, vv);
+          v[(std::size_t(k) * std::size_t(ny + 1) + std::size_t(j)) * std::size_t(nx) + std::size_t(i)] =
+              static_cast<float>(vv);
+        }
+      }
+    }
+    put3d("U", t, u, nz, ny, nx + 1);
+    put3d("V", t, v, nz, ny + 1, nx);
+  }
+
+  // ---- hydrometeors ---------------------------------------------------------------------------
+  // Structural weights per mass point, from which every class is shaped.
+  std::vector<float> qc(n3), qr(n3), qi(n3), qs(n3), qg(n3), qh(n3);
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+        const std::size_t m = g_.at(i, j, k);
+        const double r = r_km[c], phi = phi_rad[c];
+        const double z = z_mass[m];  // m above MSL
+        const double zk = z / 1000.0;
+        const double temp = t_mass[m];
+        const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
+        const double n = noise_.fbm(x_km / 30.0, y_km / 30.0, 0.35 * hours + zk / 4.0, 3);
+        const double texture = 0.55 + 0.9 * n;
+
+        const double eye = smoothstep(kEyeClearRadius_km * 0.6, kEyeClearRadius_km * 1.4, r);
+        const double r_eyewall = kRadiusMaxWind_km + kEyewallTilt_km_per_km * zk;
+        const double eyewall = eye * gaussian(r, r_eyewall, 14.0) * (0.75 + 0.25 * std::cos(phi - 0.3 * hours));
+        // Logarithmic spiral rainbands: phase psi = phi - omega t - ln(r / R_mw) / tan(pitch).
+        const double psi = phi - kBandRotation_rad_per_h * hours -
+                           std::log(std::max(r, 1.0) / kRadiusMaxWind_km) / std::tan(kSpiralPitch_rad);
+        double arm = psi * kSpiralArms / (2.0 * kPi);
+        arm -= std::round(arm);
+        const double bands = gaussian(arm, 0.0, 0.13) * smoothstep(60.0, 95.0, r) * gaussian(r, 0.0, 380.0);
+        const double stratiform = 0.25 * smoothstep(50.0, 80.0, r) * gaussian(r, 0.0, 250.0);
+        const double convective = std::max(eyewall, 0.8 * bands * texture);
+
+        const bool warm = temp > kFreezingPoint_k;
+        const double freezing_mix = smoothstep(kFreezingPoint_k - 25.0, kFreezingPoint_k - 2.0, temp);  // 1 when warm
+        double q_cloud = 1.3e-3 * convective * layer(zk, 0.9, convective == eyewall ? 9.0 : 6.0, 0.6) * freezing_mix;
+        q_cloud += 2.5e-4 * (1.0 - eye) * gaussian(r, 0.0, 25.0) * layer(zk, 0.8, 1.6, 0.3);  // eye stratocumulus
+        double q_rain = (2.6e-3 * convective + 1.5e-4 * stratiform * texture) * layer(zk, -1.0, 4.3, 0.7);
+        if (!warm) q_rain *= 0.2;
+        const double q_graupel = 1.4e-3 * eyewall * texture * layer(zk, 4.5, 8.5, 1.0);
+        const double anvil = gaussian(r, 0.0, 320.0) * (0.65 + 0.35 * std::cos(phi + r / 90.0 - 0.2 * hours)) *
+                             layer(zk, 11.0, 13.8, 1.0) * texture;
+        const double q_ice = (3.0e-4 * eyewall * layer(zk, 7.0, 14.5, 1.0) + 1.6e-4 * anvil) * (warm ? 0.0 : 1.0);
+        const double q_snow = (7.0e-4 * convective * layer(zk, 5.5, 11.0, 1.0) + 2.0e-4 * stratiform * layer(zk, 5.0, 9.0, 1.0) +
+                               0.6e-4 * anvil) * (warm ? 0.0 : 1.0);
+        const double q_hail = spec_.include_hail ? 3.0e-4 * eyewall * eyewall * layer(zk, 3.0, 7.5, 1.0) : 0.0;
+
+        qc[m] = static_cast<float>(intensity * q_cloud);
+        qr[m] = static_cast<float>(intensity * q_rain);
+        qi[m] = static_cast<float>(intensity * q_ice);
+        qs[m] = static_cast<float>(intensity * q_snow);
+        qg[m] = static_cast<float>(intensity * q_graupel);
+        qh[m] = static_cast<float>(intensity * q_hail);
+      }
+    }
+  }
+  if (spec_.scheme == WrfScheme::Wsm3Like) {
+    // WSM3 (Hong et al. 2004) carries no separate ice: QCLOUD holds cloud ice and QRAIN holds
+    // snow (and everything precipitating) below 0 °C.
+    for (std::size_t m = 0; m < n3; ++m) {
+      qc[m] += qi[m];
+      qr[m] += qs[m] + qg[m] + qh[m];
+    }
+    put3d("QCLOUD", t, qc, nz, ny, nx);
+    put3d("QRAIN", t, qr, nz, ny, nx);
+    return;
+  }
+  struct Out {
+    const ParticleClass* cls;
+    const std::vector<float>* q;
+  };
+  std::vector<Out> outs = {{&kCloud, &qc}, {&kRain, &qr}, {&kIce, &qi}, {&kSnow, &qs}, {&kGraupel, &qg}};
+  if (spec_.include_hail) outs.push_back({&kHail, &qh});
+  std::vector<float> number(n3);
+  for (std::size_t o = 0; o < outs.size(); ++o) {
+    const Out& out = outs[o];
+    put3d(out.cls->q_name, t, *out.q, nz, ny, nx);
+    // N = q / m_p with m_p = 4/3 pi r^3 rho_p; the radius varies +-20 % with deterministic noise.
+    for (std::size_t m = 0; m < n3; ++m) {
+      const double q = (*out.q)[m];
+      if (q <= 0.0) {
+        number[m] = 0.0f;
+        continue;
+      }
+      const double jitter = 0.8 + 0.4 * noise_.hash(static_cast<std::int64_t>(m), static_cast<std::int64_t>(o), t);
+      const double radius = out.cls->radius_m * jitter;
+      const double particle_mass = 4.0 / 3.0 * kPi * radius * radius * radius * out.cls->density_kg_per_m3;
+      number[m] = static_cast<float>(q / particle_mass);
+    }
+    put3d(out.cls->n_name, t, number, nz, ny, nx);
+  }
+}
+
+WrfTruth Writer::run() {
+  g_ = Grid{spec_.nx, spec_.ny, spec_.nz};
+  truth_.nx = g_.nx;
+  truth_.ny = g_.ny;
+  truth_.nz = g_.nz;
+  truth_.ntimes = spec_.ntimes;
+  truth_.map_proj = proj_.map_proj;
+  truth_.mp_physics = spec_.scheme == WrfScheme::ThompsonLike ? 8 : 3;
+  truth_.generator_proj_definition = proj_.proj_definition;
+
+  // Eta levels, thinner near the ground: eta(s) = 1 - (0.55 s + 0.45 s^2), s = k / nz.
+  znw_.resize(std::size_t(g_.nz + 1));
+  for (int k = 0; k <= g_.nz; ++k) {
+    const double s = double(k) / g_.nz;
+    znw_[std::size_t(k)] = 1.0 - (0.55 * s + 0.45 * s * s);
+  }
+  znw_.back() = 0.0;
+  znu_.resize(std::size_t(g_.nz));
+  for (int k = 0; k < g_.nz; ++k) znu_[std::size_t(k)] = 0.5 * (znw_[std::size_t(k)] + znw_[std::size_t(k + 1)]);
+
+  // A small island with a 700 m peak west of the storm track.
+  terrain_m_.resize(g_.n2());
+  const double lx = (g_.nx - 1) * spec_.dx_m, ly = (g_.ny - 1) * spec_.dx_m;
+  for (int j = 0; j < g_.ny; ++j) {
+    for (int i = 0; i < g_.nx; ++i) {
+      const double x = i * spec_.dx_m - 0.25 * lx, y = j * spec_.dx_m - 0.65 * ly;
+      const double h = 700.0 * std::exp(-(x * x + 0.5 * y * y) / (45000.0 * 45000.0));
+      terrain_m_[std::size_t(j) * std::size_t(g_.nx) + std::size_t(i)] = h < 1.0 ? 0.0 : h;
+    }
+  }
+  truth_.terrain_m = terrain_m_;
+
+  // Geolocation of mass points: XLAT/XLONG computed with PROJ from the projection, the domain
+  // centre ((nx-1)/2, (ny-1)/2) at (CEN_LAT, CEN_LON) as in WRF d01 domains.
+  if (proj_.map_proj != 0) {
+    const GeoTransform geo(proj_.proj_definition, kWrfEarthRadius_m);
+    double xc = 0, yc = 0;
+    geo.forward(kCenLon_deg, kCenLat_deg, xc, yc);
+    const double step = proj_.geographic ? spec_.dx_m / (kWrfEarthRadius_m * kPi / 180.0) : spec_.dx_m;
+    lat_.resize(g_.n2());
+    lon_.resize(g_.n2());
+    truth_.lat_deg.resize(g_.n2());
+    truth_.lon_deg.resize(g_.n2());
+    for (int j = 0; j < g_.ny; ++j) {
+      for (int i = 0; i < g_.nx; ++i) {
+        const std::size_t c = std::size_t(j) * std::size_t(g_.nx) + std::size_t(i);
+        double lon = 0, lat = 0;
+        geo.inverse(xc + (i - 0.5 * (g_.nx - 1)) * step, yc + (j - 0.5 * (g_.ny - 1)) * step, lon, lat);
+        truth_.lat_deg[c] = lat;
+        truth_.lon_deg[c] = lon;
+        lat_[c] = static_cast<float>(lat);
+        lon_[c] = static_cast<float>(lon);
+      }
+    }
+  }
+
+  defineFile();
+  for (int t = 0; t < spec_.ntimes; ++t) writeTimestep(t);
+  nc_.close();
+  return truth_;
+}
+
+}  // namespace
+
+WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path) {
+  if (spec.nx < 1 || spec.ny < 1 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dx_m > 0.0)) {
+    throw UsageError(fmt::format("{}: hurricane grid must have nx, ny, nz, ntimes >= 1 and dx > 0", path));
+  }
+  Writer writer(spec, path);
+  return writer.run();
+}
+
+}  // namespace nph::datagen

@@ -1,0 +1,67 @@
+#pragma once
+// Idealized hurricane written as a convention-exact WRF ARW `wrfout` file through NetCDF-C.
+// A vortex with a clear eye, an outward-tilted eyewall, two logarithmic spiral rainbands and an
+// anvil of ice outflow aloft, drifting north-west and intensifying over hourly timesteps, on
+// terrain-following dry-hydrostatic eta levels over a small island, in the standard atmosphere.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nc_writer.h"
+
+namespace nph::datagen {
+
+enum class WrfProjection {
+  Lambert,             ///< MAP_PROJ = 1
+  PolarStereographic,  ///< MAP_PROJ = 2
+  Mercator,            ///< MAP_PROJ = 3
+  LatLon,              ///< MAP_PROJ = 6, unrotated (POLE_LAT = 90)
+  RotatedLatLon,       ///< MAP_PROJ = 6, rotated pole centred on the domain
+  Cartesian            ///< MAP_PROJ = 0: idealized run without XLAT/XLONG
+};
+
+enum class WrfScheme {
+  ThompsonLike,  ///< MP_PHYSICS = 8: QCLOUD QRAIN QICE QSNOW QGRAUP + number concentrations
+  Wsm3Like       ///< MP_PHYSICS = 3: QCLOUD/QRAIN only, frozen condensate inside them below 0 °C
+};
+
+struct WrfHurricaneSpec {
+  int nx = 40, ny = 36, nz = 20;  ///< mass points (west_east, south_north, bottom_top)
+  int ntimes = 6;                 ///< hourly timesteps in this file
+  int first_hour = 0;             ///< hours after 2026-09-01_12:00:00 of the first timestep
+  double dx_m = 15000.0;          ///< grid spacing DX = DY [m]
+  WrfProjection projection = WrfProjection::Lambert;
+  WrfScheme scheme = WrfScheme::ThompsonLike;
+  bool include_hail = false;      ///< add QHAIL/QNHAIL (zero outside the eyewall core)
+  std::uint64_t seed = 1;
+  NcFormat format = NcFormat::Classic64;
+  bool keep_truth = false;        ///< fill WrfTruth's 3-D fields (tests; costs memory)
+};
+
+/// What the generator wrote, in double precision, to check loaders against.
+struct WrfTruth {
+  int nx = 0, ny = 0, nz = 0, ntimes = 0;
+  int map_proj = 0;
+  int mp_physics = 0;
+  std::string generator_proj_definition;  ///< the PROJ string used to compute XLAT/XLONG
+  std::vector<std::string> times;         ///< WRF Times strings
+  /// Per timestep, layout (k * ny + j) * nx + i, mass points; only with keep_truth.
+  std::vector<std::vector<double>> height_m, pressure_pa, temperature_k;
+  std::vector<double> terrain_m;           ///< nx*ny
+  std::vector<double> lat_deg, lon_deg;    ///< nx*ny; empty for Cartesian
+  double storm_centre_x_m = 0.0, storm_centre_y_m = 0.0;  ///< first timestep, from grid point 0
+};
+
+/// Writes the file; throws nph::IoError when NetCDF fails.
+WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path);
+
+/// WRF constants used to encode the fields (WRF share/module_model_constants.F).
+inline constexpr double kWrfGravity_m_per_s2 = 9.81;
+inline constexpr double kWrfGasConstantDryAir_J_per_kgK = 287.0;
+inline constexpr double kWrfSpecificHeatDryAir_J_per_kgK = 7.0 * kWrfGasConstantDryAir_J_per_kgK / 2.0;
+inline constexpr double kWrfReferencePressure_pa = 100000.0;
+inline constexpr double kWrfThetaOffset_k = 300.0;
+inline constexpr double kWrfEarthRadius_m = 6370000.0;
+inline constexpr double kWrfModelTopPressure_pa = 5000.0;
+
+}  // namespace nph::datagen
