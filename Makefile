@@ -28,6 +28,10 @@ build: $(BUILD_DIR)/build.ninja
 test: deps
 	$(MAKE) build
 	cd $(BUILD_DIR) && ctest --output-on-failure $(CTEST_ARGS)
+	@echo "GL backends exercised by the gl tests:"
+	@NEPHELE_LOG=warn NEPHELE_GL=egl NEPHELE_EGL_PLATFORM=device $(BUILD_DIR)/tests/gl/nephele_glinfo
+	@NEPHELE_LOG=warn NEPHELE_GL=egl NEPHELE_EGL_PLATFORM=surfaceless $(BUILD_DIR)/tests/gl/nephele_glinfo
+	@NEPHELE_LOG=warn NEPHELE_GL=osmesa $(BUILD_DIR)/tests/gl/nephele_glinfo
 
 demo: deps
 	$(MAKE) build

@@ -1,0 +1,60 @@
+#pragma once
+// Shader programs from the embedded GLSL library (STYLE.md 3, after Bruneton's model.cc): a pass is
+// a short stage file that #includes the shared library; parameters are injected as generated
+// `#define`s right after the #version line, so one source serves several variants.
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/gl/objects.h"
+
+namespace nph::gl {
+
+/// Compile-time parameters: {"NAME", "value"} becomes `#define NAME value`.
+using Defines = std::vector<std::pair<std::string, std::string>>;
+
+/// Inserts the defines after the #version line of `source`.
+std::string injectDefines(std::string_view source, const Defines& defines);
+
+class Program {
+ public:
+  Program() = default;
+  /// Compute program from an embedded stage file, e.g. "test/gradient3d.comp".
+  static Program compute(std::string_view name, const Defines& defines = {});
+  /// Vertex + fragment program from embedded stage files.
+  static Program graphics(std::string_view vertexName, std::string_view fragmentName,
+                          const Defines& defines = {});
+  /// Compiles and links explicit sources (stage type, label, source). Throws nph::GlError with
+  /// the label and the driver's info log on failure.
+  static Program fromSources(const std::vector<std::pair<GLenum, std::pair<std::string, std::string>>>& stages);
+
+  GLuint id() const { return handle_.id(); }
+  explicit operator bool() const { return bool(handle_); }
+  void use() const { glUseProgram(id()); }
+
+  /// Uniform location, -1 if the uniform is not active (optimised away).
+  GLint location(const char* name) const { return glGetUniformLocation(id(), name); }
+  void set(const char* name, int v) const { glProgramUniform1i(id(), location(name), v); }
+  void set(const char* name, float v) const { glProgramUniform1f(id(), location(name), v); }
+  void set(const char* name, const glm::vec2& v) const { glProgramUniform2f(id(), location(name), v.x, v.y); }
+  void set(const char* name, const glm::vec3& v) const { glProgramUniform3f(id(), location(name), v.x, v.y, v.z); }
+  void set(const char* name, const glm::vec4& v) const {
+    glProgramUniform4f(id(), location(name), v.x, v.y, v.z, v.w);
+  }
+  void set(const char* name, const glm::ivec2& v) const { glProgramUniform2i(id(), location(name), v.x, v.y); }
+  void set(const char* name, const glm::ivec3& v) const { glProgramUniform3i(id(), location(name), v.x, v.y, v.z); }
+  void set(const char* name, const glm::mat4& m) const;
+
+  /// Work-group size declared by a compute program.
+  glm::ivec3 workGroupSize() const;
+  /// glDispatchCompute with enough groups to cover `size` invocations.
+  void dispatchCovering(glm::ivec3 size) const;
+
+ private:
+  ObjectHandle<&detail::deleteProgram> handle_;
+};
+
+}  // namespace nph::gl

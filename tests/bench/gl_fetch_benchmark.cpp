@@ -1,0 +1,103 @@
+// 3-D texture fetch throughput of a compute shader (glsl/bench/fetch3d.comp): the "physical
+// limit" of a ray caster that only samples. Variants side by side in one run (these machines are
+// noisy: compare ratios): filter (nearest / linear), texel format (R8, R16F, R32F) and ray
+// direction (along x = the texture's fastest axis, along z = slowest, oblique).
+// Time is the GPU time of the dispatch from a GL_TIME_ELAPSED query (manual time).
+// Run: make bench  (or build/tests/bench/nephele_gl_benchmarks --benchmark_filter=Fetch)
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "core/error.h"
+#include "render/gl/context.h"
+#include "render/gl/debug.h"
+#include "render/gl/objects.h"
+#include "render/gl/program.h"
+
+namespace {
+
+using namespace nph;
+
+gl::Context& context() {
+  static std::unique_ptr<gl::Context> ctx = [] {
+    gl::ContextOptions o;
+    o.backend = gl::backendFromEnvironment();
+    o.visible = false;
+    o.debug = false;
+    auto c = gl::createContext(o);
+    std::fprintf(stderr, "benchmark context: %s (%s), %s, %s\n",
+                 std::string(gl::backendName(c->info().backend)).c_str(), c->info().detail.c_str(),
+                 c->info().renderer.c_str(), c->info().version.c_str());
+    return c;
+  }();
+  return *ctx;
+}
+
+constexpr int kVolume = 128;  // 128^3 voxels
+constexpr int kRays = 256;    // 256 x 256 rays
+constexpr int kSteps = 128;   // samples per ray
+
+gl::Texture makeVolume(GLenum format) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> data(std::size_t(kVolume) * kVolume * kVolume);
+  for (float& v : data) v = u(rng);
+  auto tex = gl::Texture::create3D(format, kVolume, kVolume, kVolume);
+  glTextureSubImage3D(tex.id(), 0, 0, 0, 0, kVolume, kVolume, kVolume, GL_RED, GL_FLOAT, data.data());
+  return tex;
+}
+
+enum Direction { AlongX = 0, AlongZ = 1, Oblique = 2 };
+
+void BM_Fetch3D(benchmark::State& state) {
+  context().makeCurrent();
+  const GLenum format = static_cast<GLenum>(state.range(0));
+  const GLenum filter = state.range(1) != 0 ? GL_LINEAR : GL_NEAREST;
+  const auto direction = static_cast<Direction>(state.range(2));
+  auto volume = makeVolume(format);
+  volume.sampling(filter, GL_REPEAT);
+  auto sum = gl::Texture::create2D(GL_R32F, kRays, kRays);
+  auto prog = gl::Program::compute("bench/fetch3d.comp", {{"STEPS", std::to_string(kSteps)}});
+  const float step = 1.0f / float(kSteps);
+  const glm::vec3 dir = direction == AlongX ? glm::vec3(step, 0, 0)
+                        : direction == AlongZ ? glm::vec3(0, 0, step)
+                                              : glm::vec3(step, step, step) * 0.57735f;
+  prog.set("u_rays", glm::ivec2(kRays));
+  prog.set("u_step_uvw", dir);
+  gl::GpuTimer timer;
+  auto run = [&] {
+    prog.use();
+    glBindTextureUnit(0, volume.id());
+    glBindImageTexture(0, sum.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    prog.dispatchCovering({kRays, kRays, 1});
+  };
+  run();  // warm-up: shader compile in the driver, texture upload
+  glFinish();
+  for (auto _ : state) {
+    timer.start();
+    run();
+    timer.stop();
+    state.SetIterationTime(double(timer.elapsedNs()) * 1e-9);
+  }
+  gl::checkErrors("BM_Fetch3D");
+  const double fetches = double(kRays) * kRays * kSteps;
+  state.counters["fetches_per_s"] =
+      benchmark::Counter(fetches * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["voxels"] = double(kVolume) * kVolume * kVolume;
+}
+
+void fetchArgs(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"format", "linear", "dir"});
+  for (GLenum f : {GL_R8, GL_R16F, GL_R32F})
+    for (int linear : {0, 1})
+      for (int dir : {AlongX, AlongZ, Oblique}) b->Args({static_cast<long>(f), linear, dir});
+}
+
+BENCHMARK(BM_Fetch3D)->Apply(fetchArgs)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(0.3);
+
+}  // namespace
+
+BENCHMARK_MAIN();
