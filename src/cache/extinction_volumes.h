@@ -1,0 +1,61 @@
+#pragma once
+// The product of the optics stage and the content of one timestep of a `.nph` cache file:
+// ice and water extinction coefficients [1/m] on a uniform metric grid (Nes 2008 §5.6:
+// "only two volumes are needed for every time step", one per scattering phase function).
+//
+// Grid: the model's native horizontal grid (nx, ny mass points, georeferenced below) and a
+// uniform vertical grid of nz layers of thickness dz_m starting at z_bottom_m above mean sea
+// level. Voxel (i, j, k) is centred at height z_bottom_m + (k + 0.5) * dz_m.
+// Layout of both arrays: x fastest, then y, then k (bottom to top):
+//   index(i, j, k) = (k * ny + j) * nx + i.
+// This module deliberately does not depend on io/: physics/ converts io::Georeference.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace nph {
+
+/// Horizontal georeference of the native grid (a copy of io::Georeference's fields).
+struct GridGeoreference {
+  /// PROJ definition ("+proj=lcc ... +R=6370000"); empty for Cartesian (idealized) grids.
+  std::string proj_definition;
+  double dx_m = 0.0;  ///< grid spacing in projection units (degrees when `geographic`)
+  double dy_m = 0.0;
+  double x0 = 0.0;    ///< projected coordinates of the centre of mass point (0, 0)
+  double y0 = 0.0;
+  bool geographic = false;  ///< x/y are longitude/latitude in degrees
+  std::vector<float> lat_deg;  ///< nx*ny geolocation of mass points, may be empty
+  std::vector<float> lon_deg;
+
+  bool operator==(const GridGeoreference&) const = default;
+};
+
+/// Ice and water extinction volumes of one timestep.
+struct ExtinctionVolumes {
+  int nx = 0, ny = 0, nz = 0;
+  double dz_m = 0.0;        ///< layer thickness
+  double z_bottom_m = 0.0;  ///< height of the bottom face of layer 0 above mean sea level
+  GridGeoreference georef;
+  std::string time_utc;     ///< ISO 8601
+  std::string source_file;  ///< model file this timestep came from (provenance)
+  std::int64_t source_time_index = 0;
+
+  std::vector<float> ice_per_m;    ///< β_ext of ice + snow + graupel + hail [1/m]
+  std::vector<float> water_per_m;  ///< β_ext of cloud + rain [1/m]
+  float max_ice_per_m = 0.0f;
+  float max_water_per_m = 0.0f;
+
+  std::size_t voxelCount() const {
+    return std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
+  }
+  std::size_t index(int i, int j, int k) const {
+    return (std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i);
+  }
+  /// Height of the centre of layer k above mean sea level [m].
+  double layerCentreHeight_m(int k) const { return z_bottom_m + (double(k) + 0.5) * dz_m; }
+  /// Recomputes max_ice_per_m / max_water_per_m from the arrays.
+  void updateMaxima();
+};
+
+}  // namespace nph

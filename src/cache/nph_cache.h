@@ -1,0 +1,121 @@
+#pragma once
+// The `.nph` extinction cache: all timesteps of one conversion (Nes 2008 §5.6 "pre-calculated
+// extinction volumes", stored as scaled 16-bit values, Nes §5.1.2) in one versioned,
+// checksummed file that is read lazily, one timestep at a time.
+//
+// File layout, version 1 (all integers little-endian):
+//   [0, 64)   header
+//               0  char[8]  magic "NPHCACHE"
+//               8  u32      format version (1)
+//              12  u32      header size in bytes (64)
+//              16  u64      index offset        24  u64  index size in bytes
+//              32  u64      XXH64 of the index  40  u64  total file size in bytes
+//              48  u64      reserved (0)        56  u64  XXH64 of header bytes [0, 56)
+//   chunks    one zstd frame per timestep: uint16 ice codes (nx*ny*nz_t), then uint16 water
+//             codes, x fastest (quantize.h); optionally one zstd frame of float32 lat then lon
+//             (the geolocation of mass points)
+//   index     UTF-8 JSON: grid, georeference, optics settings used, inputs, quantisation, and
+//             per timestep: time, provenance, nz_t, maxima (the decoding scales) and the chunk's
+//             offset, sizes and XXH64 (checksum.h) of the compressed bytes.
+// Each timestep is cropped to its own nz_t (just above its highest condensate); the reader pads
+// every timestep to the file's nz (the largest nz_t) with zeros, so all volumes share one grid.
+//
+// Writing goes to a temporary file next to the target that is renamed over the target only by
+// commit(); a writer destroyed without commit() (an exception, a failed conversion) removes the
+// temporary file, so no partial .nph file is ever left behind.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cache/extinction_volumes.h"
+
+namespace nph::cache {
+
+inline constexpr std::uint32_t kFormatVersion = 1;
+inline constexpr std::size_t kHeaderBytes = 64;
+
+/// What a .nph file holds besides the volumes.
+struct NphMetadata {
+  int nx = 0, ny = 0;
+  double dz_m = 0.0;
+  double z_bottom_m = 0.0;
+  GridGeoreference georef;
+  std::string optics_json = "{}";  ///< optics settings used (a JSON object, written by physics/)
+  std::vector<std::string> inputs;  ///< input files
+  std::string created_by;           ///< e.g. "nephele 0.1.0"
+};
+
+/// Per-timestep entry of the index.
+struct TimestepInfo {
+  std::string time_utc;
+  std::string source_file;
+  std::int64_t source_time_index = 0;
+  int nz = 0;  ///< stored (cropped) layer count of this timestep
+  float max_ice_per_m = 0.0f;
+  float max_water_per_m = 0.0f;
+  std::uint64_t chunk_offset = 0;
+  std::uint64_t chunk_bytes = 0;  ///< compressed
+  std::uint64_t raw_bytes = 0;    ///< decompressed
+  std::uint64_t chunk_xxh64 = 0;
+};
+
+struct WriterOptions {
+  int zstd_level = 3;    ///< 1 (fast) .. 19 (small); 3 is zstd's default
+  int zstd_workers = 0;  ///< zstd worker threads (0: compress in the calling thread)
+};
+
+class NphWriter {
+ public:
+  /// Creates the temporary file next to `path`. Throws IoError when it cannot.
+  NphWriter(std::filesystem::path path, NphMetadata metadata, WriterOptions options = {});
+  ~NphWriter();  ///< removes the temporary file unless commit() succeeded
+  NphWriter(const NphWriter&) = delete;
+  NphWriter& operator=(const NphWriter&) = delete;
+
+  /// Quantises, compresses and writes one timestep. Its nx, ny, dz_m and z_bottom_m must match
+  /// the metadata (UsageError otherwise); values must be finite and non-negative (InputError).
+  void append(const ExtinctionVolumes& volumes);
+  /// Writes the index and header, flushes, and renames the temporary file to `path`.
+  void commit();
+
+  std::size_t timestepCount() const;
+  std::uint64_t bytesWritten() const;
+  const std::filesystem::path& temporaryPath() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+class NphReader {
+ public:
+  /// Opens `path` and reads header and index (not the volumes). InputError names the file and
+  /// what is wrong (not a .nph file, unsupported version, truncated, checksum mismatch, ...).
+  explicit NphReader(std::filesystem::path path);
+  ~NphReader();
+  NphReader(NphReader&&) noexcept;
+  NphReader& operator=(NphReader&&) noexcept;
+
+  /// true when the file starts with the .nph magic (cheap; no validation).
+  static bool sniff(const std::filesystem::path& path);
+
+  const std::filesystem::path& path() const;
+  std::uint32_t formatVersion() const;
+  const NphMetadata& metadata() const;
+  int nz() const;  ///< the file's layer count (largest timestep nz)
+  std::size_t timestepCount() const;
+  const TimestepInfo& timestep(std::size_t t) const;
+  std::uint64_t fileBytes() const;
+
+  /// Reads, verifies and decodes timestep t, padded to nz() layers. Thread-safe (pread).
+  /// InputError names the file and the chunk on truncation, checksum or decompression errors.
+  ExtinctionVolumes read(std::size_t t) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace nph::cache

@@ -1,0 +1,134 @@
+#include "cache/nph_index.h"
+
+#include <algorithm>
+#include <charconv>
+#include <stdexcept>
+
+#include "cache/checksum.h"
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace nph::cache {
+
+namespace {
+
+using nlohmann::json;
+
+json chunkJson(const ChunkRef& c) {
+  return {{"offset", c.offset}, {"bytes", c.bytes}, {"raw_bytes", c.raw_bytes},
+          {"xxh64", toHex(c.xxh64)}};
+}
+
+ChunkRef chunkFromJson(const json& j) {
+  ChunkRef c;
+  c.offset = j.at("offset").get<std::uint64_t>();
+  c.bytes = j.at("bytes").get<std::uint64_t>();
+  c.raw_bytes = j.at("raw_bytes").get<std::uint64_t>();
+  const std::string hex = j.at("xxh64").get<std::string>();
+  const auto [end, ec] = std::from_chars(hex.data(), hex.data() + hex.size(), c.xxh64, 16);
+  if (ec != std::errc() || end != hex.data() + hex.size() || hex.size() != 16) {
+    throw std::invalid_argument("chunk xxh64 is not 16 hex digits: \"" + hex + "\"");
+  }
+  return c;
+}
+
+}  // namespace
+
+json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timesteps,
+                 const ChunkRef& geolocation) {
+  int nz = 0;
+  for (const auto& t : timesteps) nz = std::max(nz, t.nz);
+  json optics = json::parse(m.optics_json, nullptr, /*allow_exceptions=*/false);
+  if (optics.is_discarded()) optics = m.optics_json;  // keep unparsable text verbatim
+  json j;
+  j["format"] = "nephele extinction cache";
+  j["version"] = kFormatVersion;
+  j["created_by"] = m.created_by;
+  j["grid"] = {{"nx", m.nx}, {"ny", m.ny}, {"nz", nz}, {"dz_m", m.dz_m},
+               {"z_bottom_m", m.z_bottom_m},
+               {"layout", "x fastest, then y, then z; voxel k centred at z_bottom_m+(k+0.5)*dz_m"}};
+  j["georeference"] = {{"proj_definition", m.georef.proj_definition},
+                       {"dx", m.georef.dx_m},
+                       {"dy", m.georef.dy_m},
+                       {"x0", m.georef.x0},
+                       {"y0", m.georef.y0},
+                       {"geographic", m.georef.geographic},
+                       {"geolocation", geolocation.present() ? chunkJson(geolocation) : json()}};
+  j["quantisation"] = {{"kind", "linear-uint16"},
+                       {"decode", "value_per_m = code * max_per_m / 65535"},
+                       {"max_abs_error", "max_per_m / 131070 + max_per_m * 2^-24"}};
+  j["optics"] = std::move(optics);
+  j["inputs"] = m.inputs;
+  json steps = json::array();
+  for (const auto& t : timesteps) {
+    steps.push_back({{"time_utc", t.time_utc},
+                     {"source_file", t.source_file},
+                     {"source_time_index", t.source_time_index},
+                     {"nz", t.nz},
+                     {"max_ice_per_m", t.max_ice_per_m},
+                     {"max_water_per_m", t.max_water_per_m},
+                     {"chunk", chunkJson({t.chunk_offset, t.chunk_bytes, t.raw_bytes, t.chunk_xxh64})}});
+  }
+  j["timesteps"] = std::move(steps);
+  return j;
+}
+
+DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
+  DecodedIndex d;
+  try {
+    const json j = json::parse(text);
+    NphMetadata& m = d.metadata;
+    m.created_by = j.at("created_by").get<std::string>();
+    const json& g = j.at("grid");
+    m.nx = g.at("nx").get<int>();
+    m.ny = g.at("ny").get<int>();
+    d.nz = g.at("nz").get<int>();
+    m.dz_m = g.at("dz_m").get<double>();
+    m.z_bottom_m = g.at("z_bottom_m").get<double>();
+    const json& geo = j.at("georeference");
+    m.georef.proj_definition = geo.at("proj_definition").get<std::string>();
+    m.georef.dx_m = geo.at("dx").get<double>();
+    m.georef.dy_m = geo.at("dy").get<double>();
+    m.georef.x0 = geo.at("x0").get<double>();
+    m.georef.y0 = geo.at("y0").get<double>();
+    m.georef.geographic = geo.at("geographic").get<bool>();
+    if (!geo.at("geolocation").is_null()) d.geolocation = chunkFromJson(geo.at("geolocation"));
+    m.optics_json = j.at("optics").dump();
+    m.inputs = j.at("inputs").get<std::vector<std::string>>();
+    for (const json& s : j.at("timesteps")) {
+      TimestepInfo t;
+      t.time_utc = s.at("time_utc").get<std::string>();
+      t.source_file = s.at("source_file").get<std::string>();
+      t.source_time_index = s.at("source_time_index").get<std::int64_t>();
+      t.nz = s.at("nz").get<int>();
+      t.max_ice_per_m = s.at("max_ice_per_m").get<float>();
+      t.max_water_per_m = s.at("max_water_per_m").get<float>();
+      const ChunkRef c = chunkFromJson(s.at("chunk"));
+      t.chunk_offset = c.offset;
+      t.chunk_bytes = c.bytes;
+      t.raw_bytes = c.raw_bytes;
+      t.chunk_xxh64 = c.xxh64;
+      d.timesteps.push_back(std::move(t));
+    }
+  } catch (const std::exception& e) {  // nlohmann::json errors, bad checksum text
+    throw InputError(fmt::format("{}: the index of this .nph file is invalid: {}", file, e.what()));
+  }
+  const auto& m = d.metadata;
+  if (m.nx <= 0 || m.ny <= 0 || d.nz < 0 || !(m.dz_m > 0.0)) {
+    throw InputError(fmt::format("{}: invalid grid {}x{}x{}, dz {} m in the index", file, m.nx,
+                                 m.ny, d.nz, m.dz_m));
+  }
+  for (std::size_t n = 0; n < d.timesteps.size(); ++n) {
+    const TimestepInfo& t = d.timesteps[n];
+    const std::uint64_t expected =
+        2u * sizeof(std::uint16_t) * std::uint64_t(m.nx) * std::uint64_t(m.ny) * std::uint64_t(t.nz);
+    if (t.nz < 0 || t.nz > d.nz || t.raw_bytes != expected) {
+      throw InputError(fmt::format("{}: chunk {} ({}): nz {} / {} bytes do not fit the {}x{}x{} grid",
+                                   file, n, t.time_utc, t.nz, t.raw_bytes, m.nx, m.ny, d.nz));
+    }
+  }
+  return d;
+}
+
+}  // namespace nph::cache

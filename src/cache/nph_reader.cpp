@@ -1,0 +1,203 @@
+// NphReader: header + index at open, one verified chunk per read() (layout in nph_cache.h).
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zstd.h>
+
+#include <cstring>
+#include <system_error>
+
+#include "cache/checksum.h"
+#include "cache/nph_cache.h"
+#include "cache/nph_format.h"
+#include "cache/nph_index.h"
+#include "cache/quantize.h"
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace nph::cache {
+
+namespace {
+
+std::string errnoText() { return std::generic_category().message(errno); }
+
+/// Reads exactly `bytes` at `offset`; false when the file ends first.
+bool readAt(int fd, void* into, std::size_t bytes, std::uint64_t offset) {
+  auto* p = static_cast<char*>(into);
+  while (bytes > 0) {
+    const ssize_t n = ::pread(fd, p, bytes, static_cast<off_t>(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    bytes -= static_cast<std::size_t>(n);
+    offset += static_cast<std::uint64_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+struct NphReader::State {
+  std::filesystem::path path;
+  int fd = -1;
+  std::uint32_t version = 0;
+  std::uint64_t file_bytes = 0;
+  DecodedIndex index;
+
+  ~State() {
+    if (fd >= 0) ::close(fd);
+  }
+
+  std::string name() const { return path.string(); }
+
+  /// Reads, checksums and decompresses one block. `what` names it in errors.
+  std::vector<std::byte> readBlock(const ChunkRef& c, const std::string& what) const {
+    if (c.offset < kHeaderBytes || c.offset + c.bytes > file_bytes || c.bytes > file_bytes) {
+      throw InputError(fmt::format("{}: {} lies outside the file (offset {}, {} bytes, file {} bytes)",
+                                   name(), what, c.offset, c.bytes, file_bytes));
+    }
+    std::vector<std::byte> packed(c.bytes);
+    if (!readAt(fd, packed.data(), packed.size(), c.offset)) {
+      throw InputError(fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(),
+                                   what, c.bytes, c.offset));
+    }
+    const std::uint64_t sum = xxh64(packed);
+    if (sum != c.xxh64) {
+      throw InputError(fmt::format("{}: {} is corrupt: XXH64 {} , expected {}", name(), what,
+                                   toHex(sum), toHex(c.xxh64)));
+    }
+    std::vector<std::byte> raw(c.raw_bytes);
+    const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
+    if (ZSTD_isError(n) || n != raw.size()) {
+      throw InputError(fmt::format("{}: {} does not decompress to {} bytes: {}", name(), what,
+                                   raw.size(), ZSTD_isError(n) ? ZSTD_getErrorName(n) : "size mismatch"));
+    }
+    return raw;
+  }
+};
+
+bool NphReader::sniff(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  std::array<char, 8> magic{};
+  const bool ok = readAt(fd, magic.data(), magic.size(), 0) && magic == detail::kMagic;
+  ::close(fd);
+  return ok;
+}
+
+NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  s.path = std::move(path);
+  s.fd = ::open(s.path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (s.fd < 0) throw InputError(fmt::format("{}: cannot open: {}", s.name(), errnoText()));
+  struct stat st {};
+  if (::fstat(s.fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    throw InputError(fmt::format("{}: not a regular file", s.name()));
+  }
+  const auto actual_bytes = static_cast<std::uint64_t>(st.st_size);
+  std::array<std::byte, kHeaderBytes> raw{};
+  if (actual_bytes < kHeaderBytes || !readAt(s.fd, raw.data(), raw.size(), 0)) {
+    throw InputError(fmt::format("{}: truncated: {} bytes, a .nph file starts with a {}-byte header",
+                                 s.name(), actual_bytes, kHeaderBytes));
+  }
+  if (std::memcmp(raw.data(), detail::kMagic.data(), detail::kMagic.size()) != 0) {
+    throw InputError(fmt::format("{}: not a nephele .nph cache file (no NPHCACHE magic)", s.name()));
+  }
+  const auto stored_sum = detail::get<std::uint64_t>(raw.data() + detail::kHeaderChecksumOffset);
+  if (xxh64(std::span(raw.data(), detail::kHeaderChecksumOffset)) != stored_sum) {
+    throw InputError(fmt::format("{}: the header is corrupt (checksum mismatch)", s.name()));
+  }
+  s.version = detail::get<std::uint32_t>(raw.data() + 8);
+  if (s.version != kFormatVersion) {
+    throw InputError(fmt::format("{}: .nph format version {}, this nephele reads version {}",
+                                 s.name(), s.version, kFormatVersion));
+  }
+  const auto index_offset = detail::get<std::uint64_t>(raw.data() + 16);
+  const auto index_bytes = detail::get<std::uint64_t>(raw.data() + 24);
+  const auto index_sum = detail::get<std::uint64_t>(raw.data() + 32);
+  s.file_bytes = detail::get<std::uint64_t>(raw.data() + 40);
+  if (actual_bytes != s.file_bytes) {
+    throw InputError(fmt::format("{}: {} ({} bytes, the header says {})", s.name(),
+                                 actual_bytes < s.file_bytes ? "truncated" : "trailing data",
+                                 actual_bytes, s.file_bytes));
+  }
+  if (index_offset < kHeaderBytes || index_offset + index_bytes != s.file_bytes) {
+    throw InputError(fmt::format("{}: index at {} (+{} bytes) does not end the file", s.name(),
+                                 index_offset, index_bytes));
+  }
+  std::string text(index_bytes, '\0');
+  if (!readAt(s.fd, text.data(), text.size(), index_offset)) {
+    throw InputError(fmt::format("{}: the index is truncated", s.name()));
+  }
+  if (xxh64(std::as_bytes(std::span(text.data(), text.size()))) != index_sum) {
+    throw InputError(fmt::format("{}: the index is corrupt (checksum mismatch)", s.name()));
+  }
+  s.index = decodeIndex(s.name(), text);
+  if (s.index.geolocation.present()) {
+    const std::size_t columns = std::size_t(s.index.metadata.nx) * std::size_t(s.index.metadata.ny);
+    if (s.index.geolocation.raw_bytes != 2 * columns * sizeof(float)) {
+      throw InputError(fmt::format("{}: geolocation chunk has {} bytes, expected {}", s.name(),
+                                   s.index.geolocation.raw_bytes, 2 * columns * sizeof(float)));
+    }
+    const std::vector<std::byte> latlon = s.readBlock(s.index.geolocation, "geolocation chunk");
+    GridGeoreference& g = s.index.metadata.georef;
+    g.lat_deg.resize(columns);
+    g.lon_deg.resize(columns);
+    std::memcpy(g.lat_deg.data(), latlon.data(), columns * sizeof(float));
+    std::memcpy(g.lon_deg.data(), latlon.data() + columns * sizeof(float), columns * sizeof(float));
+  }
+}
+
+NphReader::~NphReader() = default;
+NphReader::NphReader(NphReader&&) noexcept = default;
+NphReader& NphReader::operator=(NphReader&&) noexcept = default;
+
+const std::filesystem::path& NphReader::path() const { return state_->path; }
+std::uint32_t NphReader::formatVersion() const { return state_->version; }
+const NphMetadata& NphReader::metadata() const { return state_->index.metadata; }
+int NphReader::nz() const { return state_->index.nz; }
+std::size_t NphReader::timestepCount() const { return state_->index.timesteps.size(); }
+std::uint64_t NphReader::fileBytes() const { return state_->file_bytes; }
+
+const TimestepInfo& NphReader::timestep(std::size_t t) const {
+  if (t >= timestepCount()) {
+    throw UsageError(fmt::format("{}: timestep {} requested, the file has {}", state_->name(), t,
+                                 timestepCount()));
+  }
+  return state_->index.timesteps[t];
+}
+
+ExtinctionVolumes NphReader::read(std::size_t t) const {
+  const State& s = *state_;
+  const TimestepInfo& info = timestep(t);
+  const NphMetadata& m = s.index.metadata;
+  const std::vector<std::byte> raw =
+      s.readBlock({info.chunk_offset, info.chunk_bytes, info.raw_bytes, info.chunk_xxh64},
+                  fmt::format("chunk {} (timestep {})", t, info.time_utc));
+
+  ExtinctionVolumes v;
+  v.nx = m.nx;
+  v.ny = m.ny;
+  v.nz = s.index.nz;
+  v.dz_m = m.dz_m;
+  v.z_bottom_m = m.z_bottom_m;
+  v.georef = m.georef;
+  v.time_utc = info.time_utc;
+  v.source_file = info.source_file;
+  v.source_time_index = info.source_time_index;
+  const std::size_t stored = std::size_t(m.nx) * std::size_t(m.ny) * std::size_t(info.nz);
+  std::vector<std::uint16_t> codes(2 * stored);
+  std::memcpy(codes.data(), raw.data(), raw.size());
+  v.ice_per_m.assign(v.voxelCount(), 0.0f);  // layers above nz_t stay 0 (cropped, empty)
+  v.water_per_m.assign(v.voxelCount(), 0.0f);
+  dequantise(std::span(codes).first(stored), info.max_ice_per_m,
+             std::span(v.ice_per_m).first(stored));
+  dequantise(std::span(codes).subspan(stored), info.max_water_per_m,
+             std::span(v.water_per_m).first(stored));
+  v.max_ice_per_m = info.max_ice_per_m;
+  v.max_water_per_m = info.max_water_per_m;
+  return v;
+}
+
+}  // namespace nph::cache

@@ -1,0 +1,32 @@
+#include "cache/quantize.h"
+
+#include <cmath>
+#include <cstddef>
+
+#include "core/error.h"
+
+namespace nph::cache {
+
+void quantise(std::span<const float> values, float max_value, std::span<std::uint16_t> out) {
+  if (values.size() != out.size()) throw UsageError("quantise: input and output sizes differ");
+  if (!(max_value > 0.0f)) {  // empty (or all non-positive) volume
+    for (auto& q : out) q = 0;
+    return;
+  }
+  const double inv_scale = kQuantisationLevels / double(max_value);
+  for (std::size_t n = 0; n < values.size(); ++n) {
+    const double v = double(values[n]);
+    double q = std::nearbyint(v * inv_scale);  // round half to even; error <= 0.5 either way
+    if (!(q > 0.0)) q = 0.0;                   // also maps NaN to 0 (callers reject NaN earlier)
+    if (q > kQuantisationLevels) q = kQuantisationLevels;
+    out[n] = static_cast<std::uint16_t>(q);
+  }
+}
+
+void dequantise(std::span<const std::uint16_t> codes, float max_value, std::span<float> out) {
+  if (codes.size() != out.size()) throw UsageError("dequantise: input and output sizes differ");
+  const double scale = max_value > 0.0f ? double(max_value) / kQuantisationLevels : 0.0;
+  for (std::size_t n = 0; n < codes.size(); ++n) out[n] = static_cast<float>(double(codes[n]) * scale);
+}
+
+}  // namespace nph::cache

@@ -1,0 +1,271 @@
+#include "cache/nph_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "cache/quantize.h"
+#include "core/error.h"
+
+namespace nph::cache {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A fresh directory per test under the build tree's temp dir.
+class NphCacheTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / (std::string("nph_cache_test_") + info->name() + "_" +
+                                        std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::vector<fs::path> filesInDir() const {
+    std::vector<fs::path> out;
+    for (const auto& e : fs::directory_iterator(dir_)) out.push_back(e.path());
+    return out;
+  }
+
+  fs::path dir_;
+};
+
+NphMetadata smallMetadata() {
+  NphMetadata m;
+  m.nx = 7;
+  m.ny = 5;
+  m.dz_m = 250.0;
+  m.z_bottom_m = -250.0;
+  m.georef.proj_definition = "+proj=lcc +lat_1=30 +lat_2=60 +lat_0=25 +lon_0=-80 +R=6370000";
+  m.georef.dx_m = 3000.0;
+  m.georef.dy_m = 3000.0;
+  m.georef.x0 = -9000.0;
+  m.georef.y0 = -6000.0;
+  for (int n = 0; n < m.nx * m.ny; ++n) {
+    m.georef.lat_deg.push_back(25.0f + 0.01f * float(n));
+    m.georef.lon_deg.push_back(-80.0f - 0.02f * float(n));
+  }
+  m.optics_json = R"({"preset":"test","cloud":{"r_eff_m":1e-5}})";
+  m.inputs = {"wrfout_d01_a.nc"};
+  m.created_by = "nephele test";
+  return m;
+}
+
+ExtinctionVolumes randomVolumes(const NphMetadata& m, int nz, unsigned seed, float scale) {
+  ExtinctionVolumes v;
+  v.nx = m.nx;
+  v.ny = m.ny;
+  v.nz = nz;
+  v.dz_m = m.dz_m;
+  v.z_bottom_m = m.z_bottom_m;
+  v.georef = m.georef;
+  v.time_utc = "2026-09-01T0" + std::to_string(seed % 10) + ":00:00Z";
+  v.source_file = "wrfout_d01_a.nc";
+  v.source_time_index = seed;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  v.ice_per_m.resize(v.voxelCount());
+  v.water_per_m.resize(v.voxelCount());
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) {
+    // a mix of exact zeros (empty space), tiny values and large values
+    const float r = u(rng);
+    v.ice_per_m[n] = r < 0.3f ? 0.0f : scale * r * r * r;
+    v.water_per_m[n] = r > 0.8f ? 0.0f : 3.0f * scale * u(rng);
+  }
+  v.updateMaxima();
+  return v;
+}
+
+fs::path writeFile(const fs::path& path, const NphMetadata& m,
+                   const std::vector<ExtinctionVolumes>& steps) {
+  NphWriter w(path, m);
+  for (const auto& s : steps) w.append(s);
+  w.commit();
+  return path;
+}
+
+TEST_F(NphCacheTest, RoundTripWithinDocumentedBoundAndPadsToCommonNz) {
+  const NphMetadata m = smallMetadata();
+  const std::vector<ExtinctionVolumes> steps = {randomVolumes(m, 4, 1, 0.01f),
+                                                randomVolumes(m, 9, 2, 2e-5f),
+                                                randomVolumes(m, 0, 3, 1.0f)};
+  const fs::path file = writeFile(dir_ / "storm.nph", m, steps);
+  EXPECT_EQ(filesInDir(), std::vector<fs::path>{file});  // no temporary left over
+  ASSERT_TRUE(NphReader::sniff(file));
+
+  NphReader r(file);
+  EXPECT_EQ(r.formatVersion(), kFormatVersion);
+  EXPECT_EQ(r.timestepCount(), 3u);
+  EXPECT_EQ(r.nz(), 9);
+  EXPECT_EQ(r.metadata().georef, m.georef);
+  EXPECT_EQ(r.metadata().inputs, m.inputs);
+  EXPECT_EQ(r.metadata().created_by, m.created_by);
+  EXPECT_NE(r.metadata().optics_json.find("\"preset\":\"test\""), std::string::npos);
+  EXPECT_EQ(r.metadata().dz_m, 250.0);
+  EXPECT_EQ(r.metadata().z_bottom_m, -250.0);
+
+  // read in a different order: lazily, one chunk at a time
+  for (std::size_t t : {2u, 0u, 1u}) {
+    const ExtinctionVolumes& in = steps[t];
+    const ExtinctionVolumes out = r.read(t);
+    EXPECT_EQ(out.time_utc, in.time_utc);
+    EXPECT_EQ(out.source_time_index, in.source_time_index);
+    EXPECT_EQ(out.nz, 9);
+    EXPECT_EQ(out.max_ice_per_m, in.max_ice_per_m);
+    EXPECT_EQ(out.max_water_per_m, in.max_water_per_m);
+    const double bound_ice = quantisationErrorBound(in.max_ice_per_m);
+    const double bound_water = quantisationErrorBound(in.max_water_per_m);
+    for (int k = 0; k < out.nz; ++k) {
+      for (int j = 0; j < out.ny; ++j) {
+        for (int i = 0; i < out.nx; ++i) {
+          const std::size_t q = out.index(i, j, k);
+          if (k >= in.nz) {  // padding above the cropped top
+            ASSERT_EQ(out.ice_per_m[q], 0.0f);
+            ASSERT_EQ(out.water_per_m[q], 0.0f);
+            continue;
+          }
+          const std::size_t p = in.index(i, j, k);
+          ASSERT_LE(std::abs(double(out.ice_per_m[q]) - double(in.ice_per_m[p])), bound_ice);
+          ASSERT_LE(std::abs(double(out.water_per_m[q]) - double(in.water_per_m[p])), bound_water);
+          if (in.ice_per_m[p] == 0.0f) {
+            ASSERT_EQ(out.ice_per_m[q], 0.0f);  // zero stays zero
+          }
+        }
+      }
+    }
+  }
+  EXPECT_THROW((void)r.read(3), UsageError);
+}
+
+TEST_F(NphCacheTest, FileWithoutGeolocation) {
+  NphMetadata m = smallMetadata();
+  m.georef.lat_deg.clear();
+  m.georef.lon_deg.clear();
+  m.georef.proj_definition.clear();
+  const fs::path file = writeFile(dir_ / "ideal.nph", m, {randomVolumes(m, 3, 4, 0.1f)});
+  NphReader r(file);
+  EXPECT_TRUE(r.metadata().georef.lat_deg.empty());
+  EXPECT_EQ(r.read(0).nz, 3);
+}
+
+// --- corrupt and truncated files: InputError naming the file (and the chunk) ---------------
+
+std::string readAll(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+void writeAll(const fs::path& p, const std::string& bytes) {
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// The InputError message of `fn`, or a test failure.
+template <class F>
+std::string inputErrorOf(F&& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected InputError, got: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "expected InputError, nothing thrown";
+  return {};
+}
+
+TEST_F(NphCacheTest, FlippedByteInAChunkNamesFileAndChunk) {
+  const NphMetadata m = smallMetadata();
+  const fs::path file =
+      writeFile(dir_ / "s.nph", m, {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 4, 2, 0.01f)});
+  std::uint64_t offset = 0;
+  {
+    NphReader r(file);
+    offset = r.timestep(1).chunk_offset + r.timestep(1).chunk_bytes / 2;
+  }
+  std::string bytes = readAll(file);
+  bytes[offset] = static_cast<char>(bytes[offset] ^ 0x20);
+  writeAll(file, bytes);
+  NphReader r(file);  // header and index are intact: opening works
+  EXPECT_NO_THROW((void)r.read(0));
+  const std::string msg = inputErrorOf([&] { (void)r.read(1); });
+  EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
+  EXPECT_NE(msg.find("chunk 1"), std::string::npos) << msg;
+}
+
+TEST_F(NphCacheTest, TruncatedAndForeignFilesAreInputErrors) {
+  const NphMetadata m = smallMetadata();
+  const fs::path good = writeFile(dir_ / "good.nph", m, {randomVolumes(m, 4, 1, 0.01f)});
+  const std::string bytes = readAll(good);
+  for (std::size_t keep : {std::size_t{0}, std::size_t{10}, std::size_t{64}, bytes.size() / 2,
+                           bytes.size() - 1}) {
+    const fs::path cut = dir_ / ("cut" + std::to_string(keep) + ".nph");
+    writeAll(cut, bytes.substr(0, keep));
+    const std::string msg = inputErrorOf([&] { NphReader r(cut); });
+    EXPECT_NE(msg.find(cut.string()), std::string::npos) << msg;
+  }
+  const fs::path text = dir_ / "notes.txt";
+  writeAll(text, std::string(200, 'x'));
+  EXPECT_FALSE(NphReader::sniff(text));
+  EXPECT_NE(inputErrorOf([&] { NphReader r(text); }).find("not a nephele"), std::string::npos);
+  EXPECT_NE(inputErrorOf([&] { NphReader r(dir_ / "missing.nph"); }).find("missing.nph"),
+            std::string::npos);
+
+  // a corrupt index (flip a byte in the JSON at the end of the file)
+  std::string bad = bytes;
+  bad[bad.size() - 3] = static_cast<char>(bad[bad.size() - 3] ^ 0x01);
+  const fs::path idx = dir_ / "index.nph";
+  writeAll(idx, bad);
+  EXPECT_NE(inputErrorOf([&] { NphReader r(idx); }).find("index"), std::string::npos);
+
+  // a future format version (with a recomputed header checksum it would still be refused)
+  std::string future = bytes;
+  future[8] = 2;
+  const fs::path fut = dir_ / "future.nph";
+  writeAll(fut, future);
+  EXPECT_FALSE(inputErrorOf([&] { NphReader r(fut); }).empty());
+}
+
+// --- no partial file after a failed write ---------------------------------------------------
+
+TEST_F(NphCacheTest, FailedWriteLeavesNoFile) {
+  const NphMetadata m = smallMetadata();
+  const fs::path target = dir_ / "storm.nph";
+  {
+    NphWriter w(target, m);
+    w.append(randomVolumes(m, 4, 1, 0.01f));
+    EXPECT_TRUE(fs::exists(w.temporaryPath()));
+    ExtinctionVolumes wrong = randomVolumes(m, 4, 2, 0.01f);
+    wrong.nx = 6;  // grid mismatch: the conversion fails half way
+    EXPECT_THROW(w.append(wrong), UsageError);
+    ExtinctionVolumes nan = randomVolumes(m, 2, 3, 0.01f);
+    nan.water_per_m[5] = std::nanf("");
+    EXPECT_THROW(w.append(nan), InputError);
+  }  // destroyed without commit()
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_TRUE(filesInDir().empty());
+}
+
+TEST_F(NphCacheTest, FailedRewriteKeepsThePreviousFile) {
+  const NphMetadata m = smallMetadata();
+  const fs::path target = writeFile(dir_ / "storm.nph", m, {randomVolumes(m, 4, 1, 0.01f)});
+  const std::string before = readAll(target);
+  {
+    NphWriter w(target, m);
+    w.append(randomVolumes(m, 5, 2, 0.01f));
+  }  // not committed
+  EXPECT_EQ(readAll(target), before);
+  EXPECT_EQ(filesInDir().size(), 1u);
+}
+
+TEST_F(NphCacheTest, UnwritableDirectoryIsIoError) {
+  EXPECT_THROW(NphWriter(dir_ / "no" / "such" / "dir" / "x.nph", smallMetadata()), IoError);
+}
+
+}  // namespace
+}  // namespace nph::cache
