@@ -39,6 +39,14 @@ struct Georeference {
   std::vector<float> lon_deg;
 };
 
+/// What a loader repaired while reading one timestep (counts of values), for logs and `nephele info`.
+/// (ICON's condensate consistency corrections, Muth 2026 §3.3.1, are not applied by the loaders:
+/// physics/icon_corrections.h applies them, so loaded ICON fields are exactly the file's.)
+struct LoadRepairs {
+  std::int64_t negative_clamped = 0;   ///< negative mixing ratios / cloud cover set to 0
+  std::int64_t missing_as_zero = 0;    ///< _FillValue / missing_value in condensate fields read as 0
+};
+
 /// One timestep of model output on model levels.
 struct ModelTimestep {
   std::string source_file;   ///< path of the file this timestep came from
@@ -64,6 +72,8 @@ struct ModelTimestep {
   int microphysics_scheme = -1;
 
   Georeference georef;
+
+  LoadRepairs repairs;  ///< added for issue 3 (io): what the loader repaired
 
   std::size_t voxelCount() const { return std::size_t(nx) * std::size_t(ny) * std::size_t(nz); }
   std::size_t index(int i, int j, int k) const {

@@ -1,0 +1,29 @@
+#pragma once
+// ICON loader (NetCDF-C): regular lat-lon output (ICON's lon-lat NetCDF output, or
+// `cdo -f nc copy` of DWD's regular-lat-lon GRIB2) and native triangular-grid output (ncells,
+// clon/clat in radians), the latter resampled onto a regular lat-lon grid. Fields are delivered as
+// the file has them (clc as a fraction): the Muth 2026 §3.3.1 condensate consistency corrections
+// are the optics' job (physics/icon_corrections.h), so they are applied exactly once.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "load_options.h"
+#include "model_fields.h"
+
+namespace nph::io {
+
+/// ICON's Earth radius [m] (ICON mo_physical_constants: earth_radius = 6.371229e6 m).
+inline constexpr double kIconEarthRadius_m = 6371229.0;
+
+/// Times ("2026-03-18T12:00:00Z") of every timestep in the file ("" when the file has no time axis).
+std::vector<std::string> listIconTimes(const std::string& path);
+
+/// Loads timestep `time_index` of an ICON file (regular or native; see sniffFormat).
+ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options = {});
+
+/// Converts a CF/ICON time value to ISO 8601: units "<unit> since YYYY-MM-DD[ hh:mm:ss]"
+/// (unit seconds/minutes/hours/days) or ICON's absolute "day as %Y%m%d.%f". "" when unknown.
+std::string isoFromTimeValue(double value, const std::string& units);
+
+}  // namespace nph::io

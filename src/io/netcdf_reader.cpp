@@ -1,0 +1,284 @@
+#include "netcdf_reader.h"
+
+#include <fmt/format.h>
+#include <netcdf.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/env.h"
+#include "core/error.h"
+#include "load_options.h"
+
+namespace nph::io {
+
+std::size_t memoryBudgetBytes(const LoadOptions& options) {
+  if (options.memory_budget_bytes != 0) return options.memory_budget_bytes;
+  constexpr std::size_t kDefaultBudget = std::size_t(8) << 30;  // 8 GiB
+  if (const auto mb = env::get("NEPHELE_IO_MEMORY_BUDGET_MB")) {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(mb->c_str(), &end, 10);
+    if (end != mb->c_str() && v > 0) return static_cast<std::size_t>(v) << 20;
+  }
+  return kDefaultBudget;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? ", " : "") + names[i];
+  return out;
+}
+
+NcReader::NcReader(std::string path) : path_(std::move(path)) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path_, ec)) throw InputError(fmt::format("{}: no such file", path_));
+  if (std::filesystem::is_directory(path_, ec)) throw InputError(fmt::format("{}: is a directory, expected a NetCDF file", path_));
+  const int status = nc_open(path_.c_str(), NC_NOWRITE, &ncid_);
+  if (status != NC_NOERR) {
+    ncid_ = -1;
+    if (status == NC_ENOTNC) {
+      throw InputError(fmt::format("{}: not a NetCDF file (expected NetCDF classic, 64-bit offset or NetCDF-4/HDF5)", path_));
+    }
+    throw InputError(fmt::format("{}: cannot be opened as NetCDF ({}); the file may be truncated or damaged",
+                                 path_, nc_strerror(status)));
+  }
+  checkClassicFileSize();
+}
+
+void NcReader::checkClassicFileSize() const {
+  // NetCDF-C opens a truncated classic (CDF-1/2/5) file and reads zeros past its end without an
+  // error, so compare the file size with the data its header declares (a lower bound: the
+  // header itself is at least 32 bytes). NetCDF-4/HDF5 files fail to open when truncated.
+  int format = 0;
+  if (nc_inq_format(ncid_, &format) != NC_NOERR ||
+      (format != NC_FORMAT_CLASSIC && format != NC_FORMAT_64BIT_OFFSET && format != NC_FORMAT_CDF5)) {
+    return;
+  }
+  int nvars = 0, unlimited = -1;
+  nc_inq_nvars(ncid_, &nvars);
+  nc_inq_unlimdim(ncid_, &unlimited);
+  std::size_t numrecs = 0;
+  if (unlimited >= 0) nc_inq_dimlen(ncid_, unlimited, &numrecs);
+  double fixed_bytes = 0.0, record_bytes = 0.0;
+  for (int v = 0; v < nvars; ++v) {
+    int ndims = 0;
+    nc_type type = NC_NAT;
+    nc_inq_varndims(ncid_, v, &ndims);
+    nc_inq_vartype(ncid_, v, &type);
+    std::vector<int> dims(static_cast<std::size_t>(ndims));
+    if (ndims > 0) nc_inq_vardimid(ncid_, v, dims.data());
+    std::size_t type_size = 0;
+    nc_inq_type(ncid_, type, nullptr, &type_size);
+    double bytes = double(type_size);
+    bool is_record = false;
+    for (int d : dims) {
+      if (d == unlimited) {
+        is_record = true;
+        continue;
+      }
+      std::size_t len = 0;
+      nc_inq_dimlen(ncid_, d, &len);
+      bytes *= double(len);
+    }
+    bytes = std::ceil(bytes / 4.0) * 4.0;  // variables are padded to 4-byte boundaries
+    (is_record ? record_bytes : fixed_bytes) += bytes;
+  }
+  const double declared = 32.0 + fixed_bytes + double(numrecs) * record_bytes;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path_, ec);
+  if (!ec && double(size) < declared) {
+    throw InputError(fmt::format("{}: truncated NetCDF file: {} bytes, but its header declares at least {:.0f} bytes of "
+                                 "data",
+                                 path_, size, declared));
+  }
+}
+
+NcReader::~NcReader() {
+  if (ncid_ >= 0) nc_close(ncid_);
+}
+
+void NcReader::fail(const std::string& what) const { throw InputError(fmt::format("{}: {}", path_, what)); }
+
+int NcReader::varId(const std::string& name) const {
+  int id = -1;
+  if (nc_inq_varid(ncid_, name.c_str(), &id) != NC_NOERR) fail(fmt::format("variable {} is missing", name));
+  return id;
+}
+
+bool NcReader::hasVar(const std::string& name) const {
+  int id = -1;
+  return nc_inq_varid(ncid_, name.c_str(), &id) == NC_NOERR;
+}
+
+bool NcReader::hasDim(const std::string& name) const { return dimLength(name).has_value(); }
+
+std::optional<std::size_t> NcReader::dimLength(const std::string& name) const {
+  int id = -1;
+  if (nc_inq_dimid(ncid_, name.c_str(), &id) != NC_NOERR) return std::nullopt;
+  std::size_t len = 0;
+  if (nc_inq_dimlen(ncid_, id, &len) != NC_NOERR) fail(fmt::format("cannot read the length of dimension {}", name));
+  return len;
+}
+
+std::optional<std::string> NcReader::firstVar(std::initializer_list<const char*> names) const {
+  for (const char* n : names) {
+    if (hasVar(n)) return std::string(n);
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> NcReader::varDimNames(const std::string& name) const {
+  const int id = varId(name);
+  int ndims = 0;
+  nc_inq_varndims(ncid_, id, &ndims);
+  std::vector<int> dimids(static_cast<std::size_t>(ndims));
+  if (ndims > 0) nc_inq_vardimid(ncid_, id, dimids.data());
+  std::vector<std::string> names;
+  for (int d : dimids) {
+    char buf[NC_MAX_NAME + 1] = {};
+    nc_inq_dimname(ncid_, d, buf);
+    names.emplace_back(buf);
+  }
+  return names;
+}
+
+std::vector<std::size_t> NcReader::varShape(const std::string& name) const {
+  const int id = varId(name);
+  int ndims = 0;
+  nc_inq_varndims(ncid_, id, &ndims);
+  std::vector<int> dimids(static_cast<std::size_t>(ndims));
+  if (ndims > 0) nc_inq_vardimid(ncid_, id, dimids.data());
+  std::vector<std::size_t> shape;
+  for (int d : dimids) {
+    std::size_t len = 0;
+    nc_inq_dimlen(ncid_, d, &len);
+    shape.push_back(len);
+  }
+  return shape;
+}
+
+void NcReader::requireDims(const std::string& var, const std::vector<std::string>& expected) const {
+  if (!hasVar(var)) fail(fmt::format("variable {} is missing, expected ({})", var, joinNames(expected)));
+  const auto names = varDimNames(var);
+  if (names.size() != expected.size()) {
+    fail(fmt::format("{} has {} dims, expected {} ({})", var, names.size(), expected.size(), joinNames(expected)));
+  }
+  if (names != expected) fail(fmt::format("{} has dims ({}), expected ({})", var, joinNames(names), joinNames(expected)));
+}
+
+void NcReader::requireNumeric(const std::string& var) const {
+  nc_type type = NC_NAT;
+  nc_inq_vartype(ncid_, varId(var), &type);
+  if (type == NC_CHAR || type == NC_STRING || type > NC_STRING) {
+    fail(fmt::format("{} has a non-numeric type, expected float or double", var));
+  }
+}
+
+std::optional<double> NcReader::globalNumber(const std::string& name) const {
+  nc_type type = NC_NAT;
+  std::size_t len = 0;
+  if (nc_inq_att(ncid_, NC_GLOBAL, name.c_str(), &type, &len) != NC_NOERR) return std::nullopt;
+  if (type == NC_CHAR || type == NC_STRING || len < 1) fail(fmt::format("global attribute {} is not a number", name));
+  std::vector<double> v(len);
+  if (nc_get_att_double(ncid_, NC_GLOBAL, name.c_str(), v.data()) != NC_NOERR) {
+    fail(fmt::format("global attribute {} cannot be read as a number", name));
+  }
+  return v[0];
+}
+
+static std::optional<std::string> textAtt(int ncid, int varid, const std::string& name) {
+  nc_type type = NC_NAT;
+  std::size_t len = 0;
+  if (nc_inq_att(ncid, varid, name.c_str(), &type, &len) != NC_NOERR || type != NC_CHAR) return std::nullopt;
+  std::string s(len, '\0');
+  if (len > 0 && nc_get_att_text(ncid, varid, name.c_str(), s.data()) != NC_NOERR) return std::nullopt;
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+std::optional<std::string> NcReader::globalText(const std::string& name) const { return textAtt(ncid_, NC_GLOBAL, name); }
+
+std::optional<std::string> NcReader::varText(const std::string& var, const std::string& att) const {
+  if (!hasVar(var)) return std::nullopt;
+  return textAtt(ncid_, varId(var), att);
+}
+
+std::vector<float> NcReader::readFloats(const std::string& var, const std::vector<std::size_t>& start,
+                                        const std::vector<std::size_t>& count, float fill_replacement,
+                                        ReadStats& stats) const {
+  const int id = varId(var);
+  requireNumeric(var);
+  std::size_t n = 1;
+  for (std::size_t c : count) n *= c;
+  std::vector<float> data(n);
+  if (n == 0) return data;
+  const int status = nc_get_vara_float(ncid_, id, start.data(), count.data(), data.data());
+  if (status != NC_NOERR && status != NC_ERANGE) {
+    fail(fmt::format("cannot read {} ({}); the file may be truncated or damaged", var, nc_strerror(status)));
+  }
+  // Missing-value markers, compared on the raw (packed) values: _FillValue, missing_value, and
+  // NetCDF's default fill for never-written data (ncdump shows these as "_").
+  nc_type type = NC_NAT;
+  nc_inq_vartype(ncid_, id, &type);
+  std::vector<float> markers;
+  for (const char* att : {"_FillValue", "missing_value"}) {
+    nc_type at = NC_NAT;
+    std::size_t len = 0;
+    if (nc_inq_att(ncid_, id, att, &at, &len) == NC_NOERR && len >= 1 && at != NC_CHAR) {
+      std::vector<double> v(len);
+      nc_get_att_double(ncid_, id, att, v.data());
+      for (double m : v) markers.push_back(static_cast<float>(m));
+    }
+  }
+  if (type == NC_FLOAT || type == NC_DOUBLE) markers.push_back(NC_FILL_FLOAT);
+  double scale = 1.0, offset = 0.0;
+  nc_type at = NC_NAT;
+  std::size_t len = 0;
+  const bool has_scale = nc_inq_att(ncid_, id, "scale_factor", &at, &len) == NC_NOERR;
+  if (has_scale) nc_get_att_double(ncid_, id, "scale_factor", &scale);
+  const bool has_offset = nc_inq_att(ncid_, id, "add_offset", &at, &len) == NC_NOERR;
+  if (has_offset) nc_get_att_double(ncid_, id, "add_offset", &offset);
+  for (float& v : data) {
+    bool missing = false;
+    for (float m : markers) missing = missing || v == m || (std::isnan(m) && std::isnan(v));
+    if (missing) {
+      v = fill_replacement;
+      ++stats.fill_values;
+    } else if (has_scale || has_offset) {
+      v = static_cast<float>(double(v) * scale + offset);
+    }
+  }
+  return data;
+}
+
+std::vector<double> NcReader::readDoubles(const std::string& var) const {
+  const int id = varId(var);
+  requireNumeric(var);
+  std::size_t n = 1;
+  for (std::size_t c : varShape(var)) n *= c;
+  std::vector<double> data(n);
+  if (n > 0) {
+    const int status = nc_get_var_double(ncid_, id, data.data());
+    if (status != NC_NOERR) fail(fmt::format("cannot read {} ({})", var, nc_strerror(status)));
+  }
+  return data;
+}
+
+std::string NcReader::readTextRow(const std::string& var, std::size_t index) const {
+  const int id = varId(var);
+  nc_type type = NC_NAT;
+  nc_inq_vartype(ncid_, id, &type);
+  const auto shape = varShape(var);
+  if (type != NC_CHAR || shape.size() != 2) fail(fmt::format("{} is not a 2-D char variable, expected (Time, DateStrLen)", var));
+  std::string s(shape[1], '\0');
+  const std::size_t start[2] = {index, 0};
+  const std::size_t count[2] = {1, shape[1]};
+  if (shape[1] > 0 && nc_get_vara_text(ncid_, id, start, count, s.data()) != NC_NOERR) {
+    fail(fmt::format("cannot read row {} of {}", index, var));
+  }
+  while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+}  // namespace nph::io

@@ -1,0 +1,364 @@
+#include "wrf_loader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "field_checks.h"
+#include "netcdf_reader.h"
+#include "projection.h"
+
+namespace nph::io {
+namespace {
+
+constexpr double kRdOverCp = kWrfGasConstantDryAir_J_per_kgK / kWrfSpecificHeatDryAir_J_per_kgK;
+/// Largest disagreement [deg] between XLAT/XLONG and the attribute georeference before we warn.
+constexpr double kGeolocationWarnTolerance_deg = 0.05;
+
+struct WrfClass {
+  Hydrometeor kind;
+  const char* q_name;
+  const char* n_name;
+};
+constexpr std::array<WrfClass, 6> kWrfClasses = {{{Hydrometeor::Cloud, "QCLOUD", "QNCLOUD"},
+                                                  {Hydrometeor::Rain, "QRAIN", "QNRAIN"},
+                                                  {Hydrometeor::Ice, "QICE", "QNICE"},
+                                                  {Hydrometeor::Snow, "QSNOW", "QNSNOW"},
+                                                  {Hydrometeor::Graupel, "QGRAUP", "QNGRAUPEL"},
+                                                  {Hydrometeor::Hail, "QHAIL", "QNHAIL"}}};
+
+std::string isoFromWrfTime(const std::string& wrf) {
+  // "2026-09-01_12:00:00" -> "2026-09-01T12:00:00Z"
+  if (wrf.size() < 19) return wrf;
+  std::string iso = wrf.substr(0, 19);
+  iso[10] = 'T';
+  return iso + "Z";
+}
+
+double requireAttribute(const NcReader& nc, const char* name, double lo, double hi, const char* meaning) {
+  const auto v = nc.globalNumber(name);
+  if (!v) throw InputError(fmt::format("{}: global attribute {} is missing, expected {}", nc.path(), name, meaning));
+  if (!std::isfinite(*v) || *v < lo || *v > hi) {
+    throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {} in [{}, {}]", nc.path(), name,
+                                 *v, meaning, lo, hi));
+  }
+  return *v;
+}
+
+struct Dims {
+  int nx = 0, ny = 0, nz = 0;
+  std::size_t nt = 0;
+};
+
+Dims wrfDims(const NcReader& nc) {
+  Dims d;
+  for (const char* name : {"Time", "bottom_top", "bottom_top_stag", "south_north", "west_east"}) {
+    const auto len = nc.dimLength(name);
+    if (!len) {
+      throw InputError(fmt::format("{}: dimension {} is missing, expected a wrfout file with Time, bottom_top, "
+                                   "bottom_top_stag, south_north, west_east",
+                                   nc.path(), name));
+    }
+    if (*len == 0 && std::string(name) != "Time") {
+      throw InputError(fmt::format("{}: dimension {} has length 0, expected at least 1", nc.path(), name));
+    }
+    if (*len > std::size_t(std::numeric_limits<int>::max())) {
+      throw InputError(fmt::format("{}: dimension {} has length {}, larger than nephele supports", nc.path(), name, *len));
+    }
+  }
+  d.nt = *nc.dimLength("Time");
+  d.nx = static_cast<int>(*nc.dimLength("west_east"));
+  d.ny = static_cast<int>(*nc.dimLength("south_north"));
+  d.nz = static_cast<int>(*nc.dimLength("bottom_top"));
+  if (*nc.dimLength("bottom_top_stag") != std::size_t(d.nz) + 1) {
+    throw InputError(fmt::format("{}: bottom_top_stag has length {}, expected bottom_top + 1 = {}", nc.path(),
+                                 *nc.dimLength("bottom_top_stag"), d.nz + 1));
+  }
+  if (d.nt == 0) throw InputError(fmt::format("{}: dimension Time has length 0, expected at least one timestep", nc.path()));
+  return d;
+}
+
+}  // namespace
+
+Georeference wrfGeoreference(const WrfProjectionAttributes& a, int nx, int ny, const std::string& path) {
+  Georeference g;
+  auto bad = [&](const char* name, double v, const char* expected) {
+    throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {}", path, name, v, expected));
+  };
+  if (!(std::isfinite(a.dx_m) && a.dx_m > 0.0 && a.dx_m < 1e7)) bad("DX", a.dx_m, "a grid spacing in (0, 1e7) m");
+  if (!(std::isfinite(a.dy_m) && a.dy_m > 0.0 && a.dy_m < 1e7)) bad("DY", a.dy_m, "a grid spacing in (0, 1e7) m");
+  g.dx_m = a.dx_m;
+  g.dy_m = a.dy_m;
+  if (a.map_proj == 0) return g;  // Cartesian (idealized): x0 = y0 = 0, no projection
+
+  auto lat_ok = [](double v) { return std::isfinite(v) && std::abs(v) <= 90.0; };
+  auto lon_ok = [](double v) { return std::isfinite(v) && std::abs(v) <= 360.0; };
+  if (!lat_ok(a.cen_lat)) bad("CEN_LAT", a.cen_lat, "a latitude in [-90, 90]");
+  if (!lon_ok(a.cen_lon)) bad("CEN_LON", a.cen_lon, "a longitude in [-360, 360]");
+  if (!lon_ok(a.stand_lon)) bad("STAND_LON", a.stand_lon, "a longitude in [-360, 360]");
+  if (!lat_ok(a.truelat1)) bad("TRUELAT1", a.truelat1, "a latitude in [-90, 90]");
+  if (!lat_ok(a.truelat2)) bad("TRUELAT2", a.truelat2, "a latitude in [-90, 90]");
+  if (!lat_ok(a.moad_cen_lat)) bad("MOAD_CEN_LAT", a.moad_cen_lat, "a latitude in [-90, 90]");
+
+  const double r = kWrfEarthRadius_m;
+  switch (a.map_proj) {
+    case 1: {  // Lambert conformal conic, secant at TRUELAT1/TRUELAT2, central meridian STAND_LON.
+      if (std::abs(a.truelat1) < 1e-6 && std::abs(a.truelat2) < 1e-6) bad("TRUELAT1", a.truelat1, "a non-zero true latitude for Lambert conformal");
+      const double lat0 = std::abs(a.moad_cen_lat) > 1e-6 ? a.moad_cen_lat : a.truelat1;
+      g.proj_definition = fmt::format("+proj=lcc +lat_1={} +lat_2={} +lat_0={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
+                                      a.truelat1, a.truelat2, lat0, a.stand_lon, r);
+      break;
+    }
+    case 2:  // Polar stereographic, true at TRUELAT1, pole of TRUELAT1's hemisphere.
+      g.proj_definition = fmt::format("+proj=stere +lat_0={} +lat_ts={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
+                                      a.truelat1 >= 0.0 ? 90 : -90, a.truelat1, a.stand_lon, r);
+      break;
+    case 3:  // Mercator, true at TRUELAT1.
+      g.proj_definition = fmt::format("+proj=merc +lat_ts={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
+                                      a.truelat1, a.stand_lon, r);
+      break;
+    case 6: {  // Cylindrical equidistant lat-lon, possibly rotated. DX/DY are metres along the
+               // (rotated) equator: degrees = DX / (R pi / 180).
+      if (!lat_ok(a.pole_lat)) bad("POLE_LAT", a.pole_lat, "a latitude in [-90, 90]");
+      if (!lon_ok(a.pole_lon)) bad("POLE_LON", a.pole_lon, "a longitude in [-360, 360]");
+      g.geographic = true;
+      const double m_per_deg = r * std::numbers::pi / 180.0;
+      g.dx_m = a.dx_m / m_per_deg;
+      g.dy_m = a.dy_m / m_per_deg;
+      if (std::abs(a.pole_lat - 90.0) < 1e-6) {
+        g.proj_definition = fmt::format("+proj=longlat +R={} +no_defs", r);
+      } else {
+        // WPS rotated pole: POLE_LAT/POLE_LON is where the true North Pole lies in the rotated
+        // grid, STAND_LON the rotation about the Earth's axis (WPS user guide, "rotated lat-lon";
+        // for a grid centred at (lat0, lon0): POLE_LAT = 90 - lat0, POLE_LON = 180,
+        // STAND_LON = 180 - lon0). As PROJ ob_tran: o_lat_p = POLE_LAT, o_lon_p = 180 - POLE_LON,
+        // lon_0 = 180 - STAND_LON (as wrf-python's RotatedLatLon does).
+        g.proj_definition = fmt::format("+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p={} +lon_0={} +R={} +no_defs",
+                                        a.pole_lat, 180.0 - a.pole_lon, 180.0 - a.stand_lon, r);
+      }
+      break;
+    }
+    default:
+      throw InputError(fmt::format("{}: global attribute MAP_PROJ = {} is not supported, expected 0 (Cartesian), "
+                                   "1 (Lambert), 2 (polar stereographic), 3 (Mercator) or 6 (lat-lon)",
+                                   path, a.map_proj));
+  }
+  // Origin: WRF places the centre of the domain at (CEN_LAT, CEN_LON) (WPS geogrid, d01).
+  const Projection projection(g.proj_definition);
+  double xc = 0, yc = 0;
+  try {
+    projection.forward(a.cen_lon, a.cen_lat, xc, yc);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: CEN_LAT/CEN_LON cannot be projected: {}", path, e.what()));
+  }
+  g.x0 = xc - 0.5 * (nx - 1) * g.dx_m;
+  g.y0 = yc - 0.5 * (ny - 1) * g.dy_m;
+  return g;
+}
+
+std::vector<std::string> listWrfTimes(const std::string& path) {
+  const NcReader nc(path);
+  const Dims d = wrfDims(nc);
+  std::vector<std::string> times;
+  for (std::size_t t = 0; t < d.nt; ++t) {
+    times.push_back(nc.hasVar("Times") ? isoFromWrfTime(nc.readTextRow("Times", t)) : std::string());
+  }
+  return times;
+}
+
+ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options) {
+  const NcReader nc(path);
+  const Dims d = wrfDims(nc);
+  if (time_index < 0 || std::size_t(time_index) >= d.nt) {
+    throw InputError(fmt::format("{}: timestep {} does not exist, expected 0 .. {}", path, time_index, d.nt - 1));
+  }
+  const std::size_t t = std::size_t(time_index);
+  ModelTimestep ts;
+  ts.source_file = path;
+  ts.time_index = time_index;
+  ts.model = ModelKind::Wrf;
+  ts.nx = d.nx;
+  ts.ny = d.ny;
+  ts.nz = d.nz;
+  if (nc.hasVar("Times")) ts.time_utc = isoFromWrfTime(nc.readTextRow("Times", t));
+
+  const std::vector<std::string> mass_dims = {"Time", "bottom_top", "south_north", "west_east"};
+  const std::vector<std::string> stag_dims = {"Time", "bottom_top_stag", "south_north", "west_east"};
+  const std::vector<std::string> surface_dims = {"Time", "south_north", "west_east"};
+
+  // Which hydrometeors and number concentrations exist: check their shapes before reading.
+  std::vector<const WrfClass*> present_q, present_n;
+  for (const WrfClass& c : kWrfClasses) {
+    if (nc.hasVar(c.q_name)) {
+      nc.requireDims(c.q_name, mass_dims);
+      present_q.push_back(&c);
+    }
+    if (nc.hasVar(c.n_name)) {
+      nc.requireDims(c.n_name, mass_dims);
+      present_n.push_back(&c);
+    }
+  }
+  if (present_q.empty()) {
+    throw InputError(fmt::format("{}: no hydrometeor variable, expected at least one of QCLOUD, QRAIN, QICE, QSNOW, "
+                                 "QGRAUP, QHAIL (Time, bottom_top, south_north, west_east)",
+                                 path));
+  }
+  for (const char* v : {"P", "PB", "T"}) nc.requireDims(v, mass_dims);
+  for (const char* v : {"PH", "PHB"}) nc.requireDims(v, stag_dims);
+  const bool has_qv = nc.hasVar("QVAPOR");
+  if (has_qv) nc.requireDims("QVAPOR", mass_dims);
+
+  // Memory: q + N + qv, p, T, height (+ 2 staggered temporaries), before allocating any of it.
+  const double points = double(d.nx) * double(d.ny) * double(d.nz + 1);
+  const int fields = static_cast<int>(present_q.size() + present_n.size()) + 4 + 3;
+  requireWithinBudget(path, "one timestep", points, fields, memoryBudgetBytes(options));
+
+  const std::size_t nx = std::size_t(d.nx), ny = std::size_t(d.ny), nz = std::size_t(d.nz);
+  const std::vector<std::size_t> start = {t, 0, 0, 0};
+  const std::vector<std::size_t> count = {1, nz, ny, nx};
+  const std::vector<std::size_t> count_stag = {1, nz + 1, ny, nx};
+  ReadStats stats;
+
+  auto read_state = [&](const char* var, const std::vector<std::size_t>& cnt) {
+    ReadStats s;
+    auto data = nc.readFloats(var, start, cnt, std::numeric_limits<float>::quiet_NaN(), s);
+    if (s.fill_values > 0) {
+      throw InputError(fmt::format("{}: {} has {} missing values (_FillValue/missing_value), expected a complete field",
+                                   path, var, s.fill_values));
+    }
+    requireFinite(path, var, data);
+    return data;
+  };
+  auto read_mixing = [&](const char* var) {
+    auto data = nc.readFloats(var, start, count, 0.0f, stats);
+    requireFinite(path, var, data);
+    const std::int64_t negative = clampNegative(data);
+    if (negative > 0) {
+      log::warn("{}: {} had {} negative values, set to 0", path, var, negative);
+      ts.repairs.negative_clamped += negative;
+    }
+    return data;
+  };
+
+  for (const WrfClass* c : present_q) ts.q_kg_per_kg[c->kind] = read_mixing(c->q_name);
+  for (const WrfClass* c : present_n) ts.number_per_kg[c->kind] = read_mixing(c->n_name);
+  if (has_qv) {
+    ts.water_vapour_kg_per_kg = read_mixing("QVAPOR");
+  } else {
+    log::warn("{}: QVAPOR is missing; water vapour taken as 0 (air density then ignores moisture)", path);
+    ts.water_vapour_kg_per_kg.assign(nx * ny * nz, 0.0f);
+  }
+  ts.repairs.missing_as_zero = stats.fill_values;
+  if (stats.fill_values > 0) log::warn("{}: {} missing values in mixing ratios read as 0", path, stats.fill_values);
+
+  // Pressure: full pressure = perturbation P + base state PB [Pa].
+  ts.pressure_pa = read_state("P", count);
+  {
+    const auto pb = read_state("PB", count);
+    for (std::size_t n = 0; n < pb.size(); ++n) ts.pressure_pa[n] += pb[n];
+  }
+  requireRange(path, "P+PB", ts.pressure_pa, 1.0, 2.0e5, "a pressure [Pa]");
+
+  // Temperature from potential temperature: theta = T + 300 K (WRF stores theta - t0, t0 = 300 K);
+  // T = theta (p / p0)^(R_d/c_p), the Exner function with p0 = 1000 hPa and R_d/c_p = 2/7
+  // (Skamarock et al. 2019, WRF ARW v4 tech note, §2.1; module_model_constants.F).
+  ts.temperature_k = read_state("T", count);
+  for (std::size_t n = 0; n < ts.temperature_k.size(); ++n) {
+    const double theta = double(ts.temperature_k[n]) + kWrfThetaOffset_k;
+    ts.temperature_k[n] = static_cast<float>(theta * std::pow(double(ts.pressure_pa[n]) / kWrfReferencePressure_pa, kRdOverCp));
+  }
+  requireRange(path, "T (as temperature from theta and Exner)", ts.temperature_k, 100.0, 400.0, "a temperature [K]");
+
+  // Heights: geopotential PH + PHB on staggered (w) levels, divided by g, averaged to mass levels.
+  {
+    auto phi = read_state("PH", count_stag);
+    const auto phb = read_state("PHB", count_stag);
+    for (std::size_t n = 0; n < phi.size(); ++n) phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
+    const std::size_t n2 = nx * ny;
+    ts.height_m.resize(nx * ny * nz);
+    for (std::size_t k = 0; k < nz; ++k) {
+      for (std::size_t c = 0; c < n2; ++c) {
+        const double lo = phi[k * n2 + c], hi = phi[(k + 1) * n2 + c];
+        if (!(hi > lo)) {
+          throw InputError(fmt::format("{}: PH+PHB does not increase with height at level {} (column {}): {} m then {} m, "
+                                       "expected increasing geopotential",
+                                       path, k, c, lo, hi));
+        }
+        ts.height_m[k * n2 + c] = static_cast<float>(0.5 * (lo + hi));
+      }
+    }
+    // Terrain: HGT when present, else the lowest staggered level (PHB + PH at the surface / g).
+    if (nc.hasVar("HGT")) {
+      nc.requireDims("HGT", surface_dims);
+      ts.terrain_height_m = read_state("HGT", {1, ny, nx});
+    } else {
+      ts.terrain_height_m.assign(phi.begin(), phi.begin() + std::ptrdiff_t(n2));
+    }
+  }
+
+  if (const auto mp = nc.globalNumber("MP_PHYSICS")) ts.microphysics_scheme = static_cast<int>(*mp);
+  if (ts.microphysics_scheme >= 0 && ts.microphysics_scheme <= 3 && ts.q_kg_per_kg.count(Hydrometeor::Ice) == 0) {
+    log::debug("{}: MP_PHYSICS = {}: no separate ice; frozen condensate lives in QCLOUD/QRAIN below 0 °C", path,
+               ts.microphysics_scheme);
+  }
+
+  // Georeference.
+  WrfProjectionAttributes a;
+  a.map_proj = static_cast<int>(nc.globalNumber("MAP_PROJ").value_or(0.0));
+  a.dx_m = requireAttribute(nc, "DX", -1e300, 1e300, "the grid spacing [m]");
+  a.dy_m = requireAttribute(nc, "DY", -1e300, 1e300, "the grid spacing [m]");
+  const bool has_geo = nc.hasVar("XLAT") && nc.hasVar("XLONG");
+  if (a.map_proj != 0) {
+    a.truelat1 = nc.globalNumber("TRUELAT1").value_or(0.0);
+    a.truelat2 = nc.globalNumber("TRUELAT2").value_or(a.truelat1);
+    a.stand_lon = requireAttribute(nc, "STAND_LON", -1e300, 1e300, "the standard longitude [deg]");
+    a.cen_lat = requireAttribute(nc, "CEN_LAT", -1e300, 1e300, "the domain centre latitude [deg]");
+    a.cen_lon = requireAttribute(nc, "CEN_LON", -1e300, 1e300, "the domain centre longitude [deg]");
+    a.moad_cen_lat = nc.globalNumber("MOAD_CEN_LAT").value_or(a.cen_lat);
+    a.pole_lat = nc.globalNumber("POLE_LAT").value_or(90.0);
+    a.pole_lon = nc.globalNumber("POLE_LON").value_or(0.0);
+  } else if (has_geo) {
+    log::warn("{}: MAP_PROJ = 0 but XLAT/XLONG present; loading as Cartesian", path);
+  }
+  ts.georef = wrfGeoreference(a, d.nx, d.ny, path);
+  if (has_geo && a.map_proj != 0) {
+    for (const char* v : {"XLAT", "XLONG"}) {
+      const auto dims = nc.varDimNames(v);
+      if (dims.size() == 3) {
+        nc.requireDims(v, surface_dims);
+      } else {
+        nc.requireDims(v, {"south_north", "west_east"});
+      }
+    }
+    const bool timed = nc.varDimNames("XLAT").size() == 3;
+    const std::vector<std::size_t> s2 = timed ? std::vector<std::size_t>{t, 0, 0} : std::vector<std::size_t>{0, 0};
+    const std::vector<std::size_t> c2 = timed ? std::vector<std::size_t>{1, ny, nx} : std::vector<std::size_t>{ny, nx};
+    ReadStats s;
+    ts.georef.lat_deg = nc.readFloats("XLAT", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
+    ts.georef.lon_deg = nc.readFloats("XLONG", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
+    requireFinite(path, "XLAT", ts.georef.lat_deg);
+    requireFinite(path, "XLONG", ts.georef.lon_deg);
+    // Consistency of the attribute georeference with the file's own geolocation (corners).
+    const Projection projection(ts.georef.proj_definition);
+    double worst = 0.0;
+    for (const auto& [i, j] : {std::pair{0, 0}, std::pair{d.nx - 1, 0}, std::pair{0, d.ny - 1}, std::pair{d.nx - 1, d.ny - 1}}) {
+      double lon = 0, lat = 0;
+      gridLonLat(projection, ts.georef, i, j, lon, lat);
+      const std::size_t c = std::size_t(j) * nx + std::size_t(i);
+      double dlon = std::fmod(std::abs(lon - double(ts.georef.lon_deg[c])), 360.0);
+      dlon = std::min(dlon, 360.0 - dlon);
+      worst = std::max({worst, std::abs(lat - double(ts.georef.lat_deg[c])), dlon});
+    }
+    if (worst > kGeolocationWarnTolerance_deg) {
+      log::warn("{}: projection from MAP_PROJ={} disagrees with XLAT/XLONG by {:.3f} deg at a corner", path, a.map_proj, worst);
+    }
+  }
+  return ts;
+}
+
+}  // namespace nph::io

@@ -1,0 +1,97 @@
+// The loader's georeference (PROJ definition from MAP_PROJ & co., origin from CEN_LAT/CEN_LON)
+// reproduces the generator's XLAT/XLONG at the four grid corners, for every MAP_PROJ written.
+// The generator computes XLAT/XLONG with an equivalent but differently written PROJ definition
+// (lat_0 = TRUELAT1, CF-style rotated pole), so this checks the loader rather than repeating it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "io/projection.h"
+#include "io/wrf_loader.h"
+#include "io_test_support.h"
+#include "wrf_hurricane.h"
+
+namespace nph::io {
+namespace {
+
+struct ProjectionCase {
+  datagen::WrfProjection projection;
+  const char* name;
+  const char* proj_keyword;
+  bool geographic;
+};
+
+void PrintTo(const ProjectionCase& c, std::ostream* os) { *os << c.name; }
+
+class WrfProjectionTest : public ::testing::TestWithParam<ProjectionCase> {};
+
+TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
+  const ProjectionCase& c = GetParam();
+  test::TempDir dir;
+  const std::string path = dir.file(std::string("wrfout_") + c.name + ".nc");
+  datagen::WrfHurricaneSpec spec;
+  spec.ntimes = 1;
+  spec.nz = 4;
+  spec.projection = c.projection;
+  const auto truth = datagen::writeWrfHurricane(spec, path);
+  const ModelTimestep ts = loadWrfTimestep(path, 0);
+  EXPECT_NE(ts.georef.proj_definition.find(c.proj_keyword), std::string::npos) << ts.georef.proj_definition;
+  EXPECT_NE(ts.georef.proj_definition.find("+R=6370000"), std::string::npos);
+  EXPECT_EQ(ts.georef.geographic, c.geographic);
+  ASSERT_EQ(ts.georef.lat_deg.size(), std::size_t(ts.nx) * std::size_t(ts.ny));
+
+  const Projection projection(ts.georef.proj_definition);
+  constexpr double kToleranceDeg = 1e-3;
+  for (const auto& [i, j] : {std::pair{0, 0}, std::pair{ts.nx - 1, 0}, std::pair{0, ts.ny - 1}, std::pair{ts.nx - 1, ts.ny - 1},
+                             std::pair{ts.nx / 2, ts.ny / 3}}) {
+    double lon = 0, lat = 0;
+    gridLonLat(projection, ts.georef, i, j, lon, lat);
+    const std::size_t p = std::size_t(j) * std::size_t(ts.nx) + std::size_t(i);
+    EXPECT_NEAR(lat, truth.lat_deg[p], kToleranceDeg) << c.name << " corner " << i << "," << j;
+    EXPECT_NEAR(lon, truth.lon_deg[p], kToleranceDeg) << c.name << " corner " << i << "," << j;
+    // And against XLAT/XLONG as the loader read them (float32).
+    EXPECT_NEAR(lat, ts.georef.lat_deg[p], kToleranceDeg);
+    EXPECT_NEAR(lon, ts.georef.lon_deg[p], kToleranceDeg);
+  }
+  // The domain spans what DX says: corner-to-corner distance along the south row ~ (nx-1) DX.
+  double lon0 = 0, lat0 = 0, lon1 = 0, lat1 = 0;
+  gridLonLat(projection, ts.georef, 0, 0, lon0, lat0);
+  gridLonLat(projection, ts.georef, ts.nx - 1, 0, lon1, lat1);
+  EXPECT_NE(lon0, lon1);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    MapProj, WrfProjectionTest,
+    ::testing::Values(ProjectionCase{datagen::WrfProjection::Lambert, "lambert", "+proj=lcc", false},
+                      ProjectionCase{datagen::WrfProjection::PolarStereographic, "polar", "+proj=stere", false},
+                      ProjectionCase{datagen::WrfProjection::Mercator, "mercator", "+proj=merc", false},
+                      ProjectionCase{datagen::WrfProjection::LatLon, "latlon", "+proj=longlat", true},
+                      ProjectionCase{datagen::WrfProjection::RotatedLatLon, "rotated", "+proj=ob_tran", true}),
+    [](const ::testing::TestParamInfo<ProjectionCase>& param_info) { return std::string(param_info.param.name); });
+
+TEST(WrfGeoreference, MercatorSpacingMatchesClosedForm) {
+  // Mercator true at TRUELAT1 on a sphere: x = R cos(lat_ts) (lon - lon_0) in radians, so two
+  // points DX apart in x differ in longitude by DX / (R cos(lat_ts)) radians.
+  WrfProjectionAttributes a;
+  a.map_proj = 3;
+  a.truelat1 = 30.0;
+  a.stand_lon = 10.0;
+  a.cen_lat = 40.0;
+  a.cen_lon = 12.0;
+  a.moad_cen_lat = 40.0;
+  a.dx_m = 10000.0;
+  a.dy_m = 10000.0;
+  const Georeference g = wrfGeoreference(a, 101, 51, "test");
+  const Projection p(g.proj_definition);
+  double lon_a = 0, lat_a = 0, lon_b = 0, lat_b = 0;
+  gridLonLat(p, g, 50, 25, lon_a, lat_a);
+  gridLonLat(p, g, 51, 25, lon_b, lat_b);
+  EXPECT_NEAR(lon_a, 12.0, 1e-9);  // the centre point is at CEN_LON/CEN_LAT
+  EXPECT_NEAR(lat_a, 40.0, 1e-9);
+  const double expected_dlon_deg = 10000.0 / (kWrfEarthRadius_m * std::cos(30.0 * std::numbers::pi / 180.0)) * 180.0 / std::numbers::pi;
+  EXPECT_NEAR(lon_b - lon_a, expected_dlon_deg, 1e-9);
+}
+
+}  // namespace
+}  // namespace nph::io
