@@ -1,0 +1,22 @@
+#pragma once
+// Subcommands of the `nephele` executable, one file each (info.cpp, convert.cpp; later render,
+// animate, view, bench). Each add*Command registers its CLI11 subcommand with its options; when
+// the subcommand is chosen on the command line, its callback stores the action to run in `run`.
+// Actions return the process exit code and throw nph::Error subclasses for failures; main.cpp
+// turns those into a message on stderr and the exit codes below.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace nph::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;  ///< bad input data, I/O errors
+inline constexpr int kExitUsage = 2;    ///< bad command line
+
+using Action = std::function<int()>;
+
+void addInfoCommand(CLI::App& app, Action& run);
+void addConvertCommand(CLI::App& app, Action& run);
+
+}  // namespace nph::cli

@@ -1,0 +1,37 @@
+// nephele: command-line front end. Errors inside are typed exceptions (core/error.h); here they
+// become one line on stderr and an exit code (STYLE.md 6).
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "nephele: volumetric clouds from weather-model output (WRF wrfout, ICON NetCDF).\n"
+      "  info     what a wrfout, ICON or .nph file holds\n"
+      "  convert  model files -> ice/water extinction volumes in a .nph cache file\n"
+      "Run `nephele <command> --help` for the options of a command."};
+  app.set_version_flag("--version", "nephele " NEPHELE_VERSION);
+  app.require_subcommand(1);
+  nph::cli::Action run;
+  nph::cli::addInfoCommand(app, run);
+  nph::cli::addConvertCommand(app, run);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help/version to stdout, errors to stderr
+    return code == 0 ? nph::cli::kExitOk : nph::cli::kExitUsage;
+  }
+  try {
+    return run ? run() : nph::cli::kExitUsage;
+  } catch (const nph::UsageError& e) {
+    std::fprintf(stderr, "nephele: error: %s\n", e.what());
+    return nph::cli::kExitUsage;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nephele: error: %s\n", e.what());
+    return nph::cli::kExitFailure;
+  }
+}

@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# CLI tests of `nephele info` / `nephele convert` on generated tiny sample files.
+# usage: cli_test.sh NEPHELE NEPHELE_GEN WORKDIR CASE [ARGS...]
+# Each case checks exit codes and output; it fails (exit 1) with a message saying what differed.
+set -uo pipefail
+nephele=$1 gen=$2 work=$3 case=$4
+shift 4
+data=$work/data
+# one output directory per test (the cases run in parallel under ctest -j)
+out=$work/out-$case$(printf -- '-%s' "$@" | tr -c 'A-Za-z0-9_.-' '_')
+fail() { echo "FAIL [$case]: $*" >&2; exit 1; }
+
+# run CMD...: captures stdout/stderr/rc into $stdout $stderr $rc
+run() {
+  "$@" >"$out/stdout" 2>"$out/stderr"
+  rc=$?
+  stdout=$(cat "$out/stdout")
+  stderr=$(cat "$out/stderr")
+  echo "+ $* -> rc $rc" >&2
+}
+expect_rc() { [ "$rc" -eq "$1" ] || fail "exit status $rc, expected $1; stderr: $stderr"; }
+expect_out() { grep -q -- "$1" "$out/stdout" || fail "stdout lacks '$1'; stdout: $stdout"; }
+expect_err() { grep -q -- "$1" "$out/stderr" || fail "stderr lacks '$1'; stderr: $stderr"; }
+expect_no_nph_left() {  # no output and no temporary file
+  local left
+  left=$(ls "$out" | grep -E '\.nph' || true)
+  [ -z "$left" ] || fail "files left behind after a failed conversion: $left"
+}
+
+if [ "$case" != generate ]; then
+  rm -rf "$out" && mkdir -p "$out"
+fi
+
+case $case in
+  generate)  # fixture: the standard tiny set and a second file continuing the Lambert series
+    rm -rf "$data" && mkdir -p "$data"
+    "$gen" all --dir "$data" >/dev/null || fail "nephele-gen all failed"
+    "$gen" wrf --times 2 --start-hour 6 -o "$data/wrfout_lambert_thompson_b.nc" >/dev/null ||
+      fail "nephele-gen wrf (series) failed"
+    ;;
+  help)
+    run "$nephele" --help
+    expect_rc 0; expect_out "info"; expect_out "convert"
+    run "$nephele" convert --help
+    expect_rc 0; expect_out "--preset"; expect_out "--dz"; expect_out "nes2008"
+    ;;
+  info)  # every generated file, ARGS: file name
+    run "$nephele" info "$data/$1"
+    expect_rc 0; expect_out "timesteps"; expect_out "grid"; expect_out "q cloud"
+    case $1 in
+      *wsm3*) expect_out "MP_PHYSICS = 3";;
+      *thompson*) expect_out "MP_PHYSICS = 8"; expect_out "N ice";;
+      icon_regular*) expect_out "cloud cover \[0-1\]     0 \.\. ";;
+    esac
+    ;;
+  convert)  # ARGS: file name, expected timesteps; then `info --verify` on the result
+    run "$nephele" convert "$data/$1" -o "$out/x.nph" --stats
+    expect_rc 0; expect_out "timesteps=$2"; expect_out "peak_rss_mb="
+    run "$nephele" info --verify "$out/x.nph"
+    expect_rc 0; expect_out "verified      all $2 chunks"; expect_out "max ice"
+    [ "$(ls "$out")" = "$(printf 'stderr\nstdout\nx.nph')" ] || fail "unexpected files: $(ls "$out")"
+    ;;
+  series)  # two files of one storm: one time-ordered cache, nes2008 preset, overrides
+    run "$nephele" convert "$data/wrfout_lambert_thompson_b.nc" "$data/wrfout_lambert_thompson.nc" \
+      -o "$out/s.nph" --preset nes2008 --dz 500 --radius snow=1mm --no-progress
+    expect_rc 0
+    run "$nephele" info "$out/s.nph"
+    expect_rc 0; expect_out "timesteps     8"; expect_out "dz 500 m"; expect_out "preset nes2008+snow=1mm"
+    # time order across files: the first file's 12:00 comes first, the second file's 18:00 later
+    grep -A1 "timesteps     8" "$out/stdout" | grep -q "2026-09-01T12:00:00Z" || fail "not time-ordered: $stdout"
+    expect_out "7 2026-09-01T19:00:00Z"
+    ;;
+  progress)  # forced progress bar goes to stderr, stdout stays clean
+    run "$nephele" convert "$data/icon_regular.nc" -o "$out/p.nph" --progress
+    expect_rc 0; expect_err "2/2"; [ -z "$stdout" ] || fail "stdout not empty: $stdout"
+    ;;
+  not-netcdf)
+    echo "this is not a weather model" >"$out/notes.nc"
+    run "$nephele" convert "$out/notes.nc" -o "$out/bad.nph"
+    expect_rc 1; expect_err "notes.nc"; rm "$out/notes.nc"; expect_no_nph_left
+    run "$nephele" info "$out/stdout"
+    expect_rc 1; expect_err "stdout"
+    ;;
+  truncated)  # a wrfout cut in the middle: error naming it, no partial output
+    head -c 300000 "$data/wrfout_lambert_wsm3.nc" >"$out/cut.nc"
+    run "$nephele" convert "$out/cut.nc" -o "$out/cut.nph"
+    expect_rc 1; expect_err "cut.nc"; expect_no_nph_left
+    run "$nephele" info "$out/cut.nc"
+    expect_rc 1; expect_err "cut.nc"
+    ;;
+  corrupt-nph)  # a flipped byte inside a chunk: info --verify names file and chunk
+    run "$nephele" convert "$data/wrfout_mercator_wsm3.nc" -o "$out/c.nph"
+    expect_rc 0
+    size=$(stat -c %s "$out/c.nph")
+    printf '\xff\xff\xff\xff' | dd of="$out/c.nph" bs=1 seek=$((size / 2)) conv=notrunc status=none
+    run "$nephele" info --verify "$out/c.nph"
+    expect_rc 1; expect_err "c.nph"; expect_err "chunk"
+    head -c 1000 "$out/c.nph" >"$out/short.nph"
+    run "$nephele" info "$out/short.nph"
+    expect_rc 1; expect_err "short.nph"; expect_err "truncated"
+    ;;
+  usage)
+    run "$nephele" convert "$data/icon_regular.nc"   # no -o
+    expect_rc 2; expect_err "output"
+    run "$nephele" convert "$data/icon_regular.nc" -o "$out/u.nph" --preset nes2009
+    expect_rc 2
+    run "$nephele" convert "$data/icon_regular.nc" -o "$out/u.nph" --radius sleet=1mm
+    expect_rc 2; expect_err "sleet"; expect_no_nph_left
+    run "$nephele" convert "$out/missing.nc" -o "$out/u.nph"
+    expect_rc 2; expect_err "missing.nc"
+    run "$nephele"
+    expect_rc 2
+    ;;
+  *) fail "unknown case";;
+esac
+echo "PASS [$case]"
