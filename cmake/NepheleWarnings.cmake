@@ -3,7 +3,7 @@ function(nephele_warnings target)
   target_compile_options(${target} PRIVATE
     $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
         -Wold-style-cast -Wcast-align -Woverloaded-virtual -Wconversion -Wno-sign-conversion
-        -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough>
+        -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough>
     $<$<COMPILE_LANG_AND_ID:C,GNU,Clang>:-Wall -Wextra -Wpedantic>
     $<$<BOOL:${NEPHELE_WERROR}>:-Werror>)
 endfunction()

@@ -11,7 +11,7 @@ counters = sorted({k for r in rows for k, v in r.items()
                        "real_time", "cpu_time", "iterations", "repetitions", "repetition_index",
                        "threads", "family_index", "per_family_instance_index")})
 w = csv.writer(sys.stdout)
-w.writerow(["name", "aggregate", "real_time", "time_unit"] + counters)
+w.writerow(["name", "label", "aggregate", "real_time", "time_unit"] + counters)
 for r in rows:
-    w.writerow([r.get("run_name", r["name"]), r.get("aggregate_name", ""), r.get("real_time"),
+    w.writerow([r.get("run_name", r["name"]), r.get("label", ""), r.get("aggregate_name", ""), r.get("real_time"),
                 r.get("time_unit")] + [r.get(c, "") for c in counters])
