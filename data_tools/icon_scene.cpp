@@ -52,9 +52,14 @@ class Scene {
     const double km_per_deg = kIconEarthRadius_m / 1000.0 / kDegPerRad;
     const double area_km2 = lon_span_ * km_per_deg * std::cos((lat_min_ + 0.5 * lat_span_) / kDegPerRad) *
                             lat_span_ * km_per_deg;
+    // Candidates anywhere, kept with a probability that is high in the south-east and fades out
+    // along a noisy boundary, so the convective field has no straight edges.
     const int count = std::clamp(static_cast<int>(area_km2 / 2.0 / 900.0), 6, 4000);
-    for (int c = 0; c < count; ++c) {
-      const double u = 0.45 + 0.55 * noise_.hash(c, 1, 0), v = 0.05 + 0.6 * noise_.hash(c, 2, 0);
+    for (int c = 0, kept = 0; kept < count && c < 20 * count; ++c) {
+      const double u = noise_.hash(c, 1, 0), v = noise_.hash(c, 2, 0);
+      const double potential = smoothstep(0.35, 0.65, u - 0.6 * v + 0.35 + 0.5 * (noise_.fbm(3.0 * u, 3.0 * v, 9.0, 3) - 0.5));
+      if (noise_.hash(c, 5, 0) >= potential) continue;
+      ++kept;
       cumuli_.push_back({lon_min_ + u * lon_span_, lat_min_ + v * lat_span_,
                          4.0 + 8.0 * noise_.hash(c, 3, 0), 3000.0 + 4500.0 * noise_.hash(c, 4, 0)});
     }
@@ -89,7 +94,8 @@ class Scene {
     const double deck = smoothstep(-0.05, 0.08, 0.55 - (x - drift) + 0.25 * (n_st - 0.5)) *
                         smoothstep(-0.05, 0.08, y - 0.4 + 0.2 * (n_st - 0.5));
     // Dissolving stratus patch (inconsistency B): cloud fraction left, condensate depleted.
-    const bool depleted_patch = x > 0.12 && x < 0.35 && y > 0.12 && y < 0.32;
+    const double patch_r2 = std::pow((x - drift - 0.22) / 0.11, 2.0) + std::pow((y - 0.22) / 0.09, 2.0);
+    const bool depleted_patch = patch_r2 < 0.8 + 0.4 * n_st;
     // Thin cirrus band across the middle; its eastern part has clc = 0 (inconsistency A).
     const double cirrus = std::exp(-std::pow((y - 0.55 - 0.15 * std::sin(5.0 * x)) / 0.12, 2.0));
     const bool cirrus_without_clc = x > 0.8;
@@ -125,7 +131,8 @@ class Scene {
       const double st = deck * layer(agl, 700.0, 1500.0, 150.0);
       qc += 3.0e-4 * st * (0.7 + 0.6 * n_st);
       clc = std::max(clc, 100.0 * st);
-      if (depleted_patch) clc = std::max(clc, 70.0 * layer(agl, 800.0, 1400.0, 100.0));
+      const double depleted_layer = depleted_patch ? layer(agl, 800.0, 1400.0, 100.0) : 0.0;
+      clc = std::max(clc, 70.0 * depleted_layer);
       // Cirrus 9-11 km, thin.
       const double ci = cirrus * layer(z, 9000.0, 11000.0, 400.0) * (0.4 + 0.6 * noise_.fbm(x * 10.0, y * 10.0, 3.0 + 0.1 * hours, 3));
       qi += 2.5e-5 * ci;
@@ -148,7 +155,7 @@ class Scene {
         // Fringes (d > 1.3) carry condensate without cloud cover (inconsistency A).
         if (nc.d < 1.3) clc = std::max(clc, 100.0 * std::min(1.0, 1.5 * nc.core));
       }
-      if (depleted_patch) {
+      if (depleted_layer > 0.0) {  // the microphysics removed this layer's condensate
         qc = 0.0;
         qi = 0.0;
       }

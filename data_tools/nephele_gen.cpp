@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
       "  wrf   idealized hurricane as a WRF ARW wrfout file (Lambert/Mercator/..., Thompson-like or WSM3-like)\n"
       "  icon  ICON cloud scene (stratus, cumulus, cirrus) on a regular lat-lon or native triangular grid\n"
       "  all   the standard set of files into a directory\n"
-      "Sizes: tiny (40x36x20, for tests) or realistic (500x500x60, for benchmarks; ~1.5 GB for wrf)."};
+      "Sizes: tiny (40x36x20, for tests) or realistic (500x500x60, for benchmarks: the wrf file is ~2.2 GB\n"
+      "with deflate and takes minutes; generate it on demand, never commit it)."};
   app.require_subcommand(1);
 
   std::string size_name = "tiny";
