@@ -9,6 +9,10 @@
 namespace nph::io {
 
 void requireFinite(const std::string& path, const std::string& var, const std::vector<float>& data) {
+  // Branch-free scan first (x - x is 0 for finite x, NaN for NaN and Inf), details only on failure.
+  bool all_finite = true;
+  for (float v : data) all_finite &= (v - v) == 0.0f;
+  if (all_finite) return;
   for (std::size_t n = 0; n < data.size(); ++n) {
     if (!std::isfinite(data[n])) {
       throw InputError(fmt::format("{}: {} contains {} at element {}, expected finite values", path, var,
@@ -30,11 +34,10 @@ void requireRange(const std::string& path, const std::string& var, const std::ve
 
 std::int64_t clampNegative(std::vector<float>& data) {
   std::int64_t count = 0;
-  for (float& v : data) {
-    if (v < 0.0f) {
-      v = 0.0f;
-      ++count;
-    }
+  for (float& v : data) {  // branch-free so that it vectorises
+    const bool negative = v < 0.0f;
+    count += negative;
+    v = negative ? 0.0f : v;
   }
   return count;
 }

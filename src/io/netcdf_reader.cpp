@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <netcdf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -239,13 +240,29 @@ std::vector<float> NcReader::readFloats(const std::string& var, const std::vecto
   if (has_scale) nc_get_att_double(ncid_, id, "scale_factor", &scale);
   const bool has_offset = nc_inq_att(ncid_, id, "add_offset", &at, &len) == NC_NOERR;
   if (has_offset) nc_get_att_double(ncid_, id, "add_offset", &offset);
+  const bool nan_marker = std::any_of(markers.begin(), markers.end(), [](float m) { return std::isnan(m); });
+  markers.erase(std::remove_if(markers.begin(), markers.end(), [](float m) { return std::isnan(m); }), markers.end());
+  const bool scaled = has_scale || has_offset;
+  if (!nan_marker && !scaled && !markers.empty() && markers.size() <= 3) {
+    // Common case, branch-free so that it vectorises: up to three markers, no packing.
+    const float a = markers[0], b = markers[std::min<std::size_t>(1, markers.size() - 1)],
+                c = markers[markers.size() - 1];
+    std::int64_t missing = 0;
+    for (float& v : data) {
+      const bool miss = (v == a) | (v == b) | (v == c);
+      missing += miss;
+      v = miss ? fill_replacement : v;
+    }
+    stats.fill_values += missing;
+    return data;
+  }
   for (float& v : data) {
-    bool missing = false;
-    for (float m : markers) missing = missing || v == m || (std::isnan(m) && std::isnan(v));
+    bool missing = nan_marker && std::isnan(v);
+    for (float m : markers) missing |= v == m;
     if (missing) {
       v = fill_replacement;
       ++stats.fill_values;
-    } else if (has_scale || has_offset) {
+    } else if (scaled) {
       v = static_cast<float>(double(v) * scale + offset);
     }
   }
