@@ -231,6 +231,43 @@ TEST_F(NphCacheTest, TruncatedAndForeignFilesAreInputErrors) {
   EXPECT_FALSE(inputErrorOf([&] { NphReader r(fut); }).empty());
 }
 
+TEST_F(NphCacheTest, EveryFlippedByteAndEveryTruncationIsDetected) {
+  // Every byte of a .nph file is covered by a checksum (header, chunks, geolocation, index) or
+  // by the size check, so any single corrupted byte or any truncation must be an InputError
+  // (never a crash, never silently wrong data).
+  NphMetadata m = smallMetadata();
+  m.nx = 3;
+  m.ny = 2;
+  m.georef.lat_deg.resize(6);
+  m.georef.lon_deg.resize(6);
+  const fs::path good = writeFile(dir_ / "small.nph", m,
+                                  {randomVolumes(m, 2, 1, 0.01f), randomVolumes(m, 3, 2, 0.02f)});
+  const std::string bytes = readAll(good);
+  const fs::path bad = dir_ / "bad.nph";
+  auto openAndReadAll = [&] {
+    NphReader r(bad);
+    for (std::size_t t = 0; t < r.timestepCount(); ++t) (void)r.read(t);
+  };
+  std::size_t detected = 0;
+  for (std::size_t at = 0; at < bytes.size(); ++at) {
+    std::string flipped = bytes;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x5a);
+    writeAll(bad, flipped);
+    try {
+      openAndReadAll();
+      ADD_FAILURE() << "flipped byte " << at << " of " << bytes.size() << " went unnoticed";
+    } catch (const InputError& e) {
+      ++detected;
+      EXPECT_NE(std::string(e.what()).find("bad.nph"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(detected, bytes.size());
+  for (std::size_t keep = 0; keep < bytes.size(); keep += 7) {
+    writeAll(bad, bytes.substr(0, keep));
+    EXPECT_THROW(openAndReadAll(), InputError) << "truncated to " << keep;
+  }
+}
+
 // --- no partial file after a failed write ---------------------------------------------------
 
 TEST_F(NphCacheTest, FailedWriteLeavesNoFile) {
