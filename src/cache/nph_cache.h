@@ -66,6 +66,18 @@ struct WriterOptions {
   int zstd_workers = 0;  ///< zstd worker threads (0: compress in the calling thread)
 };
 
+/// One timestep as stored: 16-bit codes, value_per_m = code * max_per_m / 65535 (quantize.h).
+/// Uploadable as-is into a GL_R16 texture, whose normalised fetch times max_per_m is β
+/// (Nes 2008 §5.1.2), at half the memory of floats.
+struct QuantisedVolumes {
+  int nx = 0, ny = 0, nz = 0;  ///< nz: the file's nz (padded with code 0)
+  std::string time_utc;
+  std::vector<std::uint16_t> ice_codes;    ///< x fastest, as ExtinctionVolumes
+  std::vector<std::uint16_t> water_codes;
+  float max_ice_per_m = 0.0f;
+  float max_water_per_m = 0.0f;
+};
+
 class NphWriter {
  public:
   /// Creates the temporary file next to `path`. Throws IoError when it cannot.
@@ -112,6 +124,8 @@ class NphReader {
   /// Reads, verifies and decodes timestep t, padded to nz() layers. Thread-safe (pread).
   /// InputError names the file and the chunk on truncation, checksum or decompression errors.
   ExtinctionVolumes read(std::size_t t) const;
+  /// The same timestep without decoding (see QuantisedVolumes); same checks as read().
+  QuantisedVolumes readQuantised(std::size_t t) const;
 
  private:
   struct State;

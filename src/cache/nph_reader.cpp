@@ -168,35 +168,51 @@ const TimestepInfo& NphReader::timestep(std::size_t t) const {
   return state_->index.timesteps[t];
 }
 
-ExtinctionVolumes NphReader::read(std::size_t t) const {
+QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
   const State& s = *state_;
   const TimestepInfo& info = timestep(t);
   const NphMetadata& m = s.index.metadata;
   const std::vector<std::byte> raw =
       s.readBlock({info.chunk_offset, info.chunk_bytes, info.raw_bytes, info.chunk_xxh64},
                   fmt::format("chunk {} (timestep {})", t, info.time_utc));
+  QuantisedVolumes q;
+  q.nx = m.nx;
+  q.ny = m.ny;
+  q.nz = s.index.nz;
+  q.time_utc = info.time_utc;
+  q.max_ice_per_m = info.max_ice_per_m;
+  q.max_water_per_m = info.max_water_per_m;
+  const std::size_t stored = std::size_t(m.nx) * std::size_t(m.ny) * std::size_t(info.nz);
+  const std::size_t padded = std::size_t(m.nx) * std::size_t(m.ny) * std::size_t(q.nz);
+  q.ice_codes.assign(padded, 0);  // layers above nz_t stay 0 (cropped, empty)
+  q.water_codes.assign(padded, 0);
+  std::memcpy(q.ice_codes.data(), raw.data(), stored * sizeof(std::uint16_t));
+  std::memcpy(q.water_codes.data(), raw.data() + stored * sizeof(std::uint16_t),
+              stored * sizeof(std::uint16_t));
+  return q;
+}
 
+ExtinctionVolumes NphReader::read(std::size_t t) const {
+  const State& s = *state_;
+  const TimestepInfo& info = timestep(t);
+  const NphMetadata& m = s.index.metadata;
+  const QuantisedVolumes q = readQuantised(t);
   ExtinctionVolumes v;
-  v.nx = m.nx;
-  v.ny = m.ny;
-  v.nz = s.index.nz;
+  v.nx = q.nx;
+  v.ny = q.ny;
+  v.nz = q.nz;
   v.dz_m = m.dz_m;
   v.z_bottom_m = m.z_bottom_m;
   v.georef = m.georef;
   v.time_utc = info.time_utc;
   v.source_file = info.source_file;
   v.source_time_index = info.source_time_index;
-  const std::size_t stored = std::size_t(m.nx) * std::size_t(m.ny) * std::size_t(info.nz);
-  std::vector<std::uint16_t> codes(2 * stored);
-  std::memcpy(codes.data(), raw.data(), raw.size());
-  v.ice_per_m.assign(v.voxelCount(), 0.0f);  // layers above nz_t stay 0 (cropped, empty)
-  v.water_per_m.assign(v.voxelCount(), 0.0f);
-  dequantise(std::span(codes).first(stored), info.max_ice_per_m,
-             std::span(v.ice_per_m).first(stored));
-  dequantise(std::span(codes).subspan(stored), info.max_water_per_m,
-             std::span(v.water_per_m).first(stored));
-  v.max_ice_per_m = info.max_ice_per_m;
-  v.max_water_per_m = info.max_water_per_m;
+  v.ice_per_m.resize(v.voxelCount());
+  v.water_per_m.resize(v.voxelCount());
+  dequantise(q.ice_codes, q.max_ice_per_m, v.ice_per_m);
+  dequantise(q.water_codes, q.max_water_per_m, v.water_per_m);
+  v.max_ice_per_m = q.max_ice_per_m;
+  v.max_water_per_m = q.max_water_per_m;
   return v;
 }
 

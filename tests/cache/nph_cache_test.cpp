@@ -140,6 +140,17 @@ TEST_F(NphCacheTest, RoundTripWithinDocumentedBoundAndPadsToCommonNz) {
     }
   }
   EXPECT_THROW((void)r.read(3), UsageError);
+
+  // the quantised form decodes to exactly what read() returns
+  const QuantisedVolumes q = r.readQuantised(1);
+  const ExtinctionVolumes f = r.read(1);
+  ASSERT_EQ(q.ice_codes.size(), f.voxelCount());
+  EXPECT_EQ(q.nz, 9);
+  EXPECT_EQ(q.max_water_per_m, f.max_water_per_m);
+  for (std::size_t n = 0; n < f.voxelCount(); n += 13) {
+    EXPECT_EQ(f.water_per_m[n],
+              static_cast<float>(double(q.water_codes[n]) * double(q.max_water_per_m) / 65535.0));
+  }
 }
 
 TEST_F(NphCacheTest, FileWithoutGeolocation) {
