@@ -104,6 +104,7 @@ int runConvert(const ConvertOptions& o) {
   std::unique_ptr<cache::NphWriter> writer;
   double seconds_load = 0.0, seconds_optics = 0.0, seconds_write = 0.0;
   std::size_t model_bytes = 0;
+  std::int64_t negative_clamped = 0, missing_as_zero = 0;
   int nx = 0, ny = 0;
   for (std::size_t t = 0; t < series.size(); ++t) {
     const io::TimestepRef& ref = series.at(t);
@@ -112,6 +113,8 @@ int runConvert(const ConvertOptions& o) {
     io::ModelTimestep ts = series.load(t);
     seconds_load += secondsSince(t0);
     model_bytes += fieldBytes(ts);
+    negative_clamped += ts.repairs.negative_clamped;
+    missing_as_zero += ts.repairs.missing_as_zero;
 
     t0 = Clock::now();
     if (!writer) {  // the first timestep fixes the grid of the whole file
@@ -155,6 +158,10 @@ int runConvert(const ConvertOptions& o) {
   const std::uintmax_t out_bytes = std::filesystem::file_size(o.output);
   log::info("{}: {} timesteps, {:.1f} MB from {:.1f} MB of input in {:.2f} s", o.output,
             series.size(), double(out_bytes) / 1e6, double(input_bytes) / 1e6, total);
+  if (negative_clamped > 0 || missing_as_zero > 0) {
+    log::info("inputs: {} negative values set to 0, {} fill values read as 0", negative_clamped,
+              missing_as_zero);
+  }
   if (o.stats) {
     // machine-readable, one key=value per line on stdout
     std::printf(

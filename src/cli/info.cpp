@@ -140,6 +140,23 @@ void describeModel(const std::string& path, const InfoOptions& o) {
   out(fmt::format("    height [m]            {}\n", rangeText(ts.height_m)));
   out(fmt::format("    terrain [m]           {}\n", rangeText(ts.terrain_height_m)));
   out(fmt::format("    cloud cover [0-1]     {}\n", rangeText(ts.cloud_cover_fraction)));
+  out(fmt::format("  repairs       {} negative values set to 0, {} fill values read as 0\n",
+                  ts.repairs.negative_clamped, ts.repairs.missing_as_zero));
+  if (!ts.cloud_cover_fraction.empty()) {
+    // the two inconsistencies the ICON corrections address (Muth 2026 §3.3.1)
+    const auto qc = ts.q_kg_per_kg.find(io::Hydrometeor::Cloud);
+    const auto qi = ts.q_kg_per_kg.find(io::Hydrometeor::Ice);
+    std::size_t clc_zero = 0, clc_without = 0;
+    for (std::size_t m = 0; m < ts.voxelCount(); ++m) {
+      const float q = (qc != ts.q_kg_per_kg.end() ? qc->second[m] : 0.0f) +
+                      (qi != ts.q_kg_per_kg.end() ? qi->second[m] : 0.0f);
+      if (ts.cloud_cover_fraction[m] <= 0.0f && q > 0.0f) ++clc_zero;
+      if (ts.cloud_cover_fraction[m] > 0.0f && q <= 0.0f) ++clc_without;
+    }
+    out(fmt::format("  consistency   {} cells with CLC = 0 but qc + qi > 0, {} with CLC > 0 but "
+                    "qc + qi = 0 (corrected by convert, Muth 2026 3.3.1)\n",
+                    clc_zero, clc_without));
+  }
 }
 
 int runInfo(const InfoOptions& o) {

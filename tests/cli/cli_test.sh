@@ -50,7 +50,7 @@ case $case in
     case $1 in
       *wsm3*) expect_out "MP_PHYSICS = 3";;
       *thompson*) expect_out "MP_PHYSICS = 8"; expect_out "N ice";;
-      icon_regular*) expect_out "cloud cover \[0-1\]     0 \.\. ";;
+      icon_regular*) expect_out "cloud cover \[0-1\]     0 \.\. "; expect_out "consistency   [1-9][0-9]* cells with CLC = 0";;
     esac
     ;;
   convert)  # ARGS: file name, expected timesteps; then `info --verify` on the result
