@@ -41,6 +41,7 @@ struct ConvertOptions {
   bool progress = false;
   bool no_progress = false;
   bool stats = false;
+  bool force = false;
   std::size_t memory_budget_mb = 0;
 };
 
@@ -84,6 +85,17 @@ int runConvert(const ConvertOptions& o) {
   if (!(o.dz_m > 0.0)) throw UsageError(fmt::format("--dz must be > 0 m, got {}", o.dz_m));
   if (std::filesystem::is_directory(o.output)) {
     throw UsageError(fmt::format("{}: is a directory; -o names the .nph file to write", o.output));
+  }
+  for (const std::string& input : o.inputs) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(input, o.output, ec)) {
+      throw UsageError(fmt::format("{}: the output would replace an input file", o.output));
+    }
+  }
+  // Replacing an older .nph is normal; replacing anything else (a typo naming a model file) is not.
+  if (std::filesystem::exists(o.output) && !cache::NphReader::sniff(o.output) && !o.force) {
+    throw UsageError(fmt::format(
+        "{}: exists and is not a .nph file; refusing to replace it (use --force)", o.output));
   }
 
   io::LoadOptions load;
@@ -220,6 +232,7 @@ void addConvertCommand(CLI::App& app, Action& run) {
   sub->add_flag("--stats", o->stats,
                 "print timings (NetCDF read vs optics vs compression), throughput and peak memory "
                 "as key=value lines on stdout");
+  sub->add_flag("--force", o->force, "replace an existing output even if it is not a .nph file");
   sub->add_option("--memory-budget-mb", o->memory_budget_mb,
                   "refuse inputs whose one timestep would need more memory (default: "
                   "NEPHELE_IO_MEMORY_BUDGET_MB or 8 GiB)");

@@ -53,7 +53,7 @@ VoxelExtinction voxelExtinction(const VoxelState& v, const OpticsSettings& s) {
   const bool frozen_split = splitsByTemperature(v, s) && v.temperature_k < kFreezingPointK;
   for (Hydrometeor h : io::kAllHydrometeors) {
     const double qf = q[idx(h)];
-    if (qf <= 0.0) continue;
+    if (qf <= 0.0) continue;  // (ρ_ref above used the uncorrected ICON condensate: the model state)
     // WSM3 below 0 °C: QCLOUD holds cloud ice, QRAIN holds snow (Hong et al. 2004).
     Hydrometeor optics_class = h;
     if (frozen_split && h == Hydrometeor::Cloud) optics_class = Hydrometeor::Ice;

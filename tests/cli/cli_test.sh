@@ -110,6 +110,16 @@ case $case in
     expect_rc 2; expect_err "missing.nc"
     run "$nephele"
     expect_rc 2
+    # never replace an input or a non-.nph file by accident
+    cp "$data/icon_regular.nc" "$out/in.nc"
+    run "$nephele" convert "$out/in.nc" -o "$out/in.nc"
+    expect_rc 2; expect_err "replace an input"
+    cmp -s "$data/icon_regular.nc" "$out/in.nc" || fail "the input was modified"
+    echo "notes" >"$out/notes.txt"
+    run "$nephele" convert "$out/in.nc" -o "$out/notes.txt"
+    expect_rc 2; expect_err "not a .nph file"
+    run "$nephele" convert "$out/in.nc" -o "$out/notes.txt" --force
+    expect_rc 0
     ;;
   *) fail "unknown case";;
 esac
