@@ -37,6 +37,8 @@ VoxelExtinction voxelExtinction(const VoxelState& v, const OpticsSettings& s) {
     out.reference_density_kg_per_m3 =
         dryAirDensity(v.pressure_pa, v.temperature_k, std::max(v.vapour_kg_per_kg, 0.0));
   } else {
+    // Condensate loading of the density from the file's own contents (the model state), before
+    // the corrections below raise qc/qi.
     double condensate = 0.0;
     for (double x : q) condensate += x;
     out.reference_density_kg_per_m3 = moistAirDensity(
@@ -53,7 +55,7 @@ VoxelExtinction voxelExtinction(const VoxelState& v, const OpticsSettings& s) {
   const bool frozen_split = splitsByTemperature(v, s) && v.temperature_k < kFreezingPointK;
   for (Hydrometeor h : io::kAllHydrometeors) {
     const double qf = q[idx(h)];
-    if (qf <= 0.0) continue;  // (ρ_ref above used the uncorrected ICON condensate: the model state)
+    if (qf <= 0.0) continue;
     // WSM3 below 0 °C: QCLOUD holds cloud ice, QRAIN holds snow (Hong et al. 2004).
     Hydrometeor optics_class = h;
     if (frozen_split && h == Hydrometeor::Cloud) optics_class = Hydrometeor::Ice;
