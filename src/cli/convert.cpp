@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -66,6 +68,16 @@ double peakResidentMb() {
   return double(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
+/// Same projection and grid placement (to 1e-6 of a grid spacing; lat/lon follow from these).
+bool sameGrid(const io::Georeference& a, const io::Georeference& b) {
+  auto close = [](double x, double y, double spacing) {
+    return std::abs(x - y) <= 1e-6 * std::max(std::abs(spacing), 1e-12);
+  };
+  return a.proj_definition == b.proj_definition && a.geographic == b.geographic &&
+         close(a.dx_m, b.dx_m, b.dx_m) && close(a.dy_m, b.dy_m, b.dy_m) &&
+         close(a.x0, b.x0, b.dx_m) && close(a.y0, b.y0, b.dy_m);
+}
+
 physics::OpticsSettings opticsFrom(const ConvertOptions& o) {
   physics::OpticsSettings s = physics::opticsPreset(o.preset);
   for (const std::string& r : o.radii) physics::applyRadiusOverride(s, r);
@@ -118,6 +130,7 @@ int runConvert(const ConvertOptions& o) {
   std::size_t model_bytes = 0;
   std::int64_t negative_clamped = 0, missing_as_zero = 0;
   int nx = 0, ny = 0;
+  io::Georeference first_georef;
   for (std::size_t t = 0; t < series.size(); ++t) {
     const io::TimestepRef& ref = series.at(t);
     bar.update(t, fmt::format("{} {}", std::filesystem::path(ref.file).filename().string(), ref.time_utc));
@@ -132,6 +145,9 @@ int runConvert(const ConvertOptions& o) {
     if (!writer) {  // the first timestep fixes the grid of the whole file
       nx = ts.nx;
       ny = ts.ny;
+      first_georef = ts.georef;
+      first_georef.lat_deg.clear();
+      first_georef.lon_deg.clear();
       if (!vertical.z_bottom_m) vertical.z_bottom_m = physics::defaultBottomHeight_m(ts, o.dz_m);
       cache::NphMetadata meta;
       meta.nx = ts.nx;
@@ -149,6 +165,13 @@ int runConvert(const ConvertOptions& o) {
       throw InputError(fmt::format(
           "{}: timestep {} has a {}x{} grid, the earlier inputs {}x{}: one .nph file holds one grid",
           ref.file, ref.index, ts.nx, ts.ny, nx, ny));
+    } else if (!sameGrid(ts.georef, first_georef)) {
+      throw InputError(fmt::format(
+          "{}: timestep {} is on another grid ({}, dx {}, origin {}, {}) than the earlier inputs "
+          "({}, dx {}, origin {}, {}): one .nph file holds one grid",
+          ref.file, ref.index, ts.georef.proj_definition, ts.georef.dx_m, ts.georef.x0,
+          ts.georef.y0, first_georef.proj_definition, first_georef.dx_m, first_georef.x0,
+          first_georef.y0));
     }
     ExtinctionVolumes volumes = physics::buildExtinctionVolumes(ts, optics, vertical);
     ts = io::ModelTimestep{};  // release the model fields before compressing

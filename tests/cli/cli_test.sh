@@ -70,6 +70,10 @@ case $case in
     grep -A1 "timesteps     8" "$out/stdout" | grep -q "2026-09-01T12:00:00Z" || fail "not time-ordered: $stdout"
     expect_out "7 2026-09-01T19:00:00Z"
     ;;
+  mixed-grids)  # Lambert and Mercator storms have the same size but not the same grid
+    run "$nephele" convert "$data/wrfout_lambert_wsm3.nc" "$data/wrfout_mercator_wsm3.nc" -o "$out/m.nph"
+    expect_rc 1; expect_err "another grid"; expect_no_nph_left
+    ;;
   progress)  # forced progress bar goes to stderr, stdout stays clean
     run "$nephele" convert "$data/icon_regular.nc" -o "$out/p.nph" --progress
     expect_rc 0; expect_err "2/2"; [ -z "$stdout" ] || fail "stdout not empty: $stdout"
