@@ -1,6 +1,7 @@
 #include "wrf_hurricane.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <map>
@@ -364,7 +365,8 @@ void Writer::writeTimestep(int t) {
     truth_.pressure_pa.emplace_back(n3);
     truth_.temperature_k.emplace_back(n3);
   }
-  for (int j = 0; j < ny; ++j) {
+  // Columns are independent: rows in parallel (deterministic, every element written once).
+  tbb::parallel_for(0, ny, [&](int j) {
     for (int i = 0; i < nx; ++i) {
       const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
       const double ddx = i * dx - cx, ddy = j * dx - cy;
@@ -425,7 +427,7 @@ void Writer::writeTimestep(int t) {
         }
       }
     }
-  }
+  });
   put3d("PH", t, ph, nz + 1, ny, nx);
   put3d("PHB", t, phb, nz + 1, ny, nx);
   put3d("P", t, p, nz, ny, nx);
@@ -476,7 +478,7 @@ void Writer::writeTimestep(int t) {
   // ---- hydrometeors ---------------------------------------------------------------------------
   // Structural weights per mass point, from which every class is shaped.
   std::vector<float> qc(n3), qr(n3), qi(n3), qs(n3), qg(n3), qh(n3);
-  for (int k = 0; k < nz; ++k) {
+  tbb::parallel_for(0, nz, [&](int k) {
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
@@ -523,7 +525,7 @@ void Writer::writeTimestep(int t) {
         qh[m] = static_cast<float>(intensity * q_hail);
       }
     }
-  }
+  });
   if (spec_.scheme == WrfScheme::Wsm3Like) {
     // WSM3 (Hong et al. 2004) carries no separate ice: QCLOUD holds cloud ice and QRAIN holds
     // snow (and everything precipitating) below 0 °C.
@@ -546,17 +548,17 @@ void Writer::writeTimestep(int t) {
     const Out& out = outs[o];
     put3d(out.cls->q_name, t, *out.q, nz, ny, nx);
     // N = q / m_p with m_p = 4/3 pi r^3 rho_p; the radius varies +-20 % with deterministic noise.
-    for (std::size_t m = 0; m < n3; ++m) {
+    tbb::parallel_for(std::size_t(0), n3, [&](std::size_t m) {
       const double q = (*out.q)[m];
       if (q <= 0.0) {
         number[m] = 0.0f;
-        continue;
+        return;
       }
       const double jitter = 0.8 + 0.4 * noise_.hash(static_cast<std::int64_t>(m), static_cast<std::int64_t>(o), t);
       const double radius = out.cls->radius_m * jitter;
       const double particle_mass = 4.0 / 3.0 * kPi * radius * radius * radius * out.cls->density_kg_per_m3;
       number[m] = static_cast<float>(q / particle_mass);
-    }
+    });
     put3d(out.cls->n_name, t, number, nz, ny, nx);
   }
 }
