@@ -2,27 +2,40 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "core/error.h"
 
 namespace nph::datagen {
 
-NcWriter::NcWriter(const std::string& path, NcFormat format) : path_(path), format_(format) {
+NcWriter::NcWriter(const std::string& path, NcFormat format)
+    : path_(path), partial_path_(path + ".partial"), format_(format) {
   const int mode = format == NcFormat::Classic64 ? (NC_CLOBBER | NC_64BIT_OFFSET)
                                                  : (NC_CLOBBER | NC_NETCDF4 | NC_CLASSIC_MODEL);
-  check(nc_create(path.c_str(), mode, &ncid_), "create");
+  check(nc_create(partial_path_.c_str(), mode, &ncid_), "create");
   int old_fill = 0;
   check(nc_set_fill(ncid_, NC_NOFILL, &old_fill), "set_fill");
 }
 
 NcWriter::~NcWriter() {
-  if (ncid_ >= 0) nc_close(ncid_);
+  // Not closed: writing failed part-way, so no partial output is left behind.
+  if (ncid_ >= 0) {
+    nc_close(ncid_);
+    std::error_code ec;
+    std::filesystem::remove(partial_path_, ec);
+  }
 }
 
 void NcWriter::close() {
   if (ncid_ >= 0) {
     const int id = ncid_;
     ncid_ = -1;
-    check(nc_close(id), "close");
+    const int status = nc_close(id);
+    std::error_code ec;
+    if (status != NC_NOERR) std::filesystem::remove(partial_path_, ec);
+    check(status, "close");
+    std::filesystem::rename(partial_path_, path_, ec);
+    if (ec) throw IoError(fmt::format("{}: cannot rename {} into place: {}", path_, partial_path_, ec.message()));
   }
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Thin RAII writer over NetCDF-C for the sample-data generators. Every call checks the NetCDF
 // status and throws nph::IoError naming the file and the variable or attribute involved.
+// The file is written as "<path>.partial" and renamed to <path> by close(); a writer destroyed
+// without close() (an exception part-way) removes it, so no partial output is left behind.
 #include <netcdf.h>
 
 #include <cstddef>
@@ -49,6 +51,7 @@ class NcWriter {
  private:
   void check(int status, const std::string& what) const;
   std::string path_;
+  std::string partial_path_;
   int ncid_ = -1;
   NcFormat format_;
 };
