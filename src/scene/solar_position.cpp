@@ -1,0 +1,257 @@
+#include "scene/solar_position.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+#include "core/error.h"
+
+namespace nph::scene {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kJulianDayUnixEpoch = 2440587.5;  ///< JD of 1970-01-01T00:00:00Z
+constexpr double kJ2000 = 2451545.0;               ///< JD of 2000-01-01T12:00:00 (TT ≈ UT here)
+constexpr double kDaysPerJulianCentury = 36525.0;
+
+double wrap360(double deg) {
+  double r = std::fmod(deg, 360.0);
+  return r < 0.0 ? r + 360.0 : r;
+}
+double wrap180(double deg) {  // (-180, 180]
+  double r = wrap360(deg);
+  return r > 180.0 ? r - 360.0 : r;
+}
+
+// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant, "chrono-Compatible Low-Level
+// Date Algorithms", days_from_civil).
+std::int64_t daysFromCivil(std::int64_t y, unsigned m, unsigned d) {
+  y -= m <= 2 ? 1 : 0;
+  const std::int64_t era = (y >= 0 ? y : y - 399) / 400;
+  const auto yoe = static_cast<unsigned>(y - era * 400);
+  const unsigned doy = (153 * (m > 2 ? m - 3 : m + 9) + 2) / 5 + d - 1;
+  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
+}
+void civilFromDays(std::int64_t z, int& year, int& month, int& day) {
+  z += 719468;
+  const std::int64_t era = (z >= 0 ? z : z - 146096) / 146097;
+  const auto doe = static_cast<unsigned>(z - era * 146097);
+  const unsigned yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+  const unsigned doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+  const unsigned mp = (5 * doy + 2) / 153;
+  day = static_cast<int>(doy - (153 * mp + 2) / 5 + 1);
+  month = static_cast<int>(mp < 10 ? mp + 3 : mp - 9);
+  year = static_cast<int>(static_cast<std::int64_t>(yoe) + era * 400 + (month <= 2 ? 1 : 0));
+}
+bool isLeap(int y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; }
+int daysInMonth(int y, int m) {
+  static constexpr int kDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  return m == 2 && isLeap(y) ? 29 : kDays[m - 1];
+}
+
+class TimeParser {
+ public:
+  explicit TimeParser(std::string_view text) : s_(text) {}
+  [[noreturn]] void fail() const {
+    throw InputError(fmt::format(
+        "time '{}': expected a UTC time as ISO 8601 'YYYY-MM-DDThh:mm:ss[.fff][Z|±hh:mm]' or WRF "
+        "'YYYY-MM-DD_hh:mm:ss'",
+        s_));
+  }
+  int digits(int n) {
+    int v = 0;
+    for (int k = 0; k < n; ++k, ++pos_) {
+      if (pos_ >= s_.size() || !std::isdigit(static_cast<unsigned char>(s_[pos_]))) fail();
+      v = v * 10 + (s_[pos_] - '0');
+    }
+    return v;
+  }
+  void expect(char c) {
+    if (pos_ >= s_.size() || s_[pos_] != c) fail();
+    ++pos_;
+  }
+  bool accept(char c) {
+    if (pos_ < s_.size() && s_[pos_] == c) {
+      ++pos_;
+      return true;
+    }
+    return false;
+  }
+  bool done() const { return pos_ >= s_.size(); }
+  double fraction() {  // after '.' : digits as a fraction of one
+    double scale = 0.1, v = 0.0;
+    const std::size_t start = pos_;
+    while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) {
+      v += scale * (s_[pos_] - '0');
+      scale *= 0.1;
+      ++pos_;
+    }
+    if (pos_ == start) fail();
+    return v;
+  }
+
+ private:
+  std::string_view s_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+UtcTime UtcTime::fromCivil(int year, int month, int day, int hour, int minute, double second) {
+  if (month < 1 || month > 12 || day < 1 || day > daysInMonth(year, month) || hour < 0 ||
+      hour > 24 || minute < 0 || minute > 59 || !(second >= 0.0) || !(second < 61.0)) {
+    throw InputError(fmt::format("time {:04}-{:02}-{:02} {:02}:{:02}:{}: not a valid calendar date "
+                                 "and time of day",
+                                 year, month, day, hour, minute, second));
+  }
+  const auto days = static_cast<double>(
+      daysFromCivil(year, static_cast<unsigned>(month), static_cast<unsigned>(day)));
+  const double dayFraction = (double(hour) + (double(minute) + second / 60.0) / 60.0) / 24.0;
+  return UtcTime{kJulianDayUnixEpoch + days + dayFraction};
+}
+
+UtcTime UtcTime::parse(std::string_view text) {
+  TimeParser p(text);
+  const int year = p.digits(4);
+  p.expect('-');
+  const int month = p.digits(2);
+  p.expect('-');
+  const int day = p.digits(2);
+  int hour = 0, minute = 0;
+  double second = 0.0;
+  int offsetMinutes = 0;
+  if (!p.done()) {
+    if (!(p.accept('T') || p.accept('_') || p.accept(' ') || p.accept('t'))) p.fail();
+    hour = p.digits(2);
+    p.expect(':');
+    minute = p.digits(2);
+    if (p.accept(':')) {
+      second = p.digits(2);
+      if (p.accept('.') || p.accept(',')) second += p.fraction();
+    }
+    if (p.accept('Z') || p.accept('z')) {
+    } else if (!p.done()) {
+      int sign = 0;
+      if (p.accept('+')) sign = 1;
+      else if (p.accept('-')) sign = -1;
+      else p.fail();
+      const int oh = p.digits(2);
+      p.accept(':');
+      const int om = p.done() ? 0 : p.digits(2);
+      if (oh > 18 || om > 59) p.fail();
+      offsetMinutes = sign * (oh * 60 + om);
+    }
+    if (!p.done()) p.fail();
+  }
+  try {
+    UtcTime t = fromCivil(year, month, day, hour, minute, second);
+    t.julian_day -= double(offsetMinutes) / (24.0 * 60.0);  // local = UTC + offset
+    return t;
+  } catch (const InputError&) {
+    p.fail();
+  }
+}
+
+std::string UtcTime::iso8601() const {
+  const double unixSeconds = std::round((julian_day - kJulianDayUnixEpoch) * 86400.0);
+  const auto s = static_cast<std::int64_t>(unixSeconds);
+  std::int64_t days = s / 86400, rem = s % 86400;
+  if (rem < 0) {
+    rem += 86400;
+    days -= 1;
+  }
+  int y = 0, m = 0, d = 0;
+  civilFromDays(days, y, m, d);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z", y, m, d, rem / 3600, (rem / 60) % 60,
+                     rem % 60);
+}
+
+double UtcTime::utcHourOfDay() const {
+  const double d = julian_day - kJulianDayUnixEpoch;
+  return (d - std::floor(d)) * 24.0;
+}
+
+// NOAA solar calculator = Meeus (1998) ch. 25, low accuracy. Symbols as in Meeus.
+SolarCoordinates solarCoordinates(const UtcTime& time) {
+  const double T = (time.julian_day - kJ2000) / kDaysPerJulianCentury;  // Julian centuries
+  const double L0 = wrap360(280.46646 + T * (36000.76983 + T * 0.0003032));  // mean longitude, 25.2
+  const double M = 357.52911 + T * (35999.05029 - T * 0.0001537);            // mean anomaly, 25.3
+  const double e = 0.016708634 - T * (0.000042037 + T * 0.0000001267);       // eccentricity, 25.4
+  const double Mr = M * kDeg;
+  const double C = std::sin(Mr) * (1.914602 - T * (0.004817 + T * 0.000014)) +
+                   std::sin(2.0 * Mr) * (0.019993 - T * 0.000101) +
+                   std::sin(3.0 * Mr) * 0.000289;  // equation of centre
+  const double trueLongitude = L0 + C;
+  const double v = M + C;  // true anomaly
+  const double R = 1.000001018 * (1.0 - e * e) / (1.0 + e * std::cos(v * kDeg));  // 25.5
+  const double omega = 125.04 - 1934.136 * T;  // longitude of the Moon's ascending node
+  const double lambda = trueLongitude - 0.00569 - 0.00478 * std::sin(omega * kDeg);  // apparent
+  const double eps0 =
+      23.0 + (26.0 + (21.448 - T * (46.8150 + T * (0.00059 - T * 0.001813))) / 60.0) / 60.0;  // 22.2
+  const double eps = eps0 + 0.00256 * std::cos(omega * kDeg);  // corrected for apparent position
+  const double lr = lambda * kDeg, er = eps * kDeg;
+  SolarCoordinates c;
+  c.apparent_longitude_deg = wrap360(lambda);
+  c.right_ascension_deg = wrap360(std::atan2(std::cos(er) * std::sin(lr), std::cos(lr)) / kDeg);  // 25.6
+  c.declination_deg = std::asin(std::sin(er) * std::sin(lr)) / kDeg;                             // 25.7
+  c.earth_sun_distance_au = R;
+  // Equation of time (Meeus eq. 28.3, Smart's series), in minutes of time (4 min per degree).
+  const double y = std::pow(std::tan(er / 2.0), 2.0);
+  const double L0r = L0 * kDeg;
+  const double E = y * std::sin(2.0 * L0r) - 2.0 * e * std::sin(Mr) +
+                   4.0 * e * y * std::sin(Mr) * std::cos(2.0 * L0r) -
+                   0.5 * y * y * std::sin(4.0 * L0r) - 1.25 * e * e * std::sin(2.0 * Mr);
+  c.equation_of_time_min = 4.0 * E / kDeg;
+  return c;
+}
+
+SolarPosition solarPosition(const UtcTime& time, double lon_deg, double lat_deg, bool refracted) {
+  if (!std::isfinite(lon_deg) || !std::isfinite(lat_deg) || std::abs(lat_deg) > 90.0) {
+    throw UsageError(fmt::format("solarPosition: lon {} lat {} is not a place on Earth", lon_deg, lat_deg));
+  }
+  const SolarCoordinates c = solarCoordinates(time);
+  // True solar time [min] = UTC minutes + equation of time + 4 min per degree east (NOAA).
+  const double trueSolarTime_min = time.utcHourOfDay() * 60.0 + c.equation_of_time_min + 4.0 * lon_deg;
+  const double H = wrap180(trueSolarTime_min / 4.0 - 180.0);  // hour angle, 0 at solar noon
+  const double Hr = H * kDeg, phi = lat_deg * kDeg, d = c.declination_deg * kDeg;
+  // Horizontal coordinates (Meeus eq. 13.5-13.6); azimuth from north = Meeus' (from south) + 180.
+  const double sinElevation = std::sin(phi) * std::sin(d) + std::cos(phi) * std::cos(d) * std::cos(Hr);
+  SolarPosition p;
+  p.elevation_deg = std::asin(std::clamp(sinElevation, -1.0, 1.0)) / kDeg;
+  p.azimuth_deg = wrap360(
+      std::atan2(std::sin(Hr), std::cos(Hr) * std::sin(phi) - std::tan(d) * std::cos(phi)) / kDeg + 180.0);
+  p.hour_angle_deg = H;
+  p.declination_deg = c.declination_deg;
+  if (refracted) p.elevation_deg += refractionCorrection_deg(p.elevation_deg);
+  return p;
+}
+
+double refractionCorrection_deg(double e0, double pressure_hPa, double temperature_C) {
+  // SPA eq. 42: Δe = (P/1010)·(283/(273+T))·1.02 / (60·tan(e0 + 10.3/(e0 + 5.11))) [degrees].
+  constexpr double kBelowHorizonLimit_deg = -0.8;  // SPA applies it for e0 ≥ −(sun radius + refraction)
+  if (e0 < kBelowHorizonLimit_deg) return 0.0;
+  return (pressure_hPa / 1010.0) * (283.0 / (273.0 + temperature_C)) * 1.02 /
+         (60.0 * std::tan((e0 + 10.3 / (e0 + 5.11)) * kDeg));
+}
+
+void subsolarPoint(const UtcTime& time, double& lon_deg, double& lat_deg) {
+  const SolarCoordinates c = solarCoordinates(time);
+  lat_deg = c.declination_deg;
+  // Hour angle zero: UTC minutes + EoT + 4·lon = 720.
+  lon_deg = wrap180((720.0 - time.utcHourOfDay() * 60.0 - c.equation_of_time_min) / 4.0);
+}
+
+Sun sunAt(const UtcTime& time, double lon_deg, double lat_deg) {
+  const SolarPosition p = solarPosition(time, lon_deg, lat_deg);
+  Sun s;
+  s.azimuth_deg = p.azimuth_deg;
+  s.elevation_deg = p.elevation_deg;
+  return s;
+}
+
+}  // namespace nph::scene
