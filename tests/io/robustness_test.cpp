@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <netcdf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 
 #include "core/error.h"
 #include "icon_scene.h"
+#include "io/icon_loader.h"
 #include "io/model_file.h"
 #include "io_test_support.h"
 #include "wrf_hurricane.h"
@@ -333,6 +335,68 @@ TEST(Robustness, SmallMemoryBudgetRejectsBeforeAllocating) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("memory budget"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace nph::io
+
+namespace nph::io {
+namespace {
+
+TEST(Robustness, PackedShortFieldsWithFillValueAreUnpacked) {
+  // cdo and DWD tools may write packed data: short with scale_factor/add_offset and _FillValue.
+  TempDir dir;
+  const std::string path = dir.file("icon_packed.nc");
+  writeSmallIcon(path);
+  const ModelTimestep original = loadIconTimestep(path, 0);
+  const std::size_t n = original.voxelCount();
+  std::vector<float> clc_percent(n);
+  int ncid = -1;
+  ncCheck(nc_open(path.c_str(), NC_NOWRITE, &ncid), "open");
+  ncCheck(nc_get_var_float(ncid, varid(ncid, "clc"), clc_percent.data()), "clc");
+  nc_close(ncid);
+  edit(path, [&](int nc) {
+    replaceVar(nc, "clc", NC_SHORT, {"time", "height", "lat", "lon"});
+    const int id = varid(nc, "clc");
+    const float scale = 0.01f, offset = 0.0f;
+    const short fill = -1;
+    ncCheck(nc_redef(nc), "redef");
+    ncCheck(nc_put_att_float(nc, id, "scale_factor", NC_FLOAT, 1, &scale), "scale_factor");
+    ncCheck(nc_put_att_float(nc, id, "add_offset", NC_FLOAT, 1, &offset), "add_offset");
+    ncCheck(nc_put_att_short(nc, id, "_FillValue", NC_SHORT, 1, &fill), "_FillValue");
+    const char* units = "%";
+    ncCheck(nc_put_att_text(nc, id, "units", 1, units), "units");
+    ncCheck(nc_enddef(nc), "enddef");
+    std::vector<short> packed(n);
+    for (std::size_t v = 0; v < n; ++v) packed[v] = static_cast<short>(std::lround(clc_percent[v] / 0.01f));
+    packed[3] = fill;
+    ncCheck(nc_put_var_short(nc, id, packed.data()), "put clc");
+  });
+  const ModelTimestep ts = loadIconTimestep(path, 0);
+  EXPECT_EQ(ts.repairs.missing_as_zero, 1);
+  ASSERT_EQ(ts.cloud_cover_fraction.size(), n);
+  EXPECT_GT(*std::max_element(original.cloud_cover_fraction.begin(), original.cloud_cover_fraction.end()), 0.5f);
+  int differing = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    const float diff = std::abs(ts.cloud_cover_fraction[v] - original.cloud_cover_fraction[v]);
+    if (diff > 1e-4f) ++differing;  // packing quantises to 0.01 % = 1e-4
+  }
+  EXPECT_LE(differing, 1);  // only the filled element may differ
+}
+
+TEST(Robustness, IconSeriesAcrossFilesIsTimeOrdered) {
+  TempDir dir;
+  datagen::IconSceneSpec s;
+  s.nlon = 8;
+  s.nlat = 6;
+  s.nz = 4;
+  s.ntimes = 2;
+  datagen::writeIconScene(s, dir.file("a.nc"));
+  const ModelSeries series = ModelSeries::open({dir.file("a.nc"), dir.file("a.nc")});
+  ASSERT_EQ(series.size(), 4u);
+  EXPECT_EQ(series.at(0).time_utc, "2026-03-18T12:00:00Z");
+  EXPECT_EQ(series.at(3).time_utc, "2026-03-18T13:00:00Z");
+  EXPECT_EQ(series.load(3).time_utc, "2026-03-18T13:00:00Z");
 }
 
 }  // namespace
