@@ -1,5 +1,8 @@
 #pragma once
-// ICON loader (NetCDF-C): regular lat-lon output (ICON's lon-lat NetCDF output, or
+// ICON loader (NetCDF-C). Variables as Muth 2026 §3.2 (table 3.1) lists them: CLC [%], specific
+// QC/QI (+ QR/QS/QG), QV, T, P on full levels, heights HHL/z_ifc on half levels (levels numbered
+// from the model top), full-level heights as half-level midpoints.
+// Formats: regular lat-lon output (ICON's lon-lat NetCDF output, or
 // `cdo -f nc copy` of DWD's regular-lat-lon GRIB2) and native triangular-grid output (ncells,
 // clon/clat in radians), the latter resampled onto a regular lat-lon grid. Fields are delivered as
 // the file has them (clc as a fraction): the Muth 2026 §3.3.1 condensate consistency corrections

@@ -1,5 +1,9 @@
 #pragma once
 // WRF ARW `wrfout` loader (NetCDF-C): one timestep at a time, on the model's own mass levels.
+// WRF stores hydrometeors as mass ratios of particles to (dry) air, "particle/air mass ratios for
+// rain, cloud, snow, ice and graupel" (Nes 2008 §5.1.1, §2.2.3 eq. 2.5: M_t = V rho_air H); they
+// are handed over unchanged per class, whichever exist, with the scheme (MP_PHYSICS) recorded
+// because schemes without separate ice keep frozen condensate in QCLOUD/QRAIN.
 #include <cstdint>
 #include <string>
 #include <vector>
