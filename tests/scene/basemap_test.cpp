@@ -1,0 +1,187 @@
+// Basemap: equirectangular image -> data's map projection. A synthetic image whose colour encodes
+// lon/lat (written with OpenImageIO) is reprojected into Lambert conformal; each pixel must decode
+// to the lon/lat of its centre computed with Snyder's closed form (independent of PROJ).
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "core/error.h"
+#include "scene/basemap.h"
+#include "scene_test_support.h"
+
+namespace nph::scene {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+/// w × w/2 float EXR, R = (lon + 180)/360, G = (lat + 90)/180 at pixel centres, B = 0.25.
+void writeLonLatImage(const std::string& path, int w) {
+  const int h = w / 2;
+  std::vector<float> px(std::size_t(w) * std::size_t(h) * 3);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t o = (std::size_t(y) * std::size_t(w) + std::size_t(x)) * 3;
+      px[o] = static_cast<float>((x + 0.5) / w);        // (lon + 180) / 360
+      px[o + 1] = static_cast<float>(1.0 - (y + 0.5) / h);  // (lat + 90) / 180
+      px[o + 2] = 0.25f;
+    }
+  }
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  ASSERT_TRUE(out->open(path, spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+  ASSERT_TRUE(out->close());
+}
+
+/// Snyder (1987) eq. 15-1..15-5 inverse on the test's Lambert projection.
+LonLat snyderLccInverse(double x, double y) {
+  const double p1 = test::kLccLat1 * kDeg, p2 = test::kLccLat2 * kDeg, p0 = test::kLccLat0 * kDeg;
+  auto t = [](double p) { return std::tan(std::numbers::pi / 4.0 + p / 2.0); };
+  const double n = std::log(std::cos(p1) / std::cos(p2)) / std::log(t(p2) / t(p1));
+  const double F = std::cos(p1) * std::pow(t(p1), n) / n, R = kEarthRadius_m;
+  const double rho0 = R * F / std::pow(t(p0), n);
+  const double rho = std::hypot(x, rho0 - y), theta = std::atan2(x, rho0 - y);
+  return {test::kLccLon0 + theta / n / kDeg,
+          (2.0 * std::atan(std::pow(R * F / rho, 1.0 / n)) - std::numbers::pi / 2.0) / kDeg};
+}
+
+TEST(Basemap, LonLatImageReprojectedIntoLambertDecodesBack) {
+  test::TempDir dir;
+  const std::string path = dir.file("lonlat.exr");
+  writeLonLatImage(path, 1440);
+  const EquirectangularImage src = EquirectangularImage::load(path);
+  ASSERT_EQ(src.image().width, 1440);
+
+  const auto v = test::lambertVolumes();
+  const VolumeFrame frame = frameOf(v);
+  const SceneGeoreference geo(v, frame);
+  const WorldRect rect = basemapRectangle(frame, 0.25);
+  EXPECT_DOUBLE_EQ(rect.min_m.x, -0.25 * 300000.0);
+  EXPECT_DOUBLE_EQ(rect.max_m.y, 240000.0 + 0.25 * 300000.0);
+  const int W = 64, H = 48;
+  const LinearRgbImage img = reprojectBasemap(src, geo, rect, W, H);
+  ASSERT_EQ(img.width, W);
+  double maxErr = 0.0;
+  for (int py = 0; py < H; ++py) {
+    for (int px = 0; px < W; ++px) {
+      const glm::dvec2 w = worldFromBasemapPixel(rect, W, H, px, py);
+      // World (0, 0) is the outer corner of cell (0, 0): projected = x0 − dx/2 + world.
+      const LonLat expected = snyderLccInverse(v.georef.x0 - 1500.0 + w.x, v.georef.y0 - 1500.0 + w.y);
+      const glm::vec3 c = img.at(px, py);
+      const double lon = double(c.r) * 360.0 - 180.0, lat = double(c.g) * 180.0 - 90.0;
+      maxErr = std::max({maxErr, std::abs(lon - expected.lon_deg), std::abs(lat - expected.lat_deg)});
+      EXPECT_FLOAT_EQ(c.b, 0.25f);
+    }
+  }
+  // Bilinear interpolation of a colour linear in lon/lat is exact; what is left is float storage
+  // (2^-24 · 360° ≈ 2e-5°).
+  EXPECT_LT(maxErr, 1e-4);
+  // Row 0 is north: top-left pixel lies north-west of bottom-right.
+  EXPECT_GT(img.at(0, 0).g, img.at(W - 1, H - 1).g);
+  EXPECT_LT(img.at(0, 0).r, img.at(W - 1, H - 1).r);
+}
+
+TEST(Basemap, OffsetMovesTheMapUnderTheVolume) {
+  test::TempDir dir;
+  const std::string path = dir.file("lonlat.exr");
+  writeLonLatImage(path, 720);
+  const EquirectangularImage src = EquirectangularImage::load(path);
+  const auto v = test::lambertVolumes();
+  const VolumeFrame frame = frameOf(v);
+  const SceneGeoreference plain(v, frame), shifted(v, frame, LonLatOffset{1.5, -0.5});
+  const WorldRect rect = basemapRectangle(frame, 0.0);
+  const LinearRgbImage a = reprojectBasemap(src, plain, rect, 16, 16);
+  const LinearRgbImage b = reprojectBasemap(src, shifted, rect, 16, 16);
+  EXPECT_NEAR((b.at(8, 8).r - a.at(8, 8).r) * 360.0f, 1.5f, 1e-3f);
+  EXPECT_NEAR((b.at(8, 8).g - a.at(8, 8).g) * 180.0f, -0.5f, 1e-3f);
+}
+
+TEST(Basemap, SamplingWrapsAtTheAntimeridianAndClampsAtThePoles) {
+  // 4×2 image: column colours 0, 1, 2, 3 (as red), rows equal.
+  LinearRgbImage img{4, 2, std::vector<float>(24, 0.0f)};
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) img.rgb[(std::size_t(y) * 4 + std::size_t(x)) * 3] = float(x);
+  const EquirectangularImage e(img);
+  // Pixel centres at lon −135, −45, 45, 135. At lon 180 we are half-way between column 3 and 0.
+  EXPECT_FLOAT_EQ(e.sampleLonLat(-135.0, 0.0).r, 0.0f);
+  EXPECT_FLOAT_EQ(e.sampleLonLat(45.0, 0.0).r, 2.0f);
+  EXPECT_FLOAT_EQ(e.sampleLonLat(0.0, 0.0).r, 1.5f);
+  EXPECT_FLOAT_EQ(e.sampleLonLat(180.0, 0.0).r, 1.5f);
+  EXPECT_FLOAT_EQ(e.sampleLonLat(-180.0, 0.0).r, 1.5f);
+  EXPECT_FLOAT_EQ(e.sampleLonLat(-180.0, 90.0).r, 1.5f);
+  const glm::dvec2 uv = equirectUv(-180.0, 90.0);
+  EXPECT_DOUBLE_EQ(uv.x, 0.0);
+  EXPECT_DOUBLE_EQ(uv.y, 0.0);
+  EXPECT_DOUBLE_EQ(equirectUv(0.0, -90.0).y, 1.0);
+}
+
+TEST(Basemap, EightBitImagesAreSrgbDecoded) {
+  test::TempDir dir;
+  const std::string path = dir.file("codes.png");
+  const unsigned char codes[4 * 2 * 3] = {0, 128, 255, 10, 20, 30, 200, 100, 50, 255, 255, 255,
+                                          1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13};
+  {
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(4, 2, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, codes));
+    ASSERT_TRUE(out->close());
+  }
+  const EquirectangularImage e = EquirectangularImage::load(path);
+  // IEC 61966-2-1 reference values: code 128 -> 0.2158605, 255 -> 1, 10 -> 0.0030353 (linear part).
+  EXPECT_FLOAT_EQ(e.image().at(0, 0).r, 0.0f);
+  EXPECT_NEAR(e.image().at(0, 0).g, 0.2158605f, 1e-6f);
+  EXPECT_FLOAT_EQ(e.image().at(0, 0).b, 1.0f);
+  EXPECT_NEAR(e.image().at(1, 0).r, 10.0f / 255.0f / 12.92f, 1e-7f);
+  EXPECT_NEAR(linearToSrgb(srgbToLinear(0.73f)), 0.73f, 1e-6f);
+  EXPECT_NEAR(srgbToLinear(0.5f), 0.2140411f, 1e-6f);
+}
+
+TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
+  test::TempDir dir;
+  auto expectInputError = [](const std::string& path, const char* what) {
+    try {
+      (void)EquirectangularImage::load(path);
+      ADD_FAILURE() << "accepted " << path;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expectInputError(dir.file("no-such-bluemarble.jpg"), "not found");
+  {
+    std::ofstream(dir.file("notanimage.jpg")) << "this is not a JPEG";
+  }
+  expectInputError(dir.file("notanimage.jpg"), "cannot read");
+  const unsigned char px[3 * 3 * 3] = {};
+  auto out = OIIO::ImageOutput::create(dir.file("square.png"));
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(dir.file("square.png"), OIIO::ImageSpec(3, 3, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+  ASSERT_TRUE(out->close());
+  expectInputError(dir.file("square.png"), "width = 2·height");
+}
+
+TEST(Basemap, BlueMarbleFromMarbleQtData) {
+  const std::string path = "/usr/share/marble/data/maps/earth/bluemarble/bluemarble.jpg";
+  if (!std::filesystem::exists(path)) {
+    GTEST_SKIP() << path << " is not installed (Debian package marble-qt-data, tools/debian-packages.txt)";
+  }
+  const EquirectangularImage e = EquirectangularImage::load(path);
+  EXPECT_EQ(e.image().width, 2 * e.image().height);
+  const glm::vec3 atlantic = e.sampleLonLat(-30.0, 0.0);  // open ocean: blue dominates red
+  const glm::vec3 sahara = e.sampleLonLat(10.0, 23.0);    // desert: red dominates blue, bright
+  const glm::vec3 antarctica = e.sampleLonLat(0.0, -85.0);  // ice: bright, near grey
+  EXPECT_GT(atlantic.b, atlantic.r);
+  EXPECT_GT(sahara.r, sahara.b);
+  EXPECT_GT(sahara.r + sahara.g + sahara.b, 3.0f * (atlantic.r + atlantic.g + atlantic.b));
+  EXPECT_GT(antarctica.g, 0.3f);
+}
+
+}  // namespace
+}  // namespace nph::scene
