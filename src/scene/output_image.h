@@ -1,0 +1,60 @@
+#pragma once
+// Writing the renderer's output: premultiplied linear RGBA float (+ optional depth) to
+//   * OpenEXR — half RGBA, premultiplied ("associated") alpha, linear, exactly as rendered
+//     (times the exposure), depth as a float Z channel; for compositing in Nuke/Fusion/Resolve;
+//   * PNG — 8-bit sRGB with straight alpha, after exposure and a tone curve; for playout systems
+//     that take PNG sequences.
+// Files are written to a temporary name in the same folder and renamed into place, so a failed
+// or interrupted write never leaves a partial file under the final name.
+//
+// 8-bit pipeline per pixel (Muth 2026 §3.4.10 does the same: un-premultiply, then tone-map):
+//   c_lin = 2^exposure_ev · C_premult / α          (straight colour; α = 0 -> black)
+//   c_disp = curve(c_lin)                           (per channel, into [0, 1])
+//   code = round(255 · sRGB_encode(c_disp)),  alpha code = round(255 · clamp(α, 0, 1))
+// Tone curves:
+//   Clamp      — min(c, 1); for images already in display range (tests, flat colours).
+//   Reinhard   — c / (1 + c) (Reinhard et al. 2002, "Photographic Tone Reproduction", eq. 3,
+//                applied per channel as Muth 2026 §3.4.10).
+//   AcesFitted — Narkowicz 2016, "ACES Filmic Tone Mapping Curve": x = 0.6·c,
+//                (x(2.51x + 0.03)) / (x(2.43x + 0.59) + 0.14), clamped to [0, 1]; a fit of the
+//                ACES RRT+ODT luminance response (toe, shoulder, white at c ≈ 13). The default:
+//                it keeps sunlit cloud tops (c ≈ 1-3) from clipping while keeping contrast.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nph::scene {
+
+/// Premultiplied linear RGBA, row 0 at the top, RGBA interleaved; depth (optional) per pixel [m].
+struct RgbaImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgba;     ///< width·height·4
+  std::vector<float> depth_m;  ///< empty or width·height (e.g. transmittance-weighted depth)
+};
+
+enum class ToneCurve { Clamp, Reinhard, AcesFitted };
+
+/// "clamp" | "reinhard" | "aces"; InputError otherwise.
+ToneCurve toneCurveFromName(std::string_view name);
+std::string_view toneCurveName(ToneCurve curve);
+/// The curve on one linear channel value (≥ 0), result in [0, 1].
+float applyToneCurve(float linear, ToneCurve curve);
+
+struct ImageOutputOptions {
+  double exposure_ev = 0.0;                  ///< radiance scale 2^ev (EXR and PNG alike)
+  ToneCurve tone_curve = ToneCurve::AcesFitted;  ///< PNG only; EXR stays linear
+  bool write_depth = true;                   ///< EXR: add Z when the image has depth
+};
+
+/// The 8-bit straight-alpha sRGB codes of `image` (RGBA interleaved), as writePng stores them.
+std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& image, const ImageOutputOptions& options);
+
+/// Throws UsageError for an inconsistent image, IoError when the file cannot be written.
+void writeExr(const RgbaImage& image, const std::string& path, const ImageOutputOptions& options = {});
+void writePng(const RgbaImage& image, const std::string& path, const ImageOutputOptions& options = {});
+/// By extension: .exr or .png (case-insensitive); InputError for anything else.
+void writeImage(const RgbaImage& image, const std::string& path, const ImageOutputOptions& options = {});
+
+}  // namespace nph::scene
