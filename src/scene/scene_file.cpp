@@ -1,0 +1,468 @@
+#include "scene/scene_file.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "scene/solar_position.h"
+
+namespace nph::scene {
+namespace {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr int kMaxImageSide = 16384;   ///< largest output/basemap side accepted (GL_MAX_TEXTURE_SIZE on llvmpipe)
+constexpr double kMaxExaggeration = 1000.0;
+
+std::string typeName(const json& j) {
+  switch (j.type()) {
+    case json::value_t::null: return "null";
+    case json::value_t::boolean: return "a boolean";
+    case json::value_t::string: return "a string";
+    case json::value_t::array: return "an array";
+    case json::value_t::object: return "an object";
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned:
+    case json::value_t::number_float: return "a number";
+    default: return "an unsupported value";
+  }
+}
+
+/// A JSON object being read: every key must be asked for, or finish() reports it as unknown.
+class Object {
+ public:
+  Object(const json& j, std::string path, const std::string& file, const std::string& base_dir)
+      : j_(j), path_(std::move(path)), file_(file), base_(base_dir) {
+    if (!j.is_object()) fail(path_, "expected an object, got " + typeName(j));
+  }
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw InputError(fmt::format("{}: {}: {}", file_, where.empty() ? "(top level)" : where, what));
+  }
+  std::string at(std::string_view key) const {
+    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  }
+  const json* get(std::string_view key) {
+    known_.emplace_back(key);
+    const auto it = j_.find(std::string(key));
+    return it == j_.end() ? nullptr : &*it;
+  }
+  bool has(std::string_view key) const { return j_.contains(std::string(key)); }
+
+  std::optional<double> optNumber(std::string_view key, double lo, double hi) {
+    const json* v = get(key);
+    if (!v) return std::nullopt;
+    if (!v->is_number()) fail(at(key), "expected a number, got " + typeName(*v));
+    const double d = v->get<double>();
+    if (!std::isfinite(d) || d < lo || d > hi) {
+      fail(at(key), fmt::format("expected a number in [{}, {}], got {}", lo, hi, d));
+    }
+    return d;
+  }
+  double number(std::string_view key, double def, double lo, double hi) {
+    return optNumber(key, lo, hi).value_or(def);
+  }
+  int integer(std::string_view key, int def, int lo, int hi) {
+    const json* v = get(key);
+    if (!v) return def;
+    if (!v->is_number() || !(std::floor(v->get<double>()) == v->get<double>())) {
+      fail(at(key), "expected an integer, got " + (v->is_number() ? v->dump() : typeName(*v)));
+    }
+    const double d = v->get<double>();
+    if (d < lo || d > hi) fail(at(key), fmt::format("expected an integer in [{}, {}], got {}", lo, hi, d));
+    return static_cast<int>(d);
+  }
+  bool boolean(std::string_view key, bool def) {
+    const json* v = get(key);
+    if (!v) return def;
+    if (!v->is_boolean()) fail(at(key), "expected true or false, got " + typeName(*v));
+    return v->get<bool>();
+  }
+  std::optional<std::string> optString(std::string_view key) {
+    const json* v = get(key);
+    if (!v) return std::nullopt;
+    if (!v->is_string()) fail(at(key), "expected a string, got " + typeName(*v));
+    return v->get<std::string>();
+  }
+  std::string path(std::string_view key, bool required) {
+    const auto s = optString(key);
+    if (!s) {
+      if (required) fail(at(key), "required (a file path)");
+      return {};
+    }
+    if (s->empty()) fail(at(key), "expected a file path, got an empty string");
+    const fs::path p(*s);
+    return p.is_absolute() || base_.empty() ? *s : (fs::path(base_) / p).lexically_normal().string();
+  }
+  template <std::size_t N>
+  std::optional<std::array<double, N>> optNumbers(std::string_view key) {
+    const json* v = get(key);
+    if (!v) return std::nullopt;
+    if (!v->is_array() || v->size() != N) {
+      fail(at(key), fmt::format("expected an array of {} numbers, got {}", N,
+                                v->is_array() ? fmt::format("{} elements", v->size()) : typeName(*v)));
+    }
+    std::array<double, N> out{};
+    for (std::size_t i = 0; i < N; ++i) {
+      const json& e = (*v)[i];
+      if (!e.is_number() || !std::isfinite(e.get<double>())) {
+        fail(fmt::format("{}[{}]", at(key), i), "expected a number, got " + typeName(e));
+      }
+      out[i] = e.get<double>();
+    }
+    return out;
+  }
+  std::optional<glm::dvec3> optVec3(std::string_view key) {
+    const auto a = optNumbers<3>(key);
+    if (!a) return std::nullopt;
+    return glm::dvec3((*a)[0], (*a)[1], (*a)[2]);
+  }
+  std::optional<Object> optObject(std::string_view key) {
+    const json* v = get(key);
+    if (!v) return std::nullopt;
+    return Object(*v, at(key), file_, base_);
+  }
+  template <class E>
+  E choice(std::string_view key, E def, std::initializer_list<std::pair<const char*, E>> options) {
+    const auto s = optString(key);
+    if (!s) return def;
+    std::string list;
+    for (const auto& [name, value] : options) {
+      if (*s == name) return value;
+      list += (list.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    }
+    fail(at(key), fmt::format("expected one of {}, got \"{}\"", list, *s));
+  }
+  /// Unknown keys are errors (typos must not silently become defaults).
+  void finish() const {
+    for (const auto& [key, value] : j_.items()) {
+      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+        std::string list;
+        for (const auto& k : known_) list += (list.empty() ? "" : ", ") + k;
+        fail(at(key), fmt::format("unknown key (expected one of: {})", list));
+      }
+    }
+  }
+  const std::string& where() const { return path_; }
+  const json& value() const { return j_; }
+
+ private:
+  const json& j_;
+  std::string path_;
+  const std::string& file_;
+  const std::string& base_;
+  std::vector<std::string> known_;
+};
+
+void parseQualityOverrides(Object& o, QualitySettings& q) {
+  q.step_voxels = o.number("step_voxels", q.step_voxels, 0.01, 10.0);
+  q.dlm_resolution = o.integer("dlm_resolution", q.dlm_resolution, 16, kMaxImageSide);
+  q.dlm_epsilon = o.number("dlm_epsilon", q.dlm_epsilon, 0.0, 1.0);
+  q.dlm_max_nodes = o.integer("dlm_max_nodes", q.dlm_max_nodes, 2, 256);
+  q.early_termination_transmittance =
+      o.number("early_termination_transmittance", q.early_termination_transmittance, 0.0, 1.0);
+  q.empty_space_skipping = o.boolean("empty_space_skipping", q.empty_space_skipping);
+  q.jitter = o.boolean("jitter", q.jitter);
+  q.shadows = o.boolean("shadows", q.shadows);
+  q.samples_per_pixel = o.integer("samples_per_pixel", q.samples_per_pixel, 1, 1024);
+}
+
+}  // namespace
+
+QualitySettings qualityPreset(std::string_view name) {
+  QualitySettings q;  // defaults = broadcast
+  if (name == "broadcast") return q;
+  if (name == "draft") {
+    // Interactive preview: coarser steps and light map, earlier termination.
+    q.preset = "draft";
+    q.step_voxels = 1.0;
+    q.dlm_resolution = 256;
+    q.dlm_epsilon = 0.02;
+    q.dlm_max_nodes = 8;
+    q.early_termination_transmittance = 0.02;
+    return q;
+  }
+  if (name == "reference") {
+    // For comparisons with the CPU references: fine steps, tight ε, 4 jittered samples.
+    q.preset = "reference";
+    q.step_voxels = 0.25;
+    q.dlm_resolution = 1024;
+    q.dlm_epsilon = 0.002;
+    q.dlm_max_nodes = 32;
+    q.early_termination_transmittance = 0.001;
+    q.samples_per_pixel = 4;
+    return q;
+  }
+  throw InputError(fmt::format("quality preset '{}': expected \"draft\", \"broadcast\" or \"reference\"", name));
+}
+
+SceneDescription parseSceneText(std::string_view text, const std::string& name, const std::string& base_dir) {
+  json root;
+  try {
+    root = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    throw InputError(fmt::format("{}: not valid JSON: {}", name, e.what()));
+  }
+  SceneDescription s;
+  s.source_file = name;
+  Object top(root, "", name, base_dir);
+  (void)top.optString("description");  // free text for humans
+
+  if (auto d = top.optObject("data")) {
+    DataSpec data;
+    data.path = d->path("path", true);
+    const bool hasStep = d->has("timestep");
+    data.timestep = d->integer("timestep", 0, 0, std::numeric_limits<int>::max());
+    data.time_utc = d->optString("time_utc");
+    if (data.time_utc) {
+      if (hasStep) d->fail(d->at("time_utc"), "give either timestep or time_utc, not both");
+      try {
+        (void)UtcTime::parse(*data.time_utc);
+      } catch (const InputError& e) {
+        d->fail(d->at("time_utc"), e.what());
+      }
+    }
+    d->finish();
+    s.data = data;
+  }
+
+  if (auto c = top.optObject("camera")) {
+    CameraSpec& cam = s.camera;
+    const auto preset = c->optString("preset");
+    cam.position_m = c->optVec3("position_m");
+    cam.target_m = c->optVec3("target_m");
+    if (auto up = c->optVec3("up")) {
+      if (glm::length(*up) < 1e-9) c->fail(c->at("up"), "expected a non-zero vector");
+      cam.up = glm::normalize(*up);
+    }
+    cam.fov_deg = c->number("fov_deg", cam.fov_deg, 1.0, 170.0);
+    cam.azimuth_deg = c->optNumber("azimuth_deg", -360.0, 360.0);
+    cam.elevation_deg = c->optNumber("elevation_deg", 1.0, 90.0);
+    cam.distance_scale = c->number("distance_scale", cam.distance_scale, 0.01, 100.0);
+    if (cam.position_m || cam.target_m) {
+      if (!cam.position_m || !cam.target_m) {
+        c->fail(c->at(cam.position_m ? "target_m" : "position_m"),
+                "required with the other (an explicit camera needs position_m and target_m)");
+      }
+      if (preset) c->fail(c->at("preset"), "give either a preset or position_m/target_m, not both");
+      if (glm::length(*cam.target_m - *cam.position_m) < 1e-6) {
+        c->fail(c->at("target_m"), "expected a point different from position_m");
+      }
+      cam.preset.reset();
+    } else if (preset) {
+      if (*preset == "overview") cam.preset = CameraPreset::Overview;
+      else if (*preset == "oblique") cam.preset = CameraPreset::Oblique;
+      else if (*preset == "top") cam.preset = CameraPreset::Top;
+      else c->fail(c->at("preset"), fmt::format("expected \"overview\", \"oblique\" or \"top\", got \"{}\"", *preset));
+    }
+    c->finish();
+  }
+
+  if (auto u = top.optObject("sun")) {
+    SunSpec& sun = s.sun;
+    sun.from_time = u->boolean("from_time", false);
+    sun.time_utc = u->optString("time_utc");
+    const auto az = u->optNumber("azimuth_deg", -360.0, 360.0);
+    const auto el = u->optNumber("elevation_deg", -90.0, 90.0);
+    if (sun.from_time && (az || el)) {
+      u->fail(u->at(az ? "azimuth_deg" : "elevation_deg"), "not allowed with \"from_time\": true");
+    }
+    if (sun.time_utc) {
+      if (!sun.from_time) u->fail(u->at("time_utc"), "only used with \"from_time\": true");
+      try {
+        (void)UtcTime::parse(*sun.time_utc);
+      } catch (const InputError& e) {
+        u->fail(u->at("time_utc"), e.what());
+      }
+    }
+    sun.azimuth_deg = az.value_or(sun.azimuth_deg);
+    sun.elevation_deg = el.value_or(sun.elevation_deg);
+    if (auto col = u->optVec3("colour")) {
+      if (col->x < 0.0 || col->y < 0.0 || col->z < 0.0) u->fail(u->at("colour"), "expected non-negative components");
+      sun.colour = *col;
+    }
+    sun.intensity = u->number("intensity", sun.intensity, 0.0, 1e6);
+    u->finish();
+  }
+
+  if (const json* b = top.get("basemap"); b && !b->is_null()) {
+    Object o(*b, "basemap", name, base_dir);
+    BasemapSpec bm;
+    bm.path = o.path("path", true);
+    bm.margin = o.number("margin", bm.margin, 0.0, 10.0);
+    bm.pixels_long_side = o.integer("pixels_long_side", bm.pixels_long_side, 16, kMaxImageSide);
+    o.finish();
+    s.basemap = bm;
+  }
+
+  if (const json* q = top.get("quality")) {
+    if (q->is_string()) {
+      try {
+        s.quality = qualityPreset(q->get<std::string>());
+      } catch (const InputError& e) {
+        top.fail("quality", e.what());
+      }
+    } else {
+      Object o(*q, "quality", name, base_dir);
+      const std::string presetName = o.optString("preset").value_or("broadcast");
+      try {
+        s.quality = qualityPreset(presetName);
+      } catch (const InputError& e) {
+        o.fail("quality.preset", e.what());
+      }
+      if (auto ov = o.optObject("overrides")) {
+        parseQualityOverrides(*ov, s.quality);
+        ov->finish();
+      }
+      o.finish();
+    }
+  }
+
+  if (auto o = top.optObject("output")) {
+    OutputSpec& out = s.output;
+    if (const json* p = o->get("paths")) {
+      if (!p->is_array()) o->fail(o->at("paths"), "expected an array of file paths, got " + typeName(*p));
+      for (std::size_t i = 0; i < p->size(); ++i) {
+        const json& e = (*p)[i];
+        const std::string where = fmt::format("{}[{}]", o->at("paths"), i);
+        if (!e.is_string()) o->fail(where, "expected a string, got " + typeName(e));
+        std::string ext = fs::path(e.get<std::string>()).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+        if (ext != ".png" && ext != ".exr") o->fail(where, "expected a .png or .exr file, got \"" + e.get<std::string>() + "\"");
+        const fs::path path(e.get<std::string>());
+        out.paths.push_back(path.is_absolute() || base_dir.empty() ? path.string()
+                                                                    : (fs::path(base_dir) / path).lexically_normal().string());
+      }
+    }
+    out.width = o->integer("width", out.width, 1, kMaxImageSide);
+    out.height = o->integer("height", out.height, 1, kMaxImageSide);
+    out.image.exposure_ev = o->number("exposure_ev", 0.0, -20.0, 20.0);
+    if (const auto curve = o->optString("tone_curve")) {
+      try {
+        out.image.tone_curve = toneCurveFromName(*curve);
+      } catch (const InputError& e) {
+        o->fail(o->at("tone_curve"), e.what());
+      }
+    }
+    out.image.write_depth = o->boolean("depth", false);
+    o->finish();
+  }
+
+  s.height_exaggeration = top.number("height_exaggeration", 1.0, 0.01, kMaxExaggeration);
+  s.view = top.choice("view", ViewMode::Flat, {{"flat", ViewMode::Flat}, {"globe", ViewMode::Globe}});
+  if (const auto off = top.optNumbers<2>("lonlat_offset_deg")) {
+    if (std::abs((*off)[0]) > 180.0 || std::abs((*off)[1]) > 90.0) {
+      top.fail("lonlat_offset_deg", "expected [dlon, dlat] within ±180° and ±90°");
+    }
+    s.lonlat_offset = {(*off)[0], (*off)[1]};
+  }
+  if (const auto centre = top.optNumbers<2>("centre_lonlat_deg")) {
+    if (std::abs((*centre)[0]) > 360.0 || std::abs((*centre)[1]) > 90.0) {
+      top.fail("centre_lonlat_deg", "expected [lon, lat] with |lat| ≤ 90");
+    }
+    s.centre_if_cartesian = LonLat{(*centre)[0], (*centre)[1]};
+  }
+  top.finish();
+  return s;
+}
+
+SceneDescription loadSceneFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open the scene file", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: cannot read the scene file", path));
+  const fs::path p(path);
+  return parseSceneText(text.str(), path, p.has_parent_path() ? p.parent_path().string() : std::string("."));
+}
+
+Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, int height) {
+  if (width <= 0 || height <= 0) throw UsageError("cameraFor: image size must be positive");
+  Camera cam;
+  cam.width = width;
+  cam.height = height;
+  cam.vertical_fov_deg = spec.fov_deg;
+  if (!spec.preset) {
+    if (!spec.position_m || !spec.target_m) throw UsageError("cameraFor: explicit camera without position/target");
+    cam.position_m = *spec.position_m;
+    cam.target_m = *spec.target_m;
+    cam.up = spec.up;
+    return cam;
+  }
+  // Bounding sphere of the volume's box; the camera looks at the centre of its footprint at half
+  // the volume's height, from a distance at which the sphere fits the narrower field of view.
+  const glm::dvec3 size = frame.size_m();
+  const glm::dvec3 target = frame.min_m() + glm::dvec3(0.5 * size.x, 0.5 * size.y, 0.5 * size.z);
+  const double radius = 0.5 * glm::length(size);
+  const double vfov = glm::radians(spec.fov_deg);
+  const double hfov = 2.0 * std::atan(std::tan(0.5 * vfov) * double(width) / double(height));
+  const double fit = radius / std::sin(0.5 * std::min(vfov, hfov));
+  double azimuth = 180.0, elevation = 55.0, closer = 1.0;
+  glm::dvec3 up{0.0, 0.0, 1.0};
+  switch (*spec.preset) {
+    case CameraPreset::Overview: break;
+    case CameraPreset::Oblique:
+      azimuth = 200.0;
+      elevation = 20.0;
+      closer = 0.8;  // the far side may leave the frame: the near side is what the eye reads
+      break;
+    case CameraPreset::Top:
+      elevation = 90.0;
+      up = {0.0, 1.0, 0.0};  // north up
+      break;
+  }
+  azimuth = spec.azimuth_deg.value_or(azimuth);
+  elevation = spec.elevation_deg.value_or(elevation);
+  const double distance = fit * closer * spec.distance_scale;
+  const double az = glm::radians(azimuth), el = glm::radians(elevation);
+  const glm::dvec3 toCamera{std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
+  cam.target_m = target;
+  cam.position_m = target + distance * toCamera;
+  if (elevation > 89.0) {
+    // Looking (almost) straight down: "up" in the image is the horizontal direction away from
+    // the camera's azimuth (north for the default), never the view direction itself.
+    up = *spec.preset == CameraPreset::Top && !spec.azimuth_deg
+             ? glm::dvec3{0.0, 1.0, 0.0}
+             : glm::dvec3{-std::sin(az), -std::cos(az), 0.0};
+  }
+  cam.up = up;
+  cam.near_m = std::max(10.0, 0.01 * distance);
+  cam.far_m = distance + 4.0 * radius + 1.0e5;
+  return cam;
+}
+
+Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view data_time_utc) {
+  Sun s;
+  s.colour = spec.colour;
+  s.intensity = spec.intensity;
+  if (!spec.from_time) {
+    s.azimuth_deg = spec.azimuth_deg;
+    s.elevation_deg = spec.elevation_deg;
+    return s;
+  }
+  const std::string time = spec.time_utc ? *spec.time_utc : std::string(data_time_utc);
+  if (time.empty()) {
+    throw InputError("sun.from_time: the data carries no time and sun.time_utc is not given");
+  }
+  if (geo == nullptr) {
+    throw InputError("sun.from_time: the volume has no place on Earth (Cartesian grid without "
+                     "centre_lonlat_deg), so the sun's position cannot be computed");
+  }
+  const glm::dvec3 size = geo->frame().size_m();
+  const glm::dvec2 centre{0.5 * size.x, 0.5 * size.y};
+  const LonLat ll = geo->lonLatFromWorld(centre);
+  const Sun geographic = sunAt(UtcTime::parse(time), ll.lon_deg, ll.lat_deg);
+  s.azimuth_deg = geographic.azimuth_deg;
+  s.elevation_deg = geographic.elevation_deg;
+  return geo->sunInWorld(s, centre);
+}
+
+}  // namespace nph::scene
