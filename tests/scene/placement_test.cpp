@@ -1,0 +1,123 @@
+// Placement (issue 5, "a generated storm centred at a known lon/lat appears at that pixel on the
+// basemap", for Lambert and Mercator): generator (data_tools) -> wrfout -> loader (io/) -> optics
+// (physics/) -> SceneGeoreference -> reprojected basemap. The truth is the generator's own
+// XLAT/XLONG (computed with its own PROJ set-up, lat_0 = TRUELAT1, not the loader's) and the
+// storm centre it placed; the basemap is a synthetic image whose colour encodes lon/lat.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "io/model_file.h"
+#include "physics/optics_settings.h"
+#include "physics/volume_builder.h"
+#include "scene/basemap.h"
+#include "scene/georeference.h"
+#include "scene_test_support.h"
+#include "wrf_hurricane.h"
+
+namespace nph::scene {
+namespace {
+
+struct Case {
+  datagen::WrfProjection projection;
+  const char* name;
+};
+
+/// Bilinear interpolation of a mass-point field at fractional grid indices.
+double bilinear(const std::vector<double>& f, int nx, double fi, double fj) {
+  const int i = static_cast<int>(std::floor(fi)), j = static_cast<int>(std::floor(fj));
+  const double a = fi - i, b = fj - j;
+  auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(nx) + std::size_t(ii)]; };
+  return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) +
+         a * b * at(i + 1, j + 1);
+}
+
+class Placement : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
+  test::TempDir dir;
+  datagen::WrfHurricaneSpec spec;
+  spec.nx = 80;
+  spec.ny = 72;
+  spec.nz = 20;
+  spec.ntimes = 1;
+  spec.dx_m = 5000.0;
+  spec.projection = GetParam().projection;
+  const std::string path = dir.file("wrfout.nc");
+  const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, path);
+  const ExtinctionVolumes v = physics::buildExtinctionVolumes(
+      io::openModelFile(path).load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
+  const VolumeFrame frame = frameOf(v, 10.0);
+  const SceneGeoreference geo(v, frame);
+
+  // 1. Every 7th mass point: world voxel centre -> lon/lat agrees with the generator's XLAT/XLONG
+  //    (stored as float in the file; the truth is double).
+  double maxErr = 0.0;
+  for (int j = 0; j < v.ny; j += 7) {
+    for (int i = 0; i < v.nx; i += 7) {
+      const glm::dvec3 w = frame.worldFromGrid({i + 0.5, j + 0.5, 0.5});
+      const LonLat ll = geo.lonLatFromWorld({w.x, w.y});
+      const std::size_t p = std::size_t(j) * std::size_t(v.nx) + std::size_t(i);
+      maxErr = std::max({maxErr, std::abs(ll.lon_deg - truth.lon_deg[p]), std::abs(ll.lat_deg - truth.lat_deg[p])});
+    }
+  }
+  EXPECT_LT(maxErr, 1e-6) << GetParam().name;
+
+  // 2. The storm centre (generator: metres from mass point 0) in world metres and lon/lat.
+  const double fi = truth.storm_centre_x_m / spec.dx_m, fj = truth.storm_centre_y_m / spec.dx_m;
+  const glm::dvec2 stormWorld{truth.storm_centre_x_m + 0.5 * frame.voxel_size_m.x,
+                              truth.storm_centre_y_m + 0.5 * frame.voxel_size_m.y};
+  const LonLat stormLl{bilinear(truth.lon_deg, v.nx, fi, fj), bilinear(truth.lat_deg, v.nx, fi, fj)};
+  const LonLat fromWorld = geo.lonLatFromWorld(stormWorld);
+  // Bilinear interpolation of lon/lat between mass points 5 km apart errs by < 1e-4° here.
+  EXPECT_NEAR(fromWorld.lon_deg, stormLl.lon_deg, 1e-4);
+  EXPECT_NEAR(fromWorld.lat_deg, stormLl.lat_deg, 1e-4);
+
+  // 3. The storm really is there in the volume: the eye (clear within 14 km) has a much thinner
+  //    water column than the eyewall ring at 40 km.
+  auto column = [&](glm::dvec2 w) {
+    const glm::dvec3 g = frame.gridFromWorld({w.x, w.y, frame.z_bottom_m});
+    const int i = static_cast<int>(g.x), j = static_cast<int>(g.y);
+    double tau = 0.0;
+    for (int k = 0; k < v.nz; ++k) tau += double(v.water_per_m[v.index(i, j, k)]) * v.dz_m;
+    return tau;
+  };
+  double ring = 0.0;
+  constexpr int kRingSamples = 8;
+  for (int a = 0; a < kRingSamples; ++a) {
+    const double t = 2.0 * 3.14159265358979 * a / kRingSamples;
+    ring += column(stormWorld + 40000.0 * glm::dvec2(std::cos(t), std::sin(t))) / kRingSamples;
+  }
+  EXPECT_GT(ring, 10.0);
+  EXPECT_LT(column(stormWorld), 0.3 * ring) << "eye " << column(stormWorld) << " ring " << ring;
+
+  // 4. On the reprojected basemap, the pixel containing the storm centre shows the storm's
+  //    lon/lat (within that pixel's extent).
+  LinearRgbImage coded{720, 360, std::vector<float>(720 * 360 * 3)};
+  for (int y = 0; y < 360; ++y) {
+    for (int x = 0; x < 720; ++x) {
+      const std::size_t o = (std::size_t(y) * 720 + std::size_t(x)) * 3;
+      coded.rgb[o] = static_cast<float>((x + 0.5) / 720.0);
+      coded.rgb[o + 1] = static_cast<float>(1.0 - (y + 0.5) / 360.0);
+    }
+  }
+  const EquirectangularImage source(std::move(coded));
+  const WorldRect rect = basemapRectangle(frame, 0.5);
+  const int W = 400, H = 360;
+  const LinearRgbImage map = reprojectBasemap(source, geo, rect, W, H);
+  const int px = static_cast<int>((stormWorld.x - rect.min_m.x) / (rect.max_m.x - rect.min_m.x) * W);
+  const int py = static_cast<int>((rect.max_m.y - stormWorld.y) / (rect.max_m.y - rect.min_m.y) * H);
+  const glm::vec3 c = map.at(px, py);
+  const double pixelDeg = (rect.max_m.x - rect.min_m.x) / W / 111000.0;  // pixel size in degrees, roughly
+  EXPECT_NEAR(double(c.r) * 360.0 - 180.0, stormLl.lon_deg, pixelDeg / std::cos(stormLl.lat_deg * 3.14159265358979 / 180.0));
+  EXPECT_NEAR(double(c.g) * 180.0 - 90.0, stormLl.lat_deg, pixelDeg);
+}
+
+INSTANTIATE_TEST_SUITE_P(Wrf, Placement,
+                         ::testing::Values(Case{datagen::WrfProjection::Lambert, "Lambert"},
+                                           Case{datagen::WrfProjection::Mercator, "Mercator"},
+                                           Case{datagen::WrfProjection::RotatedLatLon, "RotatedLatLon"}),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
+
+}  // namespace
+}  // namespace nph::scene
