@@ -86,6 +86,45 @@ TEST(Basemap, LonLatImageReprojectedIntoLambertDecodesBack) {
   EXPECT_LT(img.at(0, 0).r, img.at(W - 1, H - 1).r);
 }
 
+TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) {
+  // reprojectBasemap projects only 8-pixel cell corners and interpolates inside; compare it with
+  // projecting every pixel. The image is smooth everywhere on the sphere (the unit vector of
+  // lon/lat as colour), so any lon/lat error shows as a colour error.
+  LinearRgbImage img{720, 360, std::vector<float>(720 * 360 * 3)};
+  for (int y = 0; y < 360; ++y) {
+    for (int x = 0; x < 720; ++x) {
+      const double lon = (-180.0 + (x + 0.5) * 0.5) * kDeg, lat = (90.0 - (y + 0.5) * 0.5) * kDeg;
+      const std::size_t o = (std::size_t(y) * 720 + std::size_t(x)) * 3;
+      img.rgb[o] = static_cast<float>(0.5 + 0.5 * std::cos(lat) * std::cos(lon));
+      img.rgb[o + 1] = static_cast<float>(0.5 + 0.5 * std::cos(lat) * std::sin(lon));
+      img.rgb[o + 2] = static_cast<float>(0.5 + 0.5 * std::sin(lat));
+    }
+  }
+  const EquirectangularImage src(std::move(img));
+  for (const char* proj : {"+proj=stere +lat_0=90 +lat_ts=60 +lon_0=-100 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs",
+                           "+proj=lcc +lat_1=40 +lat_2=60 +lat_0=50 +lon_0=180 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs",
+                           "+proj=merc +lat_ts=0 +lon_0=179 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs"}) {
+    auto v = test::lambertVolumes(100, 100, 2, 20000.0);  // 2000 km square centred on (0, 0)
+    v.georef.proj_definition = proj;
+    const VolumeFrame frame = frameOf(v);
+    const SceneGeoreference geo(v, frame);
+    const WorldRect rect = basemapRectangle(frame, 0.1);
+    const int W = 101, H = 83;  // not multiples of the cell size
+    const LinearRgbImage fast = reprojectBasemap(src, geo, rect, W, H);
+    double maxDiff = 0.0;
+    for (int py = 0; py < H; ++py) {
+      for (int px = 0; px < W; ++px) {
+        const LonLat ll = geo.lonLatFromWorld(worldFromBasemapPixel(rect, W, H, px, py));
+        const glm::vec3 e = src.sampleLonLat(ll.lon_deg, ll.lat_deg), f = fast.at(px, py);
+        maxDiff = std::max({maxDiff, double(std::abs(e.r - f.r)), double(std::abs(e.g - f.g)),
+                            double(std::abs(e.b - f.b))});
+      }
+    }
+    // 1e-4° of lon/lat error moves this image's colour by < 1e-5.
+    EXPECT_LT(maxDiff, 1e-5) << proj;
+  }
+}
+
 TEST(Basemap, OffsetMovesTheMapUnderTheVolume) {
   test::TempDir dir;
   const std::string path = dir.file("lonlat.exr");
