@@ -237,4 +237,21 @@ glm::dmat3 ecefFromEnu(LonLat ll) {
   return glm::dmat3(east, north, up);
 }
 
+Camera globeCameraFrom(const Camera& flat, const SceneGeoreference& geo) {
+  constexpr double kUpStep_m = 1000.0;  // short enough that the sphere is flat over it
+  Camera c = flat;
+  c.position_m = geo.ecefFromWorld(flat.position_m);
+  c.target_m = geo.ecefFromWorld(flat.target_m);
+  c.up = glm::normalize(geo.ecefFromWorld(flat.target_m + kUpStep_m * glm::normalize(flat.up)) - c.target_m);
+  // The whole Earth may be in view: the far plane must reach past the horizon.
+  c.far_m = std::max(flat.far_m, glm::length(c.position_m) + kEarthRadius_m);
+  return c;
+}
+
+glm::dvec3 toSunEcef(const Sun& world_sun, const SceneGeoreference& geo, glm::dvec2 world_xy_m) {
+  Sun geographic = world_sun;
+  geographic.azimuth_deg -= geo.trueNorthClockwiseFromGridNorth_deg(world_xy_m);
+  return glm::normalize(ecefFromEnu(geo.lonLatFromWorld(world_xy_m)) * geographic.toSun());
+}
+
 }  // namespace nph::scene

@@ -27,6 +27,7 @@
 #include <glm/glm.hpp>
 
 #include "cache/extinction_volumes.h"
+#include "scene/camera.h"
 #include "scene/sun.h"
 #include "scene/volume_frame.h"
 
@@ -127,5 +128,14 @@ glm::dvec3 ecefFromLonLat(LonLat ll, double height_m = 0.0, double radius_m = kE
 LonLat lonLatFromEcef(const glm::dvec3& ecef_m);
 /// Local east, north, up unit vectors at lon/lat (columns of the ECEF-from-ENU rotation).
 glm::dmat3 ecefFromEnu(LonLat ll);
+
+/// Globe view: a flat-map camera (world frame) carried onto the sphere — position and target
+/// through ecefFromWorld, up as the image of a short step along the flat up vector at the target —
+/// so that the flat presets (scene_file.h) frame the same storm on the globe.
+Camera globeCameraFrom(const Camera& flat, const SceneGeoreference& geo);
+
+/// Globe view: ECEF unit vector towards a sun given in the *world* frame (azimuth from grid
+/// north, as SceneGeoreference::sunInWorld returns it) at the footprint point `world_xy_m`.
+glm::dvec3 toSunEcef(const Sun& world_sun, const SceneGeoreference& geo, glm::dvec2 world_xy_m);
 
 }  // namespace nph::scene

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "scene/solar_position.h"
 
 namespace nph::scene {
@@ -462,6 +463,10 @@ Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view d
   const Sun geographic = sunAt(UtcTime::parse(time), ll.lon_deg, ll.lat_deg);
   s.azimuth_deg = geographic.azimuth_deg;
   s.elevation_deg = geographic.elevation_deg;
+  if (s.elevation_deg <= 0.0) {
+    log::warn("sun at {} over lon {:.2f} lat {:.2f} is {:.1f}° below the horizon: the clouds will be "
+              "lit only by the ambient sky", time, ll.lon_deg, ll.lat_deg, -s.elevation_deg);
+  }
   return geo->sunInWorld(s, centre);
 }
 

@@ -246,6 +246,13 @@ void subsolarPoint(const UtcTime& time, double& lon_deg, double& lat_deg) {
   lon_deg = wrap180((720.0 - time.utcHourOfDay() * 60.0 - c.equation_of_time_min) / 4.0);
 }
 
+glm::dvec3 sunDirectionEcef(const UtcTime& time) {
+  double lon = 0.0, lat = 0.0;
+  subsolarPoint(time, lon, lat);
+  const double l = lon * kDeg, p = lat * kDeg;
+  return {std::cos(p) * std::cos(l), std::cos(p) * std::sin(l), std::sin(p)};
+}
+
 Sun sunAt(const UtcTime& time, double lon_deg, double lat_deg) {
   const SolarPosition p = solarPosition(time, lon_deg, lat_deg);
   Sun s;

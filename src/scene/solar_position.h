@@ -67,6 +67,11 @@ double refractionCorrection_deg(double geometric_elevation_deg, double pressure_
 /// Greenwich hour angle (east positive, (-180, 180]).
 void subsolarPoint(const UtcTime& time, double& lon_deg, double& lat_deg);
 
+/// Unit vector from the Earth's centre towards the sun (ECEF axes of georeference.h: x to lon 0
+/// on the equator, z to the north pole); the sun is at infinity, so this is also the direction
+/// to the sun from any point (parallax < 0.0024°). For the globe view.
+glm::dvec3 sunDirectionEcef(const UtcTime& time);
+
 /// A scene::Sun pointing at the sun's position (colour and intensity left at their defaults).
 Sun sunAt(const UtcTime& time, double lon_deg, double lat_deg);
 

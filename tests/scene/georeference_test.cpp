@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "scene/georeference.h"
+#include "scene/solar_position.h"
 #include "scene_test_support.h"
 
 namespace nph::scene {
@@ -206,6 +207,55 @@ TEST(Globe, EcefMapping) {
   EXPECT_TRUE(glm::length(p - ecefFromLonLat({-80.0, 25.0}, 5000.0)) < 1e-3);
   EXPECT_DOUBLE_EQ(normaliseLongitude_deg(190.0), -170.0);
   EXPECT_DOUBLE_EQ(normaliseLongitude_deg(-180.0), 180.0);
+}
+
+}  // namespace
+}  // namespace nph::scene
+
+namespace nph::scene {
+namespace {
+
+TEST(Globe, FlatCameraCarriedOntoTheSphere) {
+  const auto v = test::lambertVolumes();
+  const VolumeFrame frame = frameOf(v, 10.0);
+  const SceneGeoreference geo(v, frame);
+  Camera flat;
+  flat.target_m = {150000.0, 120000.0, 0.0};
+  flat.position_m = {150000.0, -80000.0, 200000.0};
+  const Camera g = globeCameraFrom(flat, geo);
+  EXPECT_NEAR(glm::length(g.target_m), kEarthRadius_m, 1e-3);
+  EXPECT_NEAR(glm::length(g.position_m), kEarthRadius_m + 200000.0, 1e-3);
+  // Over 280 km the sphere bends the straight flat-map distance by well under 1 %.
+  const double dFlat = glm::length(flat.position_m - flat.target_m), dGlobe = glm::length(g.position_m - g.target_m);
+  EXPECT_NEAR(dGlobe / dFlat, 1.0, 0.01);
+  // Up at the target is the local vertical; the camera is south of the target (lower latitude).
+  const LonLat target = lonLatFromEcef(g.target_m), camera = lonLatFromEcef(g.position_m);
+  EXPECT_NEAR(glm::dot(g.up, ecefFromEnu(target)[2]), 1.0, 1e-9);
+  EXPECT_LT(camera.lat_deg, target.lat_deg);
+  EXPECT_GT(g.far_m, glm::length(g.position_m));
+}
+
+TEST(Globe, SunDirectionAgreesWithTheLocalSolarPosition) {
+  const UtcTime t = UtcTime::parse("2026-09-01T17:00:00Z");
+  const glm::dvec3 sun = sunDirectionEcef(t);
+  for (LonLat at : {LonLat{-80.0, 25.0}, LonLat{10.0, 53.5}, LonLat{150.0, -33.9}}) {
+    const glm::dmat3 enu = ecefFromEnu(at);
+    const glm::dvec3 local = glm::transpose(enu) * sun;  // (east, north, up)
+    const SolarPosition p = solarPosition(t, at.lon_deg, at.lat_deg);
+    EXPECT_NEAR(glm::degrees(std::asin(local.z)), p.elevation_deg, 1e-6);
+    if (p.elevation_deg > -80.0) {
+      double az = glm::degrees(std::atan2(local.x, local.y));
+      az += az < 0.0 ? 360.0 : 0.0;
+      EXPECT_NEAR(az, p.azimuth_deg, 1e-6);
+    }
+  }
+  // A world-frame sun from sunInWorld maps back to the same ECEF direction (convergence undone).
+  const auto v = test::lambertVolumes(400, 100, 4, 3000.0);
+  const SceneGeoreference geo(v, frameOf(v));
+  const glm::dvec2 east{1.1e6, 1.5e5};
+  const LonLat ll = geo.lonLatFromWorld(east);
+  const Sun worldSun = geo.sunInWorld(sunAt(t, ll.lon_deg, ll.lat_deg), east);
+  EXPECT_NEAR(glm::length(toSunEcef(worldSun, geo, east) - sun), 0.0, 1e-6);
 }
 
 }  // namespace
