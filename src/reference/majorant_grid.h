@@ -29,6 +29,7 @@ inline constexpr int kDefaultBrickVoxels = 8;
 class MajorantGrid {
  public:
   /// Throws InputError when a voxel is NaN, infinite or negative (the trackers need a bound).
+  /// Keeps a reference to `field`, which must outlive the grid.
   explicit MajorantGrid(const ExtinctionField& field, int brick_voxels = kDefaultBrickVoxels);
 
   glm::ivec3 bricks() const { return bricks_; }

@@ -195,6 +195,21 @@ double PathTracer::alpha(const glm::dvec3& origin_m, const glm::dvec3& dir) cons
   return -std::expm1(-field_.opticalDepth(origin_m, dir, 0.0, groundDistance(origin_m, dir)));
 }
 
+std::vector<float> PathTracer::renderAlpha(const scene::Camera& camera) const {
+  if (camera.width < 1 || camera.height < 1) throw UsageError("PathTracer::renderAlpha: empty image");
+  std::vector<float> out(std::size_t(camera.width) * std::size_t(camera.height), 0.0f);
+  tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, camera.height), [&](const tbb::blocked_range<int>& r) {
+      for (int y = r.begin(); y < r.end(); ++y)
+        for (int x = 0; x < camera.width; ++x)
+          out[std::size_t(y) * std::size_t(camera.width) + std::size_t(x)] =
+              float(alpha(camera.position_m, camera.rayDirection(double(x) + 0.5, double(y) + 0.5)));
+    });
+  });
+  return out;
+}
+
 PixelEstimate PathTracer::estimate(const scene::Camera* camera, int px, int py, glm::dvec3 origin, glm::dvec3 dir,
                                    int samples, std::uint64_t stream) const {
   PathRng rng(settings_.seed, stream);

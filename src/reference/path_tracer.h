@@ -105,6 +105,9 @@ class PathTracer {
   /// Keeps a reference to `volumes`. Throws InputError for NaN/Inf/negative voxels.
   PathTracer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Sun& sun,
              PathTracerSettings settings);
+  // The majorant grid refers to the field member: not copyable or movable.
+  PathTracer(const PathTracer&) = delete;
+  PathTracer& operator=(const PathTracer&) = delete;
 
   /// The whole image of `camera` (TBB over rows; deterministic for a given seed).
   PathTracedImage render(const scene::Camera& camera) const;
@@ -115,6 +118,9 @@ class PathTracer {
                             std::uint64_t stream) const;
   /// 1 − exp(−τ) along a ray, τ exact, to the ground plane when it is on.
   double alpha(const glm::dvec3& origin_m, const glm::dvec3& dir) const;
+  /// The exact alpha of every pixel-centre ray of `camera` (row 0 = top), without tracing paths:
+  /// the yardstick for the GPU renderer's alpha channel.
+  std::vector<float> renderAlpha(const scene::Camera& camera) const;
 
   const PathTracerSettings& settings() const { return settings_; }
   const MajorantGrid& majorants() const { return majorants_; }

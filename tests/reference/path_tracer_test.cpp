@@ -364,8 +364,13 @@ TEST(PathTracer, DeterministicPerSeedAndThreadCount) {
   EXPECT_EQ(std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)), 0);
   EXPECT_EQ(std::memcmp(a.rgba.data(), c.rgba.data(), a.rgba.size() * sizeof(float)), 0);
   EXPECT_NE(std::memcmp(a.rgba.data(), d.rgba.data(), a.rgba.size() * sizeof(float)), 0);
-  // Alpha is exact, hence seed-independent; renderPixel reproduces the image's pixel.
-  for (std::size_t i = 3; i < a.rgba.size(); i += 4) EXPECT_EQ(a.rgba[i], d.rgba[i]);
+  // Alpha is exact, hence seed-independent and equal to renderAlpha; renderPixel reproduces
+  // the image's pixel.
+  const std::vector<float> alphaOnly = PathTracer(v, frame, sun, s).renderAlpha(cam);
+  for (std::size_t i = 3; i < a.rgba.size(); i += 4) {
+    EXPECT_EQ(a.rgba[i], d.rgba[i]);
+    EXPECT_EQ(a.rgba[i], alphaOnly[i / 4]);
+  }
   s.seed = 42;
   const PixelEstimate p = PathTracer(v, frame, sun, s).renderPixel(cam, 7, 9);
   EXPECT_EQ(float(p.rgb.y), a.pixel(7, 9).y);
