@@ -1,0 +1,75 @@
+#include "scene/scene_setup.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "scene/solar_position.h"
+
+namespace nph::scene {
+
+std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string>& times, const std::string& file) {
+  if (times.empty()) throw InputError(fmt::format("{}: has no timesteps", file));
+  if (!data.time_utc) {
+    if (data.timestep < 0 || std::size_t(data.timestep) >= times.size()) {
+      throw InputError(fmt::format("{}: timestep {} requested, the file has {} (0 to {})", file,
+                                   data.timestep, times.size(), times.size() - 1));
+    }
+    return std::size_t(data.timestep);
+  }
+  constexpr double kSameTime_days = 1.0 / 86400.0;  // one second
+  const double wanted = UtcTime::parse(*data.time_utc).julian_day;
+  for (std::size_t t = 0; t < times.size(); ++t) {
+    if (times[t].empty()) continue;
+    if (std::abs(UtcTime::parse(times[t]).julian_day - wanted) < kSameTime_days) return t;
+  }
+  throw InputError(fmt::format("{}: no timestep at {} (the file has {} timesteps, {} to {})", file,
+                               *data.time_utc, times.size(), times.front(), times.back()));
+}
+
+PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v) {
+  PreparedScene p;
+  p.frame = frameOf(v, s.height_exaggeration);
+  if (!v.georef.proj_definition.empty() || s.centre_if_cartesian) {
+    p.geo.emplace(v, p.frame, s.lonlat_offset, s.centre_if_cartesian);
+  }
+  const SceneGeoreference* geo = p.geo ? &*p.geo : nullptr;
+  p.flat_camera = cameraFor(s.camera, p.frame, s.output.width, s.output.height);
+  p.camera = p.flat_camera;
+  p.sun = sunFor(s.sun, geo, v.time_utc);
+  const glm::dvec3 size = p.frame.size_m();
+  const glm::dvec2 centre{0.5 * size.x, 0.5 * size.y};
+  if (s.view == ViewMode::Globe) {
+    if (!geo) {
+      throw InputError(fmt::format("{}: view \"globe\" needs the volume's place on Earth; its grid is "
+                                   "Cartesian: give centre_lonlat_deg",
+                                   s.source_file));
+    }
+    p.camera = globeCameraFrom(p.flat_camera, *geo);
+    p.to_sun_ecef = toSunEcef(p.sun, *geo, centre);
+  }
+  if (s.basemap) {
+    if (!geo) {
+      throw InputError(fmt::format("{}: basemap: the volume's grid is Cartesian (no map projection): "
+                                   "give centre_lonlat_deg to place it on the map",
+                                   s.source_file));
+    }
+    const WorldRect rect = basemapRectangle(p.frame, s.basemap->margin);
+    const glm::dvec2 extent = rect.max_m - rect.min_m;
+    const double longSide = std::max(extent.x, extent.y);
+    const int n = s.basemap->pixels_long_side;
+    const int w = std::max(1, static_cast<int>(std::lround(n * extent.x / longSide)));
+    const int h = std::max(1, static_cast<int>(std::lround(n * extent.y / longSide)));
+    const EquirectangularImage source = EquirectangularImage::load(s.basemap->path);
+    p.basemap = reprojectBasemap(source, *geo, rect, w, h);
+    p.basemap_rect = rect;
+    log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h,
+              extent.x / 1000.0, extent.y / 1000.0);
+  }
+  return p;
+}
+
+}  // namespace nph::scene

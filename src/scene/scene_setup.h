@@ -1,0 +1,41 @@
+#pragma once
+// From a parsed scene file and the volumes of its timestep to everything a renderer draws with:
+// the volume's frame, its place on Earth, the camera and sun in the render's frame, and the
+// basemap already reprojected under the footprint. One call for `nephele render` and the viewer,
+// so GPU renderer and CPU references set a scene up the same way.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cache/extinction_volumes.h"
+#include "scene/basemap.h"
+#include "scene/camera.h"
+#include "scene/georeference.h"
+#include "scene/scene_file.h"
+#include "scene/sun.h"
+#include "scene/volume_frame.h"
+
+namespace nph::scene {
+
+/// Index of the timestep `data` asks for among `times_utc` (the file's times, ISO 8601 or WRF):
+/// data.time_utc must match one to within a second; otherwise data.timestep must be in range.
+/// InputError names `file`, what was asked and what the file has.
+std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string>& times_utc,
+                             const std::string& file);
+
+struct PreparedScene {
+  VolumeFrame frame;
+  std::optional<SceneGeoreference> geo;  ///< none for Cartesian grids without centre_lonlat_deg
+  Camera flat_camera;                    ///< world frame (volume_frame.h)
+  Camera camera;                         ///< = flat_camera, or carried onto the globe (ECEF)
+  Sun sun;                               ///< world frame: azimuth from grid north
+  std::optional<glm::dvec3> to_sun_ecef; ///< globe: direction to the sun (needs geo)
+  std::optional<WorldRect> basemap_rect; ///< world rectangle the basemap covers
+  LinearRgbImage basemap;                ///< reprojected linear RGB (empty without a basemap)
+};
+
+/// Builds the scene. Throws InputError for what the scene asks but the data cannot give (a
+/// basemap or a timed sun for a volume without a place on Earth, a missing basemap file, ...).
+PreparedScene prepareScene(const SceneDescription& scene, const ExtinctionVolumes& volumes);
+
+}  // namespace nph::scene
