@@ -371,6 +371,19 @@ TEST(PathTracer, WhiteFurnace) {
       ASSERT_NEAR(double(full.rgba[4 * std::size_t(i) + std::size_t(c)]), s.sky_radiance[c], 1e-6) << "pixel " << i;
     }
   }
+
+  // A white ground (albedo 1) under the same sky keeps the furnace: everything still sees L.
+  s.ground_enabled = true;
+  s.ground_albedo = glm::dvec3(1.0);
+  s.samples_per_pixel = 32;
+  const PathTracedImage grounded = PathTracer(v, frame, scene::Sun{}, s).render(cam);
+  EXPECT_GT(grounded.stats.ground_hits, 0u);
+  EXPECT_EQ(grounded.stats.truncated_paths, 0u);
+  for (int i = 0; i < cam.width * cam.height; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(double(grounded.rgba[4 * std::size_t(i) + std::size_t(c)]), s.sky_radiance[c], 1e-6) << "pixel " << i;
+    }
+  }
 }
 
 TEST(PathTracer, GroundOnlySceneMatchesClosedForm) {
