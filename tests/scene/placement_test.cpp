@@ -18,10 +18,14 @@
 namespace nph::scene {
 namespace {
 
-struct Case {
-  datagen::WrfProjection projection;
-  const char* name;
-};
+const char* nameOf(datagen::WrfProjection p) {
+  switch (p) {
+    case datagen::WrfProjection::Lambert: return "Lambert";
+    case datagen::WrfProjection::Mercator: return "Mercator";
+    case datagen::WrfProjection::RotatedLatLon: return "RotatedLatLon";
+    default: return "Other";
+  }
+}
 
 /// Bilinear interpolation of a mass-point field at fractional grid indices.
 double bilinear(const std::vector<double>& f, int nx, double fi, double fj) {
@@ -32,7 +36,7 @@ double bilinear(const std::vector<double>& f, int nx, double fi, double fj) {
          a * b * at(i + 1, j + 1);
 }
 
-class Placement : public ::testing::TestWithParam<Case> {};
+class Placement : public ::testing::TestWithParam<datagen::WrfProjection> {};
 
 TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   test::TempDir dir;
@@ -42,7 +46,7 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   spec.nz = 20;
   spec.ntimes = 1;
   spec.dx_m = 5000.0;
-  spec.projection = GetParam().projection;
+  spec.projection = GetParam();
   const std::string path = dir.file("wrfout.nc");
   const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, path);
   const ExtinctionVolumes v = physics::buildExtinctionVolumes(
@@ -61,7 +65,7 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
       maxErr = std::max({maxErr, std::abs(ll.lon_deg - truth.lon_deg[p]), std::abs(ll.lat_deg - truth.lat_deg[p])});
     }
   }
-  EXPECT_LT(maxErr, 1e-6) << GetParam().name;
+  EXPECT_LT(maxErr, 1e-6) << nameOf(GetParam());
 
   // 2. The storm centre (generator: metres from mass point 0) in world metres and lon/lat.
   const double fi = truth.storm_centre_x_m / spec.dx_m, fj = truth.storm_centre_y_m / spec.dx_m;
@@ -114,10 +118,9 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Wrf, Placement,
-                         ::testing::Values(Case{datagen::WrfProjection::Lambert, "Lambert"},
-                                           Case{datagen::WrfProjection::Mercator, "Mercator"},
-                                           Case{datagen::WrfProjection::RotatedLatLon, "RotatedLatLon"}),
-                         [](const auto& param_info) { return std::string(param_info.param.name); });
+                         ::testing::Values(datagen::WrfProjection::Lambert, datagen::WrfProjection::Mercator,
+                                           datagen::WrfProjection::RotatedLatLon),
+                         [](const auto& param_info) { return std::string(nameOf(param_info.param)); });
 
 }  // namespace
 }  // namespace nph::scene
