@@ -1,0 +1,16 @@
+// The deep light map's light space (scene/light_space.h): orthonormal u, v and w = the direction
+// the sunlight travels; texel (a, b) owns the ray origin + (a+½)·du·u + (b+½)·dv·v + s·w.
+uniform vec3 u_ls_origin_m;
+uniform vec3 u_ls_u;
+uniform vec3 u_ls_v;
+uniform vec3 u_ls_w;
+uniform vec2 u_ls_texel_m;   // du, dv
+uniform ivec2 u_ls_texels;   // nu, nv
+uniform float u_ls_depth_m;
+
+vec3 lightFromWorld(vec3 world_m) {
+  vec3 d = world_m - u_ls_origin_m;
+  return vec3(dot(d, u_ls_u), dot(d, u_ls_v), dot(d, u_ls_w));
+}
+
+vec3 worldFromLight(vec3 l) { return u_ls_origin_m + l.x * u_ls_u + l.y * u_ls_v + l.z * u_ls_w; }

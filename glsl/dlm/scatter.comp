@@ -1,0 +1,40 @@
+#version 450 core
+// Deep light map pass 2: the low-resolution light-aligned scatter map (Nes 2008 §5.3.3), built
+// slice by slice along the light — one dispatch per slice, each reading the previous one:
+//   P_k = P_{k−1}·[T + (1 − T)·CP(θ/4)] + avg4(I_c + P)_{k−1}·(1 − T)·(CP(θ/2) − CP(θ/4)),
+// T = exp(−β·L_slice) with β at the cell's centre between the two slices, I_c the pass-1 DLM
+// (central light) at the four neighbouring cells of the previous slice. Neighbours outside the
+// map see unshadowed sunlight (I_c = 1, P = 0). See scene/dlm_model.h.
+#include "dlm/volume.glsl"
+#include "dlm/light_space.glsl"
+#include "dlm/lookup.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(r32f, binding = 1) uniform image3D u_scatter_img;
+uniform ivec2 u_cells;
+uniform float u_slice_m;
+uniform int u_slice;                 // k ≥ 1; slice 0 is cleared to 0
+uniform float u_central_fraction;    // CP(θ/4)
+uniform float u_peripheral_fraction; // CP(θ/2) − CP(θ/4)
+
+vec2 cellCentre(ivec2 cell) { return (vec2(cell) + 0.5) * (u_ls_texel_m * vec2(u_ls_texels)) / vec2(u_cells); }
+
+float lightAt(ivec2 cell, int slice) {
+  if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, u_cells))) return 1.0;
+  float s = (float(slice) + 0.5) * u_slice_m;
+  return dlmIntensityLight(vec3(cellCentre(cell), s)) + imageLoad(u_scatter_img, ivec3(cell, slice)).r;
+}
+
+void main() {
+  ivec2 cell = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(cell, u_cells))) return;
+  int k = u_slice;
+  vec3 mid = worldFromLight(vec3(cellCentre(cell), float(k) * u_slice_m));
+  vec2 beta = extinctionAt(mid);
+  float T = exp(-(beta.x + beta.y) * u_slice_m);
+  float Pprev = imageLoad(u_scatter_img, ivec3(cell, k - 1)).r;
+  float around = 0.25 * (lightAt(cell + ivec2(1, 0), k - 1) + lightAt(cell - ivec2(1, 0), k - 1) +
+                         lightAt(cell + ivec2(0, 1), k - 1) + lightAt(cell - ivec2(0, 1), k - 1));
+  float P = Pprev * (T + (1.0 - T) * u_central_fraction) + around * (1.0 - T) * u_peripheral_fraction;
+  imageStore(u_scatter_img, ivec3(cell, k), vec4(P));
+}

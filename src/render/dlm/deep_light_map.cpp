@@ -1,0 +1,243 @@
+#include "render/dlm/deep_light_map.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "render/gl/debug.h"
+
+namespace nph::render {
+namespace {
+
+constexpr std::uint32_t kUnbounded = 0x80000000u;
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<std::uint32_t> readCounts(const gl::Texture& counts, glm::ivec2 n) {
+  std::vector<std::uint32_t> c(std::size_t(n.x) * std::size_t(n.y));
+  glGetTextureImage(counts.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(c.size() * 4), c.data());
+  return c;
+}
+
+}  // namespace
+
+DeepLightMap::DeepLightMap()
+    : march_(gl::Program::compute("dlm/march.comp")),
+      march_peripheral_(gl::Program::compute("dlm/march.comp", {{"PERIPHERAL", "1"}})),
+      scatter_(gl::Program::compute("dlm/scatter.comp")) {}
+
+void DeepLightMap::setLightSpaceUniforms(const gl::Program& p) const {
+  p.set("u_ls_origin_m", glm::vec3(light_space_.origin_m));
+  p.set("u_ls_u", glm::vec3(light_space_.u));
+  p.set("u_ls_v", glm::vec3(light_space_.v));
+  p.set("u_ls_w", glm::vec3(light_space_.w));
+  p.set("u_ls_texel_m", glm::vec2(light_space_.texelSize_m()));
+  p.set("u_ls_texels", light_space_.texels);
+  p.set("u_ls_depth_m", float(light_space_.depth_m));
+}
+
+void DeepLightMap::bindForLookup(const gl::Program& p) const {
+  glBindTextureUnit(4, nodes_.id());
+  glBindTextureUnit(5, counts_.id());
+  setLightSpaceUniforms(p);
+}
+
+void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed) {
+  p.use();
+  volume.bind(p);
+  setLightSpaceUniforms(p);
+  p.set("u_step_m", float(step_m_));
+  p.set("u_steps", steps_);
+  p.set("u_central_fraction", float(fractions_.central));
+  p.set("u_skip_empty", settings_.empty_space_skipping ? 1 : 0);
+  p.set("u_only_overflowed", onlyOverflowed ? 1 : 0);
+  p.set("u_max_nodes", settings_.max_nodes);
+  p.set("u_epsilon", float(epsilon));
+  glBindImageTexture(0, nodes_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
+  glBindImageTexture(1, counts_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(2, texel_eps_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  p.dispatchCovering({light_space_.texels.x, light_space_.texels.y, 1});
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDirection,
+                         const scene::DlmSettings& settings) {
+  const glm::dvec3 dir = glm::normalize(lightDirection);
+  const std::string key = fmt::format("{}|{:.12f},{:.12f},{:.12f}|{}", volume.identity(), dir.x, dir.y, dir.z, settings.key());
+  if (key == key_) {
+    ++stats_.reuses;
+    stats_.rebuilt = false;
+    return false;
+  }
+  if (settings.max_nodes < 2) throw UsageError("DLM settings: max_nodes must be at least 2");
+  if (settings.scatter_slice_steps < 2 || settings.scatter_slice_steps % 2 != 0) {
+    throw UsageError("DLM settings: scatter_slice_steps must be even and >= 2");
+  }
+  if (!(settings.epsilon >= 0.0)) throw UsageError("DLM settings: epsilon must be >= 0");
+  gl::DebugGroup group("deep light map");
+  settings_ = settings;
+  fractions_ = scene::forwardFractions(settings);
+
+  // Light space fitted to the non-empty part of the volume.
+  glm::dvec3 lo, hi;
+  volume.nonEmptyBox(lo, hi);
+  scene::LightSpace basis;
+  scene::lightBasis(dir, basis.u, basis.v, basis.w);
+  const glm::dvec3 voxel = volume.frame().voxel_size_m;
+  light_space_ = scene::fitLightSpace(dir, lo, hi, scene::lightTexelSize(basis, voxel, settings.texel_voxels),
+                                      settings.max_texels);
+  step_m_ = settings.step_voxels * std::min({voxel.x, voxel.y, voxel.z});
+  if (!(step_m_ > 0.0)) throw UsageError("DLM settings: step_voxels must be positive");
+  steps_ = static_cast<int>(std::ceil(light_space_.depth_m / step_m_ - 1e-9));
+  const double maxSteps = 1 << 22;
+  if (steps_ > maxSteps) throw UsageError(fmt::format("DLM: {} steps per ray is absurd (depth {} m, step {} m)", steps_, light_space_.depth_m, step_m_));
+
+  const glm::ivec2 n = light_space_.texels;
+  if (nodes_.width() != n.x || nodes_.height() != n.y || nodes_.depth() != settings.max_nodes) {
+    nodes_ = gl::Texture::create3D(GL_RG32F, n.x, n.y, settings.max_nodes).label("DLM nodes (depth, intensity)");
+    nodes_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+    counts_ = gl::Texture::create2D(GL_R32UI, n.x, n.y).label("DLM node counts");
+    counts_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+    texel_eps_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("DLM texel epsilon");
+  }
+  const std::uint32_t zero = 0;
+  glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+
+  auto runWithOverflowRule = [&](const gl::Program& program) {
+    march(volume, program, settings.epsilon, false);
+    for (int d = 1; d <= settings.max_epsilon_doublings; ++d) {
+      const auto counts = readCounts(counts_, n);
+      if (std::none_of(counts.begin(), counts.end(), [](std::uint32_t c) { return (c & kUnbounded) != 0; })) break;
+      march(volume, program, settings.epsilon * std::ldexp(1.0, d), true);
+    }
+  };
+
+  auto t0 = std::chrono::steady_clock::now();
+  runWithOverflowRule(march_);
+  glFinish();
+  const double pass1 = msSince(t0);
+
+  double pass2 = 0.0, pass3 = 0.0;
+  const bool peripheral = settings.peripheral && fractions_.peripheral > 0.0 && steps_ > 0;
+  stats_.scatter_cells = glm::ivec3(0);
+  if (peripheral) {
+    t0 = std::chrono::steady_clock::now();
+    const int ds = std::max(1, settings.scatter_downsample);
+    const glm::ivec3 cells((n.x + ds - 1) / ds, (n.y + ds - 1) / ds,
+                           (steps_ + settings.scatter_slice_steps - 1) / settings.scatter_slice_steps + 1);
+    stats_.scatter_cells = cells;
+    if (scatter_map_.width() != cells.x || scatter_map_.height() != cells.y || scatter_map_.depth() != cells.z) {
+      scatter_map_ = gl::Texture::create3D(GL_R32F, cells.x, cells.y, cells.z).label("DLM scatter map");
+      scatter_map_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    }
+    const float zerof = 0.0f;
+    glClearTexImage(scatter_map_.id(), 0, GL_RED, GL_FLOAT, &zerof);
+    const double sliceM = step_m_ * settings.scatter_slice_steps;
+    scatter_.use();
+    volume.bind(scatter_);
+    bindForLookup(scatter_);
+    scatter_.set("u_cells", glm::ivec2(cells));
+    scatter_.set("u_slice_m", float(sliceM));
+    scatter_.set("u_central_fraction", float(fractions_.central));
+    scatter_.set("u_peripheral_fraction", float(fractions_.peripheral));
+    glBindImageTexture(1, scatter_map_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    for (int k = 1; k < cells.z; ++k) {
+      scatter_.set("u_slice", k);
+      scatter_.dispatchCovering({cells.x, cells.y, 1});
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glFinish();
+    pass2 = msSince(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    march_peripheral_.use();
+    glBindTextureUnit(3, scatter_map_.id());
+    march_peripheral_.set("u_scatter_slice_m", float(sliceM));
+    march_peripheral_.set("u_scatter_slices", cells.z);
+    march_peripheral_.set("u_slice_steps", settings.scatter_slice_steps);
+    glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    runWithOverflowRule(march_peripheral_);
+    glFinish();
+    pass3 = msSince(t0);
+  }
+  gl::checkErrors("deep light map build");
+  key_ = key;
+  ++stats_.builds;
+  stats_.rebuilt = true;
+  computeStats(pass1, pass2, pass3);
+  log::debug("DLM built: {}x{} texels, {} steps of {:.1f} m, mean {:.2f} nodes, {} unbounded, {:.1f}+{:.1f}+{:.1f} ms",
+             n.x, n.y, steps_, step_m_, stats_.mean_nodes, stats_.unbounded_texels, pass1, pass2, pass3);
+  return true;
+}
+
+void DeepLightMap::computeStats(double pass1Ms, double pass2Ms, double pass3Ms) {
+  const glm::ivec2 n = light_space_.texels;
+  const auto counts = readCounts(counts_, n);
+  std::vector<float> eps(counts.size());
+  glGetTextureImage(texel_eps_.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(eps.size() * 4), eps.data());
+  stats_.texels = n;
+  stats_.steps = steps_;
+  stats_.step_m = step_m_;
+  stats_.node_histogram.assign(std::size_t(settings_.max_nodes) + 1, 0);
+  stats_.texels_per_epsilon_doubling.assign(std::size_t(settings_.max_epsilon_doublings) + 1, 0);
+  stats_.unbounded_texels = 0;
+  stats_.overflowed_texels = 0;
+  stats_.max_nodes_used = 0;
+  double total = 0.0;
+  for (std::size_t i = 0; i < counts.size(); ++i) {
+    const int c = int(counts[i] & ~kUnbounded);
+    total += c;
+    stats_.max_nodes_used = std::max(stats_.max_nodes_used, c);
+    stats_.node_histogram[std::size_t(std::min(c, settings_.max_nodes))]++;
+    if (counts[i] & kUnbounded) ++stats_.unbounded_texels;
+    const double ratio = settings_.epsilon > 0.0 ? double(eps[i]) / settings_.epsilon : 1.0;
+    const int d = ratio > 1.0 ? int(std::lround(std::log2(ratio))) : 0;
+    if (d > 0) ++stats_.overflowed_texels;
+    stats_.texels_per_epsilon_doubling[std::size_t(std::clamp(d, 0, settings_.max_epsilon_doublings))]++;
+  }
+  if (stats_.unbounded_texels > 0 && stats_.overflowed_texels < stats_.unbounded_texels) {
+    stats_.overflowed_texels = stats_.unbounded_texels;
+  }
+  stats_.mean_nodes = counts.empty() ? 0.0 : total / double(counts.size());
+  stats_.bytes = std::size_t(n.x) * std::size_t(n.y) * (std::size_t(settings_.max_nodes) * 8 + 4 + 4);
+  const double uncompressed = double(n.x) * double(n.y) * double(steps_ + 1) * 4.0;
+  stats_.compression_ratio = total > 0.0 ? uncompressed / (total * 8.0) : 0.0;
+  stats_.pass1_ms = pass1Ms;
+  stats_.pass2_ms = pass2Ms;
+  stats_.pass3_ms = pass3Ms;
+  if (stats_.unbounded_texels > 0) {
+    log::warn("DLM: {} texels exceed the node budget ({}) even at eps x{}; their error bound is not kept",
+              stats_.unbounded_texels, settings_.max_nodes, 1 << settings_.max_epsilon_doublings);
+  }
+}
+
+DeepLightMap::Readback DeepLightMap::readBack() const {
+  const glm::ivec2 n = light_space_.texels;
+  const int m = settings_.max_nodes;
+  std::vector<glm::vec2> raw(std::size_t(n.x) * std::size_t(n.y) * std::size_t(m));
+  glGetTextureImage(nodes_.id(), 0, GL_RG, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec2)), raw.data());
+  const auto counts = readCounts(counts_, n);
+  Readback r;
+  r.texel_epsilon.resize(counts.size());
+  glGetTextureImage(texel_eps_.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(counts.size() * 4), r.texel_epsilon.data());
+  r.nodes.resize(counts.size());
+  r.unbounded.resize(counts.size());
+  for (std::size_t t = 0; t < counts.size(); ++t) {
+    const int c = int(counts[t] & ~kUnbounded);
+    r.unbounded[t] = (counts[t] & kUnbounded) != 0;
+    for (int k = 0; k < c; ++k) {
+      const glm::vec2 node = raw[(std::size_t(k) * std::size_t(n.y)) * std::size_t(n.x) + t];
+      r.nodes[t].push_back({node.x, node.y});
+    }
+  }
+  return r;
+}
+
+}  // namespace nph::render

@@ -1,0 +1,90 @@
+#pragma once
+// Deep light map builder (Nes 2008 §5.3; model and discretisation in scene/dlm_model.h):
+//   pass 1  glsl/dlm/march.comp     central light per texel, ε-compressed node lists
+//   pass 2  glsl/dlm/scatter.comp   low-resolution light-aligned scatter map, slice by slice
+//   pass 3  march.comp + PERIPHERAL re-march adding the peripheral light, re-compressed within ε
+// Storage: nodes in an RG32F 3-D texture (nu × nv × max_nodes; layer k = node k: depth [m] from
+// the ray's entry, intensity), node counts in an R32UI 2-D texture, the ε each texel was built
+// with in an R32F 2-D texture.
+//
+// Node budget overflow rule (never silent): a texel that needs more than max_nodes nodes is
+// rebuilt with ε doubled, up to max_epsilon_doublings times; its ε is stored per texel and the
+// stats give the count per ε. A texel that still overflows keeps its first max_nodes − 1 nodes
+// plus the ray's final sample: its bound is not kept, it is flagged (0x80000000 in the count)
+// and counted in stats.unbounded_texels.
+//
+// Cache key: volume identity + sun direction + settings; build() returns false and does nothing
+// when the key is unchanged (an unchanged DLM is never rebuilt).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/dlm/volume_textures.h"
+#include "render/gl/objects.h"
+#include "render/gl/program.h"
+#include "scene/dlm_model.h"
+#include "scene/light_function.h"
+#include "scene/light_space.h"
+
+namespace nph::render {
+
+struct DlmStats {
+  glm::ivec2 texels{0};
+  int steps = 0;                  ///< samples per ray N
+  double step_m = 0.0;
+  double mean_nodes = 0.0;
+  int max_nodes_used = 0;
+  std::vector<int> node_histogram;  ///< [k] = texels with k nodes (k = 0 … max_nodes)
+  std::size_t bytes = 0;            ///< GPU memory of nodes + counts + ε
+  double compression_ratio = 0.0;   ///< uncompressed light volume (nu·nv·(N+1) floats) / bytes of used nodes
+  int overflowed_texels = 0;        ///< needed more than max_nodes at the requested ε
+  std::vector<int> texels_per_epsilon_doubling;  ///< [d] = texels built with ε·2^d
+  int unbounded_texels = 0;         ///< still overflowing after all doublings
+  glm::ivec3 scatter_cells{0};
+  double pass1_ms = 0.0, pass2_ms = 0.0, pass3_ms = 0.0;  ///< wall time incl. glFinish
+  bool rebuilt = false;
+  std::uint64_t builds = 0, reuses = 0;
+};
+
+class DeepLightMap {
+ public:
+  DeepLightMap();
+
+  /// Builds the map for `volume` lit along `lightDirection` (the direction sunlight travels,
+  /// i.e. −Sun::toSun()). Returns false when the cache key is unchanged and nothing was done.
+  bool build(const VolumeTextures& volume, const glm::dvec3& lightDirection, const scene::DlmSettings& settings);
+
+  const scene::LightSpace& lightSpace() const { return light_space_; }
+  const DlmStats& stats() const { return stats_; }
+  const scene::DlmSettings& settings() const { return settings_; }
+  const std::string& cacheKey() const { return key_; }
+
+  /// Binds the node and count textures (units 4, 5) and sets glsl/dlm/light_space.glsl's uniforms,
+  /// for any program that includes glsl/dlm/lookup.glsl.
+  void bindForLookup(const gl::Program& program) const;
+
+  /// Reads the whole map back (tests, CPU comparisons): node lists per texel (a + b·nu).
+  struct Readback {
+    std::vector<std::vector<scene::LightNode>> nodes;
+    std::vector<float> texel_epsilon;
+    std::vector<bool> unbounded;
+  };
+  Readback readBack() const;
+
+ private:
+  void setLightSpaceUniforms(const gl::Program& p) const;
+  void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
+  void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
+
+  gl::Program march_, march_peripheral_, scatter_;
+  gl::Texture nodes_, counts_, texel_eps_, scatter_map_;
+  scene::LightSpace light_space_;
+  scene::DlmSettings settings_;
+  scene::ForwardFractions fractions_;
+  double step_m_ = 0.0;
+  int steps_ = 0;
+  std::string key_;
+  DlmStats stats_;
+};
+
+}  // namespace nph::render

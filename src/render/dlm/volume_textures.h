@@ -1,0 +1,40 @@
+#pragma once
+// GPU copy of one timestep's ice and water extinction volumes plus its occupancy grid.
+// An absent phase (all zero) gets no texture and is never fetched.
+#include <string>
+
+#include "cache/extinction_volumes.h"
+#include "render/gl/objects.h"
+#include "render/gl/program.h"
+#include "scene/occupancy.h"
+#include "scene/volume_frame.h"
+
+namespace nph::render {
+
+class VolumeTextures {
+ public:
+  /// Uploads `volumes` placed by `frame`; `identity` names this content (file + timestep) for the
+  /// DLM cache key — two uploads with the same identity must hold the same data.
+  static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
+                               std::string identity, int brickVoxels = 8);
+
+  const scene::VolumeFrame& frame() const { return frame_; }
+  const scene::OccupancyGrid& occupancy() const { return occupancy_; }
+  const std::string& identity() const { return identity_; }
+  bool hasIce() const { return bool(ice_); }
+  bool hasWater() const { return bool(water_); }
+  /// World AABB of the non-empty voxels grown by one voxel (trilinear reach); empty → the
+  /// volume's bottom face.
+  void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
+
+  /// Binds textures to units 0 (ice), 1 (water), 2 (occupancy) and sets glsl/dlm/volume.glsl's uniforms.
+  void bind(const gl::Program& program) const;
+
+ private:
+  gl::Texture ice_, water_, occupancy_tex_, zero_;
+  scene::VolumeFrame frame_;
+  scene::OccupancyGrid occupancy_;
+  std::string identity_;
+};
+
+}  // namespace nph::render

@@ -1,0 +1,28 @@
+#include "scene/dlm_model.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "physics/phase.h"
+
+namespace nph::scene {
+
+std::string DlmSettings::key() const {
+  return fmt::format("eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};ss={}",
+                     epsilon, step_voxels, texel_voxels, max_texels, max_nodes, max_epsilon_doublings,
+                     forward_angle_deg, cornette_shanks_g, peripheral ? 1 : 0, scatter_downsample,
+                     scatter_slice_steps);
+}
+
+ForwardFractions forwardFractions(const DlmSettings& s) {
+  const double theta = s.forward_angle_deg * std::numbers::pi / 180.0;
+  // Cornette–Shanks for the transport (Nes 2008 §5.2.4); CP(θ) = share scattered within θ.
+  const physics::PhaseFunction cs{physics::PhaseModel::CornetteShanks, s.cornette_shanks_g};
+  const double cp4 = physics::cumulativePhase(cs, theta / 4.0);
+  const double cp2 = physics::cumulativePhase(cs, theta / 2.0);
+  return {cp4, cp2 - cp4};
+}
+
+}  // namespace nph::scene

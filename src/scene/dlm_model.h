@@ -1,0 +1,64 @@
+#pragma once
+// The light transport model of the deep light map (Nes 2008 §5.2.3, eq. 5.8-5.13) and its
+// discretisation — one definition for the GPU builder (glsl/dlm/) and the CPU reference.
+//
+// Along a light ray, samples s_n = n·Δ (n = 0 … N, Δ = step_m) with I_0 = 1 (sunlight entering the
+// fitted box). The step n → n+1 sees the extinction β = β_ice + β_water at its midpoint and the
+// step transmittance T = exp(−β·Δ). Unscattered light is kept (eq. 5.8), and of the scattered
+// fraction (1 − T) the share CP(θ/4) scattered within the central cone stays on the ray
+// (eq. 5.9, 5.13):
+//     I_{n+1} = I_n · [T + (1 − T)·CP(θ/4)] + P_{n+1}
+// where P is the peripheral forward scattering (eq. 5.10) added by passes 2-3 from the scatter
+// map (0 in pass 1). Exact solution for a homogeneous slab of thickness d = N·Δ in pass 1:
+//     I(d) = [e^{−βΔ} + (1 − e^{−βΔ})·CP(θ/4)]^N,
+// which converges for Δ → 0 to the continuum law I(d) = exp(−β·d·(1 − CP(θ/4))): the medium's
+// effective extinction is reduced by the central forward-scattered share. The difference between
+// the two is O(β²Δ·d·CP(1−CP)/2) — the discretisation term the GPU-vs-reference tests allow.
+//
+// Peripheral scattering (passes 2-3, §5.3.3): a low-resolution scatter map aligned with the DLM
+// (every `scatter_downsample` texels per side, slices every `scatter_slice_steps` steps) carries
+// the peripheral light P. Slice by slice, each cell takes the average light I = I_c + P of its four
+// neighbours (±1 cell along u and v) in the previous slice — four equally spaced samples around
+// the ray — and adds their share (1 − T_slice)·[CP(θ/2) − CP(θ/4)], where T_slice is the cell's own
+// transmittance over the slice; P itself is attenuated like central light:
+//     P_k = P_{k−1}·[T + (1 − T)·CP(θ/4)] + avg4(I_c + P)_{k−1}·(1 − T)·(CP(θ/2) − CP(θ/4)).
+// Pass 3 re-marches every DLM texel adding P (trilinear from the scatter map) to the central
+// light before compression, so the ε bound holds for the final function. I = min(I_c + P, 1):
+// the model hands a cloud's peripheral share to its neighbours without taking it from the cloud's
+// own central light, so beside a bright cloud edge I_c + P could exceed the unobstructed sun.
+#include <cstdint>
+#include <string>
+
+namespace nph::scene {
+
+struct DlmSettings {
+  double epsilon = 0.01;             ///< max |I_stored − I_sampled| per texel (ε, Nes §5.3.4)
+  double step_voxels = 0.5;          ///< Δ as a fraction of the smallest voxel side
+  double texel_voxels = 1.0;         ///< DLM texel size as a multiple of the smallest horizontal voxel side
+  int max_texels = 1024;             ///< per side of the map
+  int max_nodes = 32;                ///< node budget per texel
+  int max_epsilon_doublings = 4;     ///< overflow rule: retry overflowed texels with 2ε, 4ε, ...
+  double forward_angle_deg = 20.0;   ///< θ: the forward-scattering cone (Nes §5.2.3)
+  double cornette_shanks_g = 0.9;    ///< asymmetry of the transport phase (Cornette–Shanks)
+  bool peripheral = true;            ///< passes 2-3 (scatter map)
+  int scatter_downsample = 4;        ///< scatter-map cell = this many DLM texels per side
+  int scatter_slice_steps = 4;       ///< scatter-map slice = this many steps Δ
+  bool empty_space_skipping = true;  ///< skip empty occupancy bricks in pass 1/3
+
+  /// Fingerprint of everything that changes the map (part of the DLM cache key).
+  std::string key() const;
+};
+
+/// CP(θ/4) and CP(θ/2) − CP(θ/4) for the settings' cone and Cornette–Shanks phase.
+struct ForwardFractions {
+  double central = 0.0;
+  double peripheral = 0.0;
+};
+ForwardFractions forwardFractions(const DlmSettings& settings);
+
+/// Per-step factor of pass 1: T + (1 − T)·CP(θ/4).
+inline double centralStepFactor(double transmittance, double centralFraction) {
+  return transmittance + (1.0 - transmittance) * centralFraction;
+}
+
+}  // namespace nph::scene

@@ -1,0 +1,36 @@
+#include "scene/occupancy.h"
+
+#include <algorithm>
+
+namespace nph::scene {
+
+OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick) {
+  OccupancyGrid g;
+  g.brick = brick;
+  g.bricks = {(v.nx + brick - 1) / brick, (v.ny + brick - 1) / brick, (v.nz + brick - 1) / brick};
+  g.max_per_m.assign(std::size_t(g.bricks.x) * std::size_t(g.bricks.y) * std::size_t(g.bricks.z), 0.0f);
+  g.nonEmptyMinVoxel = {v.nx, v.ny, v.nz};
+  g.nonEmptyMaxVoxel = {-1, -1, -1};
+  const bool hasIce = !v.ice_per_m.empty(), hasWater = !v.water_per_m.empty();
+  for (int k = 0; k < v.nz; ++k)
+    for (int j = 0; j < v.ny; ++j)
+      for (int i = 0; i < v.nx; ++i) {
+        const std::size_t idx = v.index(i, j, k);
+        const float b = (hasIce ? v.ice_per_m[idx] : 0.0f) + (hasWater ? v.water_per_m[idx] : 0.0f);
+        if (!(b > 0.0f)) continue;  // also skips NaN (the loaders never produce it)
+        g.nonEmptyMinVoxel = glm::min(g.nonEmptyMinVoxel, glm::ivec3(i, j, k));
+        g.nonEmptyMaxVoxel = glm::max(g.nonEmptyMaxVoxel, glm::ivec3(i, j, k));
+        // Dilate by one voxel: every brick whose voxels, grown by 1, contain (i, j, k).
+        const glm::ivec3 lo = glm::max(glm::ivec3(i - 1, j - 1, k - 1), glm::ivec3(0)) / brick;
+        const glm::ivec3 hi = glm::min(glm::ivec3(i + 1, j + 1, k + 1), glm::ivec3(v.nx, v.ny, v.nz) - 1) / brick;
+        for (int bk = lo.z; bk <= hi.z; ++bk)
+          for (int bj = lo.y; bj <= hi.y; ++bj)
+            for (int bi = lo.x; bi <= hi.x; ++bi) {
+              float& m = g.max_per_m[(std::size_t(bk) * std::size_t(g.bricks.y) + std::size_t(bj)) * std::size_t(g.bricks.x) + std::size_t(bi)];
+              m = std::max(m, b);
+            }
+      }
+  return g;
+}
+
+}  // namespace nph::scene

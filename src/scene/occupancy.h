@@ -1,0 +1,29 @@
+#pragma once
+// Coarse occupancy (max-extinction) grid for empty-space skipping (Nes 2008 §3.2.2; Muth 2026
+// §3.4: skip empty bricks, not just empty samples). Brick (bi, bj, bk) covers voxels
+// [b·B, (b+1)·B) per axis and stores the maximum of ice + water extinction over those voxels
+// DILATED by one voxel on every side: trilinear sampling between voxel centres reaches half a voxel
+// into the neighbour, so a brick whose stored max is 0 returns exactly 0 everywhere inside it.
+// The same grid is the majorant for delta tracking (it bounds every trilinear sample in the brick).
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cache/extinction_volumes.h"
+
+namespace nph::scene {
+
+struct OccupancyGrid {
+  int brick = 8;                 ///< voxels per brick side
+  glm::ivec3 bricks{0};          ///< brick counts
+  std::vector<float> max_per_m;  ///< per brick, x fastest
+  glm::ivec3 nonEmptyMinVoxel{0}, nonEmptyMaxVoxel{-1};  ///< inclusive voxel bounds of β > 0
+  bool empty() const { return nonEmptyMaxVoxel.x < nonEmptyMinVoxel.x; }
+  float at(int i, int j, int k) const {
+    return max_per_m[(std::size_t(k) * std::size_t(bricks.y) + std::size_t(j)) * std::size_t(bricks.x) + std::size_t(i)];
+  }
+};
+
+OccupancyGrid buildOccupancy(const ExtinctionVolumes& volumes, int brick = 8);
+
+}  // namespace nph::scene

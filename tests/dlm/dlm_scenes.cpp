@@ -1,0 +1,74 @@
+#include "dlm_scenes.h"
+
+#include <filesystem>
+#include <random>
+
+#include <unistd.h>
+
+#include "io/model_file.h"
+#include "physics/volume_builder.h"
+#include "presets.h"
+
+namespace nph::test {
+namespace {
+
+ExtinctionVolumes box(int nx, int ny, int nz) {
+  ExtinctionVolumes v;
+  v.nx = nx;
+  v.ny = ny;
+  v.nz = nz;
+  v.dz_m = 250.0;
+  v.z_bottom_m = 0.0;
+  v.georef.dx_m = 3000.0;
+  v.georef.dy_m = 3000.0;
+  v.ice_per_m.assign(v.voxelCount(), 0.0f);
+  v.water_per_m.assign(v.voxelCount(), 0.0f);
+  return v;
+}
+
+ExtinctionVolumes convert(const std::string& path) {
+  const auto file = io::openModelFile(path);
+  return physics::buildExtinctionVolumes(file.load(file.timesteps().size() > 3 ? 3 : 0), physics::defaultOptics(),
+                                         physics::VerticalGridOptions{});
+}
+
+std::string tempPath(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nephele-dlm-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+}  // namespace
+
+ExtinctionVolumes homogeneousSlab(int nx, int ny, int nz, float beta) {
+  ExtinctionVolumes v = box(nx, ny, nz);
+  std::fill(v.water_per_m.begin(), v.water_per_m.end(), beta);
+  v.updateMaxima();
+  return v;
+}
+
+ExtinctionVolumes noisyVolume(int nx, int ny, int nz, unsigned seed) {
+  ExtinctionVolumes v = box(nx, ny, nz);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 5e-3f);
+  for (std::size_t i = 0; i < v.voxelCount(); ++i) {
+    v.water_per_m[i] = u(rng);
+    v.ice_per_m[i] = (i % 3 == 0) ? u(rng) : 0.0f;
+  }
+  v.updateMaxima();
+  return v;
+}
+
+ExtinctionVolumes generatedHurricane(int) {
+  const std::string path = tempPath("wrfout_tiny.nc");
+  datagen::writeWrfHurricane(datagen::wrfPreset(datagen::SampleSize::Tiny), path);
+  return convert(path);
+}
+
+ExtinctionVolumes generatedIconScene() {
+  const std::string path = tempPath("icon_tiny.nc");
+  datagen::writeIconScene(datagen::iconPreset(datagen::SampleSize::Tiny, false), path);
+  return convert(path);
+}
+
+}  // namespace nph::test

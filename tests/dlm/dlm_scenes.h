@@ -1,0 +1,18 @@
+#pragma once
+// Volumes for the deep light map tests: analytic ones and the generated sample scenes.
+#include <string>
+
+#include "cache/extinction_volumes.h"
+
+namespace nph::test {
+
+/// nx × ny × nz voxels of 3 km × 3 km × 250 m, uniform water extinction `beta_per_m`.
+ExtinctionVolumes homogeneousSlab(int nx, int ny, int nz, float beta_per_m);
+/// Random (seeded) ice and water extinction up to 5e-3 /m: many light-function kinks.
+ExtinctionVolumes noisyVolume(int nx, int ny, int nz, unsigned seed);
+/// The tiny generated WRF hurricane (Thompson-like, Lambert) or ICON scene, timestep `t`,
+/// written with the generator through NetCDF-C and converted by the real loaders and optics.
+ExtinctionVolumes generatedHurricane(int t = 3);
+ExtinctionVolumes generatedIconScene();
+
+}  // namespace nph::test
