@@ -240,7 +240,8 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     const auto preset = c->optString("preset");
     cam.position_m = c->optVec3("position_m");
     cam.target_m = c->optVec3("target_m");
-    if (auto up = c->optVec3("up")) {
+    const auto up = c->optVec3("up");
+    if (up) {
       if (glm::length(*up) < 1e-9) c->fail(c->at("up"), "expected a non-zero vector");
       cam.up = glm::normalize(*up);
     }
@@ -258,7 +259,10 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
         c->fail(c->at("target_m"), "expected a point different from position_m");
       }
       cam.preset.reset();
-    } else if (preset) {
+    } else if (up) {
+      c->fail(c->at("up"), "only used with position_m/target_m (presets choose their own up)");
+    }
+    if (!cam.position_m && preset) {
       if (*preset == "overview") cam.preset = CameraPreset::Overview;
       else if (*preset == "oblique") cam.preset = CameraPreset::Oblique;
       else if (*preset == "top") cam.preset = CameraPreset::Top;

@@ -104,7 +104,7 @@ class TimeParser {
 
 UtcTime UtcTime::fromCivil(int year, int month, int day, int hour, int minute, double second) {
   if (month < 1 || month > 12 || day < 1 || day > daysInMonth(year, month) || hour < 0 ||
-      hour > 24 || minute < 0 || minute > 59 || !(second >= 0.0) || !(second < 61.0)) {
+      hour > 24 || (hour == 24 && (minute > 0 || second > 0.0)) || minute < 0 || minute > 59 || !(second >= 0.0) || !(second < 61.0)) {
     throw InputError(fmt::format("time {:04}-{:02}-{:02} {:02}:{:02}:{}: not a valid calendar date "
                                  "and time of day",
                                  year, month, day, hour, minute, second));

@@ -101,6 +101,7 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
       {R"({"camera": {"preset": "closeup"}})", "scene.json: camera.preset: expected \"overview\""},
       {R"({"camera": {"position_m": [0, 0, 1]}})", "scene.json: camera.target_m: required"},
       {R"({"camera": {"preset": "top", "position_m": [0, 0, 1], "target_m": [0, 0, 0]}})", "camera.preset: give either"},
+      {R"({"camera": {"preset": "oblique", "up": [0, 1, 0]}})", "camera.up: only used with position_m/target_m"},
       {R"({"camera": {"fov_deg": 200}})", "camera.fov_deg: expected a number in [1, 170], got 200"},
       {R"({"output": {"width": 1920.5}})", "scene.json: output.width: expected an integer, got 1920.5"},
       {R"({"output": {"height": 0}})", "output.height: expected an integer in [1, 16384], got 0"},

@@ -110,12 +110,13 @@ TEST(UtcTime, ParsesIsoAndWrfForms) {
   EXPECT_EQ(UtcTime::parse("2026-09-01_12:00:00").iso8601(), "2026-09-01T12:00:00Z");
   EXPECT_EQ(UtcTime::parse("2024-02-29T23:59:59Z").iso8601(), "2024-02-29T23:59:59Z");
   EXPECT_NEAR(UtcTime::parse("2026-09-01T18:30:00Z").utcHourOfDay(), 18.5, 1e-6);
+  EXPECT_EQ(UtcTime::parse("2026-09-01T24:00:00Z").iso8601(), "2026-09-02T00:00:00Z");
 }
 
 TEST(UtcTime, RejectsMalformedTimesNamingThem) {
   for (const char* bad : {"", "2026-9-01T12:00:00Z", "2026-09-01X12:00", "2026-13-01T00:00:00Z",
                           "2026-02-29T00:00:00Z", "2026-09-01T12:60:00Z", "2026-09-01T12:00:00Q",
-                          "2026-09-01T12:00:00Z trailing", "yesterday"}) {
+                          "2026-09-01T12:00:00Z trailing", "yesterday", "2026-09-01T24:30:00Z"}) {
     try {
       (void)UtcTime::parse(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
