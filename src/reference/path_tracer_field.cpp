@@ -75,28 +75,44 @@ double ExtinctionField::opticalDepth(const glm::dvec3& origin_m, const glm::dvec
                                      double t_max) const {
   double t0 = 0.0, t1 = 0.0;
   if (!clipToBox(origin_m, dir, t_min, t_max, t0, t1)) return 0.0;
-  // Break points: crossings of the voxel-centre planes g_a = i + ½, i = 0 … n_a − 2.
-  std::vector<double> cuts{t0, t1};
+  // Break points: crossings of the voxel-centre planes g_a = i + ½, i = 0 … n_a − 1 (the outer two
+  // are where the border clamp begins), visited in
+  // order by a three-way merge of the per-axis arithmetic sequences (a DDA over the dual grid).
   const glm::dvec3 g0 = frame_.gridFromWorld(origin_m);
   const glm::dvec3 gd = dir / frame_.voxel_size_m;
+  glm::ivec3 plane{0}, step{0};
+  glm::dvec3 tCross{std::numeric_limits<double>::infinity()};
   for (int a = 0; a < 3; ++a) {
     if (gd[a] == 0.0) continue;
-    const double ga = g0[a] + t0 * gd[a], gb = g0[a] + t1 * gd[a];
-    const double lo = std::min(ga, gb), hi = std::max(ga, gb);
-    const int first = std::max(0, int(std::ceil(lo - 0.5)));
-    const int last = std::min(frame_.voxels[a] - 2, int(std::floor(hi - 0.5)));
-    for (int i = first; i <= last; ++i) cuts.push_back((double(i) + 0.5 - g0[a]) / gd[a]);
+    const double ga = g0[a] + t0 * gd[a];
+    step[a] = gd[a] > 0.0 ? 1 : -1;
+    plane[a] = gd[a] > 0.0 ? int(std::ceil(ga - 0.5)) : int(std::floor(ga - 0.5));
+    plane[a] = std::clamp(plane[a], -1, frame_.voxels[a]);
+    if (plane[a] >= 0 && plane[a] <= frame_.voxels[a] - 1) tCross[a] = (double(plane[a]) + 0.5 - g0[a]) / gd[a];
   }
-  std::sort(cuts.begin(), cuts.end());
   // 2-point Gauss–Legendre: nodes ±1/√3, weights 1 — exact for the cubic on every piece.
   const double node = 0.5 / std::sqrt(3.0);
   double tau = 0.0;
-  for (std::size_t i = 1; i < cuts.size(); ++i) {
-    const double a = std::max(cuts[i - 1], t0), b = std::min(cuts[i], t1);
-    if (!(b > a)) continue;
-    const double mid = 0.5 * (a + b), len = b - a;
-    tau += 0.5 * len *
-           (at(origin_m + (mid - node * len) * dir).total_per_m() + at(origin_m + (mid + node * len) * dir).total_per_m());
+  for (double t = t0;;) {
+    int axis = -1;
+    double tNext = t1;
+    for (int a = 0; a < 3; ++a) {
+      if (tCross[a] < tNext) {
+        tNext = tCross[a];
+        axis = a;
+      }
+    }
+    if (tNext > t) {
+      const double mid = 0.5 * (t + tNext), len = tNext - t;
+      tau += 0.5 * len *
+             (at(origin_m + (mid - node * len) * dir).total_per_m() + at(origin_m + (mid + node * len) * dir).total_per_m());
+      t = tNext;
+    }
+    if (axis < 0) break;
+    plane[axis] += step[axis];
+    tCross[axis] = (plane[axis] >= 0 && plane[axis] <= frame_.voxels[axis] - 1)
+                       ? (double(plane[axis]) + 0.5 - g0[axis]) / gd[axis]
+                       : std::numeric_limits<double>::infinity();
   }
   return tau;
 }
