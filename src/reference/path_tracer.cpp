@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "reference/path_tracer_rng.h"
+#include "reference/path_tracer_sampling.h"
 
 namespace nph::reference {
 namespace {
@@ -26,17 +27,6 @@ constexpr double kRouletteThroughput = 0.25;
 
 /// Free-flight distance of an exponential distribution with rate μ̄ [1/m].
 double freeFlight(PathRng& rng, double majorant_per_m) { return -std::log1p(-rng.uniform()) / majorant_per_m; }
-
-/// Unit vector at angle acos(cos_theta) from `axis` and azimuth `phi` (Duff et al. 2017 basis).
-glm::dvec3 aroundAxis(const glm::dvec3& axis, double cos_theta, double phi) {
-  const double sign = std::copysign(1.0, axis.z);
-  const double a = -1.0 / (sign + axis.z);
-  const double b = axis.x * axis.y * a;
-  const glm::dvec3 t{1.0 + sign * axis.x * axis.x * a, sign * b, -sign * axis.x};
-  const glm::dvec3 bt{b, sign + axis.y * axis.y * a, -axis.y};
-  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
-  return glm::normalize(sin_theta * std::cos(phi) * t + sin_theta * std::sin(phi) * bt + cos_theta * axis);
-}
 
 double maxComponent(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 

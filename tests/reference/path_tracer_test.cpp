@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "reference/path_tracer_sampling.h"
 #include "scene/volume_frame.h"
 
 namespace nph::reference {
@@ -78,6 +79,26 @@ PathTracerSettings sunOnly(int max_events) {
   s.max_events = max_events;
   s.sky_radiance = glm::dvec3(0.0);
   return s;
+}
+
+TEST(PathTracer, DirectionsAroundAnAxisHaveTheRequestedAngleAndUniformAzimuth) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<glm::dvec3> axes{{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}};
+  for (int i = 0; i < 20; ++i) axes.push_back(glm::normalize(glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)));
+  for (const glm::dvec3& axis : axes) {
+    const double mu = 2.0 * u(rng) - 1.0;
+    glm::dvec3 mean{0.0};
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      const glm::dvec3 d = aroundAxis(axis, mu, 2.0 * kPi * u(rng));
+      ASSERT_NEAR(glm::length(d), 1.0, 1e-12);
+      ASSERT_NEAR(glm::dot(d, axis), mu, 1e-12);
+      mean += d / double(n);
+    }
+    // Uniform azimuth: the perpendicular part averages out (s.d. of the mean ≈ 0.7/√n).
+    EXPECT_NEAR(glm::length(mean - mu * axis), 0.0, 5.0 * 0.71 / std::sqrt(double(n)));
+  }
 }
 
 TEST(PathTracer, AlphaOfHomogeneousSlabIsBeerLambert) {
