@@ -3,11 +3,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include <fmt/format.h>
 
 #include "reference/dlm_reference.h"
 #include "render/dlm/deep_light_map.h"
+#include "render/gl/objects.h"
+#include "render/gl/program.h"
 #include "scene/sun.h"
 #include "dlm_scenes.h"
 #include "support/gl_fixture.h"
@@ -200,6 +203,49 @@ TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
                 peripheral ? "passes 1-3" : "pass 1", a.stats().pass1_ms + a.stats().pass2_ms + a.stats().pass3_ms,
                 b.stats().pass1_ms + b.stats().pass2_ms + b.stats().pass3_ms, maxDiff);
   }
+}
+
+// The GLSL look-up (used by the ray caster and for ground shadows) agrees with the CPU look-up on
+// the read-back map at random points in and around the cloud, including below it (ground shadow:
+// the light past the last node) and outside the map's footprint (full sun).
+TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
+  const ExtinctionVolumes v = generatedHurricane();
+  const auto frame = scene::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "hurricane");
+  render::DeepLightMap dlm;
+  ASSERT_TRUE(dlm.build(tex, -scene::Sun{200.0, 35.0}.toSun(), scene::DlmSettings{}));
+  const auto map = dlm.readBack();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  std::vector<glm::vec4> points;
+  for (int i = 0; i < 4096; ++i) {
+    const glm::dvec3 p = frame.min_m() + frame.size_m() * glm::dvec3(u(rng), u(rng), u(rng));
+    points.emplace_back(glm::vec3(p), 0.0f);
+  }
+  points.emplace_back(glm::vec3(frame.worldFromGrid({20.0, 18.0, 0.0})), 0.0f);  // ground under the storm
+  auto in = gl::Buffer::create(points.size() * sizeof(glm::vec4), points.data());
+  auto out = gl::Buffer::create(points.size() * sizeof(float));
+  auto prog = gl::Program::compute("test/dlm_lookup.comp");
+  prog.use();
+  dlm.bindForLookup(prog);
+  prog.set("u_count", int(points.size()));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+  prog.dispatchCovering({int(points.size()), 1, 1});
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<float> gpu(points.size());
+  out.download(0, gpu.size() * sizeof(float), gpu.data());
+  double maxDiff = 0.0;
+  int inside = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    // The CPU look-up at the float position the GPU saw.
+    const double cpu = render::DeepLightMap::lookup(map, dlm.lightSpace(), glm::dvec3(glm::vec3(points[i])));
+    maxDiff = std::max(maxDiff, std::abs(cpu - double(gpu[i])));
+    if (cpu < 0.999) ++inside;
+  }
+  EXPECT_LE(maxDiff, 1e-4);  // float light-space transform vs double
+  EXPECT_GT(inside, 200) << "the points must sample the shadowed part of the map";
+  EXPECT_LT(gpu.back(), 0.5f) << "the ground under the storm is in shadow";
 }
 
 }  // namespace

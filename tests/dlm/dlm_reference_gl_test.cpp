@@ -52,8 +52,8 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene:
   // (mean free path 5 m) is visible. The reference uses the same rounded geometry.
   scene::LightSpace lsf = dlm.lightSpace();
   for (glm::dvec3* vec : {&lsf.u, &lsf.v, &lsf.w, &lsf.origin_m}) *vec = glm::dvec3(glm::vec3(*vec));
-  reference::DlmReference ref1(v, frame, lsf, s, double(float(st.step_m)), st.steps, 1);
-  reference::DlmReference ref8(v, frame, lsf, s, double(float(st.step_m)), st.steps, 8);
+  reference::DlmReference ref1(v, frame, lsf, dlm.settings(), double(float(st.step_m)), st.steps, 1);
+  reference::DlmReference ref8(v, frame, lsf, dlm.settings(), double(float(st.step_m)), st.steps, 8);
   Errors e;
   double minLight = 1.0;
   const auto& ls = dlm.lightSpace();

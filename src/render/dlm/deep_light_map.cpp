@@ -129,8 +129,15 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   if (peripheral) {
     t0 = std::chrono::steady_clock::now();
     const int ds = std::max(1, settings.scatter_downsample);
-    const glm::ivec3 cells((n.x + ds - 1) / ds, (n.y + ds - 1) / ds,
-                           (steps_ + settings.scatter_slice_steps - 1) / settings.scatter_slice_steps + 1);
+    // The slices must fit GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe): lengthen them (keeping the
+    // step count per slice even) when a long ray at a fine step would need more. The effective
+    // value is in settings().scatter_slice_steps.
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    int sliceSteps = settings.scatter_slice_steps;
+    while ((steps_ + sliceSteps - 1) / sliceSteps + 1 > max3D) sliceSteps += 2;
+    settings_.scatter_slice_steps = sliceSteps;
+    const glm::ivec3 cells((n.x + ds - 1) / ds, (n.y + ds - 1) / ds, (steps_ + sliceSteps - 1) / sliceSteps + 1);
     stats_.scatter_cells = cells;
     if (scatter_map_.width() != cells.x || scatter_map_.height() != cells.y || scatter_map_.depth() != cells.z) {
       scatter_map_ = gl::Texture::create3D(GL_R32F, cells.x, cells.y, cells.z).label("DLM scatter map");
@@ -138,7 +145,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     }
     const float zerof = 0.0f;
     glClearTexImage(scatter_map_.id(), 0, GL_RED, GL_FLOAT, &zerof);
-    const double sliceM = step_m_ * settings.scatter_slice_steps;
+    const double sliceM = step_m_ * sliceSteps;
     scatter_.use();
     volume.bind(scatter_);
     bindForLookup(scatter_);
@@ -161,7 +168,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     glBindTextureUnit(3, scatter_map_.id());
     march_peripheral_.set("u_scatter_slice_m", float(sliceM));
     march_peripheral_.set("u_scatter_slices", cells.z);
-    march_peripheral_.set("u_slice_steps", settings.scatter_slice_steps);
+    march_peripheral_.set("u_slice_steps", sliceSteps);
     glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     runWithOverflowRule(march_peripheral_);
     glFinish();
@@ -238,6 +245,24 @@ DeepLightMap::Readback DeepLightMap::readBack() const {
     }
   }
   return r;
+}
+
+double DeepLightMap::lookup(const Readback& map, const scene::LightSpace& ls, const glm::dvec3& world_m) {
+  const glm::dvec3 l = ls.lightFromWorld(world_m);
+  const glm::dvec2 texel = ls.texelSize_m();
+  const glm::dvec2 extent = texel * glm::dvec2(ls.texels);
+  if (l.x < 0.0 || l.y < 0.0 || l.x > extent.x || l.y > extent.y) return 1.0;
+  const glm::dvec2 t = glm::dvec2(l.x, l.y) / texel - 0.5;
+  const glm::dvec2 t0 = glm::floor(t);
+  const glm::dvec2 f = t - t0;
+  auto ev = [&](int a, int b) {
+    a = std::clamp(a, 0, ls.texels.x - 1);
+    b = std::clamp(b, 0, ls.texels.y - 1);
+    const auto& nodes = map.nodes[std::size_t(b) * std::size_t(ls.texels.x) + std::size_t(a)];
+    return scene::evaluateLightFunction(nodes.data(), int(nodes.size()), l.z);
+  };
+  const int a = int(t0.x), b = int(t0.y);
+  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) + f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
 }
 
 }  // namespace nph::render

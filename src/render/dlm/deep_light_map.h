@@ -56,6 +56,8 @@ class DeepLightMap {
 
   const scene::LightSpace& lightSpace() const { return light_space_; }
   const DlmStats& stats() const { return stats_; }
+  /// The settings of the last build as applied (scatter_slice_steps may have been lengthened to
+  /// fit GL_MAX_3D_TEXTURE_SIZE) — pass these to the CPU reference.
   const scene::DlmSettings& settings() const { return settings_; }
   const std::string& cacheKey() const { return key_; }
 
@@ -70,6 +72,9 @@ class DeepLightMap {
     std::vector<bool> unbounded;
   };
   Readback readBack() const;
+  /// The GPU look-up (glsl/dlm/lookup.glsl) on the CPU, on a read-back map: bilinear across
+  /// texels, 1 outside the footprint, constant past the ends of each node list.
+  static double lookup(const Readback& map, const scene::LightSpace& lightSpace, const glm::dvec3& world_m);
 
  private:
   void setLightSpaceUniforms(const gl::Program& p) const;

@@ -1,0 +1,144 @@
+// Deep light map: build time against error for every quality knob, side by side in one run
+// (these machines are noisy: compare medians and ratios). Scene: a generated hurricane of
+// 80 × 80 × 20 model points at 15 km (1200 km wide), one timestep, sun at 45° elevation.
+// Error: max and mean |I − I_best| of the CPU look-up (the GPU's rules) at 20 000 random points in
+// the cloud's bounding box, against a map built with the tightest settings (ε = 1e-4, Δ = ⅛ voxel,
+// texel = ½ voxel). Time: wall time of DeepLightMap::build incl. glFinish and the read-backs of
+// the overflow rule and stats (manual time).
+// Run: make bench, or build/tests/bench/nephele_dlm_benchmarks
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <random>
+
+#include "io/model_file.h"
+#include "physics/volume_builder.h"
+#include "presets.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/gl/context.h"
+#include "scene/sun.h"
+
+namespace {
+
+using namespace nph;
+
+struct Fixture {
+  std::unique_ptr<gl::Context> ctx;
+  ExtinctionVolumes volumes;
+  std::unique_ptr<render::VolumeTextures> textures;
+  glm::dvec3 light;
+  std::vector<glm::dvec3> points;
+  render::DeepLightMap::Readback bestMap;
+  scene::LightSpace bestSpace;
+};
+
+Fixture& fixture() {
+  static std::unique_ptr<Fixture> f = [] {
+    auto fx = std::make_unique<Fixture>();
+    gl::ContextOptions o;
+    o.backend = gl::backendFromEnvironment();
+    o.visible = false;
+    fx->ctx = gl::createContext(o);
+    datagen::WrfHurricaneSpec spec;
+    spec.nx = 80;
+    spec.ny = 80;
+    spec.ntimes = 1;
+    const auto path = (std::filesystem::temp_directory_path() / "nephele-dlm-bench.nc").string();
+    datagen::writeWrfHurricane(spec, path);
+    const auto file = io::openModelFile(path);
+    fx->volumes = physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
+    std::filesystem::remove(path);
+    const auto frame = scene::frameOf(fx->volumes);
+    fx->textures = std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
+    fx->light = -scene::Sun{135.0, 45.0}.toSun();
+    glm::dvec3 lo, hi;
+    fx->textures->nonEmptyBox(lo, hi);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 20000; ++i) fx->points.push_back(lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng)));
+    scene::DlmSettings best;
+    best.epsilon = 1e-4;
+    best.step_voxels = 0.125;
+    best.texel_voxels = 0.5;
+    best.max_nodes = 256;
+    render::DeepLightMap dlm;
+    dlm.build(*fx->textures, fx->light, best);
+    fx->bestMap = dlm.readBack();
+    fx->bestSpace = dlm.lightSpace();
+    std::fprintf(stderr, "dlm benchmark: %dx%dx%d voxels, %s; best map %dx%d texels, %d steps\n", fx->volumes.nx,
+                 fx->volumes.ny, fx->volumes.nz, fx->ctx->info().renderer.c_str(), dlm.lightSpace().texels.x,
+                 dlm.lightSpace().texels.y, dlm.stats().steps);
+    return fx;
+  }();
+  return *f;
+}
+
+enum Knob { Baseline, Epsilon, Texel, Step, NoSkip, NoScatter, ScatterCoarse, Nodes };
+
+void BM_DlmBuild(benchmark::State& state) {
+  Fixture& fx = fixture();
+  fx.ctx->makeCurrent();
+  scene::DlmSettings s;
+  const auto knob = static_cast<Knob>(state.range(0));
+  const double value = double(state.range(1)) / 1000.0;
+  switch (knob) {
+    case Baseline: break;
+    case Epsilon: s.epsilon = value; break;
+    case Texel: s.texel_voxels = value; break;
+    case Step: s.step_voxels = value; break;
+    case NoSkip: s.empty_space_skipping = false; break;
+    case NoScatter: s.peripheral = false; break;
+    case ScatterCoarse: s.scatter_downsample = int(value); break;
+    case Nodes: s.max_nodes = int(value); break;
+  }
+  render::DeepLightMap dlm;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    dlm.build(*fx.textures, fx.light, s);
+    const auto t1 = std::chrono::steady_clock::now();
+    state.SetIterationTime(std::chrono::duration<double>(t1 - t0).count());
+    // Force a rebuild next iteration: change the key without changing the map.
+    s.max_texels = s.max_texels == 1024 ? 1025 : 1024;
+  }
+  const auto map = dlm.readBack();
+  double maxErr = 0.0, sumErr = 0.0;
+  for (const auto& p : fx.points) {
+    const double e = std::abs(render::DeepLightMap::lookup(map, dlm.lightSpace(), p) -
+                              render::DeepLightMap::lookup(fx.bestMap, fx.bestSpace, p));
+    maxErr = std::max(maxErr, e);
+    sumErr += e;
+  }
+  const auto& st = dlm.stats();
+  state.counters["max_err"] = maxErr;
+  state.counters["mean_err"] = sumErr / double(fx.points.size());
+  state.counters["pass1_ms"] = st.pass1_ms;
+  state.counters["pass2_ms"] = st.pass2_ms;
+  state.counters["pass3_ms"] = st.pass3_ms;
+  state.counters["nodes_mean"] = st.mean_nodes;
+  state.counters["nodes_max"] = st.max_nodes_used;
+  state.counters["MB"] = double(st.bytes) / 1e6;
+  state.counters["compression"] = st.compression_ratio;
+  state.counters["unbounded"] = st.unbounded_texels;
+  static const char* names[] = {"baseline", "epsilon", "texel_voxels", "step_voxels", "no_skipping", "no_scatter_map", "scatter_downsample", "max_nodes"};
+  state.SetLabel(knob == Baseline || knob == NoSkip || knob == NoScatter ? names[knob] : fmt::format("{}={:g}", names[knob], value));
+}
+
+BENCHMARK(BM_DlmBuild)
+    ->ArgNames({"knob", "value_x1000"})
+    ->Args({Baseline, 0})
+    ->Args({Epsilon, 2})->Args({Epsilon, 5})->Args({Epsilon, 20})->Args({Epsilon, 50})
+    ->Args({Texel, 500})->Args({Texel, 2000})
+    ->Args({Step, 250})->Args({Step, 1000})
+    ->Args({NoSkip, 0})
+    ->Args({NoScatter, 0})
+    ->Args({ScatterCoarse, 2000})->Args({ScatterCoarse, 8000})
+    ->Args({Nodes, 8000})
+    ->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+
+BENCHMARK_MAIN();
