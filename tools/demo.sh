@@ -1,11 +1,24 @@
 #!/usr/bin/env bash
-# make demo: renders the built-in sample storm. The ray caster (issue "Ray caster and compositing")
-# has not landed yet, so there is nothing honest to render: say so and fail, no placeholder image.
+# make demo: generates the built-in sample hurricane (data_tools, NetCDF-C), converts it to a
+# .nph extinction cache and renders it over NASA Blue Marble (Debian marble-qt-data) to out/.
+# Usage: tools/demo.sh [build-dir]. NEPHELE_DEMO_SIZE=tiny|realistic (default realistic, one
+# timestep: ~1 min to generate and convert, then the render on llvmpipe).
 set -euo pipefail
-cat >&2 <<'MSG'
-make demo: not available yet.
-  nephele can build and test its OpenGL foundation, but the renderer that turns the sample
-  hurricane into an image (deep light maps + ray caster) is still being written. Until then
-  `make demo` produces no image rather than a fake one. `make test` runs everything that exists.
-MSG
-exit 2
+build=${1:-build}
+root=$(cd "$(dirname "$0")/.." && pwd)
+out="$root/out"
+size=${NEPHELE_DEMO_SIZE:-realistic}
+mkdir -p "$out"
+gen="$build/data_tools/nephele-gen"
+nephele="$build/src/cli/nephele"
+if [ ! -f "$out/hurricane-$size.nph" ]; then
+  echo "demo: generating the $size sample hurricane (wrfout, Lambert conformal)"
+  "$gen" wrf --size "$size" --times 1 -o "$out/wrfout-hurricane-$size.nc"
+  echo "demo: converting to ice/water extinction volumes"
+  "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$out/hurricane-$size.nph" --progress
+  rm -f "$out/wrfout-hurricane-$size.nc"
+fi
+sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo.json.in" > "$out/demo.json"
+echo "demo: rendering (flat map view; the globe view is not implemented yet)"
+"$nephele" render "$out/demo.json" --layer "$out/hurricane-cloud-layer.exr"
+echo "demo: wrote $out/hurricane.png, $out/hurricane.exr and $out/hurricane-cloud-layer.exr"

@@ -13,12 +13,14 @@ int main(int argc, char** argv) {
       "nephele: volumetric clouds from weather-model output (WRF wrfout, ICON NetCDF).\n"
       "  info     what a wrfout, ICON or .nph file holds\n"
       "  convert  model files -> ice/water extinction volumes in a .nph cache file\n"
+      "  render   one frame of a scene file (deep light map + ray caster), headless\n"
       "Run `nephele <command> --help` for the options of a command."};
   app.set_version_flag("--version", "nephele " NEPHELE_VERSION);
   app.require_subcommand(1);
   nph::cli::Action run;
   nph::cli::addInfoCommand(app, run);
   nph::cli::addConvertCommand(app, run);
+  nph::cli::addRenderCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -55,7 +55,10 @@ void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sever
                              const GLchar* message, const void* userParam) {
   const bool verbose = userParam != nullptr;
   const std::string text(message, length >= 0 ? std::size_t(length) : std::char_traits<char>::length(message));
-  if (type == GL_DEBUG_TYPE_ERROR) {
+  if (type == GL_DEBUG_TYPE_ERROR && source == GL_DEBUG_SOURCE_SHADER_COMPILER) {
+    // Compile and link failures are reported by Program with the shader's name and info log.
+    log::debug("GL {} {} (id {}): {}", sourceName(source), typeName(type), id, text);
+  } else if (type == GL_DEBUG_TYPE_ERROR) {
     log::error("GL {} {} (id {}): {}", sourceName(source), typeName(type), id, text);
     if (!t_errors.empty()) t_errors += "; ";
     t_errors += text;

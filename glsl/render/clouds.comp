@@ -1,0 +1,128 @@
+#version 450 core
+// Cloud ray caster and compositor (Nes 2008 §5.4, eq. 5.18; Muth 2026 §3.4).
+// One invocation per pixel: the view ray marches the ice and water extinction volumes front to
+// back with step Δ from a jittered start (against banding), skipping empty occupancy bricks,
+// stopping when the transmittance falls below u_min_transmittance. Each step scatters the
+// fraction (1 − T) of the light it receives towards the eye (single-scattering albedo 1):
+//   C += T_acc · (1 − T) · [ E_sun · I_DLM(p) · 4π·p_v(ψ) + L_ambient ],   T_acc *= T,
+// with p_v the β_sca-weighted mix of the ice and water Henyey–Greenstein phase functions
+// (Nes eq. 5.12; 4π·p = 1 for isotropic scattering) at the angle ψ between the sunlight and the
+// direction to the eye, I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl) and L_ambient
+// a uniform sky term so that shadowed sides are not black (multiple scattering the eye pass
+// does not carry). Output: the premultiplied cloud layer (rgb = C, a = 1 − T_acc) and the frame
+// composited over the lit ground: C + T_acc · L_ground (Nes eq. 5.18's background term).
+// Ground: the plane z = 0 (sea level) textured with the reprojected basemap; sunlit by
+// E_sun·cos(θ_sun)·I_DLM(ground) — the cloud shadow (Nes §5.4.1) — plus the ambient sky.
+#include "dlm/volume.glsl"
+#include "dlm/light_space.glsl"
+#include "dlm/lookup.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(rgba32f, binding = 0) uniform writeonly image2D u_cloud_layer;
+layout(rgba32f, binding = 1) uniform writeonly image2D u_frame;
+layout(binding = 6) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
+
+uniform ivec2 u_size;
+uniform vec3 u_cam_pos_m;
+uniform vec3 u_cam_forward;
+uniform vec3 u_cam_right;
+uniform vec3 u_cam_up;
+uniform float u_tan_half_fov;
+uniform float u_aspect;
+uniform vec3 u_to_sun;          // unit, towards the sun
+uniform vec3 u_sun_radiance;    // colour · intensity
+uniform vec3 u_ambient;         // uniform sky radiance
+uniform float u_g_ice;
+uniform float u_g_water;
+uniform float u_step_m;
+uniform float u_min_transmittance;
+uniform bool u_jitter;
+uniform bool u_skip_empty;
+uniform bool u_shadows;
+uniform bool u_has_basemap;
+uniform vec2 u_basemap_min_m;
+uniform vec2 u_basemap_max_m;
+uniform vec3 u_ocean_albedo;    // ground albedo outside the basemap
+
+const float kPi = 3.14159265358979;
+
+// Henyey–Greenstein times 4π (1 for isotropic).
+float hg4pi(float cosPsi, float g) {
+  float g2 = g * g;
+  return (1.0 - g2) / pow(max(1.0 + g2 - 2.0 * g * cosPsi, 1e-6), 1.5);
+}
+
+// Deterministic per-pixel jitter in [0, 1) (integer hash, Jarzynski & Olano 2020 "PCG").
+float pixelHash(uvec2 p) {
+  uint v = p.x * 1973u + p.y * 9277u + 26699u;
+  v = v * 747796405u + 2891336453u;
+  uint w = ((v >> ((v >> 28u) + 4u)) ^ v) * 277803737u;
+  return float((w >> 22u) ^ w) / 4294967296.0;
+}
+
+// Ray–box entry/exit distances of the volume box grown by one voxel (β fades to 0 across it).
+vec2 volumeInterval(vec3 o, vec3 d) {
+  vec3 pad = u_box_size_m / vec3(u_voxels);
+  vec3 inv = 1.0 / mix(d, vec3(1e-20), equal(d, vec3(0.0)));
+  vec3 t0 = (u_box_min_m - pad - o) * inv, t1 = (u_box_min_m + u_box_size_m + pad - o) * inv;
+  vec3 lo = min(t0, t1), hi = max(t0, t1);
+  return vec2(max(max(max(lo.x, lo.y), lo.z), 0.0), min(min(hi.x, hi.y), hi.z));
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(px, u_size))) return;
+  // Same ray as scene::Camera::rayDirection at the pixel centre (row 0 at the top).
+  vec2 ndc = vec2(2.0 * (float(px.x) + 0.5) / float(u_size.x) - 1.0, 1.0 - 2.0 * (float(px.y) + 0.5) / float(u_size.y));
+  vec3 dir = normalize(u_cam_forward + ndc.x * u_tan_half_fov * u_aspect * u_cam_right + ndc.y * u_tan_half_fov * u_cam_up);
+  vec3 origin = u_cam_pos_m;
+
+  vec3 lightDir = -u_to_sun;              // direction the sunlight travels
+  float cosPsi = dot(lightDir, -dir);     // scattering angle: sunlight → towards the eye
+  float phaseIce = hg4pi(cosPsi, u_g_ice), phaseWater = hg4pi(cosPsi, u_g_water);
+
+  vec3 C = vec3(0.0);
+  float Tacc = 1.0;
+  vec2 span = volumeInterval(origin, dir);
+  if (span.x < span.y) {
+    float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
+    while (t < span.y && Tacc > u_min_transmittance) {
+      vec3 p = origin + t * dir;
+      if (u_skip_empty && brickMaxAt(p) == 0.0) {
+        float skip = emptySkipDistance(p, dir);
+        if (skip > 0.0) {  // jump whole steps, keeping the jittered lattice
+          t += max(ceil(skip / u_step_m), 1.0) * u_step_m;
+          continue;
+        }
+      }
+      vec2 beta = extinctionAt(p);
+      float b = beta.x + beta.y;
+      if (b > 0.0) {
+        float T = exp(-b * u_step_m);
+        float phase = (beta.x * phaseIce + beta.y * phaseWater) / b;  // Nes eq. 5.12
+        vec3 L = u_sun_radiance * dlmIntensity(p) * phase + u_ambient;
+        C += Tacc * (1.0 - T) * L;
+        Tacc *= T;
+      }
+      t += u_step_m;
+    }
+  }
+  imageStore(u_cloud_layer, px, vec4(C, 1.0 - Tacc));
+
+  // Background: the ground plane z = 0 or the sky.
+  vec3 background = u_ambient;
+  if (dir.z < 0.0) {
+    vec3 g = origin + (-origin.z / dir.z) * dir;
+    vec3 albedo = u_ocean_albedo;
+    if (u_has_basemap) {
+      vec2 uv = (g.xy - u_basemap_min_m) / (u_basemap_max_m - u_basemap_min_m);
+      if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
+        albedo = texture(u_basemap, vec2(uv.x, 1.0 - uv.y)).rgb;  // image row 0 = north edge
+      }
+    }
+    float sunCos = max(u_to_sun.z, 0.0);
+    float shadow = u_shadows ? dlmIntensity(g) : 1.0;
+    background = albedo * (u_sun_radiance * sunCos * shadow + u_ambient);
+  }
+  imageStore(u_frame, px, vec4(C + Tacc * background, 1.0));
+}

@@ -1,0 +1,136 @@
+// `nephele render`: one frame of a scene file, headless (EGL or OSMesa).
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cache/nph_cache.h"
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "io/model_file.h"
+#include "physics/volume_builder.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/gl/context.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/scene_file.h"
+#include "scene/scene_setup.h"
+
+namespace nph::cli {
+namespace {
+
+struct RenderOptions {
+  std::string scene;
+  std::vector<std::string> outputs;
+  std::string layer;
+  std::string gl = "auto";
+  int width = 0, height = 0;
+  int timestep = -1;
+};
+
+/// The timestep the scene asks for, from a .nph cache or straight from a model file.
+ExtinctionVolumes loadVolumes(const scene::SceneDescription& s, std::string& identity) {
+  const auto& data = *s.data;
+  if (cache::NphReader::sniff(data.path)) {
+    cache::NphReader reader(data.path);
+    std::vector<std::string> times;
+    for (std::size_t t = 0; t < reader.timestepCount(); ++t) times.push_back(reader.timestep(t).time_utc);
+    const std::size_t t = scene::timestepIndexFor(data, times, data.path);
+    identity = fmt::format("{}#{}", std::filesystem::absolute(data.path).string(), t);
+    return reader.read(t);
+  }
+  const auto file = io::openModelFile(data.path);
+  std::vector<std::string> times;
+  for (const auto& ref : file.timesteps()) times.push_back(ref.time_utc);
+  const std::size_t t = scene::timestepIndexFor(data, times, data.path);
+  identity = fmt::format("{}#{}", std::filesystem::absolute(data.path).string(), t);
+  log::info("{}: not a .nph cache; converting timestep {} with the default optics", data.path, t);
+  return physics::buildExtinctionVolumes(file.load(t), physics::defaultOptics(), physics::VerticalGridOptions{});
+}
+
+int runRender(const RenderOptions& o) {
+  scene::SceneDescription s = scene::loadSceneFile(o.scene);
+  if (o.width > 0) s.output.width = o.width;
+  if (o.height > 0) s.output.height = o.height;
+  if (!o.outputs.empty()) s.output.paths = o.outputs;
+  if (o.timestep >= 0 && s.data) {
+    s.data->timestep = o.timestep;
+    s.data->time_utc.reset();
+  }
+  if (!s.data) throw InputError(o.scene + ": no \"data\" section: which .nph or model file to render?");
+  if (s.output.paths.empty() && o.layer.empty()) throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
+  if (s.view == scene::ViewMode::Globe) {
+    throw InputError(o.scene + ": view \"globe\" is not implemented by the renderer yet; use \"flat\"");
+  }
+  std::string identity;
+  const ExtinctionVolumes volumes = loadVolumes(s, identity);
+  const scene::PreparedScene prepared = scene::prepareScene(s, volumes);
+
+  gl::ContextOptions co;
+  const auto backend = gl::parseBackend(o.gl);
+  if (!backend) throw UsageError("--gl " + o.gl + ": expected auto, egl or osmesa");
+  co.backend = *backend == gl::Backend::Auto ? gl::backendFromEnvironment() : *backend;
+  co.visible = false;
+  auto ctx = gl::createContext(co);
+
+  const auto textures = render::VolumeTextures::upload(volumes, prepared.frame, identity);
+  scene::DlmSettings dlmSettings;
+  dlmSettings.epsilon = s.quality.dlm_epsilon;
+  dlmSettings.max_nodes = s.quality.dlm_max_nodes;
+  dlmSettings.max_texels = s.quality.dlm_resolution;
+  dlmSettings.empty_space_skipping = s.quality.empty_space_skipping;
+  if (prepared.sun.elevation_deg <= 0.0) {
+    log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -prepared.sun.elevation_deg);
+  }
+  render::DeepLightMap dlm;
+  dlm.build(textures, -prepared.sun.toSun(), dlmSettings);
+  const auto& st = dlm.stats();
+  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, passes {:.0f}+{:.0f}+{:.0f} ms{}",
+            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6, st.pass1_ms,
+            st.pass2_ms, st.pass3_ms, st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
+
+  render::CloudRenderer renderer;
+  if (prepared.basemap_rect) renderer.setBasemap(prepared.basemap, *prepared.basemap_rect);
+  render::RenderSettings rs;
+  rs.step_voxels = s.quality.step_voxels;
+  rs.min_transmittance = s.quality.early_termination_transmittance;
+  rs.jitter = s.quality.jitter;
+  rs.empty_space_skipping = s.quality.empty_space_skipping;
+  rs.shadows = s.quality.shadows;
+  const auto out = renderer.render(textures, dlm, prepared.camera, prepared.sun, rs);
+  log::info("ray cast {}x{} in {:.0f} ms", out.frame.width, out.frame.height, out.milliseconds);
+  for (const auto& path : s.output.paths) {
+    if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
+    scene::writeImage(out.frame, path, s.output.image);
+    log::info("wrote {}", path);
+  }
+  if (!o.layer.empty()) {
+    scene::writeImage(out.cloud_layer, o.layer, s.output.image);
+    log::info("wrote {} (premultiplied cloud layer)", o.layer);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, Action& run) {
+  auto opts = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "render",
+      "Render one frame of a scene file (JSON: data, camera, sun, basemap, quality, output; see "
+      "docs/scene-file.md) headless through EGL or OSMesa. Writes the clouds composited over the "
+      "basemap to every output path (.png: sRGB 8-bit; .exr: linear half) and, with --layer, the "
+      "premultiplied cloud layer alone for a compositor.");
+  cmd->add_option("scene", opts->scene, "scene file (JSON)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", opts->outputs, "output image(s) (.png/.exr); replaces output.paths");
+  cmd->add_option("--layer", opts->layer, "also write the premultiplied cloud layer (.exr or .png)");
+  cmd->add_option("--gl", opts->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
+  cmd->add_option("--width", opts->width, "image width (default: the scene's, 1920)");
+  cmd->add_option("--height", opts->height, "image height (default: the scene's, 1080)");
+  cmd->add_option("--timestep", opts->timestep, "timestep index (replaces data.timestep/time)");
+  cmd->callback([opts, &run] { run = [opts] { return runRender(*opts); }; });
+}
+
+}  // namespace nph::cli

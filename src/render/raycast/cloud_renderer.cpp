@@ -1,0 +1,89 @@
+#include "render/raycast/cloud_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "render/gl/debug.h"
+
+namespace nph::render {
+
+CloudRenderer::CloudRenderer() : program_(gl::Program::compute("render/clouds.comp")) {
+  blank_ = gl::Texture::create2D(GL_RGBA32F, 1, 1).label("no basemap");
+  const float zero[4] = {0, 0, 0, 0};
+  glTextureSubImage2D(blank_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
+}
+
+void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect) {
+  if (image.width <= 0 || image.height <= 0) {
+    basemap_ = gl::Texture();
+    return;
+  }
+  basemap_ = gl::Texture::create2D(GL_RGB32F, image.width, image.height).label("basemap (linear RGB)");
+  glTextureSubImage2D(basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
+  basemap_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  basemap_rect_ = rect;
+}
+
+RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
+                                   const scene::Sun& sun, const RenderSettings& s) {
+  if (camera.width <= 0 || camera.height <= 0 || camera.width > 16384 || camera.height > 16384) {
+    throw UsageError(fmt::format("render: image size {}x{} out of range (1..16384)", camera.width, camera.height));
+  }
+  gl::DebugGroup group("cloud ray caster");
+  const auto t0 = std::chrono::steady_clock::now();
+  const int w = camera.width, h = camera.height;
+  auto cloudTex = gl::Texture::create2D(GL_RGBA32F, w, h).label("cloud layer");
+  auto frameTex = gl::Texture::create2D(GL_RGBA32F, w, h).label("frame");
+  const gl::Program& p = program_;
+  p.use();
+  volume.bind(p);
+  dlm.bindForLookup(p);
+  glBindTextureUnit(6, basemap_ ? basemap_.id() : blank_.id());
+  const glm::dvec3 forward = glm::normalize(camera.target_m - camera.position_m);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+  const glm::dvec3 up = glm::cross(right, forward);
+  p.set("u_size", glm::ivec2(w, h));
+  p.set("u_cam_pos_m", glm::vec3(camera.position_m));
+  p.set("u_cam_forward", glm::vec3(forward));
+  p.set("u_cam_right", glm::vec3(right));
+  p.set("u_cam_up", glm::vec3(up));
+  p.set("u_tan_half_fov", float(std::tan(glm::radians(camera.vertical_fov_deg) * 0.5)));
+  p.set("u_aspect", float(w) / float(h));
+  p.set("u_to_sun", glm::vec3(sun.toSun()));
+  p.set("u_sun_radiance", glm::vec3(sun.colour * sun.intensity));
+  p.set("u_ambient", glm::vec3(s.ambient * sun.intensity));
+  p.set("u_g_ice", float(s.g_ice));
+  p.set("u_g_water", float(s.g_water));
+  const glm::dvec3 voxel = volume.frame().voxel_size_m;
+  p.set("u_step_m", float(s.step_voxels * std::min({voxel.x, voxel.y, voxel.z})));
+  p.set("u_min_transmittance", float(s.min_transmittance));
+  p.set("u_jitter", s.jitter ? 1 : 0);
+  p.set("u_skip_empty", s.empty_space_skipping ? 1 : 0);
+  p.set("u_shadows", s.shadows ? 1 : 0);
+  p.set("u_has_basemap", basemap_ ? 1 : 0);
+  p.set("u_basemap_min_m", glm::vec2(basemap_rect_.min_m));
+  p.set("u_basemap_max_m", glm::vec2(basemap_rect_.max_m));
+  p.set("u_ocean_albedo", glm::vec3(s.ocean_albedo));
+  glBindImageTexture(0, cloudTex.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, frameTex.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  p.dispatchCovering({w, h, 1});
+  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+  RenderOutput out;
+  for (auto* img : {&out.cloud_layer, &out.frame}) {
+    img->width = w;
+    img->height = h;
+    img->rgba.resize(std::size_t(w) * std::size_t(h) * 4);
+  }
+  const auto bytes = static_cast<GLsizei>(out.frame.rgba.size() * sizeof(float));
+  glGetTextureImage(cloudTex.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.cloud_layer.rgba.data());
+  glGetTextureImage(frameTex.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.frame.rgba.data());
+  gl::checkErrors("cloud ray caster");
+  out.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace nph::render

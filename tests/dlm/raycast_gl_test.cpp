@@ -1,0 +1,98 @@
+// Ray caster analytic checks (issue 5 "Done means", first part).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "dlm_scenes.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/sun.h"
+#include "support/gl_fixture.h"
+
+namespace nph::test {
+namespace {
+
+using RaycastTest = GlTest;
+
+struct Rendered {
+  render::RenderOutput out;
+  scene::VolumeFrame frame;
+};
+
+Rendered renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, const render::RenderSettings& rs,
+                           const scene::LinearRgbImage* basemap = nullptr) {
+  Rendered r;
+  r.frame = scene::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, r.frame, "raycast-test");
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  scene::Camera cam;
+  const glm::dvec3 c = 0.5 * (r.frame.min_m() + r.frame.max_m());
+  cam.position_m = {c.x, c.y, 50000.0};
+  cam.target_m = {c.x, c.y, 0.0};
+  cam.up = {0.0, 1.0, 0.0};
+  cam.vertical_fov_deg = 30.0;
+  cam.width = 33;
+  cam.height = 33;
+  render::CloudRenderer renderer;
+  if (basemap) {
+    renderer.setBasemap(*basemap, {{-1e6, -1e6}, {1e6, 1e6}});
+  }
+  r.out = renderer.render(tex, dlm, cam, sun, rs);
+  return r;
+}
+
+// An empty volume leaves the basemap unchanged: alpha 0, no cloud light, and the frame is the
+// lit ground albedo·(E·cos θ_sun + L_ambient) exactly (no shadow anywhere).
+TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
+  scene::LinearRgbImage map{4, 4, std::vector<float>(48, 0.0f)};
+  for (std::size_t i = 0; i < map.rgb.size(); i += 3) {
+    map.rgb[i] = 0.2f;
+    map.rgb[i + 1] = 0.4f;
+    map.rgb[i + 2] = 0.6f;
+  }
+  const scene::Sun sun{120.0, 30.0};
+  render::RenderSettings rs;
+  const auto r = renderLookingDown(v, sun, rs, &map);
+  const double cosSun = std::sin(glm::radians(30.0));
+  const glm::dvec3 albedo(0.2, 0.4, 0.6);
+  const glm::dvec3 expected = albedo * (glm::dvec3(1.0) * cosSun + rs.ambient);
+  double maxAlpha = 0.0, maxDiff = 0.0;
+  for (std::size_t i = 0; i < r.out.frame.rgba.size(); i += 4) {
+    maxAlpha = std::max(maxAlpha, double(r.out.cloud_layer.rgba[i + 3]));
+    for (int c = 0; c < 3; ++c) {
+      maxDiff = std::max(maxDiff, std::abs(double(r.out.frame.rgba[i + std::size_t(c)]) - expected[c]));
+      EXPECT_EQ(r.out.cloud_layer.rgba[i + std::size_t(c)], 0.0f);
+    }
+  }
+  EXPECT_EQ(maxAlpha, 0.0);
+  EXPECT_LE(maxDiff, 1e-5);  // float arithmetic only
+}
+
+// A homogeneous slab seen head-on: alpha = 1 − exp(−τ) with τ = β·(nz·dz) — the zero-padded
+// trilinear profile integrates to exactly β·nz·dz, and the midpoint rule is exact on its linear
+// pieces, leaving only the steps that straddle its four kinks: |Δτ| ≤ β·Δ²/(4·dz) each.
+TEST_F(RaycastTest, HomogeneousSlabHeadOnGivesTheClosedFormTransmittance) {
+  const double beta = 5e-4;  // 2 km slab → τ = 1
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, float(beta));
+  render::RenderSettings rs;
+  rs.jitter = false;
+  rs.min_transmittance = 0.0;
+  const auto r = renderLookingDown(v, scene::Sun{0.0, 60.0}, rs);
+  const std::size_t centre = (std::size_t(16) * 33 + 16) * 4;
+  const double alpha = r.out.cloud_layer.rgba[centre + 3];
+  const double expected = 1.0 - std::exp(-beta * 8 * 250.0);
+  const double step = 0.5 * 250.0;
+  const double tauBound = 4 * beta * step * step / (4 * 250.0);
+  EXPECT_NEAR(alpha, expected, tauBound + 1e-5) << "closed form " << expected;
+  // The cloud layer is premultiplied: its colour never exceeds what alpha allows for the light.
+  for (std::size_t i = 0; i < r.out.cloud_layer.rgba.size(); i += 4) {
+    for (int c = 0; c < 3; ++c) EXPECT_GE(r.out.cloud_layer.rgba[i + std::size_t(c)], 0.0f);
+    EXPECT_GE(r.out.cloud_layer.rgba[i + 3], 0.0f);
+    EXPECT_LE(r.out.cloud_layer.rgba[i + 3], 1.0f);
+  }
+}
+
+}  // namespace
+}  // namespace nph::test
