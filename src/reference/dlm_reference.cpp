@@ -111,36 +111,12 @@ double DlmReference::texelCentral(int a, int b, double s) const {
 }
 
 double DlmReference::centralAtLight(double u, double v, double s) const {
-  const glm::dvec2 texel = ls_.texelSize_m();
-  const glm::dvec2 extent = texel * glm::dvec2(ls_.texels);
-  if (u < 0.0 || v < 0.0 || u > extent.x || v > extent.y) return 1.0;
-  const glm::dvec2 t = glm::dvec2(u, v) / texel - 0.5;
-  const glm::dvec2 t0 = glm::floor(t);
-  const glm::dvec2 f = t - t0;
-  auto ev = [&](int a, int b) {
-    a = std::clamp(a, 0, ls_.texels.x - 1);
-    b = std::clamp(b, 0, ls_.texels.y - 1);
-    return texelCentral(a, b, s);
-  };
-  const int a = int(t0.x), b = int(t0.y);
-  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) + f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
+  return scene::blendTexels(ls_, {u, v, s}, [&](int a, int b, double z) { return texelCentral(a, b, z); });
 }
 
 double DlmReference::intensityAt(const glm::dvec3& world_m) const {
-  const glm::dvec3 l = ls_.lightFromWorld(world_m);
-  const glm::dvec2 texel = ls_.texelSize_m();
-  const glm::dvec2 extent = texel * glm::dvec2(ls_.texels);
-  if (l.x < 0.0 || l.y < 0.0 || l.x > extent.x || l.y > extent.y) return 1.0;
-  const glm::dvec2 t = glm::dvec2(l.x, l.y) / texel - 0.5;
-  const glm::dvec2 t0 = glm::floor(t);
-  const glm::dvec2 f = t - t0;
-  auto ev = [&](int a, int b) {
-    a = std::clamp(a, 0, ls_.texels.x - 1);
-    b = std::clamp(b, 0, ls_.texels.y - 1);
-    return texelIntensity(a, b, l.z);
-  };
-  const int a = int(t0.x), b = int(t0.y);
-  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) + f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
+  return scene::blendTexels(ls_, ls_.lightFromWorld(world_m),
+                            [&](int a, int b, double z) { return texelIntensity(a, b, z); });
 }
 
 }  // namespace nph::reference

@@ -248,21 +248,10 @@ DeepLightMap::Readback DeepLightMap::readBack() const {
 }
 
 double DeepLightMap::lookup(const Readback& map, const scene::LightSpace& ls, const glm::dvec3& world_m) {
-  const glm::dvec3 l = ls.lightFromWorld(world_m);
-  const glm::dvec2 texel = ls.texelSize_m();
-  const glm::dvec2 extent = texel * glm::dvec2(ls.texels);
-  if (l.x < 0.0 || l.y < 0.0 || l.x > extent.x || l.y > extent.y) return 1.0;
-  const glm::dvec2 t = glm::dvec2(l.x, l.y) / texel - 0.5;
-  const glm::dvec2 t0 = glm::floor(t);
-  const glm::dvec2 f = t - t0;
-  auto ev = [&](int a, int b) {
-    a = std::clamp(a, 0, ls.texels.x - 1);
-    b = std::clamp(b, 0, ls.texels.y - 1);
+  return scene::blendTexels(ls, ls.lightFromWorld(world_m), [&](int a, int b, double z) {
     const auto& nodes = map.nodes[std::size_t(b) * std::size_t(ls.texels.x) + std::size_t(a)];
-    return scene::evaluateLightFunction(nodes.data(), int(nodes.size()), l.z);
-  };
-  const int a = int(t0.x), b = int(t0.y);
-  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) + f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
+    return scene::evaluateLightFunction(nodes.data(), int(nodes.size()), z);
+  });
 }
 
 }  // namespace nph::render
