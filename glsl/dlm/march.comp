@@ -14,7 +14,13 @@
 // image stores into layers of a 3-D texture (GL 4.5 compute).
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
+#ifdef UNCOMPRESSED
+// Benchmark baseline: a plain fixed-step light volume — every sample stored, no compression, no
+// skipping (tests/bench/dlm_benchmark.cpp compares pass 1 against it).
+layout(std430, binding = 3) writeonly buffer LightVolume { float u_light_volume[]; };  // [(n·nv + b)·nu + a]
+#else
 #include "dlm/compress.glsl"
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(r32ui, binding = 1) uniform uimage2D u_counts;   // node count | 0x80000000 when the bound was not kept
@@ -38,6 +44,22 @@ float peripheralAt(vec3 l) {
 
 const uint kUnbounded = 0x80000000u;
 
+#ifdef UNCOMPRESSED
+void main() {
+  ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(texel, u_ls_texels))) return;
+  vec3 start = worldFromLight(vec3((vec2(texel) + 0.5) * u_ls_texel_m, 0.0));
+  float Ic = 1.0;
+  int layer = u_ls_texels.x * u_ls_texels.y, idx = texel.y * u_ls_texels.x + texel.x;
+  u_light_volume[idx] = Ic;
+  for (int n = 0; n < u_steps; ++n) {
+    vec2 beta = extinctionAt(start + (float(n) + 0.5) * u_step_m * u_ls_w);
+    float T = exp(-(beta.x + beta.y) * u_step_m);
+    Ic *= T + (1.0 - T) * u_central_fraction;
+    u_light_volume[(n + 1) * layer + idx] = Ic;
+  }
+}
+#else
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(texel, u_ls_texels))) return;
@@ -94,3 +116,4 @@ void main() {
   imageStore(u_counts, texel, uvec4(uint(count) | (c.overflow ? kUnbounded : 0u)));
   imageStore(u_texel_eps, texel, vec4(u_epsilon));
 }
+#endif

@@ -87,8 +87,8 @@ int runRender(const RenderOptions& o) {
   render::DeepLightMap dlm;
   dlm.build(textures, -prepared.sun.toSun(), dlmSettings);
   const auto& st = dlm.stats();
-  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, passes {:.0f}+{:.0f}+{:.0f} ms{}",
-            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6, st.pass1_ms,
+  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
+            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6, st.compression_ratio, st.pass1_ms,
             st.pass2_ms, st.pass3_ms, st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
 
   render::CloudRenderer renderer;

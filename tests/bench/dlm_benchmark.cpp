@@ -139,6 +139,32 @@ BENCHMARK(BM_DlmBuild)
     ->Args({Nodes, 8000})
     ->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 
+// Pass 1 against a plain fixed-step light volume of the same light space and step: every sample
+// stored (no compression, no empty-space skipping), as a non-DLM renderer would precompute it.
+void BM_Pass1VersusUncompressedLightVolume(benchmark::State& state) {
+  Fixture& fx = fixture();
+  fx.ctx->makeCurrent();
+  scene::DlmSettings s;
+  s.peripheral = false;
+  render::DeepLightMap dlm;
+  double pass1 = 0.0, plain = 0.0;
+  std::size_t plainBytes = 0;
+  for (auto _ : state) {
+    dlm.build(*fx.textures, fx.light, s);
+    pass1 += dlm.stats().pass1_ms;
+    plain += dlm.timeUncompressedLightVolume(*fx.textures, plainBytes);
+    state.SetIterationTime(dlm.stats().pass1_ms * 1e-3);
+    s.max_texels = s.max_texels == 1024 ? 1025 : 1024;  // force the rebuild
+  }
+  const double it = double(state.iterations());
+  state.counters["pass1_ms"] = pass1 / it;
+  state.counters["uncompressed_ms"] = plain / it;
+  state.counters["speedup"] = plain / pass1;
+  state.counters["dlm_MB"] = double(dlm.stats().bytes) / 1e6;
+  state.counters["uncompressed_MB"] = double(plainBytes) / 1e6;
+}
+BENCHMARK(BM_Pass1VersusUncompressedLightVolume)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -30,7 +30,29 @@ std::vector<std::uint32_t> readCounts(const gl::Texture& counts, glm::ivec2 n) {
 DeepLightMap::DeepLightMap()
     : march_(gl::Program::compute("dlm/march.comp")),
       march_peripheral_(gl::Program::compute("dlm/march.comp", {{"PERIPHERAL", "1"}})),
-      scatter_(gl::Program::compute("dlm/scatter.comp")) {}
+      scatter_(gl::Program::compute("dlm/scatter.comp")),
+      uncompressed_(gl::Program::compute("dlm/march.comp", {{"UNCOMPRESSED", "1"}})) {}
+
+double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, std::size_t& bytes) {
+  const glm::ivec2 n = light_space_.texels;
+  bytes = std::size_t(n.x) * std::size_t(n.y) * (std::size_t(steps_) + 1) * sizeof(float);
+  auto buffer = gl::Buffer::create(bytes).label("uncompressed light volume");
+  const gl::Program& p = uncompressed_;
+  p.use();
+  volume.bind(p);
+  setLightSpaceUniforms(p);
+  p.set("u_step_m", float(step_m_));
+  p.set("u_steps", steps_);
+  p.set("u_central_fraction", float(fractions_.central));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffer.id());
+  glFinish();
+  const auto t0 = std::chrono::steady_clock::now();
+  p.dispatchCovering({n.x, n.y, 1});
+  glFinish();
+  const double ms = msSince(t0);
+  gl::checkErrors("uncompressed light volume");
+  return ms;
+}
 
 void DeepLightMap::setLightSpaceUniforms(const gl::Program& p) const {
   p.set("u_ls_origin_m", glm::vec3(light_space_.origin_m));

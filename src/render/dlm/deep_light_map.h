@@ -65,6 +65,11 @@ class DeepLightMap {
   /// for any program that includes glsl/dlm/lookup.glsl.
   void bindForLookup(const gl::Program& program) const;
 
+  /// Benchmark baseline for pass 1: the same march over the last build's light space storing every
+  /// sample uncompressed (no skipping, no compression) in a buffer. Returns wall ms incl. glFinish;
+  /// `bytes` receives the size of that light volume.
+  double timeUncompressedLightVolume(const VolumeTextures& volume, std::size_t& bytes);
+
   /// Reads the whole map back (tests, CPU comparisons): node lists per texel (a + b·nu).
   struct Readback {
     std::vector<std::vector<scene::LightNode>> nodes;
@@ -81,7 +86,7 @@ class DeepLightMap {
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
   void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
 
-  gl::Program march_, march_peripheral_, scatter_;
+  gl::Program march_, march_peripheral_, scatter_, uncompressed_;
   gl::Texture nodes_, counts_, texel_eps_, scatter_map_;
   scene::LightSpace light_space_;
   scene::DlmSettings settings_;
