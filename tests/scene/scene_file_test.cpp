@@ -19,7 +19,7 @@ TEST(SceneFile, ExampleHurricaneParses) {
   const std::string dir = std::string(NEPHELE_SOURCE_DIR) + "/examples/scenes";
   const SceneDescription s = loadSceneFile(dir + "/hurricane.json");
   ASSERT_TRUE(s.data);
-  EXPECT_EQ(fs::path(s.data->path), (fs::path(NEPHELE_SOURCE_DIR) / "out/hurricane.nph").lexically_normal());
+  EXPECT_EQ(fs::path(s.data->path), (fs::path(NEPHELE_SOURCE_DIR) / "out/hurricane-realistic.nph").lexically_normal());
   EXPECT_EQ(s.data->timestep, 0);
   EXPECT_EQ(s.camera.preset, CameraPreset::Oblique);
   EXPECT_EQ(s.camera.fov_deg, 40.0);
