@@ -1,0 +1,32 @@
+#pragma once
+// CPU reference of the eye pass (glsl/render/clouds.comp) in double precision: the same rays, step,
+// sampling rule, phase mix, light and compositing, no jitter (pixel centres), no empty-space
+// skipping. The deep light map enters as a function (the GPU map read back, so both use the
+// same light): the comparison isolates the ray caster.
+#include <functional>
+
+#include <glm/glm.hpp>
+
+#include "cache/extinction_volumes.h"
+#include "scene/camera.h"
+#include "scene/output_image.h"
+#include "scene/sun.h"
+#include "scene/volume_frame.h"
+
+namespace nph::reference {
+
+struct RayMarchSettings {
+  double step_voxels = 0.5;
+  double min_transmittance = 0.01;
+  double g_ice = 0.75;
+  double g_water = 0.85;
+  glm::dvec3 ambient{0.20, 0.24, 0.30};
+};
+
+/// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
+scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
+                                 const scene::Camera& camera, const scene::Sun& sun,
+                                 const std::function<double(const glm::dvec3&)>& sunlightAt,
+                                 const RayMarchSettings& settings);
+
+}  // namespace nph::reference
