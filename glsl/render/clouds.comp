@@ -23,12 +23,12 @@ layout(rgba32f, binding = 1) uniform writeonly image2D u_frame;
 layout(binding = 6) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
 
 uniform ivec2 u_size;
+layout(binding = 7) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
+
 uniform vec3 u_cam_pos_m;
-uniform vec3 u_cam_forward;
-uniform vec3 u_cam_right;
-uniform vec3 u_cam_up;
-uniform float u_tan_half_fov;
-uniform float u_aspect;
+uniform mat3 u_world_from_view;  // view axes in world (render/raycast/cloud_renderer.h ViewRays)
+uniform mat4 u_view_from_clip;   // inverse projection
+uniform bool u_has_host_depth;   // stop rays at the host's geometry
 uniform vec3 u_to_sun;          // unit, towards the sun
 uniform vec3 u_sun_radiance;    // colour · intensity
 uniform vec3 u_ambient;         // uniform sky radiance
@@ -74,8 +74,17 @@ void main() {
   if (any(greaterThanEqual(px, u_size))) return;
   // Same ray as scene::Camera::rayDirection at the pixel centre (row 0 at the top).
   vec2 ndc = vec2(2.0 * (float(px.x) + 0.5) / float(u_size.x) - 1.0, 1.0 - 2.0 * (float(px.y) + 0.5) / float(u_size.y));
-  vec3 dir = normalize(u_cam_forward + ndc.x * u_tan_half_fov * u_aspect * u_cam_right + ndc.y * u_tan_half_fov * u_cam_up);
+  vec4 viewPoint = u_view_from_clip * vec4(ndc, 0.0, 1.0);
+  vec3 dir = normalize(u_world_from_view * normalize(viewPoint.xyz / viewPoint.w));
   vec3 origin = u_cam_pos_m;
+  float hostDistance = 3.4e38;  // distance along the ray to the host's opaque geometry
+  if (u_has_host_depth) {
+    float d = texelFetch(u_host_depth, ivec2(px.x, u_size.y - 1 - px.y), 0).r;
+    if (d < 1.0) {
+      vec4 hit = u_view_from_clip * vec4(ndc, 2.0 * d - 1.0, 1.0);
+      hostDistance = length(hit.xyz / hit.w);
+    }
+  }
 
   vec3 lightDir = -u_to_sun;              // direction the sunlight travels
   float cosPsi = dot(lightDir, -dir);     // scattering angle: sunlight → towards the eye
@@ -84,6 +93,7 @@ void main() {
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
   vec2 span = volumeInterval(origin, dir);
+  span.y = min(span.y, hostDistance);
   if (span.x < span.y) {
     float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
     while (t < span.y && Tacc > u_min_transmittance) {

@@ -78,6 +78,10 @@ Program Program::graphics(std::string_view vertexName, std::string_view fragment
                        {std::string(fragmentName), injectDefines(shaderSource(fragmentName), defines)}}});
 }
 
+void Program::set(const char* name, const glm::mat3& m) const {
+  glProgramUniformMatrix3fv(id(), location(name), 1, GL_FALSE, glm::value_ptr(m));
+}
+
 void Program::set(const char* name, const glm::mat4& m) const {
   glProgramUniformMatrix4fv(id(), location(name), 1, GL_FALSE, glm::value_ptr(m));
 }

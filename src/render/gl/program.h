@@ -46,6 +46,7 @@ class Program {
   }
   void set(const char* name, const glm::ivec2& v) const { glProgramUniform2i(id(), location(name), v.x, v.y); }
   void set(const char* name, const glm::ivec3& v) const { glProgramUniform3i(id(), location(name), v.x, v.y, v.z); }
+  void set(const char* name, const glm::mat3& m) const;
   void set(const char* name, const glm::mat4& m) const;
 
   /// Work-group size declared by a compute program.

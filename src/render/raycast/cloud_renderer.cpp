@@ -28,31 +28,46 @@ void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::
   basemap_rect_ = rect;
 }
 
-RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
-                                   const scene::Sun& sun, const RenderSettings& s) {
-  if (camera.width <= 0 || camera.height <= 0 || camera.width > 16384 || camera.height > 16384) {
-    throw UsageError(fmt::format("render: image size {}x{} out of range (1..16384)", camera.width, camera.height));
+ViewRays ViewRays::fromCamera(const scene::Camera& camera) {
+  return fromMatrices(camera.viewFromWorld(), camera.clipFromView(), camera.width, camera.height);
+}
+
+ViewRays ViewRays::fromMatrices(const glm::dmat4& view_from_world, const glm::dmat4& clip_from_view, int width,
+                                int height) {
+  ViewRays r;
+  const glm::dmat4 world_from_view = glm::inverse(view_from_world);
+  r.position_m = glm::dvec3(world_from_view[3]);
+  r.world_from_view = glm::dmat3(world_from_view);
+  r.view_from_clip = glm::inverse(clip_from_view);
+  r.width = width;
+  r.height = height;
+  return r;
+}
+
+double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view,
+                               const scene::Sun& sun, const RenderSettings& s, HostDepth depth, bool finish) {
+  const int w = view.width, h = view.height;
+  if (w <= 0 || h <= 0 || w > 16384 || h > 16384) {
+    throw UsageError(fmt::format("render: image size {}x{} out of range (1..16384)", w, h));
   }
   gl::DebugGroup group("cloud ray caster");
   const auto t0 = std::chrono::steady_clock::now();
-  const int w = camera.width, h = camera.height;
-  auto cloudTex = gl::Texture::create2D(GL_RGBA32F, w, h).label("cloud layer");
-  auto frameTex = gl::Texture::create2D(GL_RGBA32F, w, h).label("frame");
+  if (target_size_ != glm::ivec2(w, h)) {
+    cloud_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("cloud layer");
+    frame_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("frame");
+    target_size_ = {w, h};
+  }
   const gl::Program& p = program_;
   p.use();
   volume.bind(p);
   dlm.bindForLookup(p);
   glBindTextureUnit(6, basemap_ ? basemap_.id() : blank_.id());
-  const glm::dvec3 forward = glm::normalize(camera.target_m - camera.position_m);
-  const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
-  const glm::dvec3 up = glm::cross(right, forward);
+  glBindTextureUnit(7, depth.texture ? depth.texture : blank_.id());
   p.set("u_size", glm::ivec2(w, h));
-  p.set("u_cam_pos_m", glm::vec3(camera.position_m));
-  p.set("u_cam_forward", glm::vec3(forward));
-  p.set("u_cam_right", glm::vec3(right));
-  p.set("u_cam_up", glm::vec3(up));
-  p.set("u_tan_half_fov", float(std::tan(glm::radians(camera.vertical_fov_deg) * 0.5)));
-  p.set("u_aspect", float(w) / float(h));
+  p.set("u_cam_pos_m", glm::vec3(view.position_m));
+  p.set("u_world_from_view", glm::mat3(view.world_from_view));
+  p.set("u_view_from_clip", glm::mat4(view.view_from_clip));
+  p.set("u_has_host_depth", depth.texture ? 1 : 0);
   p.set("u_to_sun", glm::vec3(sun.toSun()));
   p.set("u_sun_radiance", glm::vec3(sun.colour * sun.intensity));
   p.set("u_ambient", glm::vec3(s.ambient * sun.intensity));
@@ -68,10 +83,20 @@ RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLight
   p.set("u_basemap_min_m", glm::vec2(basemap_rect_.min_m));
   p.set("u_basemap_max_m", glm::vec2(basemap_rect_.max_m));
   p.set("u_ocean_albedo", glm::vec3(s.ocean_albedo));
-  glBindImageTexture(0, cloudTex.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(1, frameTex.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(0, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   p.dispatchCovering({w, h, 1});
-  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  if (finish) glFinish();
+  gl::checkErrors("cloud ray caster");
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
+                                   const scene::Sun& sun, const RenderSettings& s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  dispatch(volume, dlm, ViewRays::fromCamera(camera), sun, s, {}, /*finish=*/false);
+  const int w = camera.width, h = camera.height;
   RenderOutput out;
   for (auto* img : {&out.cloud_layer, &out.frame}) {
     img->width = w;
@@ -79,9 +104,9 @@ RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLight
     img->rgba.resize(std::size_t(w) * std::size_t(h) * 4);
   }
   const auto bytes = static_cast<GLsizei>(out.frame.rgba.size() * sizeof(float));
-  glGetTextureImage(cloudTex.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.cloud_layer.rgba.data());
-  glGetTextureImage(frameTex.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.frame.rgba.data());
-  gl::checkErrors("cloud ray caster");
+  glGetTextureImage(cloud_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.cloud_layer.rgba.data());
+  glGetTextureImage(frame_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.frame.rgba.data());
+  gl::checkErrors("cloud ray caster read-back");
   out.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

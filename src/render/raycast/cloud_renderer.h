@@ -2,6 +2,11 @@
 // The eye pass: ray casting of the ice and water volumes with deep-light-map look-ups, composited
 // over the lit basemap (glsl/render/clouds.comp; Nes 2008 §5.4 eq. 5.18, §5.5; Muth 2026 §3.4).
 // Flat-map view only for now (the globe view of issue 5 is not implemented).
+//
+// Two ways to use it: render() ray casts a scene::Camera and reads the images back (CLI, tests);
+// dispatch() ray casts any perspective view (a host's view and projection matrices, optionally
+// stopping each ray at the host's depth buffer) and leaves the result in GL textures for the
+// caller to composite (the plugin API, the viewer).
 #include <glm/glm.hpp>
 
 #include "render/dlm/deep_light_map.h"
@@ -27,6 +32,30 @@ struct RenderSettings {
   glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};  ///< ground outside the basemap
 };
 
+/// The eye rays of a perspective view, as the GPU builds them: pixel (px, py) with py down (row 0
+/// at the top) maps to NDC (x, y) = (2(px+½)/w − 1, 1 − 2(py+½)/h); its ray leaves the eye along
+/// world_from_view · normalize(view_from_clip · (x, y, 0, 1)).
+struct ViewRays {
+  glm::dvec3 position_m{0.0};
+  glm::dmat3 world_from_view{1.0};  ///< rotation: view axes (x right, y up, −z forward) in world
+  glm::dmat4 view_from_clip{1.0};   ///< inverse projection (OpenGL convention)
+  int width = 0, height = 0;
+
+  /// The rays of scene::Camera::rayDirection (same pixels, same directions).
+  static ViewRays fromCamera(const scene::Camera& camera);
+  /// A host's view (world → eye, rigid) and perspective projection matrices; `width`×`height`
+  /// is the viewport the frame is rendered for.
+  static ViewRays fromMatrices(const glm::dmat4& view_from_world, const glm::dmat4& clip_from_view, int width,
+                               int height);
+};
+
+/// A host depth buffer to stop the rays at (host geometry occludes clouds): a 2-D depth (or R32F)
+/// texture of the view's size, GL row order (row 0 at the bottom), window depth in [0, 1] with
+/// glDepthRange(0, 1) of the same projection as the ViewRays. texture 0 = none.
+struct HostDepth {
+  unsigned texture = 0;
+};
+
 struct RenderOutput {
   scene::RgbaImage cloud_layer;  ///< premultiplied linear RGBA: the clouds alone
   scene::RgbaImage frame;        ///< clouds composited over the lit ground, alpha 1
@@ -41,9 +70,19 @@ class CloudRenderer {
   RenderOutput render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
                       const scene::Sun& sun, const RenderSettings& settings);
 
+  /// Ray casts into cloudLayer() (premultiplied linear RGBA, row 0 = top) and frame() without
+  /// reading back. Binds its own program, textures (units 0–7) and image units 0–1; the caller
+  /// saves and restores GL state if it must (the plugin API does). Returns wall ms incl. glFinish
+  /// when `finish`, else the submission time.
+  double dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view, const scene::Sun& sun,
+                  const RenderSettings& settings, HostDepth depth = {}, bool finish = true);
+  const gl::Texture& cloudLayer() const { return cloud_tex_; }
+  const gl::Texture& frame() const { return frame_tex_; }
+
  private:
   gl::Program program_;
-  gl::Texture basemap_, blank_;
+  gl::Texture basemap_, blank_, cloud_tex_, frame_tex_;
+  glm::ivec2 target_size_{0};
   scene::WorldRect basemap_rect_;
 };
 
