@@ -6,17 +6,13 @@
 
 #include <fmt/format.h>
 
-#include "cache/nph_cache.h"
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/log.h"
-#include "io/model_file.h"
-#include "physics/volume_builder.h"
-#include "render/dlm/deep_light_map.h"
+#include "engine/dataset.h"
+#include "engine/session.h"
 #include "render/gl/context.h"
-#include "render/raycast/cloud_renderer.h"
 #include "scene/scene_file.h"
-#include "scene/scene_setup.h"
 
 namespace nph::cli {
 namespace {
@@ -29,26 +25,6 @@ struct RenderOptions {
   int width = 0, height = 0;
   int timestep = -1;
 };
-
-/// The timestep the scene asks for, from a .nph cache or straight from a model file.
-ExtinctionVolumes loadVolumes(const scene::SceneDescription& s, std::string& identity) {
-  const auto& data = *s.data;
-  if (cache::NphReader::sniff(data.path)) {
-    cache::NphReader reader(data.path);
-    std::vector<std::string> times;
-    for (std::size_t t = 0; t < reader.timestepCount(); ++t) times.push_back(reader.timestep(t).time_utc);
-    const std::size_t t = scene::timestepIndexFor(data, times, data.path);
-    identity = fmt::format("{}#{}", std::filesystem::absolute(data.path).string(), t);
-    return reader.read(t);
-  }
-  const auto file = io::openModelFile(data.path);
-  std::vector<std::string> times;
-  for (const auto& ref : file.timesteps()) times.push_back(ref.time_utc);
-  const std::size_t t = scene::timestepIndexFor(data, times, data.path);
-  identity = fmt::format("{}#{}", std::filesystem::absolute(data.path).string(), t);
-  log::info("{}: not a .nph cache; converting timestep {} with the default optics", data.path, t);
-  return physics::buildExtinctionVolumes(file.load(t), physics::defaultOptics(), physics::VerticalGridOptions{});
-}
 
 int runRender(const RenderOptions& o) {
   scene::SceneDescription s = scene::loadSceneFile(o.scene);
@@ -64,9 +40,7 @@ int runRender(const RenderOptions& o) {
   if (s.view == scene::ViewMode::Globe) {
     throw InputError(o.scene + ": view \"globe\" is not implemented by the renderer yet; use \"flat\"");
   }
-  std::string identity;
-  const ExtinctionVolumes volumes = loadVolumes(s, identity);
-  const scene::PreparedScene prepared = scene::prepareScene(s, volumes);
+  const auto dataset = engine::Dataset::open(s.data->path);
 
   gl::ContextOptions co;
   const auto backend = gl::parseBackend(o.gl);
@@ -75,31 +49,16 @@ int runRender(const RenderOptions& o) {
   co.visible = false;
   auto ctx = gl::createContext(co);
 
-  const auto textures = render::VolumeTextures::upload(volumes, prepared.frame, identity);
-  scene::DlmSettings dlmSettings;
-  dlmSettings.epsilon = s.quality.dlm_epsilon;
-  dlmSettings.max_nodes = s.quality.dlm_max_nodes;
-  dlmSettings.max_texels = s.quality.dlm_resolution;
-  dlmSettings.empty_space_skipping = s.quality.empty_space_skipping;
+  engine::Session session(dataset, s);
+  const scene::PreparedScene& prepared = session.prepared();
   if (prepared.sun.elevation_deg <= 0.0) {
     log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -prepared.sun.elevation_deg);
   }
-  render::DeepLightMap dlm;
-  dlm.build(textures, -prepared.sun.toSun(), dlmSettings);
-  const auto& st = dlm.stats();
+  const auto out = session.render(prepared.camera);
+  const auto& st = session.deepLightMap().stats();
   log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
             st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6, st.compression_ratio, st.pass1_ms,
             st.pass2_ms, st.pass3_ms, st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
-
-  render::CloudRenderer renderer;
-  if (prepared.basemap_rect) renderer.setBasemap(prepared.basemap, *prepared.basemap_rect);
-  render::RenderSettings rs;
-  rs.step_voxels = s.quality.step_voxels;
-  rs.min_transmittance = s.quality.early_termination_transmittance;
-  rs.jitter = s.quality.jitter;
-  rs.empty_space_skipping = s.quality.empty_space_skipping;
-  rs.shadows = s.quality.shadows;
-  const auto out = renderer.render(textures, dlm, prepared.camera, prepared.sun, rs);
   log::info("ray cast {}x{} in {:.0f} ms", out.frame.width, out.frame.height, out.milliseconds);
   for (const auto& path : s.output.paths) {
     if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);

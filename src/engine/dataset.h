@@ -1,0 +1,60 @@
+#pragma once
+// A dataset opened for rendering: a `.nph` extinction cache (read lazily, one timestep at a time)
+// or a WRF/ICON model file (each timestep converted on load with the default optics; convert to
+// .nph first for speed, docs/conversion.md). Loads are thread-safe, so a prefetch thread may
+// decode the next timestep while the current one renders (Nes 2008 §5.1.2).
+//
+// Fractional time (Thomann 2021 §5.5; Nes 2008 §5.1.2): the state at time index t ∈ [i, i+1] is
+// the linear blend of the extinction volumes of timesteps i and i+1, β(t) = (1−w)·β_i + w·β_{i+1},
+// w = t − i. Linear in extinction keeps optical depths linear in w and never creates condensate
+// where neither timestep has any; its artefact is that a cloud that *moves* between timesteps
+// fades out at the old place while it fades in at the new one (a double image at w = ½) instead of
+// translating — model output every 5–15 minutes keeps that small; hourly output shows it.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cache/extinction_volumes.h"
+
+namespace nph::engine {
+
+class Dataset {
+ public:
+  /// Opens `path`: a .nph cache or a model file io::openModelFile recognises. InputError names
+  /// the file and what is wrong.
+  static std::shared_ptr<const Dataset> open(const std::string& path);
+  virtual ~Dataset() = default;
+
+  const std::string& path() const { return path_; }
+  std::size_t timestepCount() const { return times_.size(); }
+  /// ISO 8601 (or the model's) time of timestep t.
+  const std::string& timeUtc(std::size_t t) const { return times_.at(t); }
+  const std::vector<std::string>& times() const { return times_; }
+  /// Reads (and for model files converts) timestep t; thread-safe. InputError on bad data.
+  virtual ExtinctionVolumes load(std::size_t t) const = 0;
+  /// Names the content of timestep t (absolute path + index) for the DLM cache key.
+  std::string identity(std::size_t t) const;
+
+ protected:
+  Dataset(std::string path, std::vector<std::string> times);
+
+ private:
+  std::string path_;
+  std::vector<std::string> times_;
+};
+
+/// β = (1−w)·a + w·b on a's grid. The grids must agree horizontally and in dz / z_bottom (the
+/// layer counts may differ: the shorter column is padded with zeros). UsageError otherwise.
+/// w is clamped to [0, 1]; w = 0 and w = 1 return a and b exactly.
+ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w);
+
+/// The timestep pair and weight of fractional time index `t` among `count` timesteps:
+/// t is clamped to [0, count−1]; returns {i, i+1 (or i at the end), w}.
+struct TimeBracket {
+  std::size_t first = 0, second = 0;
+  double weight = 0.0;  ///< of `second`
+};
+TimeBracket bracketTime(double t, std::size_t count);
+
+}  // namespace nph::engine

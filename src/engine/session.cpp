@@ -1,0 +1,128 @@
+#include "engine/session.h"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace nph::engine {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+scene::DlmSettings dlmSettingsFor(const scene::QualitySettings& q) {
+  scene::DlmSettings d;
+  d.epsilon = q.dlm_epsilon;
+  d.max_nodes = q.dlm_max_nodes;
+  d.max_texels = q.dlm_resolution;
+  d.empty_space_skipping = q.empty_space_skipping;
+  return d;
+}
+
+render::RenderSettings renderSettingsFor(const scene::QualitySettings& q) {
+  render::RenderSettings r;
+  r.step_voxels = q.step_voxels;
+  r.min_transmittance = q.early_termination_transmittance;
+  r.jitter = q.jitter;
+  r.empty_space_skipping = q.empty_space_skipping;
+  r.shadows = q.shadows;
+  return r;
+}
+
+Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription scene)
+    : dataset_(std::move(dataset)), scene_(std::move(scene)) {
+  if (!dataset_) throw UsageError("Session: no dataset");
+  scene::DataSpec spec;
+  if (scene_.data) spec = *scene_.data;
+  const std::size_t t = scene::timestepIndexFor(spec, dataset_->times(), dataset_->path());
+  time_index_ = double(t);
+  prepared_ = scene::prepareScene(scene_, *timestep(t));
+  sun_ = prepared_.sun;
+  render_settings_ = renderSettingsFor(scene_.quality);
+  if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
+}
+
+Session::~Session() = default;
+
+void Session::setCacheLimit(std::size_t timesteps) { cache_limit_ = std::max<std::size_t>(timesteps, 2); }
+
+std::shared_ptr<const ExtinctionVolumes> Session::timestep(std::size_t t) {
+  if (auto it = cache_.find(t); it != cache_.end()) return it->second;
+  auto v = std::make_shared<const ExtinctionVolumes>(dataset_->load(t));
+  while (cache_.size() >= cache_limit_) {  // evict the timestep farthest from the one asked for
+    auto far = cache_.begin();
+    for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+      const auto d = [t](std::size_t u) { return u > t ? u - t : t - u; };
+      if (d(it->first) > d(far->first)) far = it;
+    }
+    cache_.erase(far);
+  }
+  cache_.emplace(t, v);
+  return v;
+}
+
+void Session::setTime(double time_index) {
+  time_index_ = double(bracketTime(time_index, dataset_->timestepCount()).first) +
+                bracketTime(time_index, dataset_->timestepCount()).weight;
+}
+
+void Session::setSun(const scene::Sun& sun) { sun_ = sun; }
+
+void Session::setQuality(const scene::QualitySettings& quality) {
+  scene_.quality = quality;
+  const auto keep = render_settings_;
+  render_settings_ = renderSettingsFor(quality);
+  render_settings_.g_ice = keep.g_ice;
+  render_settings_.g_water = keep.g_water;
+  render_settings_.ambient = keep.ambient;
+  render_settings_.ocean_albedo = keep.ocean_albedo;
+}
+
+void Session::update() {
+  stats_.volume_changed = false;
+  stats_.dlm_rebuilt = false;
+  stats_.load_ms = stats_.upload_ms = stats_.dlm_ms = 0.0;
+  stats_.time_index = time_index_;
+  const TimeBracket b = bracketTime(time_index_, dataset_->timestepCount());
+  const std::string key = b.weight == 0.0 ? dataset_->identity(b.first)
+                                          : fmt::format("{}+{}@{:.9g}", dataset_->identity(b.first), b.second, b.weight);
+  if (key != volume_key_ || !textures_) {
+    auto t0 = std::chrono::steady_clock::now();
+    const auto a = timestep(b.first);
+    std::shared_ptr<const ExtinctionVolumes> v = a;
+    if (b.weight > 0.0) v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timestep(b.second), b.weight));
+    stats_.load_ms = msSince(t0);
+    t0 = std::chrono::steady_clock::now();
+    textures_.reset();  // free the old volume before uploading the new one
+    textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), key));
+    stats_.upload_ms = msSince(t0);
+    volume_key_ = key;
+    stats_.volume_changed = true;
+    ++stats_.volume_uploads;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  stats_.dlm_rebuilt = dlm_.build(*textures_, -sun_.toSun(), dlmSettingsFor(scene_.quality));
+  if (stats_.dlm_rebuilt) stats_.dlm_ms = msSince(t0);
+  stats_.dlm_builds = dlm_.stats().builds;
+  stats_.dlm_reuses = dlm_.stats().reuses;
+}
+
+render::RenderOutput Session::render(const scene::Camera& camera) {
+  update();
+  auto out = renderer_.render(*textures_, dlm_, camera, sun_, render_settings_);
+  stats_.raycast_ms = out.milliseconds;
+  return out;
+}
+
+void Session::dispatch(const render::ViewRays& view, render::HostDepth depth) {
+  update();
+  stats_.raycast_ms = renderer_.dispatch(*textures_, dlm_, view, sun_, render_settings_, depth, /*finish=*/false);
+}
+
+}  // namespace nph::engine

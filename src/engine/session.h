@@ -1,0 +1,99 @@
+#pragma once
+// A rendering session: one dataset, one scene, a current GL context. It keeps the GPU volume,
+// the deep light map and the ray caster up to date and redoes only what changed (Nes 2008 §6.3
+// table 6.1: a time change costs a volume upload and a DLM build; a camera change costs only the
+// ray cast; a sun change costs a DLM build):
+//   setTime     → a new (possibly blended, dataset.h) volume only if the timestep pair or the
+//                 weight changed; decoded timesteps are kept in a small cache;
+//   setSun / setQuality → the DLM is rebuilt only if its cache key changed (DeepLightMap::build);
+//   render / dispatch → ray cast with the camera given.
+// All calls must come from the thread whose GL context was current at construction.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "engine/dataset.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/dlm/volume_textures.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/dlm_model.h"
+#include "scene/scene_file.h"
+#include "scene/scene_setup.h"
+
+namespace nph::engine {
+
+/// The DLM and ray-caster settings of a scene file's quality section.
+scene::DlmSettings dlmSettingsFor(const scene::QualitySettings& q);
+render::RenderSettings renderSettingsFor(const scene::QualitySettings& q);
+
+struct FrameStats {
+  double time_index = 0.0;   ///< fractional timestep index rendered
+  bool volume_changed = false;  ///< a new volume was uploaded for this frame
+  bool dlm_rebuilt = false;     ///< the deep light map was rebuilt for this frame
+  double load_ms = 0.0;         ///< decoding/blending timesteps (0 when cached)
+  double upload_ms = 0.0;
+  double dlm_ms = 0.0;
+  double raycast_ms = 0.0;
+  std::uint64_t dlm_builds = 0, dlm_reuses = 0;  ///< over the session
+  std::uint64_t volume_uploads = 0;
+};
+
+class Session {
+ public:
+  /// Loads the scene's timestep (data.timestep / data.time_utc) and prepares the scene (frame,
+  /// georeference, camera, sun, basemap). Needs a current GL 4.5 context.
+  Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription scene);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  const Dataset& dataset() const { return *dataset_; }
+  const scene::SceneDescription& scene() const { return scene_; }
+  const scene::PreparedScene& prepared() const { return prepared_; }
+
+  /// Fractional timestep index in [0, count−1] (clamped; UsageError when not finite).
+  void setTime(double time_index);
+  double time() const { return time_index_; }
+  /// The sun in the world frame (prepared().sun initially).
+  void setSun(const scene::Sun& sun);
+  const scene::Sun& sun() const { return sun_; }
+  void setQuality(const scene::QualitySettings& quality);
+  const scene::QualitySettings& quality() const { return scene_.quality; }
+  /// Ray-caster-only settings (phase functions, ambient, ...) on top of the quality section.
+  render::RenderSettings& renderSettings() { return render_settings_; }
+
+  /// Brings volume and DLM up to date, then ray casts `camera` and reads the images back.
+  render::RenderOutput render(const scene::Camera& camera);
+  /// Brings volume and DLM up to date, then ray casts `view` into renderer().cloudLayer()/frame().
+  void dispatch(const render::ViewRays& view, render::HostDepth depth = {});
+
+  const render::CloudRenderer& renderer() const { return renderer_; }
+  const render::DeepLightMap& deepLightMap() const { return dlm_; }
+  const render::VolumeTextures& volumeTextures() const { return *textures_; }
+  const FrameStats& stats() const { return stats_; }
+
+  /// The decoded-timestep cache: at most this many timesteps are kept (default 3).
+  void setCacheLimit(std::size_t timesteps);
+
+ private:
+  void update();
+  std::shared_ptr<const ExtinctionVolumes> timestep(std::size_t t);
+
+  std::shared_ptr<const Dataset> dataset_;
+  scene::SceneDescription scene_;
+  scene::PreparedScene prepared_;
+  scene::Sun sun_;
+  render::RenderSettings render_settings_;
+  double time_index_ = 0.0;
+  std::string volume_key_;  // identity of the uploaded volume
+  std::optional<render::VolumeTextures> textures_;
+  render::DeepLightMap dlm_;
+  render::CloudRenderer renderer_;
+  std::map<std::size_t, std::shared_ptr<const ExtinctionVolumes>> cache_;
+  std::size_t cache_limit_ = 3;
+  FrameStats stats_;
+};
+
+}  // namespace nph::engine
