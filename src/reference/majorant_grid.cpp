@@ -71,7 +71,9 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
 double MajorantGrid::majorantAt(const glm::dvec3& world_m) const {
   const glm::dvec3 g = field_.frame().gridFromWorld(world_m);
   const glm::dvec3 n(field_.frame().voxels);
-  if (!(g.x >= 0.0 && g.y >= 0.0 && g.z >= 0.0 && g.x <= n.x && g.y <= n.y && g.z <= n.z)) return 0.0;
+  if (!(g.x >= -0.5 && g.y >= -0.5 && g.z >= -0.5 && g.x <= n.x + 0.5 && g.y <= n.y + 0.5 && g.z <= n.z + 0.5)) {
+    return 0.0;
+  }
   const glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(g / double(brick_))), glm::ivec3(0), bricks_ - 1);
   return majorant(b.x, b.y, b.z);
 }

@@ -7,7 +7,8 @@
 // walk). Each brick stores μ̄ ≥ β_ice + β_water at every point of its world-space box. Because
 // the field is trilinear between voxel centres, a point in brick [bB, (b+1)B) (grid units) reads
 // voxels bB − 1 … (b+1)B on that axis; μ̄ is the maximum of β_ice + β_water over that range,
-// clamped to the volume — an exact bound, not a heuristic. Bricks with μ̄ = 0 are skipped by the
+// clamped to the volume — an exact bound, not a heuristic. The outermost bricks also cover the
+// half-voxel rim outside the box where β fades to the zero border (path_tracer_field.h). Bricks with μ̄ = 0 are skipped by the
 // trackers without sampling (empty-space skipping).
 //
 // Traversal: a 3D DDA (Amanatides & Woo 1987) over the bricks along a ray yields the segments
@@ -38,7 +39,7 @@ class MajorantGrid {
     return majorant_[(std::size_t(bz) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) +
                      std::size_t(bx)];
   }
-  /// μ̄ of the brick containing a world point (0 outside the box).
+  /// μ̄ of the brick containing a world point (0 outside the support: the box grown by ½ voxel).
   double majorantAt(const glm::dvec3& world_m) const;
 
   /// Calls visit(μ̄ [1/m], t_a, t_b) for consecutive segments covering [t0, t1] ∩ box along
@@ -62,6 +63,10 @@ void MajorantGrid::traverse(const glm::dvec3& origin_m, const glm::dvec3& dir, d
   const glm::dvec3 g0 = f.gridFromWorld(origin_m);
   const glm::dvec3 gd = dir / f.voxel_size_m;
   const double b = double(brick_);
+  // The outermost bricks reach on to the support's faces (half a voxel past the box, where β fades
+  // to 0; their μ̄ bounds that rim too, since it reads voxel −1 = 0 and voxel 0): no crossing
+  // leaves them in the outward direction.
+  constexpr double kNever = std::numeric_limits<double>::infinity();
   glm::ivec3 idx{0}, step{0};
   glm::dvec3 tNext{0.0}, tDelta{0.0};
   for (int a = 0; a < 3; ++a) {
@@ -69,11 +74,11 @@ void MajorantGrid::traverse(const glm::dvec3& origin_m, const glm::dvec3& dir, d
     idx[a] = std::clamp(int(std::floor(p)), 0, bricks_[a] - 1);
     if (gd[a] > 0.0) {
       step[a] = 1;
-      tNext[a] = ((double(idx[a]) + 1.0) * b - g0[a]) / gd[a];
+      tNext[a] = idx[a] == bricks_[a] - 1 ? kNever : ((double(idx[a]) + 1.0) * b - g0[a]) / gd[a];
       tDelta[a] = b / gd[a];
     } else if (gd[a] < 0.0) {
       step[a] = -1;
-      tNext[a] = (double(idx[a]) * b - g0[a]) / gd[a];
+      tNext[a] = idx[a] == 0 ? kNever : (double(idx[a]) * b - g0[a]) / gd[a];
       tDelta[a] = -b / gd[a];
     } else {
       tNext[a] = std::numeric_limits<double>::infinity();
@@ -88,8 +93,8 @@ void MajorantGrid::traverse(const glm::dvec3& origin_m, const glm::dvec3& dir, d
     if (tExit >= tb) return;
     t = std::max(t, tExit);
     idx[axis] += step[axis];
-    if (idx[axis] < 0 || idx[axis] >= bricks_[axis]) return;
-    tNext[axis] += tDelta[axis];
+    const bool outermost = step[axis] > 0 ? idx[axis] == bricks_[axis] - 1 : idx[axis] == 0;
+    tNext[axis] = outermost ? kNever : tNext[axis] + tDelta[axis];
   }
 }
 

@@ -123,7 +123,7 @@ class PathTracer::Path {
         t += freeFlight(rng_, mu);
         if (t >= tb) return true;
         e = pt_.field_.at(o + t * d);
-        if (rng_.uniform() * mu < e.total_per_m()) {
+        if (rng_.uniform() * mu < e.total()) {
           tHit = t;
           hit = true;
           return false;
@@ -146,7 +146,7 @@ class PathTracer::Path {
       for (double t = ta;;) {
         t += freeFlight(rng_, mu);
         if (t >= tb) return true;
-        tr *= 1.0 - pt_.field_.at(x + t * pt_.to_sun_).total_per_m() / mu;
+        tr *= 1.0 - pt_.field_.at(x + t * pt_.to_sun_).total() / mu;
         if (tr < kRouletteTransmittance) {
           if (!(tr > 0.0) || rng_.uniform() < 0.5) {
             tr = 0.0;

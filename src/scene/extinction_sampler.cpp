@@ -12,8 +12,9 @@ double ExtinctionSampler::fetch(const std::vector<float>& a, int i, int j, int k
 ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
   const glm::dvec3 g = f_.gridFromWorld(world_m);
   ExtinctionSample s;
-  if (g.x < -1.0 || g.y < -1.0 || g.z < -1.0 || g.x > v_.nx + 1.0 || g.y > v_.ny + 1.0 || g.z > v_.nz + 1.0) {
-    return s;
+  if (!(g.x >= -1.0 && g.y >= -1.0 && g.z >= -1.0 && g.x <= v_.nx + 1.0 && g.y <= v_.ny + 1.0 &&
+        g.z <= v_.nz + 1.0)) {
+    return s;  // outside (β = 0 there) or NaN
   }
   const glm::dvec3 c = g - 0.5;  // continuous index relative to voxel centres
   const glm::dvec3 fl = glm::floor(c);

@@ -109,10 +109,21 @@ TEST(PathTracer, AlphaOfHomogeneousSlabIsBeerLambert) {
     const double expected = 1.0 - std::exp(-slab.sigma_per_m * Slab::kThickness_m / -dir.z);
     EXPECT_NEAR(pt.alpha({50000.0, 50000.0, 3000.0}, dir), expected, 1e-12) << dir.x << " " << dir.z;
   }
-  // A ray through a side face: τ = σ × the geometric chord inside the box.
-  const glm::dvec3 o{-500.0, 50000.0, 1500.0}, dir = glm::normalize(glm::dvec3(1.0, 0.0, 0.004));
-  const double chord = (2000.0 - 1500.0) / dir.z - 500.0 / dir.x;
-  EXPECT_NEAR(pt.alpha(o, dir), 1.0 - std::exp(-slab.sigma_per_m * chord), 1e-12);
+  // A ray through both side faces at mid-height: β ramps linearly from 0 to σ between ½ voxel
+  // outside and ½ voxel inside each face (the GPU's zero border), which integrates to the same τ
+  // as the box chord: σ × 100 km.
+  const glm::dvec3 o{-30000.0, 50000.0, 1500.0};
+  EXPECT_NEAR(pt.alpha(o, {1.0, 0.0, 0.0}), 1.0 - std::exp(-slab.sigma_per_m * 100000.0), 1e-12);
+  // Starting on the face: the outer half of the first ramp (0 → ½σ over ½ voxel: σ·⅛ voxel) is
+  // behind the origin.
+  EXPECT_NEAR(pt.alpha({0.0, 50000.0, 1500.0}, {1.0, 0.0, 0.0}),
+              1.0 - std::exp(-slab.sigma_per_m * (100000.0 - 0.125 * 25000.0)), 1e-12);
+  // The zero-border rule of scene/extinction_sampler.h: ½σ on the face, 0 half a voxel out.
+  const ExtinctionField& f = pt.field();
+  EXPECT_NEAR(f.at({0.0, 50000.0, 1500.0}).total(), 0.5 * slab.sigma_per_m, 1e-15);
+  EXPECT_NEAR(f.at({50000.0, 50000.0, 2125.0}).total(), 0.25 * slab.sigma_per_m, 1e-15);
+  EXPECT_EQ(f.at({-12500.0, 50000.0, 1500.0}).total(), 0.0);
+  EXPECT_EQ(f.at({50000.0, 50000.0, 2250.0}).total(), 0.0);
   // A ray that misses the box, and the ground plane cutting the slab's column short.
   EXPECT_EQ(pt.alpha({50000.0, 50000.0, 3000.0}, {0.0, 0.0, 1.0}), 0.0);
   PathTracerSettings s = sunOnly(1);
@@ -170,12 +181,13 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
   for (int brick : {1, 4, 8}) {
     const ExtinctionField field(v, frame);
     const MajorantGrid grid(field, brick);
+    const glm::dvec3 lo = field.supportMin(), size = field.supportMax() - field.supportMin();
     for (int i = 0; i < 20000; ++i) {
-      const glm::dvec3 p = frame.min_m() + glm::dvec3(u(rng), u(rng), u(rng)) * frame.size_m();
-      ASSERT_LE(field.at(p).total_per_m(), grid.majorantAt(p)) << "brick " << brick;
+      const glm::dvec3 p = lo + glm::dvec3(u(rng), u(rng), u(rng)) * size;  // incl. the zero-border rim
+      ASSERT_LE(field.at(p).total(), grid.majorantAt(p)) << "brick " << brick;
     }
     for (int r = 0; r < 300; ++r) {
-      const glm::dvec3 o = frame.min_m() + glm::dvec3(u(rng), u(rng), u(rng)) * frame.size_m();
+      const glm::dvec3 o = lo + glm::dvec3(u(rng), u(rng), u(rng)) * size;
       const glm::dvec3 d = glm::normalize(glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
       double t0 = 0.0, t1 = 0.0;
       ASSERT_TRUE(field.clipToBox(o, d, 0.0, 1e9, t0, t1));
@@ -185,7 +197,7 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
         last = tb;
         covered += tb - ta;
         for (int s = 0; s < 4; ++s) {
-          EXPECT_LE(field.at(o + (ta + u(rng) * (tb - ta)) * d).total_per_m(), mu);
+          EXPECT_LE(field.at(o + (ta + u(rng) * (tb - ta)) * d).total(), mu);
         }
         return true;
       });
@@ -210,14 +222,19 @@ TEST(PathTracer, OpticalDepthIsExactForTheTrilinearField) {
   const scene::VolumeFrame frame = scene::frameOf(v);
   const ExtinctionField field(v, frame);
   for (int r = 0; r < 40; ++r) {
-    const glm::dvec3 o = frame.min_m() + glm::dvec3(u(rng), u(rng), u(rng)) * frame.size_m();
+    // Origins inside the box, in the half-voxel rim around it (β fading to the zero border) and
+    // outside; the brute force spans the whole support.
+    const glm::dvec3 o = frame.min_m() + glm::dvec3(1.4 * u(rng) - 0.2, 1.4 * u(rng) - 0.2, 1.4 * u(rng) - 0.2) * frame.size_m();
     glm::dvec3 d = glm::normalize(glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
     if (r % 10 == 0) d = glm::dvec3(0.0, 0.0, r % 20 == 0 ? 1.0 : -1.0);  // along a grid axis
     double t0 = 0.0, t1 = 0.0;
-    ASSERT_TRUE(field.clipToBox(o, d, 0.0, 1e9, t0, t1));
+    if (!field.clipToBox(o, d, 0.0, 1e9, t0, t1)) {
+      EXPECT_EQ(field.opticalDepth(o, d, 0.0, 1e9), 0.0);
+      continue;
+    }
     const int n = 200000;
     double brute = 0.0;
-    for (int i = 0; i < n; ++i) brute += field.at(o + (t0 + (i + 0.5) * (t1 - t0) / n) * d).total_per_m();
+    for (int i = 0; i < n; ++i) brute += field.at(o + (t0 + (i + 0.5) * (t1 - t0) / n) * d).total();
     brute *= (t1 - t0) / n;
     EXPECT_NEAR(field.opticalDepth(o, d, 0.0, 1e9), brute, 1e-7 * brute + 1e-12) << "ray " << r;
   }
