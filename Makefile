@@ -4,6 +4,7 @@
 #   make test   deps + build + the whole CTest suite (unit and GL tests on llvmpipe)
 #   make demo   deps + build + render the built-in sample storm
 #   make bench  deps + build + Google Benchmark suite, JSON/CSV into build/bench/
+#   make bench-accuracy  deps + build + `nephele bench accuracy` (run time against error), into build/accuracy/
 BUILD_DIR  ?= build
 BUILD_TYPE ?= RelWithDebInfo
 CMAKE_ARGS ?=
@@ -13,7 +14,7 @@ ifeq ($(CI),true)
   CMAKE_ARGS += -DNEPHELE_WERROR=ON
 endif
 
-.PHONY: all deps build test demo bench clean install
+.PHONY: all deps build test demo bench bench-accuracy clean install
 all: build
 
 deps:
@@ -40,6 +41,10 @@ demo: deps
 bench: deps
 	$(MAKE) build
 	@bash tools/bench.sh $(BUILD_DIR)
+
+bench-accuracy: deps
+	$(MAKE) build
+	$(BUILD_DIR)/src/cli/nephele bench accuracy -o $(BUILD_DIR)/accuracy $(ACCURACY_ARGS)
 
 install: build
 	cmake --install $(BUILD_DIR)

@@ -1,0 +1,213 @@
+#include "accuracy/accuracy_sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include <map>
+
+#include "reference/dlm_reference.h"
+#include "reference/ray_marcher.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/dlm/volume_textures.h"
+
+namespace nph::accuracy {
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+constexpr double kReferenceStepVoxels = 0.125;
+
+std::string number(double x) { return fmt::format("{:g}", x); }
+
+Variant defaults() {
+  Variant v;
+  v.knob = "default";
+  v.value = "-";
+  v.render.jitter = false;  // pixel-centre rays, like both references
+  return v;
+}
+
+reference::RayMarchSettings marchSettingsFor(const render::RenderSettings& r) {
+  reference::RayMarchSettings m;
+  m.step_voxels = r.step_voxels;
+  m.min_transmittance = r.min_transmittance;
+  m.g_ice = r.g_ice;
+  m.g_water = r.g_water;
+  m.ambient = r.ambient;
+  return m;
+}
+
+// The CPU reference of the same approximation, converged: the variant's light-transport model
+// (forward cone θ, Cornette–Shanks g, scatter map on/off and its cell size) integrated by
+// reference::DlmReference without compression with 4 sub-steps per default DLM step (Δ/8 =
+// 1/8 voxel) on the default light space (1 texel per voxel), and the eye pass marched with 1/8
+// voxel steps and no early termination. One per distinct model in a scene.
+const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextures& tex, const AccuracyScene& sc,
+                                     std::map<std::string, scene::RgbaImage>& cache) {
+  const std::string key = fmt::format("{}/{}/{}/{}/{}", v.dlm.forward_angle_deg, v.dlm.cornette_shanks_g,
+                                      v.dlm.peripheral, v.dlm.scatter_downsample, v.dlm.scatter_slice_steps);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  scene::DlmSettings model = v.dlm;
+  model.texel_voxels = scene::DlmSettings{}.texel_voxels;
+  model.step_voxels = scene::DlmSettings{}.step_voxels;
+  render::DeepLightMap layout;  // the light space (texel grid, extent) and step the GPU would use
+  layout.build(tex, -sc.sun.toSun(), model);
+  constexpr int kRefine = 4;
+  const reference::DlmReference light(*sc.volumes, sc.frame, layout.lightSpace(), layout.settings(),
+                                      layout.stats().step_m, layout.stats().steps, kRefine);
+  reference::RayMarchSettings march = marchSettingsFor(v.render);
+  march.step_voxels = kReferenceStepVoxels;
+  march.min_transmittance = 0.0;
+  return cache[key] = reference::marchCloudLayer(*sc.volumes, sc.frame, sc.camera, sc.sun,
+                                                 [&](const glm::dvec3& p) { return light.intensityAt(p); }, march);
+}
+
+}  // namespace
+
+Variant variantOf(const scene::QualitySettings& q) {
+  Variant v = defaults();
+  v.knob = "preset";
+  v.value = q.preset;
+  v.dlm.epsilon = q.dlm_epsilon;
+  v.dlm.max_texels = q.dlm_resolution;
+  v.dlm.max_nodes = q.dlm_max_nodes;
+  v.dlm.empty_space_skipping = q.empty_space_skipping;
+  v.render.step_voxels = q.step_voxels;
+  v.render.min_transmittance = q.early_termination_transmittance;
+  v.render.empty_space_skipping = q.empty_space_skipping;
+  return v;
+}
+
+std::vector<Variant> sweepVariants(bool quick) {
+  std::vector<Variant> out{defaults()};
+  auto knob = [&](const std::string& name, const std::vector<double>& values, auto&& apply) {
+    for (double x : values) {
+      Variant v = defaults();
+      v.knob = name;
+      v.value = number(x);
+      apply(v, x);
+      out.push_back(v);
+    }
+  };
+  using L = std::vector<double>;
+  knob("step_voxels", quick ? L{1.0, 0.25} : L{2.0, 1.0, 0.25, 0.125},
+       [](Variant& v, double x) { v.render.step_voxels = x; });
+  knob("dlm_texel_voxels", quick ? L{2.0} : L{4.0, 2.0, 0.5}, [](Variant& v, double x) { v.dlm.texel_voxels = x; });
+  knob("dlm_step_voxels", quick ? L{1.0} : L{2.0, 1.0, 0.25}, [](Variant& v, double x) { v.dlm.step_voxels = x; });
+  knob("epsilon", quick ? L{0.04} : L{0.08, 0.04, 0.02, 0.005, 0.0025}, [](Variant& v, double x) { v.dlm.epsilon = x; });
+  knob("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
+       [](Variant& v, double x) { v.dlm.scatter_downsample = int(x); });
+  if (!quick) {
+    Variant off = defaults();
+    off.knob = "scatter_downsample";
+    off.value = "off";
+    off.dlm.peripheral = false;
+    out.push_back(off);
+  }
+  knob("forward_angle_deg", quick ? L{30.0} : L{10.0, 30.0, 40.0}, [](Variant& v, double x) { v.dlm.forward_angle_deg = x; });
+  for (const char* p : {"draft", "broadcast", "reference"}) out.push_back(variantOf(scene::qualityPreset(p)));
+  return out;
+}
+
+const std::vector<std::string>& csvColumns() {
+  static const std::vector<std::string> c{
+      "scene", "knob", "value", "dlm_ms", "raycast_ms", "total_ms", "dlm_mean_nodes", "dlm_unbounded_texels",
+      "truth_rmse", "truth_rel_mse", "truth_mean_abs", "truth_max_abs", "truth_share_off_2_255", "truth_alpha_max_abs",
+      "truth_noise_rmse", "truth_bias_rmse", "truth_truncated_share", "coverage",
+      "ref_rmse", "ref_rel_mse", "ref_mean_abs", "ref_max_abs", "ref_share_off_2_255", "ref_alpha_max_abs"};
+  return c;
+}
+
+double biasRmse(const ImageError& e) {
+  return std::sqrt(std::max(e.rmse * e.rmse - e.ref_noise_rmse * e.ref_noise_rmse, 0.0));
+}
+
+void writeCsv(const std::vector<SweepRow>& rows, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path + ": cannot write");
+  for (std::size_t i = 0; i < csvColumns().size(); ++i) out << (i ? "," : "") << csvColumns()[i];
+  out << "\n";
+  for (const SweepRow& r : rows) {
+    const ImageError& t = r.vs_truth;
+    const ImageError& c = r.vs_reference;
+    out << fmt::format("{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},"
+                       "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+                       r.scene, r.knob, r.value, r.dlm_ms, r.raycast_ms, r.dlm_ms + r.raycast_ms, r.dlm_mean_nodes,
+                       r.dlm_unbounded_texels, t.rmse, t.rel_mse, t.mean_abs, t.max_abs, t.share_off_2_255,
+                       t.alpha_max_abs, t.ref_noise_rmse, biasRmse(t), r.truth_truncated_share, r.coverage, c.rmse, c.rel_mse,
+                       c.mean_abs, c.max_abs, c.share_off_2_255, c.alpha_max_abs);
+  }
+  if (!out) throw IoError(path + ": write failed");
+}
+
+std::vector<SweepRow> runSweep(const SweepOptions& o) {
+  if (o.runs < 1) throw UsageError("bench accuracy: --runs must be at least 1");
+  const std::string cacheDir = o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
+  const SceneSet set = standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const std::vector<Variant> variants = sweepVariants(o.quick);
+  std::vector<SweepRow> rows;
+  for (const AccuracyScene& sc : set.scenes) {
+    if (!o.scene_filter.empty() && sc.name.find(o.scene_filter) == std::string::npos) continue;
+    const GroundTruth gt = groundTruth(sc, defaults().render, o.ground_truth, cacheDir);
+    double coverage = 0.0;
+    for (std::size_t i = 3; i < gt.image.rgba.size(); i += 4) coverage += double(gt.image.rgba[i]);
+    coverage /= double(gt.image.rgba.size() / 4);
+    log::info("{}: {}x{}x{} voxels, ground truth {} ({:.0f} s, {:.2g} of paths cut), coverage {:.2f}", sc.name,
+              sc.volumes->nx, sc.volumes->ny, sc.volumes->nz, gt.from_cache ? "from cache" : "traced", gt.seconds,
+              gt.truncated_share, coverage);
+    if (o.write_images) {
+      scene::writePng(gt.image, (std::filesystem::path(o.out_dir) / (sc.name + "-truth.png")).string());
+    }
+    const auto tex = render::VolumeTextures::upload(*sc.volumes, sc.frame, sc.volume_name + "-accuracy");
+    render::CloudRenderer renderer;
+    std::map<std::string, scene::RgbaImage> references;  // per model (forward cone, scatter map)
+    for (const Variant& v : variants) {
+      std::vector<double> dlmMs, castMs;
+      render::RenderOutput out;
+      std::unique_ptr<render::DeepLightMap> dlm;
+      for (int r = -1; r < o.runs; ++r) {  // run −1 warms up (shader variants, caches): not timed
+        dlm = std::make_unique<render::DeepLightMap>();  // a fresh map: the cache key would skip the build
+        dlm->build(tex, -sc.sun.toSun(), v.dlm);
+        const render::DlmStats& st = dlm->stats();
+        out = renderer.render(tex, *dlm, sc.camera, sc.sun, v.render);
+        if (r < 0) continue;
+        dlmMs.push_back(st.pass1_ms + st.pass2_ms + st.pass3_ms);
+        castMs.push_back(out.milliseconds);
+      }
+      const scene::RgbaImage& cpu = referenceFor(v, tex, sc, references);
+      SweepRow row;
+      row.scene = sc.name;
+      row.knob = v.knob;
+      row.value = v.value;
+      row.dlm_ms = median(dlmMs);
+      row.raycast_ms = median(castMs);
+      row.dlm_mean_nodes = dlm->stats().mean_nodes;
+      row.dlm_unbounded_texels = dlm->stats().unbounded_texels;
+      row.vs_truth = compareImages(out.cloud_layer, gt.image, gt.standard_error);
+      row.vs_reference = compareImages(out.cloud_layer, cpu);
+      row.truth_truncated_share = gt.truncated_share;
+      row.coverage = coverage;
+      log::info("  {:>18} {:>6}: dlm {:7.1f} ms  cast {:7.1f} ms  rmse truth {:.4f} ref {:.2e}  off>2/255 {:.3f}", v.knob,
+                v.value, row.dlm_ms, row.raycast_ms, row.vs_truth.rmse, row.vs_reference.rmse,
+                row.vs_truth.share_off_2_255);
+      if (o.write_images) {
+        scene::writePng(out.cloud_layer,
+                        (std::filesystem::path(o.out_dir) / fmt::format("{}-{}-{}.png", sc.name, v.knob, v.value)).string());
+      }
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+}  // namespace nph::accuracy

@@ -1,0 +1,68 @@
+#pragma once
+// The knob sweep of `nephele bench accuracy` (issue 6). For every standard scene and every variant
+// (the default settings, one knob at a time around them, and the quality presets) it builds the
+// deep light map and ray casts the scene `runs` times on the GPU, keeps the median of each, and
+// measures the cloud layer's error against
+//   (a) the path-traced ground truth (ground_truth.h): the model's bias plus discretisation, and
+//   (b) the CPU reference of the same approximation, converged: the variant's light-transport
+//       model (cone, scatter map) integrated by reference::DlmReference without compression at
+//       1/8-voxel sub-steps and the eye pass marched at 1/8 voxel without early termination —
+//       so (b) is the discretisation, compression and early-termination error of the setting.
+// The GPU renders without jitter (pixel-centre rays, like both references), so every number is
+// deterministic up to timing.
+#include <string>
+#include <vector>
+
+#include "accuracy/ground_truth.h"
+#include "accuracy/image_error.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/dlm_model.h"
+#include "scene/scene_file.h"
+
+namespace nph::accuracy {
+
+struct Variant {
+  std::string knob;   ///< "default", "step_voxels", "dlm_texel_voxels", "epsilon", ..., "preset"
+  std::string value;  ///< the knob's value as text
+  scene::DlmSettings dlm;
+  render::RenderSettings render;
+};
+
+/// The knobs of a QualitySettings preset as DLM and ray-caster settings (jitter off).
+Variant variantOf(const scene::QualitySettings& quality);
+/// default, the one-knob-at-a-time sweep and the three presets; `quick` keeps two values a knob.
+std::vector<Variant> sweepVariants(bool quick);
+
+struct SweepOptions {
+  int width = 160;
+  int height = 90;
+  bool quick = false;
+  int runs = 3;  ///< timed repetitions (median)
+  GroundTruthSettings ground_truth;
+  std::string out_dir = "accuracy";
+  std::string cache_dir;    ///< ground-truth cache; default <out_dir>/ground-truth
+  std::string scene_filter;  ///< substring of scene names to run (empty = all)
+  bool write_images = false;  ///< PNGs of the ground truth and every variant
+};
+
+struct SweepRow {
+  std::string scene, knob, value;
+  double dlm_ms = 0.0, raycast_ms = 0.0;  ///< medians over the runs
+  double dlm_mean_nodes = 0.0;
+  int dlm_unbounded_texels = 0;
+  ImageError vs_truth, vs_reference;
+  double truth_truncated_share = 0.0;
+  double coverage = 0.0;  ///< mean ground-truth alpha
+};
+
+/// Runs the sweep (needs a current GL context), logging progress. Writes nothing.
+std::vector<SweepRow> runSweep(const SweepOptions& options);
+
+/// √(rmse² − noise²): the RMSE with the ground truth's own Monte Carlo noise taken out.
+double biasRmse(const ImageError& e);
+
+/// CSV with a header line: the columns of SweepRow in order (csvColumns()).
+void writeCsv(const std::vector<SweepRow>& rows, const std::string& path);
+const std::vector<std::string>& csvColumns();
+
+}  // namespace nph::accuracy

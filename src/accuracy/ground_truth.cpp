@@ -1,0 +1,143 @@
+#include "accuracy/ground_truth.h"
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "cache/checksum.h"
+#include "core/error.h"
+#include "core/log.h"
+
+namespace nph::accuracy {
+namespace {
+
+constexpr char kMagic[8] = {'N', 'P', 'H', 'G', 'T', '0', '0', '1'};
+
+class Hasher {
+ public:
+  template <class T>
+  void add(const T& value) {
+    const auto* p = reinterpret_cast<const std::byte*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void addFloats(const std::vector<float>& a) {
+    add(a.size());
+    const auto* p = reinterpret_cast<const std::byte*>(a.data());
+    bytes_.insert(bytes_.end(), p, p + a.size() * sizeof(float));
+  }
+  std::uint64_t digest() const { return cache::xxh64(bytes_); }
+
+ private:
+  std::vector<std::byte> bytes_;
+};
+
+}  // namespace
+
+scene::Sun pathTracerSunForGpu(const scene::Sun& sun) {
+  scene::Sun s = sun;
+  s.intensity = 4.0 * std::numbers::pi * sun.intensity;  // the GPU's 4π·p convention
+  return s;
+}
+
+reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSettings& rs,
+                                                       const GroundTruthSettings& settings) {
+  reference::PathTracerSettings s;
+  s.samples_per_pixel = settings.samples_per_pixel;
+  s.max_events = settings.max_events;
+  s.seed = settings.seed;
+  s.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_ice};
+  s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_water};
+  s.sky_radiance = rs.ambient;  // times the sun's intensity by the caller (1 in the scenes)
+  s.ground_enabled = false;
+  s.include_background = false;
+  s.pixel_jitter = false;
+  return s;
+}
+
+std::string groundTruthKey(const AccuracyScene& sc, const render::RenderSettings& rs, const GroundTruthSettings& gs) {
+  Hasher h;
+  const ExtinctionVolumes& v = *sc.volumes;
+  h.add(v.nx);
+  h.add(v.ny);
+  h.add(v.nz);
+  h.addFloats(v.ice_per_m);
+  h.addFloats(v.water_per_m);
+  h.add(sc.frame.voxel_size_m);
+  h.add(sc.frame.z_bottom_m);
+  const scene::Camera& c = sc.camera;
+  h.add(c.position_m);
+  h.add(c.target_m);
+  h.add(c.up);
+  h.add(c.vertical_fov_deg);
+  h.add(c.width);
+  h.add(c.height);
+  h.add(sc.sun.azimuth_deg);
+  h.add(sc.sun.elevation_deg);
+  h.add(sc.sun.colour);
+  h.add(sc.sun.intensity);
+  h.add(rs.g_ice);
+  h.add(rs.g_water);
+  h.add(rs.ambient);
+  h.add(gs.samples_per_pixel);
+  h.add(gs.max_events);
+  h.add(gs.seed);
+  return cache::toHex(h.digest());
+}
+
+GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& rs, const GroundTruthSettings& gs,
+                        const std::string& cache_dir) {
+  GroundTruth gt;
+  const int w = sc.camera.width, hgt = sc.camera.height;
+  const std::size_t n = std::size_t(w) * std::size_t(hgt);
+  std::filesystem::create_directories(cache_dir);
+  gt.cache_path = (std::filesystem::path(cache_dir) / (sc.name + "-" + groundTruthKey(sc, rs, gs) + ".gt")).string();
+  gt.image.width = w;
+  gt.image.height = hgt;
+  if (std::ifstream in{gt.cache_path, std::ios::binary}) {
+    char magic[8] = {};
+    int fw = 0, fh = 0;
+    double truncated = 0.0;
+    in.read(magic, 8);
+    in.read(reinterpret_cast<char*>(&fw), sizeof fw);
+    in.read(reinterpret_cast<char*>(&fh), sizeof fh);
+    in.read(reinterpret_cast<char*>(&truncated), sizeof truncated);
+    if (in && std::memcmp(magic, kMagic, 8) == 0 && fw == w && fh == hgt) {
+      gt.image.rgba.resize(4 * n);
+      gt.standard_error.resize(3 * n);
+      in.read(reinterpret_cast<char*>(gt.image.rgba.data()), std::streamsize(4 * n * sizeof(float)));
+      in.read(reinterpret_cast<char*>(gt.standard_error.data()), std::streamsize(3 * n * sizeof(float)));
+      if (in) {
+        gt.from_cache = true;
+        gt.truncated_share = truncated;
+        return gt;
+      }
+    }
+    log::warn("{}: unreadable ground-truth cache, tracing again", gt.cache_path);
+  }
+  reference::PathTracerSettings ps = pathTracerSettingsForGpu(rs, gs);
+  ps.sky_radiance *= sc.sun.intensity;
+  const reference::PathTracer pt(*sc.volumes, sc.frame, pathTracerSunForGpu(sc.sun), ps);
+  const reference::PathTracedImage img = pt.render(sc.camera);
+  gt.image.rgba = img.rgba;
+  gt.standard_error = img.standard_error;
+  gt.seconds = img.stats.seconds;
+  gt.truncated_share = img.stats.paths ? double(img.stats.truncated_paths) / double(img.stats.paths) : 0.0;
+  const std::string tmp = gt.cache_path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write(kMagic, 8);
+    out.write(reinterpret_cast<const char*>(&w), sizeof w);
+    out.write(reinterpret_cast<const char*>(&hgt), sizeof hgt);
+    out.write(reinterpret_cast<const char*>(&gt.truncated_share), sizeof gt.truncated_share);
+    out.write(reinterpret_cast<const char*>(gt.image.rgba.data()), std::streamsize(4 * n * sizeof(float)));
+    out.write(reinterpret_cast<const char*>(gt.standard_error.data()), std::streamsize(3 * n * sizeof(float)));
+    if (!out) throw IoError(fmt::format("{}: cannot write the ground-truth cache", tmp));
+  }
+  std::filesystem::rename(tmp, gt.cache_path);
+  return gt;
+}
+
+}  // namespace nph::accuracy

@@ -1,0 +1,79 @@
+// `nephele bench accuracy`: run time against error of every quality knob (issue 6; the sweep is
+// src/accuracy/accuracy_sweep.h, its output is described in docs/accuracy.md).
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "accuracy/accuracy_sweep.h"
+#include "accuracy/pareto.h"
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "render/gl/context.h"
+
+namespace nph::cli {
+namespace {
+
+struct BenchAccuracyOptions {
+  accuracy::SweepOptions sweep;
+  std::string gl = "auto";
+  int spp = 0;
+};
+
+int runBenchAccuracy(BenchAccuracyOptions o) {
+  accuracy::SweepOptions& s = o.sweep;
+  if (s.quick) {
+    s.width = std::min(s.width, 48);
+    s.height = std::min(s.height, 27);
+    s.runs = std::min(s.runs, 1);
+    s.ground_truth.samples_per_pixel = 8;
+    s.ground_truth.max_events = 200;
+  }
+  if (o.spp > 0) s.ground_truth.samples_per_pixel = o.spp;
+  std::filesystem::create_directories(s.out_dir);
+  gl::ContextOptions co;
+  const auto backend = gl::parseBackend(o.gl);
+  if (!backend) throw UsageError("--gl " + o.gl + ": expected auto, egl or osmesa");
+  co.backend = *backend == gl::Backend::Auto ? gl::backendFromEnvironment() : *backend;
+  co.visible = false;
+  const auto ctx = gl::createContext(co);
+
+  const std::vector<accuracy::SweepRow> rows = accuracy::runSweep(s);
+  if (rows.empty()) throw UsageError("bench accuracy: no scene matches --scenes " + s.scene_filter);
+  const std::filesystem::path dir(s.out_dir);
+  accuracy::writeCsv(rows, (dir / "accuracy.csv").string());
+  auto summary = accuracy::summarise(rows);
+  accuracy::writeSummaryCsv(summary, (dir / "accuracy-summary.csv").string());
+  std::ofstream((dir / "accuracy-summary.md").string()) << accuracy::summaryMarkdown(summary);
+  const bool plotted = accuracy::plotSummary(summary, (dir / "accuracy").string());
+  log::info("wrote {}/accuracy.csv, accuracy-summary.csv, accuracy-summary.md{}", s.out_dir,
+            plotted ? ", accuracy.png" : "");
+  return kExitOk;
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app, Action& run) {
+  CLI::App* bench = app.add_subcommand("bench", "Benchmarks that need the whole renderer");
+  bench->require_subcommand(1);
+  auto o = std::make_shared<BenchAccuracyOptions>();
+  CLI::App* cmd = bench->add_subcommand(
+      "accuracy",
+      "Run time against error: the standard scenes (hurricane above/oblique, stratus, cumulus, cirrus; sun "
+      "high, low, behind the camera) rendered on the GPU with each quality knob swept around the default "
+      "and the presets; error vs a cached path-traced ground truth and vs the CPU reference of the same "
+      "approximation. Writes accuracy.csv, accuracy-summary.csv/.md and accuracy.png (gnuplot) to --out.");
+  cmd->add_option("-o,--out", o->sweep.out_dir, "output folder")->capture_default_str();
+  cmd->add_option("--cache", o->sweep.cache_dir, "ground-truth cache folder (default OUT/ground-truth)");
+  cmd->add_flag("--quick", o->sweep.quick, "tiny scenes, 48x27, 1 run, 8 spp, two values a knob (tests)");
+  cmd->add_option("--runs", o->sweep.runs, "timed runs per setting (median)")->capture_default_str();
+  cmd->add_option("--width", o->sweep.width, "image width")->capture_default_str();
+  cmd->add_option("--height", o->sweep.height, "image height")->capture_default_str();
+  cmd->add_option("--spp", o->spp, "path-tracer samples per pixel (default 256; quick 8)");
+  cmd->add_option("--scenes", o->sweep.scene_filter, "only scenes whose name contains this");
+  cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
+  cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
+  cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });
+}
+
+}  // namespace nph::cli
