@@ -13,6 +13,10 @@
 // composited over the lit ground: C + T_acc · L_ground (Nes eq. 5.18's background term).
 // Ground: the plane z = 0 (sea level) textured with the reprojected basemap; sunlit by
 // E_sun·cos(θ_sun)·I_DLM(ground) — the cloud shadow (Nes §5.4.1) — plus the ambient sky.
+// Globe view (u_globe, render/globe.glsl): the rays are in ECEF, each sample is looked up at its
+// world point; the ground is the sphere R with the whole equirectangular basemap, lit by the true
+// sun direction at each point (day/night), shadowed by the DLM inside the footprint; rays that
+// miss the Earth see black space with a glow at the limb.
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
@@ -45,6 +49,7 @@ uniform vec2 u_basemap_max_m;
 uniform vec3 u_ocean_albedo;    // ground albedo outside the basemap
 
 const float kPi = 3.14159265358979;
+#include "render/globe.glsl"
 
 // Henyey–Greenstein times 4π (1 for isotropic).
 float hg4pi(float cosPsi, float g) {
@@ -92,25 +97,27 @@ void main() {
 
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
-  vec2 span = volumeInterval(origin, dir);
+  float tGround = u_globe ? globeGroundDistance(origin, dir) : 3.0e38;
+  vec2 span = u_globe ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
   if (span.x < span.y) {
     float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
     while (t < span.y && Tacc > u_min_transmittance) {
       vec3 p = origin + t * dir;
-      if (u_skip_empty && brickMaxAt(p) == 0.0) {
-        float skip = emptySkipDistance(p, dir);
+      vec3 w = u_globe ? globeWorldFromEcef(p) : p;  // the sample in the volume's world frame
+      if (u_skip_empty && brickMaxAt(w) == 0.0) {
+        float skip = u_globe ? globeEmptySkip(w) : emptySkipDistance(p, dir);
         if (skip > 0.0) {  // jump whole steps, keeping the jittered lattice
           t += max(ceil(skip / u_step_m), 1.0) * u_step_m;
           continue;
         }
       }
-      vec2 beta = extinctionAt(p);
+      vec2 beta = extinctionAt(w);
       float b = beta.x + beta.y;
       if (b > 0.0) {
         float T = exp(-b * u_step_m);
         float phase = (beta.x * phaseIce + beta.y * phaseWater) / b;  // Nes eq. 5.12
-        vec3 L = u_sun_radiance * dlmIntensity(p) * phase + u_ambient;
+        vec3 L = u_sun_radiance * dlmIntensity(w) * phase + u_ambient;
         C += Tacc * (1.0 - T) * L;
         Tacc *= T;
       }
@@ -119,9 +126,20 @@ void main() {
   }
   imageStore(u_cloud_layer, px, vec4(C, 1.0 - Tacc));
 
-  // Background: the ground plane z = 0 or the sky.
+  // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe).
   vec3 background = u_ambient;
-  if (dir.z < 0.0) {
+  if (u_globe) {
+    if (tGround < 3.0e38) {
+      vec3 g = origin + tGround * dir;
+      float sunCos = dot(normalize(g), u_to_sun);
+      vec3 gw = globeWorldFromEcef(g);
+      float shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
+      background = globeAlbedo(g, u_ocean_albedo) *
+                   (u_sun_radiance * max(sunCos, 0.0) * shadow + u_ambient * globeDaylight(sunCos));
+    } else {
+      background = globeSpace(origin, dir, u_to_sun);
+    }
+  } else if (dir.z < 0.0) {
     vec3 g = origin + (-origin.z / dir.z) * dir;
     vec3 albedo = u_ocean_albedo;
     if (u_has_basemap) {

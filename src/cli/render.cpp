@@ -37,9 +37,6 @@ int runRender(const RenderOptions& o) {
   }
   if (!s.data) throw InputError(o.scene + ": no \"data\" section: which .nph or model file to render?");
   if (s.output.paths.empty() && o.layer.empty()) throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
-  if (s.view == scene::ViewMode::Globe) {
-    throw InputError(o.scene + ": view \"globe\" is not implemented by the renderer yet; use \"flat\"");
-  }
   const auto dataset = engine::Dataset::open(s.data->path);
 
   gl::ContextOptions co;

@@ -46,6 +46,9 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
   sun_ = prepared_.sun;
   render_settings_ = renderSettingsFor(scene_.quality);
   if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
+  if (prepared_.to_sun_ecef) {  // globe view (scene_setup.h): rays in ECEF
+    renderer_.setGlobe(render::buildGlobeMapping(*prepared_.geo), prepared_.basemap_equirect, *prepared_.to_sun_ecef);
+  }
 }
 
 Session::~Session() = default;
@@ -105,6 +108,10 @@ void Session::update() {
     volume_key_ = key;
     stats_.volume_changed = true;
     ++stats_.volume_uploads;
+  }
+  if (renderer_.globe()) {  // the sun as seen at the footprint centre, in ECEF
+    const glm::dvec3 size = prepared_.frame.size_m();
+    renderer_.setGlobeSun(scene::toSunEcef(sun_, *prepared_.geo, {0.5 * size.x, 0.5 * size.y}));
   }
   const auto t0 = std::chrono::steady_clock::now();
   stats_.dlm_rebuilt = dlm_.build(*textures_, -sun_.toSun(), dlmSettingsFor(scene_.quality));

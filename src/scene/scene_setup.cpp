@@ -65,6 +65,7 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
     const int h = std::max(1, static_cast<int>(std::lround(n * extent.y / longSide)));
     const EquirectangularImage source = EquirectangularImage::load(s.basemap->path);
     p.basemap = reprojectBasemap(source, *geo, rect, w, h);
+    if (s.view == ViewMode::Globe) p.basemap_equirect = source.image();
     p.basemap_rect = rect;
     log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h,
               extent.x / 1000.0, extent.y / 1000.0);

@@ -32,6 +32,7 @@ struct PreparedScene {
   std::optional<glm::dvec3> to_sun_ecef; ///< globe: direction to the sun (needs geo)
   std::optional<WorldRect> basemap_rect; ///< world rectangle the basemap covers
   LinearRgbImage basemap;                ///< reprojected linear RGB (empty without a basemap)
+  LinearRgbImage basemap_equirect;       ///< globe: the whole source image by lon/lat (else empty)
 };
 
 /// Builds the scene. Throws InputError for what the scene asks but the data cannot give (a

@@ -28,6 +28,22 @@ void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::
   basemap_rect_ = rect;
 }
 
+void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage& equirect,
+                             const glm::dvec3& to_sun_ecef) {
+  globe_ = m;
+  globe_to_sun_ = to_sun_ecef;
+  globe_table_ = gl::Texture::create2D(GL_RG32F, m.width, m.height).label("globe lon/lat -> world");
+  glTextureSubImage2D(globe_table_.id(), 0, 0, 0, m.width, m.height, GL_RG, GL_FLOAT, m.world_xy_m.data());
+  globe_table_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+  globe_basemap_ = gl::Texture();
+  if (equirect.width > 0 && equirect.height > 0) {
+    globe_basemap_ = gl::Texture::create2D(GL_RGB32F, equirect.width, equirect.height).label("globe basemap");
+    glTextureSubImage2D(globe_basemap_.id(), 0, 0, 0, equirect.width, equirect.height, GL_RGB, GL_FLOAT,
+                        equirect.rgb.data());
+    globe_basemap_.sampling(GL_LINEAR, GL_REPEAT);  // wraps across the antimeridian in u
+  }
+}
+
 ViewRays ViewRays::fromCamera(const scene::Camera& camera) {
   return fromMatrices(camera.viewFromWorld(), camera.clipFromView(), camera.width, camera.height);
 }
@@ -42,6 +58,27 @@ ViewRays ViewRays::fromMatrices(const glm::dmat4& view_from_world, const glm::dm
   r.width = width;
   r.height = height;
   return r;
+}
+
+void CloudRenderer::setGlobeUniforms(const ViewRays& view, const RenderSettings& s) const {
+  const gl::Program& p = program_;
+  p.set("u_globe", globe_ ? 1 : 0);
+  glBindTextureUnit(8, globe_ ? globe_table_.id() : blank_.id());
+  glBindTextureUnit(9, globe_basemap_ ? globe_basemap_.id() : blank_.id());
+  if (!globe_) return;
+  const GlobeMapping& m = *globe_;
+  const double o2 = glm::dot(view.position_m, view.position_m);  // double: |o|² − r² cancels
+  const double R = scene::kEarthRadius_m;
+  p.set("u_local_from_ecef", glm::mat3(m.local_from_ecef));
+  p.set("u_ab_min_rad", glm::vec2(m.ab_min_rad));
+  p.set("u_ab_max_rad", glm::vec2(m.ab_max_rad));
+  p.set("u_earth_radius_m", float(R));
+  p.set("u_cap_axis", glm::vec3(m.cap_axis));
+  p.set("u_cap_min_dot_m", float(m.shell_min_m * m.cap_cos));
+  p.set("u_sphere_c_m2", glm::vec3(float(o2 - R * R), float(o2 - m.shell_max_m * m.shell_max_m), 0.0f));
+  p.set("u_lipschitz_h", float(m.horizontal_lipschitz));
+  p.set("u_has_globe_basemap", globe_basemap_ ? 1 : 0);
+  p.set("u_limb_radiance", glm::vec3(s.limb_radiance));
 }
 
 double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view,
@@ -68,7 +105,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   p.set("u_world_from_view", glm::mat3(view.world_from_view));
   p.set("u_view_from_clip", glm::mat4(view.view_from_clip));
   p.set("u_has_host_depth", depth.texture ? 1 : 0);
-  p.set("u_to_sun", glm::vec3(sun.toSun()));
+  p.set("u_to_sun", glm::vec3(globe_ ? globe_to_sun_ : sun.toSun()));
   p.set("u_sun_radiance", glm::vec3(sun.colour * sun.intensity));
   p.set("u_ambient", glm::vec3(s.ambient * sun.intensity));
   p.set("u_g_ice", float(s.g_ice));
@@ -83,6 +120,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   p.set("u_basemap_min_m", glm::vec2(basemap_rect_.min_m));
   p.set("u_basemap_max_m", glm::vec2(basemap_rect_.max_m));
   p.set("u_ocean_albedo", glm::vec3(s.ocean_albedo));
+  setGlobeUniforms(view, s);
   glBindImageTexture(0, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   p.dispatchCovering({w, h, 1});

@@ -1,18 +1,22 @@
 #pragma once
 // The eye pass: ray casting of the ice and water volumes with deep-light-map look-ups, composited
 // over the lit basemap (glsl/render/clouds.comp; Nes 2008 §5.4 eq. 5.18, §5.5; Muth 2026 §3.4).
-// Flat-map view only for now (the globe view of issue 5 is not implemented).
+// Two views: the flat map (rays in the world frame of scene/volume_frame.h) and, after
+// setGlobe(), the globe (rays in ECEF; render/raycast/globe.h).
 //
 // Two ways to use it: render() ray casts a scene::Camera and reads the images back (CLI, tests);
 // dispatch() ray casts any perspective view (a host's view and projection matrices, optionally
 // stopping each ray at the host's depth buffer) and leaves the result in GL textures for the
 // caller to composite (the plugin API, the viewer).
+#include <optional>
+
 #include <glm/glm.hpp>
 
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/volume_textures.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
+#include "render/raycast/globe.h"
 #include "scene/basemap.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
@@ -30,6 +34,7 @@ struct RenderSettings {
   double g_water = 0.85;                 ///< HG asymmetry of droplets (physics/phase.h)
   glm::dvec3 ambient{0.20, 0.24, 0.30};  ///< uniform sky radiance (sun radiance = 1)
   glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};  ///< ground outside the basemap
+  glm::dvec3 limb_radiance{0.30, 0.45, 0.80};  ///< globe: sky glow at the Earth's limb (cosmetic)
 };
 
 /// The eye rays of a perspective view, as the GPU builds them: pixel (px, py) with py down (row 0
@@ -76,14 +81,26 @@ class CloudRenderer {
   /// when `finish`, else the submission time.
   double dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view, const scene::Sun& sun,
                   const RenderSettings& settings, HostDepth depth = {}, bool finish = true);
+  /// Switches to the globe view: rays (ViewRays, cameras) are then in ECEF; `equirect` is the whole
+  /// equirectangular basemap (linear RGB, row 0 = 90°N; empty = ocean albedo everywhere) and
+  /// `to_sun_ecef` the direction to the sun (scene::toSunEcef). The DLM stays in the world frame.
+  void setGlobe(const GlobeMapping& mapping, const scene::LinearRgbImage& equirect, const glm::dvec3& to_sun_ecef);
+  /// Globe: a new sun direction (the world-frame sun given to dispatch() still builds the light).
+  void setGlobeSun(const glm::dvec3& to_sun_ecef) { globe_to_sun_ = to_sun_ecef; }
+  bool globe() const { return globe_.has_value(); }
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
   const gl::Texture& frame() const { return frame_tex_; }
 
  private:
+  void setGlobeUniforms(const ViewRays& view, const RenderSettings& settings) const;
+
   gl::Program program_;
   gl::Texture basemap_, blank_, cloud_tex_, frame_tex_;
   glm::ivec2 target_size_{0};
   scene::WorldRect basemap_rect_;
+  std::optional<GlobeMapping> globe_;
+  gl::Texture globe_table_, globe_basemap_;
+  glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
 };
 
 }  // namespace nph::render
