@@ -70,6 +70,8 @@ void addBenchCommand(CLI::App& app, Action& run) {
   cmd->add_option("--width", o->sweep.width, "image width")->capture_default_str();
   cmd->add_option("--height", o->sweep.height, "image height")->capture_default_str();
   cmd->add_option("--spp", o->spp, "path-tracer samples per pixel (default 256; quick 8)");
+  cmd->add_option("--max-events", o->sweep.ground_truth.max_events,
+                  "path-tracer collisions per path before it is cut (counted)")->capture_default_str();
   cmd->add_option("--scenes", o->sweep.scene_filter, "only scenes whose name contains this");
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();

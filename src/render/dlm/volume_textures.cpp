@@ -1,5 +1,10 @@
 #include "render/dlm/volume_textures.h"
 
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
 #include "core/error.h"
 
 namespace nph::render {
@@ -9,6 +14,20 @@ gl::Texture upload3D(const std::vector<float>& data, glm::ivec3 size, const char
   auto t = gl::Texture::create3D(GL_R32F, size.x, size.y, size.z).label(label);
   glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z, GL_RED, GL_FLOAT, data.data());
   return t;
+}
+// Voxels the shaders can take: finite, ≥ 0 and at most kMaxExtinction_per_m. NaN or Inf would
+// make the DLM and the eye pass output NaN (exp(−NaN), ∞/∞ in the phase mix), a negative β a
+// transmittance above 1; 1e6 /m (optical depth 1 per millimetre, ~10³ × the densest cloud core)
+// keeps β_ice + β_water and β·Δ far from float overflow. The loaders already reject non-finite
+// fields (io/field_checks.h); this guards volumes from caches and hosts (stress-tested).
+constexpr float kMaxExtinction_per_m = 1e6f;
+void checkVoxels(const std::vector<float>& a, const char* name) {
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!(a[i] >= 0.0f && a[i] <= kMaxExtinction_per_m)) {
+      throw InputError(fmt::format("VolumeTextures::upload: {} voxel {} is {}, expected a finite extinction in [0, {:g}] 1/m",
+                                   name, i, a[i], kMaxExtinction_per_m));
+    }
+  }
 }
 bool anyPositive(const std::vector<float>& a) {
   for (float x : a)
@@ -20,6 +39,8 @@ bool anyPositive(const std::vector<float>& a) {
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame,
                                       std::string identity, int brickVoxels) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
+  checkVoxels(v.ice_per_m, "ice_per_m");
+  checkVoxels(v.water_per_m, "water_per_m");
   VolumeTextures t;
   t.frame_ = frame;
   t.identity_ = std::move(identity);

@@ -14,7 +14,8 @@ namespace nph::render {
 class VolumeTextures {
  public:
   /// Uploads `volumes` placed by `frame`; `identity` names this content (file + timestep) for the
-  /// DLM cache key — two uploads with the same identity must hold the same data.
+  /// DLM cache key — two uploads with the same identity must hold the same data. Throws
+  /// InputError for a NaN, infinite, negative or absurd (> 1e6 /m) voxel.
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
                                std::string identity, int brickVoxels = 8);
 

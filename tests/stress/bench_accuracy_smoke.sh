@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Smoke test of `nephele bench accuracy --quick`: runs it, then checks that accuracy.csv has the
+# documented columns, one row per scene × variant, and only finite numbers.
+set -euo pipefail
+nephele="$1"
+out="$2"
+rm -rf "$out"
+"$nephele" bench accuracy --quick -o "$out"
+csv="$out/accuracy.csv"
+test -s "$csv" || { echo "no $csv"; exit 1; }
+expected="scene,knob,value,dlm_ms,raycast_ms,total_ms,dlm_mean_nodes,dlm_unbounded_texels,truth_rmse,truth_rel_mse,truth_mean_abs,truth_max_abs,truth_share_off_2_255,truth_alpha_max_abs,truth_noise_rmse,truth_bias_rmse,truth_truncated_share,coverage,ref_rmse,ref_rel_mse,ref_mean_abs,ref_max_abs,ref_share_off_2_255,ref_alpha_max_abs"
+header=$(head -1 "$csv")
+[ "$header" = "$expected" ] || { echo "unexpected header: $header"; exit 1; }
+python3 - "$csv" <<'PY'
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+scenes = {r["scene"] for r in rows}
+assert len(scenes) == 7, f"expected 7 scenes, got {sorted(scenes)}"
+assert len(rows) >= 7 * 10, f"only {len(rows)} rows"
+for r in rows:
+    for k, v in r.items():
+        if k in ("scene", "knob", "value"):
+            continue
+        x = float(v)
+        assert math.isfinite(x), f"{r['scene']} {r['knob']}={r['value']}: {k} = {v}"
+        assert x >= 0.0, f"{r['scene']} {r['knob']}={r['value']}: {k} = {v} < 0"
+    assert float(r["total_ms"]) > 0.0
+    assert float(r["truth_share_off_2_255"]) <= 1.0 and float(r["ref_share_off_2_255"]) <= 1.0
+print(f"accuracy.csv: {len(rows)} rows, {len(scenes)} scenes, all finite")
+PY
+test -s "$out/accuracy-summary.csv"
