@@ -19,6 +19,7 @@ using Action = std::function<int()>;
 void addInfoCommand(CLI::App& app, Action& run);
 void addConvertCommand(CLI::App& app, Action& run);
 void addRenderCommand(CLI::App& app, Action& run);
+void addAnimateCommand(CLI::App& app, Action& run);
 void addBenchCommand(CLI::App& app, Action& run);
 
 }  // namespace nph::cli

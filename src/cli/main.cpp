@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
       "  info     what a wrfout, ICON or .nph file holds\n"
       "  convert  model files -> ice/water extinction volumes in a .nph cache file\n"
       "  render   one frame of a scene file (deep light map + ray caster), headless\n"
+      "  animate  image sequence (and video) of a scene's time range and camera keyframes\n"
       "  bench    benchmarks: `bench accuracy` (run time against error of every quality knob)\n"
       "Run `nephele <command> --help` for the options of a command."};
   app.set_version_flag("--version", "nephele " NEPHELE_VERSION);
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
   nph::cli::addInfoCommand(app, run);
   nph::cli::addConvertCommand(app, run);
   nph::cli::addRenderCommand(app, run);
+  nph::cli::addAnimateCommand(app, run);
   nph::cli::addBenchCommand(app, run);
   try {
     app.parse(argc, argv);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -27,28 +28,35 @@ class NphDataset final : public Dataset {
 
 class ModelDataset final : public Dataset {
  public:
-  ModelDataset(const std::string& path, io::ModelFile file, std::vector<std::string> times)
-      : Dataset(path, std::move(times)), file_(std::move(file)) {}
+  ModelDataset(const std::string& path, io::ModelSeries series, std::vector<std::string> times,
+               std::vector<std::string> sources)
+      : Dataset(path, std::move(times), std::move(sources)), series_(std::move(series)) {}
   ExtinctionVolumes load(std::size_t t) const override {
     if (t >= timestepCount()) {
-      throw UsageError(fmt::format("{}: timestep {} requested, the file has {}", path(), t, timestepCount()));
+      throw UsageError(fmt::format("{}: timestep {} requested, the dataset has {}", path(), t, timestepCount()));
     }
-    log::info("{}: not a .nph cache; converting timestep {} with the default optics", path(), t);
-    return physics::buildExtinctionVolumes(file_.load(t), physics::defaultOptics(), physics::VerticalGridOptions{});
+    // NetCDF-C keeps global state without locks: one model file read at a time in the process.
+    static std::mutex netcdf_mutex;
+    std::lock_guard lock(netcdf_mutex);
+    log::info("{}: not a .nph cache; converting timestep {} with the default optics", sourceFile(t), t);
+    return physics::buildExtinctionVolumes(series_.load(t), physics::defaultOptics(), physics::VerticalGridOptions{});
   }
 
  private:
-  io::ModelFile file_;
+  io::ModelSeries series_;
 };
 
 }  // namespace
 
-Dataset::Dataset(std::string path, std::vector<std::string> times) : path_(std::move(path)), times_(std::move(times)) {
+Dataset::Dataset(std::string path, std::vector<std::string> times, std::vector<std::string> sources)
+    : path_(std::move(path)), times_(std::move(times)), sources_(std::move(sources)) {
   if (times_.empty()) throw InputError(fmt::format("{}: has no timesteps", path_));
+  if (!sources_.empty() && sources_.size() != times_.size()) throw UsageError("Dataset: one source file per timestep");
 }
 
 std::string Dataset::identity(std::size_t t) const {
-  return fmt::format("{}#{}", std::filesystem::absolute(path_).string(), t);
+  if (sources_.empty()) return fmt::format("{}#{}", std::filesystem::absolute(path_).string(), t);
+  return fmt::format("{}#{}", std::filesystem::absolute(sources_.at(t)).string(), t);
 }
 
 std::shared_ptr<const Dataset> Dataset::open(const std::string& path) {
@@ -59,10 +67,27 @@ std::shared_ptr<const Dataset> Dataset::open(const std::string& path) {
     for (std::size_t t = 0; t < reader.timestepCount(); ++t) times.push_back(reader.timestep(t).time_utc);
     return std::make_shared<NphDataset>(path, std::move(reader), std::move(times));
   }
-  io::ModelFile file = io::openModelFile(path);
-  std::vector<std::string> times;
-  for (const auto& ref : file.timesteps()) times.push_back(ref.time_utc);
-  return std::make_shared<ModelDataset>(path, std::move(file), std::move(times));
+  return openSeries({path});
+}
+
+std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string>& paths) {
+  if (paths.empty()) throw UsageError("Dataset::openSeries: no files");
+  if (paths.size() == 1 && std::filesystem::exists(paths[0]) && cache::NphReader::sniff(paths[0])) return open(paths[0]);
+  for (const auto& p : paths) {
+    if (!std::filesystem::exists(p)) throw InputError(fmt::format("{}: no such file", p));
+    if (cache::NphReader::sniff(p)) {
+      throw InputError(fmt::format("{}: a .nph cache cannot be part of a series of model files; convert them together", p));
+    }
+  }
+  io::ModelSeries series = io::ModelSeries::open(paths);
+  std::vector<std::string> times, sources;
+  for (const auto& ref : series.timesteps()) {
+    times.push_back(ref.time_utc);
+    sources.push_back(ref.file);
+  }
+  if (paths.size() == 1) sources.clear();
+  const std::string name = paths.size() == 1 ? paths[0] : fmt::format("{} (and {} more)", paths[0], paths.size() - 1);
+  return std::make_shared<ModelDataset>(name, std::move(series), std::move(times), std::move(sources));
 }
 
 ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w) {

@@ -1,8 +1,9 @@
 #pragma once
-// A dataset opened for rendering: a `.nph` extinction cache (read lazily, one timestep at a time)
-// or a WRF/ICON model file (each timestep converted on load with the default optics; convert to
-// .nph first for speed, docs/conversion.md). Loads are thread-safe, so a prefetch thread may
-// decode the next timestep while the current one renders (Nes 2008 §5.1.2).
+// A dataset opened for rendering: a `.nph` extinction cache (read lazily, one timestep at a time),
+// a WRF/ICON model file or a series of them (each timestep converted on load with the default
+// optics; convert to .nph first for speed, docs/conversion.md). Loads are thread-safe (model
+// files are read one at a time: NetCDF-C is not thread-safe), so a prefetch thread may decode the
+// next timestep while the current one renders (Nes 2008 §5.1.2; timestep_cache.h).
 //
 // Fractional time (Thomann 2021 §5.5; Nes 2008 §5.1.2): the state at time index t ∈ [i, i+1] is
 // the linear blend of the extinction volumes of timesteps i and i+1, β(t) = (1−w)·β_i + w·β_{i+1},
@@ -24,6 +25,9 @@ class Dataset {
   /// Opens `path`: a .nph cache or a model file io::openModelFile recognises. InputError names
   /// the file and what is wrong.
   static std::shared_ptr<const Dataset> open(const std::string& path);
+  /// Several model files as one time-ordered list of timesteps (io::ModelSeries); one path is
+  /// open(path). Only the headers are read here: a file damaged after its header fails in load().
+  static std::shared_ptr<const Dataset> openSeries(const std::vector<std::string>& paths);
   virtual ~Dataset() = default;
 
   const std::string& path() const { return path_; }
@@ -35,13 +39,16 @@ class Dataset {
   virtual ExtinctionVolumes load(std::size_t t) const = 0;
   /// Names the content of timestep t (absolute path + index) for the DLM cache key.
   std::string identity(std::size_t t) const;
+  /// The file timestep t is read from (the dataset's path unless it is a series).
+  const std::string& sourceFile(std::size_t t) const { return sources_.empty() ? path_ : sources_.at(t); }
 
  protected:
-  Dataset(std::string path, std::vector<std::string> times);
+  Dataset(std::string path, std::vector<std::string> times, std::vector<std::string> sources = {});
 
  private:
   std::string path_;
   std::vector<std::string> times_;
+  std::vector<std::string> sources_;  ///< per timestep, for series; empty otherwise
 };
 
 /// β = (1−w)·a + w·b on a's grid. The grids must agree horizontally and in dz / z_bottom (the

@@ -38,11 +38,12 @@ render::RenderSettings renderSettingsFor(const scene::QualitySettings& q) {
 Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription scene)
     : dataset_(std::move(dataset)), scene_(std::move(scene)) {
   if (!dataset_) throw UsageError("Session: no dataset");
+  timesteps_ = std::make_unique<TimestepCache>(dataset_);
   scene::DataSpec spec;
   if (scene_.data) spec = *scene_.data;
   const std::size_t t = scene::timestepIndexFor(spec, dataset_->times(), dataset_->path());
   time_index_ = double(t);
-  prepared_ = scene::prepareScene(scene_, *timestep(t));
+  prepared_ = scene::prepareScene(scene_, *timesteps_->get(t));
   sun_ = prepared_.sun;
   render_settings_ = renderSettingsFor(scene_.quality);
   if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
@@ -53,26 +54,17 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
 
 Session::~Session() = default;
 
-void Session::setCacheLimit(std::size_t timesteps) { cache_limit_ = std::max<std::size_t>(timesteps, 2); }
-
-std::shared_ptr<const ExtinctionVolumes> Session::timestep(std::size_t t) {
-  if (auto it = cache_.find(t); it != cache_.end()) return it->second;
-  auto v = std::make_shared<const ExtinctionVolumes>(dataset_->load(t));
-  while (cache_.size() >= cache_limit_) {  // evict the timestep farthest from the one asked for
-    auto far = cache_.begin();
-    for (auto it = cache_.begin(); it != cache_.end(); ++it) {
-      const auto d = [t](std::size_t u) { return u > t ? u - t : t - u; };
-      if (d(it->first) > d(far->first)) far = it;
-    }
-    cache_.erase(far);
-  }
-  cache_.emplace(t, v);
-  return v;
+void Session::setCacheLimit(std::size_t timesteps) {
+  PrefetchSettings p = timesteps_->settings();
+  p.max_timesteps = std::max<std::size_t>(timesteps, 2);
+  timesteps_->setSettings(p);
 }
 
 void Session::setTime(double time_index) {
-  time_index_ = double(bracketTime(time_index, dataset_->timestepCount()).first) +
-                bracketTime(time_index, dataset_->timestepCount()).weight;
+  const TimeBracket b = bracketTime(time_index, dataset_->timestepCount());
+  const double t = double(b.first) + b.weight;
+  if (t != time_index_) direction_ = t > time_index_ ? 1 : -1;
+  time_index_ = t;
 }
 
 void Session::setSun(const scene::Sun& sun) { sun_ = sun; }
@@ -90,17 +82,24 @@ void Session::setQuality(const scene::QualitySettings& quality) {
 void Session::update() {
   stats_.volume_changed = false;
   stats_.dlm_rebuilt = false;
-  stats_.load_ms = stats_.upload_ms = stats_.dlm_ms = 0.0;
+  stats_.load_ms = stats_.blocked_ms = stats_.upload_ms = stats_.dlm_ms = 0.0;
   stats_.time_index = time_index_;
   const TimeBracket b = bracketTime(time_index_, dataset_->timestepCount());
+  // The weight enters the key exactly (17 significant digits round-trip a double): two frames
+  // share a volume only when they would blend the same one, so reuse never changes a frame.
   const std::string key = b.weight == 0.0 ? dataset_->identity(b.first)
-                                          : fmt::format("{}+{}@{:.9g}", dataset_->identity(b.first), b.second, b.weight);
+                                          : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
+  std::vector<std::size_t> pinned{b.first};
+  if (b.weight > 0.0) pinned.push_back(b.second);
+  timesteps_->prefetch(pinned, direction_);  // the worker reads ahead while this frame is built
   if (key != volume_key_ || !textures_) {
     auto t0 = std::chrono::steady_clock::now();
-    const auto a = timestep(b.first);
+    const double blocked0 = timesteps_->stats().blocked_ms;
+    const auto a = timesteps_->get(b.first);
     std::shared_ptr<const ExtinctionVolumes> v = a;
-    if (b.weight > 0.0) v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timestep(b.second), b.weight));
+    if (b.weight > 0.0) v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timesteps_->get(b.second), b.weight));
     stats_.load_ms = msSince(t0);
+    stats_.blocked_ms = timesteps_->stats().blocked_ms - blocked0;
     t0 = std::chrono::steady_clock::now();
     textures_.reset();  // free the old volume before uploading the new one
     textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), key));

@@ -4,17 +4,19 @@
 // table 6.1: a time change costs a volume upload and a DLM build; a camera change costs only the
 // ray cast; a sun change costs a DLM build):
 //   setTime     → a new (possibly blended, dataset.h) volume only if the timestep pair or the
-//                 weight changed; decoded timesteps are kept in a small cache;
+//                 weight changed; decoded timesteps are kept in a TimestepCache whose background
+//                 thread decodes the next ones in the direction of playback (timestep_cache.h)
+//                 while the frame is lit and ray cast;
 //   setSun / setQuality → the DLM is rebuilt only if its cache key changed (DeepLightMap::build);
 //   render / dispatch → ray cast with the camera given.
 // All calls must come from the thread whose GL context was current at construction.
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "engine/dataset.h"
+#include "engine/timestep_cache.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/volume_textures.h"
 #include "render/raycast/cloud_renderer.h"
@@ -33,6 +35,7 @@ struct FrameStats {
   bool volume_changed = false;  ///< a new volume was uploaded for this frame
   bool dlm_rebuilt = false;     ///< the deep light map was rebuilt for this frame
   double load_ms = 0.0;         ///< decoding/blending timesteps (0 when cached)
+  double blocked_ms = 0.0;      ///< of load_ms, waiting for timesteps not yet decoded (stalls)
   double upload_ms = 0.0;
   double dlm_ms = 0.0;
   double raycast_ms = 0.0;
@@ -53,8 +56,12 @@ class Session {
   const scene::SceneDescription& scene() const { return scene_; }
   const scene::PreparedScene& prepared() const { return prepared_; }
 
-  /// Fractional timestep index in [0, count−1] (clamped; UsageError when not finite).
+  /// Fractional timestep index in [0, count−1] (clamped; UsageError when not finite). A move
+  /// forwards or backwards also sets the playback direction the prefetch reads ahead in.
   void setTime(double time_index);
+  /// +1 (forwards) or −1: where the prefetch thread reads ahead; 0 (until the time first moves)
+  /// reads nothing ahead, so a single-frame render decodes only what it shows.
+  void setPlaybackDirection(int direction) { direction_ = direction < 0 ? -1 : direction > 0 ? 1 : 0; }
   double time() const { return time_index_; }
   /// The sun in the world frame (prepared().sun initially).
   void setSun(const scene::Sun& sun);
@@ -74,12 +81,15 @@ class Session {
   const render::VolumeTextures& volumeTextures() const { return *textures_; }
   const FrameStats& stats() const { return stats_; }
 
-  /// The decoded-timestep cache: at most this many timesteps are kept (default 3).
+  /// The decoded-timestep cache: at most this many timesteps are kept (default 4, at least 2).
   void setCacheLimit(std::size_t timesteps);
+  /// Read-ahead on/off, its depth and the memory budget of decoded timesteps.
+  void setPrefetch(const PrefetchSettings& settings) { timesteps_->setSettings(settings); }
+  PrefetchSettings prefetchSettings() const { return timesteps_->settings(); }
+  PrefetchStats prefetchStats() const { return timesteps_->stats(); }
 
  private:
   void update();
-  std::shared_ptr<const ExtinctionVolumes> timestep(std::size_t t);
 
   std::shared_ptr<const Dataset> dataset_;
   scene::SceneDescription scene_;
@@ -87,12 +97,12 @@ class Session {
   scene::Sun sun_;
   render::RenderSettings render_settings_;
   double time_index_ = 0.0;
+  int direction_ = 0;
   std::string volume_key_;  // identity of the uploaded volume
   std::optional<render::VolumeTextures> textures_;
   render::DeepLightMap dlm_;
   render::CloudRenderer renderer_;
-  std::map<std::size_t, std::shared_ptr<const ExtinctionVolumes>> cache_;
-  std::size_t cache_limit_ = 3;
+  std::unique_ptr<TimestepCache> timesteps_;  // declared last: its worker is joined first
   FrameStats stats_;
 };
 

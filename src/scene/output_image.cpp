@@ -156,6 +156,7 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
   spec.attribute("compression", "zip");
   spec.attribute("oiio:ColorSpace", "Linear");
   spec.attribute("Software", "nephele");
+  if (!o.date_time.empty()) spec.attribute("DateTime", o.date_time);
   writeAtomically(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
 }
 

@@ -46,6 +46,9 @@ struct ImageOutputOptions {
   double exposure_ev = 0.0;                  ///< radiance scale 2^ev (EXR and PNG alike)
   ToneCurve tone_curve = ToneCurve::AcesFitted;  ///< PNG only; EXR stays linear
   bool write_depth = true;                   ///< EXR: add Z when the image has depth
+  /// EXR capDate ("YYYY:MM:DD hh:mm:ss"). Empty: OpenImageIO writes the wall-clock time, so two
+  /// writes of one image differ; animations give the model time shown, for identical bytes.
+  std::string date_time;
 };
 
 /// The 8-bit straight-alpha sRGB codes of `image` (RGBA interleaved), as writePng stores them.

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/json_object.h"
 #include "scene/solar_position.h"
 
 namespace nph::scene {
@@ -23,145 +24,8 @@ namespace fs = std::filesystem;
 constexpr int kMaxImageSide = 16384;   ///< largest output/basemap side accepted (GL_MAX_TEXTURE_SIZE on llvmpipe)
 constexpr double kMaxExaggeration = 1000.0;
 
-std::string typeName(const json& j) {
-  switch (j.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return "a boolean";
-    case json::value_t::string: return "a string";
-    case json::value_t::array: return "an array";
-    case json::value_t::object: return "an object";
-    case json::value_t::number_integer:
-    case json::value_t::number_unsigned:
-    case json::value_t::number_float: return "a number";
-    default: return "an unsupported value";
-  }
-}
-
-/// A JSON object being read: every key must be asked for, or finish() reports it as unknown.
-class Object {
- public:
-  Object(const json& j, std::string path, const std::string& file, const std::string& base_dir)
-      : j_(j), path_(std::move(path)), file_(file), base_(base_dir) {
-    if (!j.is_object()) fail(path_, "expected an object, got " + typeName(j));
-  }
-
-  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-    throw InputError(fmt::format("{}: {}: {}", file_, where.empty() ? "(top level)" : where, what));
-  }
-  std::string at(std::string_view key) const {
-    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
-  }
-  const json* get(std::string_view key) {
-    known_.emplace_back(key);
-    const auto it = j_.find(std::string(key));
-    return it == j_.end() ? nullptr : &*it;
-  }
-  bool has(std::string_view key) const { return j_.contains(std::string(key)); }
-
-  std::optional<double> optNumber(std::string_view key, double lo, double hi) {
-    const json* v = get(key);
-    if (!v) return std::nullopt;
-    if (!v->is_number()) fail(at(key), "expected a number, got " + typeName(*v));
-    const double d = v->get<double>();
-    if (!std::isfinite(d) || d < lo || d > hi) {
-      fail(at(key), fmt::format("expected a number in [{}, {}], got {}", lo, hi, d));
-    }
-    return d;
-  }
-  double number(std::string_view key, double def, double lo, double hi) {
-    return optNumber(key, lo, hi).value_or(def);
-  }
-  int integer(std::string_view key, int def, int lo, int hi) {
-    const json* v = get(key);
-    if (!v) return def;
-    if (!v->is_number() || !(std::floor(v->get<double>()) == v->get<double>())) {
-      fail(at(key), "expected an integer, got " + (v->is_number() ? v->dump() : typeName(*v)));
-    }
-    const double d = v->get<double>();
-    if (d < lo || d > hi) fail(at(key), fmt::format("expected an integer in [{}, {}], got {}", lo, hi, d));
-    return static_cast<int>(d);
-  }
-  bool boolean(std::string_view key, bool def) {
-    const json* v = get(key);
-    if (!v) return def;
-    if (!v->is_boolean()) fail(at(key), "expected true or false, got " + typeName(*v));
-    return v->get<bool>();
-  }
-  std::optional<std::string> optString(std::string_view key) {
-    const json* v = get(key);
-    if (!v) return std::nullopt;
-    if (!v->is_string()) fail(at(key), "expected a string, got " + typeName(*v));
-    return v->get<std::string>();
-  }
-  std::string path(std::string_view key, bool required) {
-    const auto s = optString(key);
-    if (!s) {
-      if (required) fail(at(key), "required (a file path)");
-      return {};
-    }
-    if (s->empty()) fail(at(key), "expected a file path, got an empty string");
-    const fs::path p(*s);
-    return p.is_absolute() || base_.empty() ? *s : (fs::path(base_) / p).lexically_normal().string();
-  }
-  template <std::size_t N>
-  std::optional<std::array<double, N>> optNumbers(std::string_view key) {
-    const json* v = get(key);
-    if (!v) return std::nullopt;
-    if (!v->is_array() || v->size() != N) {
-      fail(at(key), fmt::format("expected an array of {} numbers, got {}", N,
-                                v->is_array() ? fmt::format("{} elements", v->size()) : typeName(*v)));
-    }
-    std::array<double, N> out{};
-    for (std::size_t i = 0; i < N; ++i) {
-      const json& e = (*v)[i];
-      if (!e.is_number() || !std::isfinite(e.get<double>())) {
-        fail(fmt::format("{}[{}]", at(key), i), "expected a number, got " + typeName(e));
-      }
-      out[i] = e.get<double>();
-    }
-    return out;
-  }
-  std::optional<glm::dvec3> optVec3(std::string_view key) {
-    const auto a = optNumbers<3>(key);
-    if (!a) return std::nullopt;
-    return glm::dvec3((*a)[0], (*a)[1], (*a)[2]);
-  }
-  std::optional<Object> optObject(std::string_view key) {
-    const json* v = get(key);
-    if (!v) return std::nullopt;
-    return Object(*v, at(key), file_, base_);
-  }
-  template <class E>
-  E choice(std::string_view key, E def, std::initializer_list<std::pair<const char*, E>> options) {
-    const auto s = optString(key);
-    if (!s) return def;
-    std::string list;
-    for (const auto& [name, value] : options) {
-      if (*s == name) return value;
-      list += (list.empty() ? "\"" : ", \"") + std::string(name) + "\"";
-    }
-    fail(at(key), fmt::format("expected one of {}, got \"{}\"", list, *s));
-  }
-  /// Unknown keys are errors (typos must not silently become defaults).
-  void finish() const {
-    for (const auto& [key, value] : j_.items()) {
-      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
-        std::string list;
-        for (const auto& k : known_) list += (list.empty() ? "" : ", ") + k;
-        fail(at(key), fmt::format("unknown key (expected one of: {})", list));
-      }
-    }
-  }
-  const std::string& where() const { return path_; }
-  const json& value() const { return j_; }
-
- private:
-  const json& j_;
-  std::string path_;
-  const std::string& file_;
-  const std::string& base_;
-  std::vector<std::string> known_;
-};
+using json_detail::Object;
+using json_detail::typeName;
 
 void parseQualityOverrides(Object& o, QualitySettings& q) {
   q.step_voxels = o.number("step_voxels", q.step_voxels, 0.01, 10.0);
@@ -205,6 +69,45 @@ QualitySettings qualityPreset(std::string_view name) {
   throw InputError(fmt::format("quality preset '{}': expected \"draft\", \"broadcast\" or \"reference\"", name));
 }
 
+namespace json_detail {
+
+void parseCameraObject(Object& c, CameraSpec& cam) {
+  const auto preset = c.optString("preset");
+  cam.position_m = c.optVec3("position_m");
+  cam.target_m = c.optVec3("target_m");
+  const auto up = c.optVec3("up");
+  if (up) {
+    if (glm::length(*up) < 1e-9) c.fail(c.at("up"), "expected a non-zero vector");
+    cam.up = glm::normalize(*up);
+  }
+  cam.fov_deg = c.number("fov_deg", cam.fov_deg, 1.0, 170.0);
+  cam.azimuth_deg = c.optNumber("azimuth_deg", -360.0, 360.0);
+  cam.elevation_deg = c.optNumber("elevation_deg", 1.0, 90.0);
+  cam.distance_scale = c.number("distance_scale", cam.distance_scale, 0.01, 100.0);
+  if (cam.position_m || cam.target_m) {
+    if (!cam.position_m || !cam.target_m) {
+      c.fail(c.at(cam.position_m ? "target_m" : "position_m"),
+             "required with the other (an explicit camera needs position_m and target_m)");
+    }
+    if (preset) c.fail(c.at("preset"), "give either a preset or position_m/target_m, not both");
+    if (glm::length(*cam.target_m - *cam.position_m) < 1e-6) {
+      c.fail(c.at("target_m"), "expected a point different from position_m");
+    }
+    cam.preset.reset();
+  } else if (up) {
+    c.fail(c.at("up"), "only used with position_m/target_m (presets choose their own up)");
+  }
+  if (!cam.position_m && preset) {
+    if (*preset == "overview") cam.preset = CameraPreset::Overview;
+    else if (*preset == "oblique") cam.preset = CameraPreset::Oblique;
+    else if (*preset == "top") cam.preset = CameraPreset::Top;
+    else c.fail(c.at("preset"), fmt::format("expected \"overview\", \"oblique\" or \"top\", got \"{}\"", *preset));
+  }
+  c.finish();
+}
+
+}  // namespace json_detail
+
 SceneDescription parseSceneText(std::string_view text, const std::string& name, const std::string& base_dir) {
   json root;
   try {
@@ -214,6 +117,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
   }
   SceneDescription s;
   s.source_file = name;
+  s.base_dir = base_dir;
   Object top(root, "", name, base_dir);
   (void)top.optString("description");  // free text for humans
 
@@ -235,41 +139,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     s.data = data;
   }
 
-  if (auto c = top.optObject("camera")) {
-    CameraSpec& cam = s.camera;
-    const auto preset = c->optString("preset");
-    cam.position_m = c->optVec3("position_m");
-    cam.target_m = c->optVec3("target_m");
-    const auto up = c->optVec3("up");
-    if (up) {
-      if (glm::length(*up) < 1e-9) c->fail(c->at("up"), "expected a non-zero vector");
-      cam.up = glm::normalize(*up);
-    }
-    cam.fov_deg = c->number("fov_deg", cam.fov_deg, 1.0, 170.0);
-    cam.azimuth_deg = c->optNumber("azimuth_deg", -360.0, 360.0);
-    cam.elevation_deg = c->optNumber("elevation_deg", 1.0, 90.0);
-    cam.distance_scale = c->number("distance_scale", cam.distance_scale, 0.01, 100.0);
-    if (cam.position_m || cam.target_m) {
-      if (!cam.position_m || !cam.target_m) {
-        c->fail(c->at(cam.position_m ? "target_m" : "position_m"),
-                "required with the other (an explicit camera needs position_m and target_m)");
-      }
-      if (preset) c->fail(c->at("preset"), "give either a preset or position_m/target_m, not both");
-      if (glm::length(*cam.target_m - *cam.position_m) < 1e-6) {
-        c->fail(c->at("target_m"), "expected a point different from position_m");
-      }
-      cam.preset.reset();
-    } else if (up) {
-      c->fail(c->at("up"), "only used with position_m/target_m (presets choose their own up)");
-    }
-    if (!cam.position_m && preset) {
-      if (*preset == "overview") cam.preset = CameraPreset::Overview;
-      else if (*preset == "oblique") cam.preset = CameraPreset::Oblique;
-      else if (*preset == "top") cam.preset = CameraPreset::Top;
-      else c->fail(c->at("preset"), fmt::format("expected \"overview\", \"oblique\" or \"top\", got \"{}\"", *preset));
-    }
-    c->finish();
-  }
+  if (auto c = top.optObject("camera")) json_detail::parseCameraObject(*c, s.camera);
 
   if (auto u = top.optObject("sun")) {
     SunSpec& sun = s.sun;
@@ -329,6 +199,11 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
       }
       o.finish();
     }
+  }
+
+  if (const json* a = top.get("animation")) {
+    (void)Object(*a, "animation", name, base_dir);  // must be an object; parsed by parseAnimation
+    s.animation_json = a->dump();
   }
 
   if (auto o = top.optObject("output")) {

@@ -78,7 +78,7 @@ struct OutputSpec {
   std::vector<std::string> paths;  ///< .png and/or .exr; may be empty when the CLI gives them
   int width = 1920;
   int height = 1080;
-  ImageOutputOptions image{0.0, ToneCurve::AcesFitted, /*write_depth=*/false};  ///< exposure, tone curve, Z in EXR
+  ImageOutputOptions image{0.0, ToneCurve::AcesFitted, /*write_depth=*/false, /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
 };
 
 enum class ViewMode { Flat, Globe };
@@ -95,6 +95,8 @@ struct SceneDescription {
   ViewMode view = ViewMode::Flat;
   LonLatOffset lonlat_offset;        ///< Nes 2008 §5.5.1
   std::optional<LonLat> centre_if_cartesian;  ///< placement of idealised (Cartesian) grids
+  std::string base_dir;        ///< folder relative paths were resolved against
+  std::string animation_json;  ///< the "animation" section as JSON text, "" when absent (engine/animation.h)
 };
 
 /// Reads and parses a scene file; InputError on a missing file, bad JSON or a bad value.

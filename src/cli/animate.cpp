@@ -1,0 +1,350 @@
+// `nephele animate`: an image sequence (and optionally a video with alpha) of a scene file's
+// animation section (docs/animation.md): model time from a time range at a rational frame rate,
+// camera keyframes, the sun fixed or following the clock.
+//
+// Render-farm rules: frame k is a function of k alone (engine/animation.h; the ray caster's jitter
+// is a hash of the pixel, glsl/render/clouds.comp), so `--frames A:B` on any machine gives the
+// same bytes as one run; a frame whose every output exists is skipped (resume), and every image is
+// written under a temporary name and renamed (scene::writeImage), so a killed run never leaves a
+// half-written frame under a final name.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "cli/progress.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "engine/animation.h"
+#include "engine/dataset.h"
+#include "engine/session.h"
+#include "render/gl/context.h"
+#include "scene/animation_spec.h"
+#include "scene/output_image.h"
+#include "scene/scene_file.h"
+
+namespace nph::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct AnimateOptions {
+  std::string scene;
+  std::string output_dir;
+  std::string formats = "png";
+  bool layer = false;
+  std::string frames;
+  std::vector<std::string> data;
+  std::string from, to, fps, keyframes, interpolation;
+  std::optional<double> duration_s, speed;
+  std::string gl = "auto";
+  int width = 0, height = 0;
+  bool no_prefetch = false;
+  double prefetch_budget_mb = 2048.0;
+  int lookahead = 2;
+  bool progress = false, no_progress = false;
+  bool overwrite = false;
+  std::string video;
+  std::string video_codec = "prores4444";
+};
+
+/// "A:B" (inclusive, either side may be empty) within [0, count).
+std::pair<std::int64_t, std::int64_t> parseFrameRange(const std::string& text, std::int64_t count) {
+  if (text.empty()) return {0, count - 1};
+  const auto colon = text.find(':');
+  const auto number = [&](const std::string& s, std::int64_t def) -> std::int64_t {
+    if (s.empty()) return def;
+    std::size_t used = 0;
+    long long v = -1;
+    try {
+      v = std::stoll(s, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != s.size() || v < 0) throw UsageError(fmt::format("--frames {}: expected A:B with frame numbers ≥ 0", text));
+    return v;
+  };
+  const std::int64_t a = number(text.substr(0, colon), 0);
+  const std::int64_t b = colon == std::string::npos ? a : number(text.substr(colon + 1), count - 1);
+  if (a > b || b >= count) {
+    throw UsageError(fmt::format("--frames {}: the animation has frames 0 to {}", text, count - 1));
+  }
+  return {a, b};
+}
+
+scene::TimePoint timePointFromText(const std::string& text) {
+  scene::TimePoint p;
+  std::size_t used = 0;
+  try {
+    const double index = std::stod(text, &used);
+    if (used == text.size() && index >= 0.0) {
+      p.index = index;
+      return p;
+    }
+  } catch (const std::exception&) {
+  }
+  p.utc = text;
+  return p;
+}
+
+/// EXR capDate of a frame: the model time it shows ("YYYY:MM:DD hh:mm:ss"), the epoch without
+/// times: never the wall clock, so frames rendered anywhere are byte-identical.
+std::string exrDateTime(const engine::AnimationFrame& f) {
+  std::string iso = f.utc ? f.utc->iso8601() : std::string("1970-01-01T00:00:00Z");  // YYYY-MM-DDThh:mm:ssZ
+  iso[4] = iso[7] = ':';
+  iso[10] = ' ';
+  return iso.substr(0, 19);
+}
+
+double peakResidentMb() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+/// Runs a program (no shell) and waits; returns its exit status, -1 when it could not start.
+int runProgram(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    ::execvp(args[0], args.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  if (::waitpid(pid, &status, 0) < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Encodes the PNG sequence `pattern` (printf-style) of frames first..last into `video` with
+/// alpha: ProRes 4444 (prores_ks, yuva444p10le) or QuickTime Animation (qtrle, argb), through
+/// Debian's ffmpeg. Written under a temporary name and renamed.
+void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t last, const scene::FrameRate& fps,
+                 const std::string& codec, const std::string& video) {
+  std::vector<std::string> args{"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", fps.text(),
+                                "-start_number", std::to_string(first), "-i", pattern,
+                                "-frames:v", std::to_string(last - first + 1)};
+  if (codec == "prores4444") {
+    args.insert(args.end(), {"-c:v", "prores_ks", "-profile:v", "4444", "-pix_fmt", "yuva444p10le", "-vendor", "apl0"});
+  } else {
+    args.insert(args.end(), {"-c:v", "qtrle", "-pix_fmt", "argb"});
+  }
+  const fs::path final(video);
+  const fs::path tmp = final.parent_path() / fmt::format(".{}.partial-{}", final.filename().string(), ::getpid());
+  args.insert(args.end(), {"-f", "mov", tmp.string()});
+  log::info("encoding {} with ffmpeg ({})", video, codec);
+  const int status = runProgram(args);
+  if (status != 0) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw IoError(status == 127 ? fmt::format("{}: ffmpeg not found (Debian package ffmpeg; make deps)", video)
+                                : fmt::format("{}: ffmpeg failed with status {}", video, status));
+  }
+  fs::rename(tmp, final);
+}
+
+int runAnimate(const AnimateOptions& o) {
+  scene::SceneDescription s = scene::loadSceneFile(o.scene);
+  if (o.width > 0) s.output.width = o.width;
+  if (o.height > 0) s.output.height = o.height;
+  if (!s.data && o.data.empty()) throw InputError(o.scene + ": no \"data\" section: which .nph or model files to animate?");
+  if (!o.data.empty()) {
+    if (!s.data) s.data = scene::DataSpec{};
+    s.data->path = o.data.front();
+    s.data->timestep = 0;
+    s.data->time_utc.reset();
+  }
+  scene::AnimationSpec spec = scene::parseAnimation(s);
+  if (!o.from.empty()) spec.from = timePointFromText(o.from);
+  if (!o.to.empty()) spec.to = timePointFromText(o.to);
+  if (!o.fps.empty()) spec.fps = scene::FrameRate::parse(o.fps);
+  if (o.duration_s && o.speed) throw UsageError("give either --duration or --speed, not both");
+  if (o.duration_s) spec.duration_s = *o.duration_s, spec.speed.reset();
+  if (o.speed) spec.speed = *o.speed, spec.duration_s.reset();
+  if (!o.interpolation.empty()) {
+    spec.interpolation = o.interpolation == "step" ? scene::TimeInterpolation::Step : scene::TimeInterpolation::Linear;
+  }
+  if (!o.keyframes.empty()) spec.keyframes = scene::loadCameraKeyframes(o.keyframes);
+
+  std::vector<std::string> exts;
+  for (const std::string f : {"png", "exr"}) {
+    if (o.formats.find(f) != std::string::npos) exts.push_back("." + f);
+  }
+  if (exts.empty() || (o.formats != "png" && o.formats != "exr" && o.formats != "png,exr" && o.formats != "exr,png")) {
+    throw UsageError(fmt::format("--format {}: expected png, exr or png,exr", o.formats));
+  }
+  if (!o.video.empty() && std::find(exts.begin(), exts.end(), ".png") == exts.end()) {
+    throw UsageError("--video encodes the PNG sequence: add png to --format");
+  }
+  const auto dataset = o.data.size() > 1 ? engine::Dataset::openSeries(o.data) : engine::Dataset::open(s.data->path);
+
+  gl::ContextOptions co;
+  const auto backend = gl::parseBackend(o.gl);
+  if (!backend) throw UsageError("--gl " + o.gl + ": expected auto, egl or osmesa");
+  co.backend = *backend == gl::Backend::Auto ? gl::backendFromEnvironment() : *backend;
+  co.visible = false;
+  auto ctx = gl::createContext(co);
+
+  engine::Session session(dataset, s);
+  const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
+  const auto [first, last] = parseFrameRange(o.frames, plan.frameCount());
+
+  fs::create_directories(o.output_dir);
+  const auto pathOf = [&](const char* kind, std::int64_t k, const std::string& ext) {
+    return (fs::path(o.output_dir) / fmt::format("{}_{:06d}{}", kind, k, ext)).string();
+  };
+  const auto outputsOf = [&](std::int64_t k) {
+    std::vector<std::pair<bool, std::string>> paths;  // (is layer, path)
+    for (const auto& ext : exts) {
+      paths.emplace_back(false, pathOf("frame", k, ext));
+      if (o.layer) paths.emplace_back(true, pathOf("layer", k, ext));
+    }
+    return paths;
+  };
+  std::vector<std::int64_t> todo;
+  std::int64_t skipped = 0;
+  for (std::int64_t k = first; k <= last; ++k) {
+    const auto outs = outputsOf(k);
+    const bool complete = std::all_of(outs.begin(), outs.end(), [](const auto& p) { return fs::exists(p.second); });
+    if (complete && !o.overwrite) {
+      ++skipped;
+      log::info("frame {}: complete, skipped", k);
+    } else {
+      todo.push_back(k);
+    }
+  }
+  log::info("animation: {} frames at {} fps ({:.3f} s), timesteps {:.3f} to {:.3f}, sun {}; frames {} to {}: {} to "
+            "render, {} complete", plan.frameCount(), spec.fps.text(), plan.durationSeconds(), plan.fromIndex(),
+            plan.toIndex(), plan.sunFollowsClock() ? "following the clock" : "fixed", first, last, todo.size(), skipped);
+
+  engine::PrefetchSettings prefetch;
+  prefetch.enabled = !o.no_prefetch;
+  prefetch.lookahead = std::size_t(std::max(o.lookahead, 0));
+  prefetch.memory_budget_bytes = std::size_t(std::max(o.prefetch_budget_mb, 0.0) * 1024.0 * 1024.0);
+  prefetch.max_timesteps = std::max<std::size_t>(4, prefetch.lookahead + 2);
+  session.setPrefetch(prefetch);
+  session.setPlaybackDirection(+1);
+
+  ProgressBar bar(todo.size(), o.progress || (!o.no_progress && ProgressBar::stderrIsTerminal()));
+  const auto t_start = Clock::now();
+  double steady_s = 0.0;
+  std::uint64_t dlm_reused_frames = 0, volume_reused_frames = 0, stalls = 0;
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    const std::int64_t k = todo[i];
+    const engine::AnimationFrame f = plan.frame(k);
+    const auto t0 = Clock::now();
+    const std::string when = f.utc ? f.utc->iso8601() : fmt::format("timestep {:.4f}", f.time_index);
+    render::RenderOutput out;
+    try {
+      session.setTime(f.time_index);
+      session.setSun(f.sun);
+      out = session.render(f.camera);
+    } catch (const Error& e) {
+      const engine::TimeBracket b = engine::bracketTime(f.time_index, dataset->timestepCount());
+      const std::string files = b.weight > 0.0 && dataset->sourceFile(b.first) != dataset->sourceFile(b.second)
+                                    ? dataset->sourceFile(b.first) + " / " + dataset->sourceFile(b.second)
+                                    : dataset->sourceFile(b.first);
+      bar.finish();
+      throw InputError(fmt::format("frame {} ({}, timestep {:.4f} of {}): {} — frames written before it are kept; run "
+                                   "again to resume", k, when, f.time_index, files, e.what()));
+    }
+    scene::ImageOutputOptions image = s.output.image;
+    image.date_time = exrDateTime(f);
+    for (const auto& [is_layer, path] : outputsOf(k)) scene::writeImage(is_layer ? out.cloud_layer : out.frame, path, image);
+    const engine::FrameStats& st = session.stats();
+    dlm_reused_frames += st.dlm_rebuilt ? 0 : 1;
+    volume_reused_frames += st.volume_changed ? 0 : 1;
+    stalls += st.blocked_ms > 0.0 ? 1 : 0;
+    const double frame_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (i > 0) steady_s += frame_s;
+    log::info("frame {} ({}, timestep {:.4f}): {:.2f} s (load {:.0f} ms of which blocked {:.0f}, upload {:.0f}, DLM "
+              "{}, ray cast {:.0f} ms)", k, when, f.time_index, frame_s, st.load_ms, st.blocked_ms, st.upload_ms,
+              st.dlm_rebuilt ? fmt::format("{:.0f} ms", st.dlm_ms) : std::string("reused"), st.raycast_ms);
+    bar.update(i + 1, fmt::format("frame {}", k));
+  }
+  bar.finish();
+  const double total_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+  const auto pf = session.prefetchStats();
+  std::printf("animate: rendered %zu frames, skipped %lld complete (frames %lld to %lld of %lld)\n", todo.size(),
+              static_cast<long long>(skipped), static_cast<long long>(first), static_cast<long long>(last),
+              static_cast<long long>(plan.frameCount()));
+  if (!todo.empty()) {
+    std::printf(
+        "animate: %.2f s, %.3f frames/s sustained (after the first), DLM reused on %llu of %zu frames, volume reused "
+        "on %llu, frames that waited for data %llu; prefetch hits %llu waits %llu misses %llu (%.0f ms blocked), "
+        "peak decoded %.0f MB, peak RSS %.0f MB\n",
+        total_s, todo.size() > 1 ? double(todo.size() - 1) / steady_s : 0.0,
+        static_cast<unsigned long long>(dlm_reused_frames), todo.size(),
+        static_cast<unsigned long long>(volume_reused_frames), static_cast<unsigned long long>(stalls),
+        static_cast<unsigned long long>(pf.hits), static_cast<unsigned long long>(pf.waits),
+        static_cast<unsigned long long>(pf.misses), pf.blocked_ms, double(pf.peak_bytes) / 1048576.0, peakResidentMb());
+  }
+  if (!o.video.empty()) {
+    const char* kind = o.layer ? "layer" : "frame";
+    encodeVideo((fs::path(o.output_dir) / fmt::format("{}_%06d.png", kind)).string(), first, last, spec.fps,
+                o.video_codec, o.video);
+    std::printf("animate: wrote %s (%s, %s frames with alpha)\n", o.video.c_str(), o.video_codec.c_str(), kind);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void addAnimateCommand(CLI::App& app, Action& run) {
+  auto opts = std::make_shared<AnimateOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "animate",
+      "Render an image sequence of a scene file's animation section (time range, frame rate, camera "
+      "keyframes, sun fixed or following the clock; docs/animation.md) to OUTPUT_DIR/frame_NNNNNN.png/.exr, "
+      "optionally the premultiplied cloud layer (layer_NNNNNN) and a video with alpha through ffmpeg. "
+      "Frames already complete are skipped; --frames A:B renders a sub-range with the same bytes as one run.");
+  cmd->add_option("scene", opts->scene, "scene file (JSON) with an optional \"animation\" section")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output-dir", opts->output_dir, "folder of the image sequence")->required();
+  cmd->add_option("--format", opts->formats, "png, exr or png,exr")->capture_default_str();
+  cmd->add_flag("--layer", opts->layer, "also write the premultiplied cloud layer alone (layer_NNNNNN)");
+  cmd->add_option("--frames", opts->frames, "sub-range A:B of frame numbers, inclusive (render farms)");
+  cmd->add_option("--data", opts->data, "model files (a series, time-ordered) or one .nph; replaces data.path")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--from", opts->from, "start: timestep index or UTC time (replaces animation.from)");
+  cmd->add_option("--to", opts->to, "end: timestep index or UTC time (replaces animation.to)");
+  cmd->add_option("--fps", opts->fps, "frame rate: 25, 50, 59.94 (= 60000/1001), 60000/1001, ...");
+  cmd->add_option("--duration", opts->duration_s, "video length in seconds (replaces animation.duration_s)");
+  cmd->add_option("--speed", opts->speed, "model seconds per video second (replaces animation.speed)");
+  cmd->add_option("--interpolation", opts->interpolation, "linear (blend timesteps) or step (hold each)")
+      ->check(CLI::IsMember({"linear", "step"}));
+  cmd->add_option("--keyframes", opts->keyframes, "camera keyframe file (JSON; replaces the scene's)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--gl", opts->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
+  cmd->add_option("--width", opts->width, "image width (default: the scene's)");
+  cmd->add_option("--height", opts->height, "image height (default: the scene's)");
+  cmd->add_flag("--no-prefetch", opts->no_prefetch, "decode timesteps only when a frame needs them");
+  cmd->add_option("--prefetch-budget-mb", opts->prefetch_budget_mb, "memory for decoded timesteps")
+      ->capture_default_str();
+  cmd->add_option("--lookahead", opts->lookahead, "timesteps decoded ahead of the current ones")->capture_default_str();
+  cmd->add_flag("--progress", opts->progress, "progress bar with ETA on stderr even when it is not a terminal");
+  cmd->add_flag("--no-progress", opts->no_progress, "no progress bar");
+  cmd->add_flag("--overwrite", opts->overwrite, "render complete frames again instead of skipping them");
+  cmd->add_option("--video", opts->video, "also encode a .mov with alpha (needs png in --format)");
+  cmd->add_option("--video-codec", opts->video_codec, "prores4444 (ProRes 4444, 10-bit + alpha) or qtrle (Animation)")
+      ->check(CLI::IsMember({"prores4444", "qtrle"}))
+      ->capture_default_str();
+  cmd->callback([opts, &run] { run = [opts] { return runAnimate(*opts); }; });
+}
+
+}  // namespace nph::cli

@@ -1,0 +1,187 @@
+#include "engine/animation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "scene/georeference.h"
+
+namespace nph::engine {
+namespace {
+
+constexpr double kSecondsPerDay = 86400.0;
+/// Slack for "is frame k's video time past the end": a frame exactly at the end is included even
+/// when k·den/num rounds a few ulps above it.
+constexpr double kFrameSlack_s = 1e-9;
+
+}  // namespace
+
+template <class T>
+T catmullRom(const std::vector<double>& times, const std::vector<T>& values, double t) {
+  const std::size_t n = times.size();
+  if (n == 0 || values.size() != n) throw UsageError("catmullRom: need as many values as times, at least one");
+  if (n == 1 || t <= times.front()) return values.front();
+  if (t >= times.back()) return values.back();
+  const std::size_t i = std::size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
+  const auto tangent = [&](std::size_t j) -> T {
+    const std::size_t lo = j == 0 ? 0 : j - 1, hi = std::min(j + 1, n - 1);
+    return (values[hi] - values[lo]) * (1.0 / (times[hi] - times[lo]));
+  };
+  const double h = times[i + 1] - times[i];
+  const double s = (t - times[i]) / h, s2 = s * s, s3 = s2 * s;
+  const double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = s3 - 2.0 * s2 + s;
+  const double h01 = -2.0 * s3 + 3.0 * s2, h11 = s3 - s2;
+  return values[i] * h00 + tangent(i) * (h10 * h) + values[i + 1] * h01 + tangent(i + 1) * (h11 * h);
+}
+template double catmullRom<double>(const std::vector<double>&, const std::vector<double>&, double);
+template glm::dvec3 catmullRom<glm::dvec3>(const std::vector<double>&, const std::vector<glm::dvec3>&, double);
+
+AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& dataset,
+                             const scene::SceneDescription& scene, const scene::PreparedScene& prepared)
+    : spec_(spec), scene_(&scene), prepared_(&prepared), timestep_count_(dataset.timestepCount()) {
+  const std::string& file = scene.source_file;
+  bool timed = true;
+  for (const auto& t : dataset.times()) timed = timed && !t.empty();
+  if (timed) {
+    for (const auto& t : dataset.times()) time_jd_.push_back(scene::UtcTime::parse(t).julian_day);
+    for (std::size_t i = 1; i < time_jd_.size(); ++i) {
+      if (!(time_jd_[i] > time_jd_[i - 1])) {
+        throw InputError(fmt::format("{}: timesteps {} and {} are not in increasing time order ({}, {})", dataset.path(),
+                                     i - 1, i, dataset.timeUtc(i - 1), dataset.timeUtc(i)));
+      }
+    }
+  }
+  from_index_ = resolve(spec.from, 0.0, "animation.from");
+  to_index_ = resolve(spec.to, double(timestep_count_ - 1), "animation.to");
+  if (to_index_ < from_index_) {
+    throw InputError(fmt::format("{}: animation.to (timestep {:.3f}) lies before animation.from ({:.3f})", file,
+                                 to_index_, from_index_));
+  }
+  if (spec.duration_s) {
+    duration_s_ = *spec.duration_s;
+  } else if (spec.speed) {
+    if (time_jd_.empty()) throw InputError(fmt::format("{}: animation.speed needs timestep times; the data has none", file));
+    duration_s_ = (julianDayAtIndex(to_index_) - julianDayAtIndex(from_index_)) * kSecondsPerDay / *spec.speed;
+  } else {
+    duration_s_ = to_index_ - from_index_;  // one video second per timestep interval
+  }
+  if (!(duration_s_ > 0.0) && spec.keyframes.size() > 1) duration_s_ = spec.keyframes.back().at_s;
+  if (!(duration_s_ > 0.0)) {
+    throw InputError(fmt::format("{}: the animation has no length: from and to are the same time; give "
+                                 "animation.duration_s", file));
+  }
+  frame_count_ = std::int64_t(std::floor(duration_s_ * spec.fps.fps() + kFrameSlack_s * spec.fps.fps())) + 1;
+
+  sun_follows_clock_ = spec.sun_follows_clock.value_or(scene.sun.from_time && !scene.sun.time_utc);
+  if (sun_follows_clock_) {
+    if (time_jd_.empty()) throw InputError(fmt::format("{}: the sun cannot follow the clock: the data has no times", file));
+    if (!prepared.geo) {
+      throw InputError(fmt::format("{}: the sun cannot follow the clock: the volume has no place on Earth (give "
+                                   "centre_lonlat_deg)", file));
+    }
+  }
+
+  for (const auto& key : spec.keyframes) {
+    const scene::Camera c = scene::cameraFor(key.camera, prepared.frame, scene.output.width, scene.output.height);
+    key_times_.push_back(key.at_s);
+    key_position_.push_back(c.position_m);
+    key_target_.push_back(c.target_m);
+    key_up_.push_back(c.up);
+    key_fov_.push_back(c.vertical_fov_deg);
+    key_near_.push_back(c.near_m);
+    key_far_.push_back(c.far_m);
+  }
+}
+
+double AnimationPlan::resolve(const scene::TimePoint& p, double fallback, const char* what) const {
+  const double last = double(timestep_count_ - 1);
+  if (p.index) {
+    if (*p.index > last) {
+      throw InputError(fmt::format("{}: {}: timestep {} requested, the data has {} (0 to {})", scene_->source_file, what,
+                                   *p.index, timestep_count_, timestep_count_ - 1));
+    }
+    return *p.index;
+  }
+  if (!p.utc) return fallback;
+  if (time_jd_.empty()) {
+    throw InputError(fmt::format("{}: {}: a UTC time needs timestep times; the data has none", scene_->source_file, what));
+  }
+  const double jd = scene::UtcTime::parse(*p.utc).julian_day;
+  constexpr double kSlack_days = 0.5 / kSecondsPerDay;
+  if (jd < time_jd_.front() - kSlack_days || jd > time_jd_.back() + kSlack_days) {
+    throw InputError(fmt::format("{}: {}: {} lies outside the data ({} to {})", scene_->source_file, what, *p.utc,
+                                 scene::UtcTime{time_jd_.front()}.iso8601(), scene::UtcTime{time_jd_.back()}.iso8601()));
+  }
+  return indexAtJulianDay(jd);
+}
+
+double AnimationPlan::indexAtJulianDay(double jd) const {
+  if (time_jd_.size() < 2 || jd <= time_jd_.front()) return 0.0;
+  if (jd >= time_jd_.back()) return double(time_jd_.size() - 1);
+  const std::size_t i = std::size_t(std::upper_bound(time_jd_.begin(), time_jd_.end(), jd) - time_jd_.begin()) - 1;
+  return double(i) + (jd - time_jd_[i]) / (time_jd_[i + 1] - time_jd_[i]);
+}
+
+double AnimationPlan::julianDayAtIndex(double index) const {
+  const TimeBracket b = bracketTime(index, time_jd_.size());
+  return time_jd_[b.first] + b.weight * (time_jd_[b.second] - time_jd_[b.first]);
+}
+
+AnimationFrame AnimationPlan::frame(std::int64_t k) const {
+  if (k < 0 || k >= frame_count_) {
+    throw UsageError(fmt::format("frame {} requested, the animation has {} (0 to {})", k, frame_count_, frame_count_ - 1));
+  }
+  AnimationFrame f;
+  f.index = k;
+  f.video_s = spec_.fps.secondsAt(k);
+  const double u = std::min(1.0, f.video_s / duration_s_);  // share of the model time range
+  double jd = 0.0;
+  if (time_jd_.empty()) {
+    f.time_index = from_index_ + u * (to_index_ - from_index_);
+  } else {
+    const double jd0 = julianDayAtIndex(from_index_), jd1 = julianDayAtIndex(to_index_);
+    jd = jd0 + u * (jd1 - jd0);
+    f.time_index = indexAtJulianDay(jd);
+    f.utc = scene::UtcTime{jd};
+  }
+  if (spec_.interpolation == scene::TimeInterpolation::Step) {
+    // The last timestep at or before the frame's time (a tolerance for indices that land a few
+    // ulps below a whole timestep through the UTC round trip).
+    f.time_index = std::floor(f.time_index + 1e-9);
+    if (!time_jd_.empty()) f.utc = scene::UtcTime{time_jd_[std::size_t(f.time_index)]};
+  }
+
+  if (key_times_.empty()) {
+    f.camera = prepared_->flat_camera;
+  } else {
+    scene::Camera& c = f.camera;
+    c.width = scene_->output.width;
+    c.height = scene_->output.height;
+    c.position_m = catmullRom(key_times_, key_position_, f.video_s);
+    c.target_m = catmullRom(key_times_, key_target_, f.video_s);
+    c.up = glm::normalize(catmullRom(key_times_, key_up_, f.video_s));
+    c.vertical_fov_deg = catmullRom(key_times_, key_fov_, f.video_s);
+    c.near_m = *std::min_element(key_near_.begin(), key_near_.end());
+    c.far_m = *std::max_element(key_far_.begin(), key_far_.end());
+  }
+  if (scene_->view == scene::ViewMode::Globe && prepared_->geo) f.camera = scene::globeCameraFrom(f.camera, *prepared_->geo);
+
+  f.sun = prepared_->sun;
+  if (sun_follows_clock_) {
+    double sun_jd = f.utc->julian_day;
+    if (spec_.sun_step_s > 0.0) {
+      const double jd0 = julianDayAtIndex(from_index_);
+      const double steps = std::floor((sun_jd - jd0) * kSecondsPerDay / spec_.sun_step_s + 1e-9);
+      sun_jd = jd0 + steps * spec_.sun_step_s / kSecondsPerDay;
+    }
+    scene::SunSpec sun = scene_->sun;
+    sun.from_time = true;
+    sun.time_utc = scene::UtcTime{sun_jd}.iso8601();
+    f.sun = scene::sunFor(sun, &*prepared_->geo, "");
+  }
+  return f;
+}
+
+}  // namespace nph::engine
