@@ -1,0 +1,130 @@
+// Golden images (issue 5 "Done means"; STYLE.md 8): small scenes rendered end to end on llvmpipe
+// through engine::Session — a small generated hurricane (Lambert, 80 × 72 × 20 at 5 km, eye and
+// eyewall) over a lon/lat-coded basemap with a 10° checkerboard, 160 × 90, sun low in the east so
+// the shadow falls beside the storm — flat and globe, cloud shadows on and off, compared with the
+// checked-in frames in tests/golden/*.exr (linear RGB, half).
+//
+// Regenerate: NEPHELE_UPDATE_GOLDEN=1 build/tests/dlm/nephele_dlm_tests --gtest_filter='Golden*'
+// (writes tests/golden/ in the source tree; review the pictures before committing them).
+//
+// Tolerances. The render is deterministic: the jitter is a hash of the pixel (no random state), and
+// llvmpipe runs the same code on every backend (EGL device, surfaceless, OSMesa), so on this CI the
+// difference is the half-float storage of the golden alone (≤ 2⁻¹¹ relative: ≤ 6e-4 on values up to
+// 1.3). Another driver differs in float transcendentals (GLSL allows exp/pow errors of a few ulp,
+// atan/asin of ~1e-5 rad on the globe), in texture-filter weight precision (8-bit fractions on
+// most GPUs vs 32-bit floats here) and therefore in the few rays whose early-termination or
+// empty-brick decision flips on rounding. Those flips change one pixel by up to ~T_min·L ≈ 0.01
+// and a DLM binary search landing on the neighbouring node by up to ε = 0.01 of the sun term:
+// hence max 0.05 (a few pixels may differ visibly, none grossly) and mean 2e-3 (a global shift
+// of brightness or placement). GoldenToleranceTest below checks that a missing cloud shadow —
+// a local change — exceeds the max bound several times over.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <OpenImageIO/imageio.h>
+
+#include "render_scenes.h"
+#include "support/gl_fixture.h"
+#include "support/image_compare.h"
+
+namespace nph::test {
+namespace {
+
+constexpr Tolerance kGoldenTolerance{0.05, 2e-3};
+
+std::string goldenPath(const std::string& name) { return std::string(NEPHELE_SOURCE_DIR) + "/tests/golden/" + name + ".exr"; }
+
+void writeHalfExr(const Image& image, const std::string& path) {
+  auto out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::HALF);
+  spec.attribute("compression", "zip");
+  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !out->close()) {
+    throw std::runtime_error("writeHalfExr: " + path);
+  }
+}
+
+/// The frame's RGB (alpha is 1 everywhere) as a test image.
+Image frameRgb(const scene::RgbaImage& frame) {
+  Image img{frame.width, frame.height, 3, {}};
+  img.pixels.reserve(std::size_t(frame.width) * std::size_t(frame.height) * 3);
+  for (std::size_t i = 0; i < frame.rgba.size(); i += 4) {
+    for (int c = 0; c < 3; ++c) img.pixels.push_back(frame.rgba[i + std::size_t(c)]);
+  }
+  return img;
+}
+
+struct GoldenScenes {
+  ScratchDir dir{"nephele-golden"};
+  std::string data = dir.file("wrfout_tiny.nc");
+  std::string basemap = dir.file("coded.exr");
+  GoldenScenes() {
+    datagen::WrfHurricaneSpec spec;
+    spec.nx = 80;
+    spec.ny = 72;
+    spec.nz = 20;
+    spec.dx_m = 5000.0;
+    spec.ntimes = 1;
+    datagen::writeWrfHurricane(spec, data);
+    writeCodedBasemap(basemap);
+  }
+  std::string json(const std::string& view, bool shadows) const {
+    return R"({"data": {"path": "x", "timestep": 0},
+      "camera": {"preset": "overview", "fov_deg": 40, "distance_scale": )" +
+           std::string(view == "globe" ? "3" : "1") + R"(},
+      "sun": {"azimuth_deg": 100, "elevation_deg": 25},
+      "basemap": {"path": ")" + basemap + R"(", "margin": 0.4, "pixels_long_side": 256},
+      "quality": {"preset": "broadcast", "overrides": {"shadows": )" + (shadows ? "true" : "false") + R"(}},
+      "output": {"width": 160, "height": 90},
+      "height_exaggeration": 8,
+      "view": ")" + view + R"("})";
+  }
+  Image render(const std::string& view, bool shadows) const {
+    auto session = openSession(json(view, shadows), data);
+    return frameRgb(session->render(session->prepared().camera).frame);
+  }
+};
+
+const GoldenScenes& scenes() {
+  static const GoldenScenes s;
+  return s;
+}
+
+class GoldenTest : public GlTest, public ::testing::WithParamInterface<std::tuple<std::string, bool>> {};
+
+TEST_P(GoldenTest, MatchesTheCheckedInFrame) {
+  const auto [view, shadows] = GetParam();
+  const std::string name = view + (shadows ? "-shadows" : "-no-shadows");
+  const Image actual = scenes().render(view, shadows);
+  if (const char* u = std::getenv("NEPHELE_UPDATE_GOLDEN"); u && std::string(u) == "1") {
+    writeHalfExr(actual, goldenPath(name));
+    std::printf("[ golden   ] updated %s\n", goldenPath(name).c_str());
+    return;
+  }
+  const CompareResult r = compareToFile(actual, goldenPath(name), kGoldenTolerance, "golden-" + name);
+  std::printf("[ golden   ] %s 160x90: max |diff| %.2e, mean %.2e\n", name.c_str(), r.max_abs, r.mean_abs);
+  EXPECT_TRUE(r.pass) << r.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GoldenTest,
+                         ::testing::Combine(::testing::Values(std::string("flat"), std::string("globe")), ::testing::Bool()),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + (std::get<1>(info.param) ? "Shadows" : "NoShadows");
+                         });
+
+// The tolerance must be able to fail: switching the cloud shadows off changes the frame by much
+// more than it allows.
+using GoldenToleranceTest = GlTest;
+
+TEST_F(GoldenToleranceTest, SeesAMissingShadow) {
+  const CompareResult flat = compareImages(scenes().render("flat", false), scenes().render("flat", true),
+                                           kGoldenTolerance, "golden-shadow-sensitivity");
+  std::printf("[ golden   ] shadows on vs off: max %.3f, mean %.4f\n", flat.max_abs, flat.mean_abs);
+  EXPECT_FALSE(flat.pass);
+  EXPECT_GT(flat.max_abs, 3.0 * kGoldenTolerance.max_abs);
+}
+
+}  // namespace
+}  // namespace nph::test

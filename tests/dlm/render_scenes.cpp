@@ -1,0 +1,56 @@
+#include "render_scenes.h"
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include <nlohmann/json.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include "engine/dataset.h"
+#include "scene/scene_file.h"
+
+namespace nph::test {
+
+ScratchDir::ScratchDir(const std::string& name) {
+  std::random_device rd;
+  path_ = (std::filesystem::temp_directory_path() / (name + "-" + std::to_string(rd()))).string();
+  std::filesystem::create_directories(path_);
+}
+
+ScratchDir::~ScratchDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+void writeCodedBasemap(const std::string& path) {
+  constexpr int kW = 720, kH = 360;
+  std::vector<float> rgb(std::size_t(kW) * kH * 3);
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < kW; ++x) {
+      const std::size_t o = (std::size_t(y) * kW + std::size_t(x)) * 3;
+      rgb[o] = float((x + 0.5) / kW);
+      rgb[o + 1] = float((y + 0.5) / kH);
+      rgb[o + 2] = ((x / 20 + y / 20) % 2) != 0 ? 0.6f : 0.2f;  // 10° squares
+    }
+  }
+  auto out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec spec(kW, kH, 3, OIIO::TypeDesc::FLOAT);
+  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close()) {
+    throw std::runtime_error("writeCodedBasemap: " + path);
+  }
+}
+
+void decodeBasemapColour(float r, float g, double& lon_deg, double& lat_deg) {
+  lon_deg = double(r) * 360.0 - 180.0;
+  lat_deg = 90.0 - double(g) * 180.0;
+}
+
+std::unique_ptr<engine::Session> openSession(const std::string& scene_json, const std::string& data_path) {
+  auto j = nlohmann::json::parse(scene_json);
+  j["data"]["path"] = data_path;
+  scene::SceneDescription s = scene::parseSceneText(j.dump(), "<test scene>");
+  return std::make_unique<engine::Session>(engine::Dataset::open(data_path), s);
+}
+
+}  // namespace nph::test

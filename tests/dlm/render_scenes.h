@@ -1,0 +1,36 @@
+#pragma once
+// Small scenes rendered end to end through engine::Session (scene file text -> Dataset -> Session
+// -> CloudRenderer), the path `nephele render` takes: golden images and placement tests.
+#include <memory>
+#include <string>
+
+#include "engine/session.h"
+#include "scene/output_image.h"
+#include "wrf_hurricane.h"
+
+namespace nph::test {
+
+/// A fresh folder under the temp directory, removed with the object.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& name);
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
+};
+
+/// Writes a 720 × 360 equirectangular linear EXR whose colour encodes lon/lat (R = (lon+180)/360,
+/// G = (90−lat)/180) with a 10° checkerboard in B (0.2 / 0.6), so images show where the map is.
+void writeCodedBasemap(const std::string& path);
+/// lon/lat [deg] from a basemap colour of writeCodedBasemap.
+void decodeBasemapColour(float r, float g, double& lon_deg, double& lat_deg);
+
+/// A session of `scene_json` (a scene file's text; its data.path is replaced by `data_path`) with a
+/// current GL context.
+std::unique_ptr<engine::Session> openSession(const std::string& scene_json, const std::string& data_path);
+
+}  // namespace nph::test
