@@ -61,13 +61,7 @@ struct GoldenScenes {
   std::string data = dir.file("wrfout_tiny.nc");
   std::string basemap = dir.file("coded.exr");
   GoldenScenes() {
-    datagen::WrfHurricaneSpec spec;
-    spec.nx = 80;
-    spec.ny = 72;
-    spec.nz = 20;
-    spec.dx_m = 5000.0;
-    spec.ntimes = 1;
-    datagen::writeWrfHurricane(spec, data);
+    datagen::writeWrfHurricane(smallStormSpec(), data);
     writeCodedBasemap(basemap);
   }
   std::string json(const std::string& view, bool shadows) const {

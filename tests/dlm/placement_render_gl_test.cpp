@@ -22,13 +22,6 @@
 namespace nph::test {
 namespace {
 
-double bilinear(const std::vector<double>& f, int nx, double fi, double fj) {
-  const int i = static_cast<int>(std::floor(fi)), j = static_cast<int>(std::floor(fj));
-  const double a = fi - i, b = fj - j;
-  auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(nx) + std::size_t(ii)]; };
-  return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) + a * b * at(i + 1, j + 1);
-}
-
 glm::dvec2 pixelOf(const scene::Camera& cam, const glm::dvec3& world) {
   const glm::dvec4 clip = cam.clipFromView() * cam.viewFromWorld() * glm::dvec4(world, 1.0);
   const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
@@ -45,13 +38,7 @@ class RenderedPlacement : public GlTest, public ::testing::WithParamInterface<da
 
 TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
   ScratchDir dir("nephele-placement");
-  datagen::WrfHurricaneSpec spec;
-  spec.nx = 80;
-  spec.ny = 72;
-  spec.nz = 20;
-  spec.ntimes = 1;
-  spec.dx_m = 5000.0;
-  spec.projection = GetParam();
+  const datagen::WrfHurricaneSpec spec = smallStormSpec(GetParam());
   const std::string data = dir.file("wrfout.nc"), basemap = dir.file("coded.exr");
   const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, data);
   writeCodedBasemap(basemap);
@@ -64,8 +51,7 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
   const auto& prep = session->prepared();
   const scene::Camera& cam = prep.camera;
 
-  const double fi = truth.storm_centre_x_m / spec.dx_m, fj = truth.storm_centre_y_m / spec.dx_m;
-  const scene::LonLat stormLl{bilinear(truth.lon_deg, spec.nx, fi, fj), bilinear(truth.lat_deg, spec.nx, fi, fj)};
+  const scene::LonLat stormLl = stormCentreLonLat(truth, spec);
   const glm::dvec2 stormXy = prep.geo->worldFromLonLat(stormLl);
   const glm::dvec2 bottom = pixelOf(cam, {stormXy, prep.frame.min_m().z});
   const glm::dvec2 top = pixelOf(cam, {stormXy, prep.frame.max_m().z});

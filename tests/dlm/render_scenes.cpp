@@ -46,6 +46,28 @@ void decodeBasemapColour(float r, float g, double& lon_deg, double& lat_deg) {
   lat_deg = 90.0 - double(g) * 180.0;
 }
 
+datagen::WrfHurricaneSpec smallStormSpec(datagen::WrfProjection projection) {
+  datagen::WrfHurricaneSpec spec;
+  spec.nx = 80;
+  spec.ny = 72;
+  spec.nz = 20;
+  spec.ntimes = 1;
+  spec.dx_m = 5000.0;
+  spec.projection = projection;
+  return spec;
+}
+
+scene::LonLat stormCentreLonLat(const datagen::WrfTruth& truth, const datagen::WrfHurricaneSpec& spec) {
+  const double fi = truth.storm_centre_x_m / spec.dx_m, fj = truth.storm_centre_y_m / spec.dx_m;
+  const int i = static_cast<int>(std::floor(fi)), j = static_cast<int>(std::floor(fj));
+  const double a = fi - i, b = fj - j;
+  auto lerp = [&](const std::vector<double>& f) {
+    auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(spec.nx) + std::size_t(ii)]; };
+    return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) + a * b * at(i + 1, j + 1);
+  };
+  return {lerp(truth.lon_deg), lerp(truth.lat_deg)};
+}
+
 std::unique_ptr<engine::Session> openSession(const std::string& scene_json, const std::string& data_path) {
   auto j = nlohmann::json::parse(scene_json);
   j["data"]["path"] = data_path;

@@ -29,6 +29,12 @@ void writeCodedBasemap(const std::string& path);
 /// lon/lat [deg] from a basemap colour of writeCodedBasemap.
 void decodeBasemapColour(float r, float g, double& lon_deg, double& lat_deg);
 
+/// The small storm of the golden and placement tests: 80 × 72 × 20 mass points at 5 km (a
+/// 400 × 360 km domain with eye and eyewall), one timestep, in `projection`.
+datagen::WrfHurricaneSpec smallStormSpec(datagen::WrfProjection projection = datagen::WrfProjection::Lambert);
+/// The storm centre's lon/lat from the generator's own XLAT/XLONG (bilinear between mass points).
+scene::LonLat stormCentreLonLat(const datagen::WrfTruth& truth, const datagen::WrfHurricaneSpec& spec);
+
 /// A session of `scene_json` (a scene file's text; its data.path is replaced by `data_path`) with a
 /// current GL context.
 std::unique_ptr<engine::Session> openSession(const std::string& scene_json, const std::string& data_path);
