@@ -15,6 +15,8 @@ constexpr double kSecondsPerDay = 86400.0;
 /// Slack for "is frame k's video time past the end": a frame exactly at the end is included even
 /// when k·den/num rounds a few ulps above it.
 constexpr double kFrameSlack_s = 1e-9;
+/// Relative slack of "at or after a step" (a timestep or a sun step) against rounding.
+constexpr double kStepSlack = 1e-9;
 
 }  // namespace
 
@@ -45,9 +47,10 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
   bool timed = true;
   for (const auto& t : dataset.times()) timed = timed && !t.empty();
   if (timed) {
-    for (const auto& t : dataset.times()) time_jd_.push_back(scene::UtcTime::parse(t).julian_day);
-    for (std::size_t i = 1; i < time_jd_.size(); ++i) {
-      if (!(time_jd_[i] > time_jd_[i - 1])) {
+    jd0_ = scene::UtcTime::parse(dataset.times().front()).julian_day;
+    for (const auto& t : dataset.times()) time_s_.push_back(secondsSinceFirst(scene::UtcTime::parse(t).julian_day));
+    for (std::size_t i = 1; i < time_s_.size(); ++i) {
+      if (!(time_s_[i] > time_s_[i - 1])) {
         throw InputError(fmt::format("{}: timesteps {} and {} are not in increasing time order ({}, {})", dataset.path(),
                                      i - 1, i, dataset.timeUtc(i - 1), dataset.timeUtc(i)));
       }
@@ -62,8 +65,8 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
   if (spec.duration_s) {
     duration_s_ = *spec.duration_s;
   } else if (spec.speed) {
-    if (time_jd_.empty()) throw InputError(fmt::format("{}: animation.speed needs timestep times; the data has none", file));
-    duration_s_ = (julianDayAtIndex(to_index_) - julianDayAtIndex(from_index_)) * kSecondsPerDay / *spec.speed;
+    if (time_s_.empty()) throw InputError(fmt::format("{}: animation.speed needs timestep times; the data has none", file));
+    duration_s_ = (secondsAtIndex(to_index_) - secondsAtIndex(from_index_)) / *spec.speed;
   } else {
     duration_s_ = to_index_ - from_index_;  // one video second per timestep interval
   }
@@ -76,7 +79,7 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
 
   sun_follows_clock_ = spec.sun_follows_clock.value_or(scene.sun.from_time && !scene.sun.time_utc);
   if (sun_follows_clock_) {
-    if (time_jd_.empty()) throw InputError(fmt::format("{}: the sun cannot follow the clock: the data has no times", file));
+    if (time_s_.empty()) throw InputError(fmt::format("{}: the sun cannot follow the clock: the data has no times", file));
     if (!prepared.geo) {
       throw InputError(fmt::format("{}: the sun cannot follow the clock: the volume has no place on Earth (give "
                                    "centre_lonlat_deg)", file));
@@ -105,28 +108,36 @@ double AnimationPlan::resolve(const scene::TimePoint& p, double fallback, const 
     return *p.index;
   }
   if (!p.utc) return fallback;
-  if (time_jd_.empty()) {
+  if (time_s_.empty()) {
     throw InputError(fmt::format("{}: {}: a UTC time needs timestep times; the data has none", scene_->source_file, what));
   }
-  const double jd = scene::UtcTime::parse(*p.utc).julian_day;
-  constexpr double kSlack_days = 0.5 / kSecondsPerDay;
-  if (jd < time_jd_.front() - kSlack_days || jd > time_jd_.back() + kSlack_days) {
+  const double s = secondsSinceFirst(scene::UtcTime::parse(*p.utc).julian_day);
+  constexpr double kSlack_s = 0.5;
+  if (s < time_s_.front() - kSlack_s || s > time_s_.back() + kSlack_s) {
     throw InputError(fmt::format("{}: {}: {} lies outside the data ({} to {})", scene_->source_file, what, *p.utc,
-                                 scene::UtcTime{time_jd_.front()}.iso8601(), scene::UtcTime{time_jd_.back()}.iso8601()));
+                                 utcAt(time_s_.front()).iso8601(), utcAt(time_s_.back()).iso8601()));
   }
-  return indexAtJulianDay(jd);
+  return indexAtSeconds(s);
 }
 
-double AnimationPlan::indexAtJulianDay(double jd) const {
-  if (time_jd_.size() < 2 || jd <= time_jd_.front()) return 0.0;
-  if (jd >= time_jd_.back()) return double(time_jd_.size() - 1);
-  const std::size_t i = std::size_t(std::upper_bound(time_jd_.begin(), time_jd_.end(), jd) - time_jd_.begin()) - 1;
-  return double(i) + (jd - time_jd_[i]) / (time_jd_[i + 1] - time_jd_[i]);
+double AnimationPlan::secondsSinceFirst(double jd) const {
+  // Whole milliseconds: Julian days carry ~40 µs of rounding, which must not move a frame that
+  // falls exactly on a timestep (or a sun step) to the other side of it.
+  return std::round((jd - jd0_) * kSecondsPerDay * 1000.0) / 1000.0;
 }
 
-double AnimationPlan::julianDayAtIndex(double index) const {
-  const TimeBracket b = bracketTime(index, time_jd_.size());
-  return time_jd_[b.first] + b.weight * (time_jd_[b.second] - time_jd_[b.first]);
+scene::UtcTime AnimationPlan::utcAt(double seconds) const { return scene::UtcTime{jd0_ + seconds / kSecondsPerDay}; }
+
+double AnimationPlan::indexAtSeconds(double s) const {
+  if (time_s_.size() < 2 || s <= time_s_.front()) return 0.0;
+  if (s >= time_s_.back()) return double(time_s_.size() - 1);
+  const std::size_t i = std::size_t(std::upper_bound(time_s_.begin(), time_s_.end(), s) - time_s_.begin()) - 1;
+  return double(i) + (s - time_s_[i]) / (time_s_[i + 1] - time_s_[i]);
+}
+
+double AnimationPlan::secondsAtIndex(double index) const {
+  const TimeBracket b = bracketTime(index, time_s_.size());
+  return time_s_[b.first] + b.weight * (time_s_[b.second] - time_s_[b.first]);
 }
 
 AnimationFrame AnimationPlan::frame(std::int64_t k) const {
@@ -137,20 +148,17 @@ AnimationFrame AnimationPlan::frame(std::int64_t k) const {
   f.index = k;
   f.video_s = spec_.fps.secondsAt(k);
   const double u = std::min(1.0, f.video_s / duration_s_);  // share of the model time range
-  double jd = 0.0;
-  if (time_jd_.empty()) {
+  double clock_s = 0.0;  // model seconds since the first timestep
+  if (time_s_.empty()) {
     f.time_index = from_index_ + u * (to_index_ - from_index_);
   } else {
-    const double jd0 = julianDayAtIndex(from_index_), jd1 = julianDayAtIndex(to_index_);
-    jd = jd0 + u * (jd1 - jd0);
-    f.time_index = indexAtJulianDay(jd);
-    f.utc = scene::UtcTime{jd};
+    const double s0 = secondsAtIndex(from_index_), s1 = secondsAtIndex(to_index_);
+    clock_s = s0 + u * (s1 - s0);
+    f.time_index = indexAtSeconds(clock_s);
+    f.utc = utcAt(clock_s);
   }
   if (spec_.interpolation == scene::TimeInterpolation::Step) {
-    // The last timestep at or before the frame's time (a tolerance for indices that land a few
-    // ulps below a whole timestep through the UTC round trip).
-    f.time_index = std::floor(f.time_index + 1e-9);
-    if (!time_jd_.empty()) f.utc = scene::UtcTime{time_jd_[std::size_t(f.time_index)]};
+    f.time_index = std::floor(f.time_index + kStepSlack);  // the last timestep at or before the frame
   }
 
   if (key_times_.empty()) {
@@ -170,15 +178,14 @@ AnimationFrame AnimationPlan::frame(std::int64_t k) const {
 
   f.sun = prepared_->sun;
   if (sun_follows_clock_) {
-    double sun_jd = f.utc->julian_day;
+    double sun_s = clock_s;
     if (spec_.sun_step_s > 0.0) {
-      const double jd0 = julianDayAtIndex(from_index_);
-      const double steps = std::floor((sun_jd - jd0) * kSecondsPerDay / spec_.sun_step_s + 1e-9);
-      sun_jd = jd0 + steps * spec_.sun_step_s / kSecondsPerDay;
+      const double s0 = secondsAtIndex(from_index_);
+      sun_s = s0 + std::floor((clock_s - s0) / spec_.sun_step_s + kStepSlack) * spec_.sun_step_s;
     }
     scene::SunSpec sun = scene_->sun;
     sun.from_time = true;
-    sun.time_utc = scene::UtcTime{sun_jd}.iso8601();
+    sun.time_utc = utcAt(sun_s).iso8601();
     f.sun = scene::sunFor(sun, &*prepared_->geo, "");
   }
   return f;

@@ -66,14 +66,17 @@ class AnimationPlan {
   AnimationFrame frame(std::int64_t k) const;
 
  private:
-  double indexAtJulianDay(double jd) const;
-  double julianDayAtIndex(double index) const;
+  double secondsSinceFirst(double julian_day) const;
+  scene::UtcTime utcAt(double seconds) const;
+  double indexAtSeconds(double seconds) const;
+  double secondsAtIndex(double index) const;
   double resolve(const scene::TimePoint& p, double fallback, const char* what) const;
 
   scene::AnimationSpec spec_;
   const scene::SceneDescription* scene_ = nullptr;
   const scene::PreparedScene* prepared_ = nullptr;
-  std::vector<double> time_jd_;  ///< per timestep; empty when the data has no (parseable) times
+  double jd0_ = 0.0;             ///< Julian day of the first timestep
+  std::vector<double> time_s_;   ///< per timestep, seconds since the first; empty without times
   std::size_t timestep_count_ = 0;
   double from_index_ = 0.0, to_index_ = 0.0;
   double duration_s_ = 0.0;

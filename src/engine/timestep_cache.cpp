@@ -48,21 +48,36 @@ void TimestepCache::accountLocked() {
 }
 
 void TimestepCache::trimLocked() {
-  // Evict the least recently used timesteps that the current frame and the read-ahead do not
-  // need until the count and the budget hold (pinned timesteps stay even over budget).
+  // Evict until the count and the budget hold: first the least recently used timesteps that
+  // neither the current frame nor the read-ahead needs, then read-ahead ones from the far end;
+  // pinned timesteps stay even over budget. The peak is taken after trimming: what is *held*.
+  const auto heldBytes = [this] {
+    std::size_t bytes = 0;
+    for (const auto& [t, e] : entries_) bytes += e.volumes ? bytesOf(*e.volumes) : 0;
+    return bytes;
+  };
   for (;;) {
-    accountLocked();
     std::size_t held = 0;
     for (const auto& [t, e] : entries_) held += e.volumes ? 1 : 0;
-    if (held <= settings_.max_timesteps && stats_.bytes <= settings_.memory_budget_bytes) return;
+    if (held <= settings_.max_timesteps && heldBytes() <= settings_.memory_budget_bytes) break;
     auto victim = entries_.end();
     for (auto it = entries_.begin(); it != entries_.end(); ++it) {
-      if (it->second.in_flight || keptLocked(it->first)) continue;
+      if (it->second.in_flight || !it->second.volumes || keptLocked(it->first)) continue;
       if (victim == entries_.end() || it->second.last_use < victim->second.last_use) victim = it;
     }
-    if (victim == entries_.end()) return;
+    for (auto a = ahead_.rbegin(); victim == entries_.end() && a != ahead_.rend(); ++a) {
+      const auto it = entries_.find(*a);
+      if (it != entries_.end() && it->second.volumes && !it->second.in_flight && !contains(pinned_, *a)) {
+        victim = it;
+        ahead_.erase(std::next(a).base());
+        ++stats_.over_budget;
+        break;
+      }
+    }
+    if (victim == entries_.end()) break;
     entries_.erase(victim);
   }
+  accountLocked();
 }
 
 void TimestepCache::prefetch(const std::vector<std::size_t>& pinned, int direction) {

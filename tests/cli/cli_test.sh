@@ -27,6 +27,26 @@ expect_no_nph_left() {  # no output and no temporary file
   [ -z "$left" ] || fail "files left behind after a failed conversion: $left"
 }
 
+# animate_cache: a 6-timestep .nph of the tiny storm and a small scene animating timesteps 0-2
+animate_cache() {
+  "$nephele" convert "$data/wrfout_lambert_thompson.nc" -o "$out/a.nph" --no-progress >/dev/null ||
+    fail "convert for animate failed"
+  cat >"$out/scene.json" <<'JSON'
+{
+  "data": { "path": "a.nph" },
+  "camera": { "preset": "oblique" },
+  "sun": { "from_time": true },
+  "quality": "draft",
+  "output": { "width": 64, "height": 36 },
+  "height_exaggeration": 8,
+  "animation": {
+    "from": 0, "to": "2026-09-01T14:00:00Z", "fps": 25, "duration_s": 0.36,
+    "camera_keyframes": [ { "at_s": 0, "preset": "oblique" }, { "at_s": 0.36, "preset": "overview", "fov_deg": 35 } ]
+  }
+}
+JSON
+}
+
 if [ "$case" != generate ]; then
   rm -rf "$out" && mkdir -p "$out"
 fi
@@ -102,6 +122,72 @@ case $case in
     head -c 1000 "$out/c.nph" >"$out/short.nph"
     run "$nephele" info "$out/short.nph"
     expect_rc 1; expect_err "short.nph"; expect_err "truncated"
+    ;;
+  animate-split)  # --frames 0:9 in one run = 0:4 + 5:9 on "two machines" (one without prefetch), byte for byte
+    animate_cache
+    run "$nephele" animate "$out/scene.json" -o "$out/one" --format png,exr --layer --no-progress
+    expect_rc 0; expect_out "rendered 10 frames"
+    [ "$(ls "$out/one" | head -3 | tr '\n' ' ')" = "frame_000000.exr frame_000000.png frame_000001.exr " ] ||
+      fail "unexpected names: $(ls "$out/one" | head -3)"
+    [ "$(ls -A "$out/one" | wc -l)" = 40 ] || fail "expected 40 files (10 frames x png/exr x frame/layer): $(ls -A "$out/one")"
+    run "$nephele" animate "$out/scene.json" -o "$out/two" --format png,exr --layer --frames 0:4
+    expect_rc 0; expect_out "rendered 5 frames"
+    run "$nephele" animate "$out/scene.json" -o "$out/two" --format png,exr --layer --frames 5:9 --no-prefetch
+    expect_rc 0; expect_out "rendered 5 frames"
+    for f in "$out"/one/*; do
+      cmp -s "$f" "$out/two/$(basename "$f")" || fail "$(basename "$f") differs between one run and two"
+    done
+    ;;
+  animate-resume)  # a second run skips complete frames without rewriting them
+    animate_cache
+    run "$nephele" animate "$out/scene.json" -o "$out/seq" --frames 0:4
+    expect_rc 0
+    before=$(stat -c '%n %Y.%y' "$out"/seq/*)
+    NEPHELE_LOG=info run "$nephele" animate "$out/scene.json" -o "$out/seq"
+    expect_rc 0; expect_out "rendered 5 frames, skipped 5 complete"; expect_err "frame 4: complete, skipped"
+    [ "$(stat -c '%n %Y.%y' "$out"/seq/frame_00000[0-4].png)" = "$before" ] || fail "finished frames were rewritten"
+    rm "$out/seq/frame_000007.png"   # a run killed while writing frame 7 left no file under its name
+    run "$nephele" animate "$out/scene.json" -o "$out/seq"
+    expect_rc 0; expect_out "rendered 1 frames, skipped 9 complete"
+    [ -z "$(ls -A "$out/seq" | grep -v '^frame_0000[0-9][0-9].png$')" ] || fail "stray files: $(ls -A "$out/seq")"
+    ;;
+  animate-truncated)  # timestep 3's chunk cut short: frames 0-2 written and intact, a clear error at frame 3
+    animate_cache
+    run "$nephele" animate "$out/scene.json" -o "$out/good" --interpolation step --from 0 --to 5 --fps 1 --duration 5
+    expect_rc 0; expect_out "rendered 6 frames"
+    python3 - "$out/a.nph" 3 <<'PY' || fail "could not cut the chunk"
+import json, struct, sys
+path, t = sys.argv[1], int(sys.argv[2])
+with open(path, 'r+b') as f:
+    head = f.read(64)
+    off, size = struct.unpack_from('<QQ', head, 16)
+    f.seek(off); chunk = json.loads(f.read(size))['timesteps'][t]['chunk']
+    half = chunk['bytes'] // 2   # the chunk's second half lost (zeros), as a cut-off copy leaves it
+    f.seek(chunk['offset'] + half); f.write(b'\0' * (chunk['bytes'] - half))
+PY
+    run "$nephele" animate "$out/scene.json" -o "$out/cut" --interpolation step --from 0 --to 5 --fps 1 --duration 5
+    expect_rc 1; expect_err "frame 3"; expect_err "a.nph"; expect_err "chunk"
+    [ "$(ls -A "$out/cut" | tr '\n' ' ')" = "frame_000000.png frame_000001.png frame_000002.png " ] ||
+      fail "expected exactly frames 0-2 after the failure: $(ls -A "$out/cut")"
+    for k in 0 1 2; do cmp -s "$out/good/frame_00000$k.png" "$out/cut/frame_00000$k.png" || fail "frame $k damaged"; done
+    # a series of wrfout files with one cut short fails before any frame, naming that file
+    head -c 300000 "$data/wrfout_lambert_thompson_b.nc" >"$out/cut_b.nc"
+    run "$nephele" animate "$out/scene.json" -o "$out/series" --data "$data/wrfout_lambert_thompson.nc" "$out/cut_b.nc"
+    expect_rc 1; expect_err "cut_b.nc"
+    [ -z "$(ls -A "$out/series" 2>/dev/null)" ] || fail "frames written from a broken series: $(ls -A "$out/series")"
+    ;;
+  animate-video)  # ProRes 4444 with alpha from the cloud layer, via ffmpeg
+    animate_cache
+    run "$nephele" animate "$out/scene.json" -o "$out/seq" --layer --frames 0:3 --fps 59.94 --video "$out/clouds.mov"
+    expect_rc 0; expect_out "wrote $out/clouds.mov"
+    probe=$(ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,profile,pix_fmt,r_frame_rate,nb_frames \
+            -of default=nw=1 "$out/clouds.mov")
+    # the ProRes decoder reports its own 12-bit alpha format for the 10-bit yuva444p10le encode
+    for want in codec_name=prores profile=4444 pix_fmt=yuva444 r_frame_rate=60000/1001 nb_frames=4; do
+      echo "$probe" | grep -q "$want" || fail "video lacks $want: $probe"
+    done
+    run "$nephele" animate "$out/scene.json" -o "$out/seq" --format exr --video "$out/x.mov"
+    expect_rc 2; expect_err "png"
     ;;
   usage)
     run "$nephele" convert "$data/icon_regular.nc"   # no -o

@@ -1,0 +1,101 @@
+// Session on GL (label gl): a frame at fractional time is the frame of the CPU-blended volume,
+// and neither prefetch nor reused volumes and deep light maps change a single byte of a frame.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "engine/session.h"
+#include "engine_test_support.h"
+#include "scene/scene_file.h"
+#include "support/gl_fixture.h"
+
+namespace nph::test {
+namespace {
+
+using SessionTest = GlTest;
+
+/// An explicit camera and sun (they must not depend on which volume the scene was prepared with).
+scene::SceneDescription tinyScene() {
+  return scene::parseSceneText(R"({ "data": { "path": ")" + tinyStormFile() + R"(" },
+      "camera": { "position_m": [-150000, -250000, 250000], "target_m": [300000, 270000, 5000], "fov_deg": 45 },
+      "sun": { "azimuth_deg": 140, "elevation_deg": 35 }, "quality": "draft",
+      "output": { "width": 96, "height": 54 }, "height_exaggeration": 8 })",
+                               "tiny.json");
+}
+
+void expectSameImage(const scene::RgbaImage& a, const scene::RgbaImage& b, const char* what) {
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.rgba.size(); ++i) differ += a.rgba[i] != b.rgba[i] ? 1 : 0;
+  EXPECT_EQ(differ, 0u) << what << ": " << differ << " of " << a.rgba.size() << " values differ";
+}
+
+double meanAlpha(const scene::RgbaImage& img) {
+  double sum = 0.0;
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4) sum += double(img.rgba[i]);
+  return sum / double(img.rgba.size() / 4);
+}
+
+TEST_F(SessionTest, HalfwayFrameIsTheFrameOfTheCpuBlendedVolume) {
+  const auto ds = engine::Dataset::open(tinyStormFile());
+  const scene::SceneDescription s = tinyScene();
+  engine::Session session(ds, s);
+  session.setTime(0.5);
+  const auto halfway = session.render(session.prepared().camera);
+  EXPECT_TRUE(session.stats().volume_changed);
+
+  const ExtinctionVolumes blended = engine::blendVolumes(ds->load(0), ds->load(1), 0.5);
+  auto one = std::make_shared<ScriptedDataset>(std::vector<ExtinctionVolumes>{blended},
+                                               std::vector<std::string>{blended.time_utc});
+  engine::Session reference(one, s);
+  const auto expected = reference.render(reference.prepared().camera);
+  EXPECT_GT(meanAlpha(expected.cloud_layer), 0.01) << "the storm must be in view";
+  expectSameImage(halfway.cloud_layer, expected.cloud_layer, "cloud layer");
+  expectSameImage(halfway.frame, expected.frame, "frame");
+
+  // And it lies between the two timesteps: not the frame of either.
+  session.setTime(0.0);
+  const auto at0 = session.render(session.prepared().camera);
+  session.setTime(1.0);
+  const auto at1 = session.render(session.prepared().camera);
+  EXPECT_NE(at0.cloud_layer.rgba, halfway.cloud_layer.rgba);
+  EXPECT_NE(at1.cloud_layer.rgba, halfway.cloud_layer.rgba);
+}
+
+TEST_F(SessionTest, ReusedVolumeAndLightMapGiveTheSameFrame) {
+  const auto ds = engine::Dataset::open(tinyStormFile());
+  engine::Session session(ds, tinyScene());
+  session.setTime(1.25);
+  const auto first = session.render(session.prepared().camera);
+  session.setTime(1.25);
+  const auto again = session.render(session.prepared().camera);
+  EXPECT_FALSE(session.stats().volume_changed);
+  EXPECT_FALSE(session.stats().dlm_rebuilt);
+  EXPECT_EQ(session.stats().dlm_reuses, 1u);
+  expectSameImage(first.frame, again.frame, "reused");
+
+  engine::Session fresh(ds, tinyScene());  // straight to 1.25, nothing to reuse
+  fresh.setTime(1.25);
+  expectSameImage(first.frame, fresh.render(fresh.prepared().camera).frame, "fresh session");
+}
+
+TEST_F(SessionTest, PrefetchOnAndOffGiveIdenticalFrames) {
+  const auto ds = engine::Dataset::open(tinyStormFile());
+  engine::Session on(ds, tinyScene()), off(ds, tinyScene());
+  engine::PrefetchSettings no;
+  no.enabled = false;
+  off.setPrefetch(no);
+  on.setPlaybackDirection(+1);
+  for (const double t : {0.0, 0.4, 0.8, 1.2, 1.6, 2.0}) {
+    on.setTime(t);
+    off.setTime(t);
+    expectSameImage(on.render(on.prepared().camera).frame, off.render(off.prepared().camera).frame, "prefetch");
+  }
+  EXPECT_GT(on.prefetchStats().prefetched, 0u);
+  EXPECT_EQ(off.prefetchStats().prefetched, 0u);
+  EXPECT_EQ(on.prefetchStats().misses, 1u) << "after the first timestep, the worker decoded every one ahead of time";
+}
+
+}  // namespace
+}  // namespace nph::test
