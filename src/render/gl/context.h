@@ -57,6 +57,9 @@ class Context {
   virtual GLFWwindow* window() const { return nullptr; }
 
   const ContextInfo& info() const { return info_; }
+  /// The backend's GetProcAddress (eglGetProcAddress, OSMesaGetProcAddress, glfwGetProcAddress):
+  /// what a host hands to the plugin API so it loads entry points in this context.
+  void* (*getProcAddress() const)(const char*) { return getProc_; }
 
  protected:
   Context() = default;

@@ -1,0 +1,307 @@
+// frei0r source plugin "nephele_clouds": cloud frames of a WRF/ICON dataset for video tools
+// (ffmpeg's frei0r_src, MLT, GStreamer's frei0r elements), rendered through the plugin C API
+// (nephele/nephele.h) in a headless GL context of its own.
+//
+// frei0r hosts may call an instance from any thread, while a nephele renderer is bound to the
+// thread that created it (docs/plugin-api.md, threading). So every instance owns one render
+// thread: it creates the context (EGL device → EGL surfaceless → OSMesa, NEPHELE_GL picks one, as
+// for `nephele render`), the renderer and an RGBA8 target, and f0r_update hands it the frame to
+// fill and waits.
+//
+// Output: 8-bit sRGB RGBA, row 0 at the top (frei0r's layout). By default the clouds over the
+// lit ground, display-transformed exactly like `nephele render`'s PNG (ACES, sRGB, alpha 1);
+// with clouds_only the cloud layer alone with straight alpha, for keying over other video.
+extern "C" {
+#include <frei0r.h>  // has no extern "C" of its own
+}
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "nephele/nephele.h"
+#include "render/gl/context.h"
+#include "render/gl/gl.h"
+
+namespace {
+
+// frei0r parameters are conventionally in [0, 1]; angles are therefore fractions of their range.
+enum Param { kDataset, kTime, kCamera, kSunAzimuth, kSunElevation, kQuality, kCloudsOnly, kParamCount };
+constexpr double kAzimuthRangeDeg = 360.0, kElevationRangeDeg = 90.0;
+
+const f0r_param_info_t kParamInfo[kParamCount] = {
+    {"dataset", F0R_PARAM_STRING, "path of a .nph cache or a WRF wrfout / ICON NetCDF file"},
+    {"time", F0R_PARAM_DOUBLE, "position in the dataset's timesteps: 0 = first, 1 = last, blended between"},
+    {"camera", F0R_PARAM_STRING, "camera preset: overview, oblique or top"},
+    {"sun_azimuth", F0R_PARAM_DOUBLE, "sun azimuth / 360 deg, clockwise from grid north (0.375 = 135 deg)"},
+    {"sun_elevation", F0R_PARAM_DOUBLE, "sun elevation / 90 deg above the horizon (0.5 = 45 deg)"},
+    {"quality", F0R_PARAM_STRING, "quality preset: draft, broadcast or reference"},
+    {"clouds_only", F0R_PARAM_BOOL, "1: the cloud layer alone with alpha; 0: clouds over the lit ground"},
+};
+
+struct Params {
+  std::string dataset;
+  double time = 0.0;
+  std::string camera = "overview";
+  double sun_azimuth = 135.0 / kAzimuthRangeDeg;
+  double sun_elevation = 45.0 / kElevationRangeDeg;
+  std::string quality = "broadcast";
+  bool clouds_only = false;
+};
+
+const nph_api_v1* api() {
+  static const auto* table = static_cast<const nph_api_v1*>(nph_get_api(1));
+  return table;
+}
+
+class Instance {
+ public:
+  Instance(int width, int height) : width_(width), height_(height), thread_([this] { loop(); }) {}
+  ~Instance() {
+    run([this] { teardown(); });
+    {
+      std::lock_guard lock(mutex_);
+      quit_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+  Params params;      // set by f0r_set_param_value on the host's thread
+  std::string string_value;  // what f0r_get_param_value returned last for a string
+
+  void update(std::uint32_t* out) {
+    const Params p = params;
+    run([this, &p, out] { renderFrame(p, out); });
+  }
+
+ private:
+  /// Runs `job` on the render thread and waits for it.
+  void run(std::function<void()> job) {
+    std::unique_lock lock(mutex_);
+    job_ = std::move(job);
+    wake_.notify_all();
+    done_.wait(lock, [this] { return !job_; });
+  }
+
+  void loop() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return quit_ || job_; });
+      if (quit_) return;
+      job_();
+      job_ = nullptr;
+      done_.notify_all();
+    }
+  }
+
+  void report(const char* what, const void* handle) {
+    const std::string message = std::string(what) + ": " + (api() ? api()->last_error(handle) : "libnephele has no API v1");
+    if (message != last_message_) std::fprintf(stderr, "nephele_clouds: %s\n", message.c_str());
+    last_message_ = message;
+  }
+
+  bool ensureContext() {
+    if (context_) return true;
+    try {
+      nph::gl::ContextOptions o;
+      o.backend = nph::gl::backendFromEnvironment();
+      if (o.backend == nph::gl::Backend::Glfw) o.backend = nph::gl::Backend::Auto;  // headless only
+      o.visible = false;
+      o.width = width_;
+      o.height = height_;
+      context_ = nph::gl::createContext(o);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "nephele_clouds: no OpenGL 4.5 context: %s\n", e.what());
+      return false;
+    }
+    glCreateTextures(GL_TEXTURE_2D, 1, &colour_);
+    glTextureStorage2D(colour_, 1, GL_RGBA8, width_, height_);
+    glCreateFramebuffers(1, &framebuffer_);
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, colour_, 0);
+    return true;
+  }
+
+  bool ensureRenderer(const Params& p) {
+    if (renderer_ != nullptr && p.dataset == dataset_path_ && p.quality == quality_) return true;
+    closeRenderer();
+    if (p.dataset.empty()) {
+      report("no dataset", nullptr);
+      return false;
+    }
+    if (api()->dataset_open(p.dataset.c_str(), &dataset_) != NPH_OK) {
+      report("dataset_open", nullptr);
+      return false;
+    }
+    api()->dataset_timestep_count(dataset_, &timesteps_);
+    nph_renderer_desc desc = NPH_RENDERER_DESC_INIT;
+    desc.get_proc_address = reinterpret_cast<nph_get_proc_address_fn>(context_->getProcAddress());
+    desc.quality_preset = p.quality.c_str();
+    if (api()->renderer_create(dataset_, &desc, &renderer_) != NPH_OK) {
+      report("renderer_create", dataset_);
+      closeRenderer();
+      return false;
+    }
+    dataset_path_ = p.dataset;
+    quality_ = p.quality;
+    api()->set_parameter(renderer_, "display_transform", 1.0);
+    return true;
+  }
+
+  void renderFrame(const Params& p, std::uint32_t* out) {
+    const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
+    std::fill(out, out + pixels, 0u);
+    if (api() == nullptr || !ensureContext() || !ensureRenderer(p)) return;
+    const double t = std::clamp(p.time, 0.0, 1.0) * double(std::max(timesteps_ - 1, 0));
+    nph_renderer* r = renderer_;
+    if (api()->set_time(r, t) != NPH_OK || api()->set_camera_preset(r, p.camera.c_str(), width_, height_) != NPH_OK ||
+        api()->set_sun(r, p.sun_azimuth * kAzimuthRangeDeg, p.sun_elevation * kElevationRangeDeg) != NPH_OK ||
+        api()->set_parameter(r, "ground", p.clouds_only ? 0.0 : 1.0) != NPH_OK) {
+      report("parameters", r);
+      return;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+    glViewport(0, 0, width_, height_);
+    const float transparent[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, transparent);
+    if (api()->render(r) != NPH_OK) {
+      report("render", r);
+      return;
+    }
+    std::vector<std::uint8_t> rgba(pixels * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    auto* dst = reinterpret_cast<std::uint8_t*>(out);
+    const std::size_t row = std::size_t(width_) * 4;
+    for (int y = 0; y < height_; ++y) {  // GL rows bottom-first → frei0r rows top-first
+      std::copy_n(&rgba[std::size_t(height_ - 1 - y) * row], row, &dst[std::size_t(y) * row]);
+    }
+    if (p.clouds_only) {  // premultiplied → straight alpha, as video tools expect
+      for (std::size_t i = 0; i < pixels; ++i) {
+        std::uint8_t* px = &dst[4 * i];
+        if (px[3] == 0) continue;
+        for (int c = 0; c < 3; ++c) px[c] = std::uint8_t(std::min(255, (px[c] * 255 + px[3] / 2) / px[3]));
+      }
+    }
+  }
+
+  void closeRenderer() {
+    if (renderer_ != nullptr) api()->renderer_destroy(renderer_);
+    if (dataset_ != nullptr) api()->dataset_close(dataset_);
+    renderer_ = nullptr;
+    dataset_ = nullptr;
+    dataset_path_.clear();
+  }
+
+  void teardown() {
+    if (!context_) return;
+    closeRenderer();
+    glDeleteFramebuffers(1, &framebuffer_);
+    glDeleteTextures(1, &colour_);
+    context_.reset();
+  }
+
+  const int width_, height_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::function<void()> job_;
+  bool quit_ = false;
+  // Render-thread state.
+  std::unique_ptr<nph::gl::Context> context_;
+  GLuint colour_ = 0, framebuffer_ = 0;
+  nph_dataset* dataset_ = nullptr;
+  nph_renderer* renderer_ = nullptr;
+  int32_t timesteps_ = 0;
+  std::string dataset_path_, quality_, last_message_;
+  std::thread thread_;  // last: starts after everything above is initialised
+};
+
+}  // namespace
+
+extern "C" {
+
+int f0r_init(void) { return api() != nullptr ? 1 : 0; }
+void f0r_deinit(void) {}
+
+void f0r_get_plugin_info(f0r_plugin_info_t* info) {
+  info->name = "nephele_clouds";
+  info->author = "nephele";
+  info->plugin_type = F0R_PLUGIN_TYPE_SOURCE;
+  info->color_model = F0R_COLOR_MODEL_RGBA8888;
+  info->frei0r_version = FREI0R_MAJOR_VERSION;
+  info->major_version = 0;
+  info->minor_version = 1;
+  info->num_params = kParamCount;
+  info->explanation = "Volumetric clouds of a WRF/ICON weather model run (deep light maps, GPU ray casting)";
+}
+
+void f0r_get_param_info(f0r_param_info_t* info, int index) {
+  if (index >= 0 && index < kParamCount) *info = kParamInfo[index];
+}
+
+f0r_instance_t f0r_construct(unsigned int width, unsigned int height) {
+  try {
+    return new Instance(int(width), int(height));
+  } catch (...) {
+    return nullptr;
+  }
+}
+
+void f0r_destruct(f0r_instance_t instance) { delete static_cast<Instance*>(instance); }
+
+void f0r_set_param_value(f0r_instance_t instance, f0r_param_t param, int index) {
+  auto* in = static_cast<Instance*>(instance);
+  if (in == nullptr || param == nullptr) return;
+  Params& p = in->params;
+  auto text = [param] { const char* s = *static_cast<f0r_param_string*>(param); return std::string(s ? s : ""); };
+  const double value = index == kDataset || index == kCamera || index == kQuality ? 0.0 : *static_cast<double*>(param);
+  switch (index) {
+    case kDataset: p.dataset = text(); break;
+    case kTime: p.time = value; break;
+    case kCamera: p.camera = text(); break;
+    case kSunAzimuth: p.sun_azimuth = value; break;
+    case kSunElevation: p.sun_elevation = value; break;
+    case kQuality: p.quality = text(); break;
+    case kCloudsOnly: p.clouds_only = value >= 0.5; break;
+    default: break;
+  }
+}
+
+void f0r_get_param_value(f0r_instance_t instance, f0r_param_t param, int index) {
+  auto* in = static_cast<Instance*>(instance);
+  if (in == nullptr || param == nullptr) return;
+  const Params& p = in->params;
+  auto text = [&](const std::string& s) {
+    in->string_value = s;
+    *static_cast<f0r_param_string*>(param) = in->string_value.data();
+  };
+  switch (index) {
+    case kDataset: text(p.dataset); break;
+    case kTime: *static_cast<double*>(param) = p.time; break;
+    case kCamera: text(p.camera); break;
+    case kSunAzimuth: *static_cast<double*>(param) = p.sun_azimuth; break;
+    case kSunElevation: *static_cast<double*>(param) = p.sun_elevation; break;
+    case kQuality: text(p.quality); break;
+    case kCloudsOnly: *static_cast<double*>(param) = p.clouds_only ? 1.0 : 0.0; break;
+    default: break;
+  }
+}
+
+void f0r_update(f0r_instance_t instance, double /*time*/, const uint32_t* /*inframe*/, uint32_t* outframe) {
+  auto* in = static_cast<Instance*>(instance);
+  if (in == nullptr || outframe == nullptr) return;
+  try {
+    in->update(outframe);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nephele_clouds: %s\n", e.what());
+  }
+}
+
+}  // extern "C"

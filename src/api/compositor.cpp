@@ -1,0 +1,40 @@
+#include "api/compositor.h"
+
+#include <cmath>
+
+#include "render/gl/debug.h"
+
+namespace nph::api {
+
+Compositor::Compositor()
+    : program_(gl::Program::graphics("api/composite.vert", "api/composite.frag")),
+      vertex_array_(gl::VertexArray::create()),
+      sampler_(gl::Sampler::create(GL_LINEAR, GL_CLAMP_TO_EDGE)) {}
+
+void Compositor::draw(const gl::Texture& layer, const CompositeSettings& s) const {
+  gl::DebugGroup group("nephele composite");
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  program_.set("u_viewport", glm::vec4(float(viewport[0]), float(viewport[1]), float(viewport[2]), float(viewport[3])));
+  program_.set("u_exposure_scale", float(std::exp2(s.exposure_ev)));
+  program_.set("u_display", s.display ? 1 : 0);
+  program_.use();
+  glBindVertexArray(vertex_array_.id());
+  glBindTextureUnit(0, layer.id());
+  glBindSampler(0, sampler_.id());
+  // Premultiplied "over" into draw buffer 0; nothing else may reject or alter the fragments.
+  glEnablei(GL_BLEND, 0);
+  glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  for (GLenum cap : {GL_DEPTH_TEST, GL_STENCIL_TEST, GL_CULL_FACE, GL_DITHER, GL_RASTERIZER_DISCARD,
+                     GL_SAMPLE_ALPHA_TO_COVERAGE, GL_COLOR_LOGIC_OP}) {
+    glDisable(cap);
+  }
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  gl::checkErrors("plugin API composite pass");
+}
+
+}  // namespace nph::api

@@ -1,0 +1,31 @@
+#pragma once
+// The composite pass of the plugin API: a full-screen triangle that blends a premultiplied RGBA
+// layer "over" the host's currently bound draw framebuffer within its viewport
+// (glsl/api/composite.frag has the equation and the output transforms).
+#include "render/gl/objects.h"
+#include "render/gl/program.h"
+
+namespace nph::api {
+
+struct CompositeSettings {
+  double exposure_ev = 0.0;  ///< radiance scale 2^ev
+  bool display = false;      ///< ACES + sRGB like `nephele render`'s PNG, else linear
+};
+
+class Compositor {
+ public:
+  Compositor();
+  /// Draws `layer` (row 0 = top) into the bound draw framebuffer over the current viewport.
+  /// Sets the blend, depth, cull, ... state it needs; the caller's GlStateGuard restores it.
+  void draw(const gl::Texture& layer, const CompositeSettings& settings) const;
+  /// A GL object that exists only in the context the compositor was created in: glIsVertexArray
+  /// on it tells whether that context is current (vertex arrays are never shared).
+  GLuint contextProbe() const { return vertex_array_.id(); }
+
+ private:
+  gl::Program program_;
+  gl::VertexArray vertex_array_;
+  gl::Sampler sampler_;
+};
+
+}  // namespace nph::api
