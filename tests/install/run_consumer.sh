@@ -10,3 +10,10 @@ cmake -S "$src/tests/install/consumer" -B "$work/build" -G Ninja -DCMAKE_PREFIX_
       -DCMAKE_BUILD_TYPE=Release > "$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/build" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
 NEPHELE_LOG=warn "$work/build/consumer"
+"$work/build/api_consumer"
+# The plugin C API through pkg-config: C99, only the installed header and libnephele.so.0.
+export PKG_CONFIG_PATH="$work/prefix/lib/pkgconfig"
+cc -std=c99 -Wall -Wextra -Wpedantic -Werror "$src/tests/install/api_consumer.c" -o "$work/api_consumer" \
+   $(pkg-config --cflags --libs nephele)
+readelf -d "$work/api_consumer" | grep -q 'NEEDED.*libnephele.so.0' || { echo "api_consumer does not need libnephele.so.0"; exit 1; }
+LD_LIBRARY_PATH="$work/prefix/lib" "$work/api_consumer"
