@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
     glClear(GL_COLOR_BUFFER_BIT);
     check(api->render(r), r, "render");
     glFinish();
-    nph_stats st = {sizeof(nph_stats)};
+    nph_stats st;
+    st.struct_size = sizeof st;
     check(api->get_stats(r, &st), r, "get_stats");
     char path[4096];
     snprintf(path, sizeof path, "%s%03d.ppm", argv[2], i);

@@ -423,6 +423,7 @@ int main(int argc, char** argv) {
   dirty_host_state(program, host_fb);
   gl_state_snapshot before, after;
   gl_state_take(&before);
+  printf("GL state snapshot: %zu values, compared around each call below\n", before.count);
 #define STATE_KEPT(want, handle, call)                 \
   do {                                                 \
     EXPECT(want, handle, call);                        \
