@@ -18,7 +18,12 @@ if [ ! -f "$out/hurricane-$size.nph" ]; then
   "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$out/hurricane-$size.nph" --progress
   rm -f "$out/wrfout-hurricane-$size.nc"
 fi
-sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo.json.in" > "$out/demo.json"
-echo "demo: rendering (flat map view; the globe view is not implemented yet)"
+for view in demo demo-globe; do
+  sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
+done
+echo "demo: rendering the flat map view"
 "$nephele" render "$out/demo.json" --layer "$out/hurricane-cloud-layer.exr"
-echo "demo: wrote $out/hurricane.png, $out/hurricane.exr and $out/hurricane-cloud-layer.exr"
+echo "demo: rendering the globe view"
+"$nephele" render "$out/demo-globe.json"
+echo "demo: wrote $out/hurricane.png, $out/hurricane.exr, $out/hurricane-cloud-layer.exr (flat map)"
+echo "demo: wrote $out/hurricane-globe.png and $out/hurricane-globe.exr (globe)"

@@ -24,6 +24,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform writeonly image2D u_cloud_layer;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_frame;
+layout(r32ui, binding = 2) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
 layout(binding = 6) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
 
 uniform ivec2 u_size;
@@ -47,6 +48,7 @@ uniform bool u_has_basemap;
 uniform vec2 u_basemap_min_m;
 uniform vec2 u_basemap_max_m;
 uniform vec3 u_ocean_albedo;    // ground albedo outside the basemap
+uniform bool u_count_samples;   // write the number of volume samples per ray (benchmarks)
 
 const float kPi = 3.14159265358979;
 #include "render/globe.glsl"
@@ -97,6 +99,7 @@ void main() {
 
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
+  uint samples = 0u;  // extinction look-ups (empty-brick jumps not counted)
   float tGround = u_globe ? globeGroundDistance(origin, dir) : 3.0e38;
   vec2 span = u_globe ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
@@ -113,6 +116,7 @@ void main() {
         }
       }
       vec2 beta = extinctionAt(w);
+      ++samples;
       float b = beta.x + beta.y;
       if (b > 0.0) {
         float T = exp(-b * u_step_m);
@@ -125,6 +129,7 @@ void main() {
     }
   }
   imageStore(u_cloud_layer, px, vec4(C, 1.0 - Tacc));
+  if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples));
 
   // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe).
   vec3 background = u_ambient;

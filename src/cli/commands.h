@@ -21,5 +21,6 @@ void addConvertCommand(CLI::App& app, Action& run);
 void addRenderCommand(CLI::App& app, Action& run);
 void addAnimateCommand(CLI::App& app, Action& run);
 void addBenchCommand(CLI::App& app, Action& run);
+void addViewCommand(CLI::App& app, Action& run);  ///< only with NEPHELE_HAVE_GLFW
 
 }  // namespace nph::cli

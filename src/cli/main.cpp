@@ -25,6 +25,9 @@ int main(int argc, char** argv) {
   nph::cli::addRenderCommand(app, run);
   nph::cli::addAnimateCommand(app, run);
   nph::cli::addBenchCommand(app, run);
+#ifdef NEPHELE_HAVE_GLFW
+  nph::cli::addViewCommand(app, run);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -21,6 +21,7 @@
 #include "render/gl/debug.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
+#include "fetch_kernel.h"
 
 namespace {
 
@@ -64,21 +65,13 @@ void BM_Fetch3D(benchmark::State& state) {
   const auto direction = static_cast<Direction>(state.range(2));
   auto volume = makeVolume(format);
   volume.sampling(filter, GL_REPEAT);
-  auto sum = gl::Texture::create2D(GL_R32F, kRays, kRays);
-  auto prog = gl::Program::compute("bench/fetch3d.comp", {{"STEPS", std::to_string(kSteps)}});
+  const bench::FetchKernel kernel({kRays, kRays}, kSteps);
   const float step = 1.0f / float(kSteps);
   const glm::vec3 dir = direction == AlongX ? glm::vec3(step, 0, 0)
                         : direction == AlongZ ? glm::vec3(0, 0, step)
                                               : glm::vec3(step, step, step) * 0.57735f;
-  prog.set("u_rays", glm::ivec2(kRays));
-  prog.set("u_step_uvw", dir);
   gl::GpuTimer timer;
-  auto run = [&] {
-    prog.use();
-    glBindTextureUnit(0, volume.id());
-    glBindImageTexture(0, sum.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    prog.dispatchCovering({kRays, kRays, 1});
-  };
+  auto run = [&] { kernel.dispatch(volume, dir); };
   run();  // warm-up: shader compile in the driver, texture upload
   glFinish();
   double queryNs = 0.0;
@@ -94,7 +87,7 @@ void BM_Fetch3D(benchmark::State& state) {
   }
   state.counters["gpu_query_ms"] = queryNs * 1e-6 / double(state.iterations());
   gl::checkErrors("BM_Fetch3D");
-  const double fetches = double(kRays) * kRays * kSteps;
+  const double fetches = kernel.fetchesPerDispatch();
   state.counters["fetches_per_s"] =
       benchmark::Counter(fetches * double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["voxels"] = double(kVolume) * kVolume * kVolume;

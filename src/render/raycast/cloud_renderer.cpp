@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -92,6 +93,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   if (target_size_ != glm::ivec2(w, h)) {
     cloud_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("cloud layer");
     frame_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("frame");
+    sample_count_tex_ = gl::Texture::create2D(GL_R32UI, w, h).label("samples per ray");
     target_size_ = {w, h};
   }
   const gl::Program& p = program_;
@@ -123,11 +125,24 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   setGlobeUniforms(view, s);
   glBindImageTexture(0, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(2, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  p.set("u_count_samples", count_samples_ ? 1 : 0);
   p.dispatchCovering({w, h, 1});
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (finish) glFinish();
   gl::checkErrors("cloud ray caster");
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::uint64_t CloudRenderer::sampleCount() const {
+  if (!count_samples_ || !sample_count_tex_) return 0;
+  std::vector<std::uint32_t> counts(std::size_t(target_size_.x) * std::size_t(target_size_.y));
+  glGetTextureImage(sample_count_tex_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                    static_cast<GLsizei>(counts.size() * sizeof(std::uint32_t)), counts.data());
+  gl::checkErrors("sample count read-back");
+  std::uint64_t sum = 0;
+  for (std::uint32_t c : counts) sum += c;
+  return sum;
 }
 
 RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,

@@ -8,6 +8,7 @@
 // dispatch() ray casts any perspective view (a host's view and projection matrices, optionally
 // stopping each ray at the host's depth buffer) and leaves the result in GL textures for the
 // caller to composite (the plugin API, the viewer).
+#include <cstdint>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -76,7 +77,7 @@ class CloudRenderer {
                       const scene::Sun& sun, const RenderSettings& settings);
 
   /// Ray casts into cloudLayer() (premultiplied linear RGBA, row 0 = top) and frame() without
-  /// reading back. Binds its own program, textures (units 0–7) and image units 0–1; the caller
+  /// reading back. Binds its own program, textures (units 0–9) and image units 0–2; the caller
   /// saves and restores GL state if it must (the plugin API does). Returns wall ms incl. glFinish
   /// when `finish`, else the submission time.
   double dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view, const scene::Sun& sun,
@@ -88,6 +89,10 @@ class CloudRenderer {
   /// Globe: a new sun direction (the world-frame sun given to dispatch() still builds the light).
   void setGlobeSun(const glm::dvec3& to_sun_ecef) { globe_to_sun_ = to_sun_ecef; }
   bool globe() const { return globe_.has_value(); }
+  /// Statistics for benchmarks: when on, dispatch() also records the number of volume samples
+  /// (extinction look-ups) of every ray; sampleCount() sums the last dispatch's (a read-back).
+  void countSamples(bool on) { count_samples_ = on; }
+  std::uint64_t sampleCount() const;
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
   const gl::Texture& frame() const { return frame_tex_; }
 
@@ -99,7 +104,8 @@ class CloudRenderer {
   glm::ivec2 target_size_{0};
   scene::WorldRect basemap_rect_;
   std::optional<GlobeMapping> globe_;
-  gl::Texture globe_table_, globe_basemap_;
+  gl::Texture globe_table_, globe_basemap_, sample_count_tex_;
+  bool count_samples_ = false;
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
 };
 
