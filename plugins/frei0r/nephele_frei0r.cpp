@@ -103,7 +103,9 @@ class Instance {
   }
 
   void report(const char* what, const void* handle) {
-    const std::string message = std::string(what) + ": " + (api() ? api()->last_error(handle) : "libnephele has no API v1");
+    // API messages name the call already ("dataset_open: /x.nph: no such file").
+    const char* text = api() != nullptr ? api()->last_error(handle) : "";
+    const std::string message = text[0] != '\0' ? std::string(text) : std::string(what);
     if (message != last_message_) std::fprintf(stderr, "nephele_clouds: %s\n", message.c_str());
     last_message_ = message;
   }
