@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -236,6 +237,8 @@ int runAnimate(const AnimateOptions& o) {
   prefetch.lookahead = std::size_t(std::max(o.lookahead, 0));
   prefetch.memory_budget_bytes = std::size_t(std::max(o.prefetch_budget_mb, 0.0) * 1024.0 * 1024.0);
   prefetch.max_timesteps = std::max<std::size_t>(4, prefetch.lookahead + 2);
+  prefetch.first_timestep = std::size_t(std::floor(plan.fromIndex()));
+  prefetch.last_timestep = std::size_t(std::ceil(plan.toIndex()));
   session.setPrefetch(prefetch);
   session.setPlaybackDirection(+1);
 

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <chrono>
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include "core/error.h"
@@ -95,6 +99,7 @@ void TimestepCache::prefetch(const std::vector<std::size_t>& pinned, int directi
       for (std::size_t i = 1; i <= settings_.lookahead; ++i) {
         if (direction > 0 ? edge + i >= count : i > edge) break;
         const std::size_t t = direction > 0 ? edge + i : edge - i;
+        if (t < settings_.first_timestep || t > settings_.last_timestep) break;
         if (planned_count + 1 > std::max(settings_.max_timesteps, pinned.size()) ||
             planned_bytes + timestep_bytes_ > settings_.memory_budget_bytes) {
           ++stats_.over_budget;
@@ -136,6 +141,11 @@ bool TimestepCache::decode(std::unique_lock<std::mutex>& lock, std::size_t t) {
 }
 
 void TimestepCache::run() {
+  // Linux gives each thread its own nice value (setpriority on the thread id); elsewhere this
+  // only fails, harmlessly.
+  if (::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), settings().worker_nice) != 0) {
+    log::debug("prefetch: could not lower the worker's priority");
+  }
   std::unique_lock lock(mutex_);
   for (;;) {
     work_cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });

@@ -9,7 +9,11 @@
 // Here:
 //   - the timesteps the current frame needs are *pinned*: always kept, whatever the budget;
 //   - prefetch(pinned, direction) queues the next `lookahead` timesteps beyond the pinned ones in
-//     the direction of playback, each only if it fits the memory budget next to what is kept;
+//     the direction of playback (within the animation's range), each only if it fits the memory
+//     budget next to what is kept;
+//   - the worker runs at a lower CPU priority: prefetched work is work the frame would otherwise
+//     do itself, so it must not be done at the frame's expense when the cores are all busy (as
+//     with llvmpipe, which ray casts on every core);
 //   - one worker thread decodes the queue (Dataset::load is thread-safe); get() of a timestep in
 //     flight waits for it, get() of one never asked for decodes it in the caller (a "miss").
 //   - a decode error is kept with its timestep and thrown by the get() that asks for it, so a
@@ -36,6 +40,13 @@ struct PrefetchSettings {
   /// Decoded timesteps held (pinned + prefetched + recently used), bytes of float volumes.
   std::size_t memory_budget_bytes = std::size_t(2) << 30;
   std::size_t max_timesteps = 4;  ///< at most this many held (pinned ones always are)
+  /// Read ahead only within [first_timestep, last_timestep] (an animation's range), so no decode
+  /// is spent on timesteps that will not be shown.
+  std::size_t first_timestep = 0;
+  std::size_t last_timestep = std::size_t(-1);
+  /// Nice value of the worker thread (Linux: per thread): it fills CPU time the frame leaves idle
+  /// instead of slowing the frame down on a machine whose cores the (software) renderer saturates.
+  int worker_nice = 10;
 };
 
 struct PrefetchStats {
