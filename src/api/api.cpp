@@ -164,10 +164,9 @@ nph_status rendererCreate(nph_dataset* dataset, const nph_renderer_desc* desc, n
     std::lock_guard lock(glMutex());
     loadEntryPoints(object->get_proc);
     if (!contextCurrent()) throw ApiError(NPH_ERROR_WRONG_CONTEXT, "no GL context is current on this thread");
-    GLint major = 0, minor = 0, profile = 0;
+    GLint major = 0, minor = 0;  // core or compatibility profile: both have what nephele uses
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
-    glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
     if (major * 10 + minor < 45) {
       throw ApiError(NPH_ERROR_GL, fmt::format("the current context is OpenGL {}.{} ({}); nephele needs 4.5",
                                                major, minor, reinterpret_cast<const char*>(glGetString(GL_VERSION))));
