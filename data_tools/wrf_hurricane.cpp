@@ -635,4 +635,16 @@ WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path
   return writer.run();
 }
 
+std::pair<double, double> stormCentreLonLat(const WrfTruth& truth, double dx_m) {
+  if (truth.lon_deg.empty()) return {std::nan(""), std::nan("")};
+  const double fi = truth.storm_centre_x_m / dx_m, fj = truth.storm_centre_y_m / dx_m;
+  const int i = static_cast<int>(std::floor(fi)), j = static_cast<int>(std::floor(fj));
+  const double a = fi - i, b = fj - j;
+  auto lerp = [&](const std::vector<double>& f) {
+    auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(truth.nx) + std::size_t(ii)]; };
+    return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) + a * b * at(i + 1, j + 1);
+  };
+  return {lerp(truth.lon_deg), lerp(truth.lat_deg)};
+}
+
 }  // namespace nph::datagen

@@ -5,6 +5,7 @@
 // terrain-following dry-hydrostatic eta levels over a small island, in the standard atmosphere.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nc_writer.h"
@@ -51,6 +52,11 @@ struct WrfTruth {
   std::vector<double> lat_deg, lon_deg;    ///< nx*ny; empty for Cartesian
   double storm_centre_x_m = 0.0, storm_centre_y_m = 0.0;  ///< first timestep, from grid point 0
 };
+
+/// The storm centre's (lon, lat) [deg] at the first timestep: the truth's XLONG/XLAT interpolated
+/// bilinearly between the mass points around storm_centre_{x,y}_m (grid spacing `dx_m`). NaN for
+/// Cartesian grids (no lon/lat).
+std::pair<double, double> stormCentreLonLat(const WrfTruth& truth, double dx_m);
 
 /// Writes the file; throws nph::IoError when NetCDF fails.
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path);

@@ -58,14 +58,8 @@ datagen::WrfHurricaneSpec smallStormSpec(datagen::WrfProjection projection) {
 }
 
 scene::LonLat stormCentreLonLat(const datagen::WrfTruth& truth, const datagen::WrfHurricaneSpec& spec) {
-  const double fi = truth.storm_centre_x_m / spec.dx_m, fj = truth.storm_centre_y_m / spec.dx_m;
-  const int i = static_cast<int>(std::floor(fi)), j = static_cast<int>(std::floor(fj));
-  const double a = fi - i, b = fj - j;
-  auto lerp = [&](const std::vector<double>& f) {
-    auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(spec.nx) + std::size_t(ii)]; };
-    return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) + a * b * at(i + 1, j + 1);
-  };
-  return {lerp(truth.lon_deg), lerp(truth.lat_deg)};
+  const auto [lon, lat] = datagen::stormCentreLonLat(truth, spec.dx_m);
+  return {lon, lat};
 }
 
 std::unique_ptr<engine::Session> openSession(const std::string& scene_json, const std::string& data_path) {

@@ -27,15 +27,6 @@ const char* nameOf(datagen::WrfProjection p) {
   }
 }
 
-/// Bilinear interpolation of a mass-point field at fractional grid indices.
-double bilinear(const std::vector<double>& f, int nx, double fi, double fj) {
-  const int i = static_cast<int>(std::floor(fi)), j = static_cast<int>(std::floor(fj));
-  const double a = fi - i, b = fj - j;
-  auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(nx) + std::size_t(ii)]; };
-  return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) +
-         a * b * at(i + 1, j + 1);
-}
-
 class Placement : public ::testing::TestWithParam<datagen::WrfProjection> {};
 
 TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
@@ -68,10 +59,10 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   EXPECT_LT(maxErr, 1e-6) << nameOf(GetParam());
 
   // 2. The storm centre (generator: metres from mass point 0) in world metres and lon/lat.
-  const double fi = truth.storm_centre_x_m / spec.dx_m, fj = truth.storm_centre_y_m / spec.dx_m;
   const glm::dvec2 stormWorld{truth.storm_centre_x_m + 0.5 * frame.voxel_size_m.x,
                               truth.storm_centre_y_m + 0.5 * frame.voxel_size_m.y};
-  const LonLat stormLl{bilinear(truth.lon_deg, v.nx, fi, fj), bilinear(truth.lat_deg, v.nx, fi, fj)};
+  const auto [stormLon, stormLat] = datagen::stormCentreLonLat(truth, spec.dx_m);
+  const LonLat stormLl{stormLon, stormLat};
   const LonLat fromWorld = geo.lonLatFromWorld(stormWorld);
   // Bilinear interpolation of lon/lat between mass points 5 km apart errs by < 1e-4° here.
   EXPECT_NEAR(fromWorld.lon_deg, stormLl.lon_deg, 1e-4);

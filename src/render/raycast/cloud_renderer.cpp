@@ -61,7 +61,7 @@ ViewRays ViewRays::fromMatrices(const glm::dmat4& view_from_world, const glm::dm
   return r;
 }
 
-void CloudRenderer::setGlobeUniforms(const ViewRays& view, const RenderSettings& s) const {
+void CloudRenderer::setGlobeUniforms(const ViewRays& view, const RenderSettings& s, double sun_intensity) const {
   const gl::Program& p = program_;
   p.set("u_globe", globe_ ? 1 : 0);
   glBindTextureUnit(8, globe_ ? globe_table_.id() : blank_.id());
@@ -79,7 +79,7 @@ void CloudRenderer::setGlobeUniforms(const ViewRays& view, const RenderSettings&
   p.set("u_sphere_c_m2", glm::vec3(float(o2 - R * R), float(o2 - m.shell_max_m * m.shell_max_m), 0.0f));
   p.set("u_lipschitz_h", float(m.horizontal_lipschitz));
   p.set("u_has_globe_basemap", globe_basemap_ ? 1 : 0);
-  p.set("u_limb_radiance", glm::vec3(s.limb_radiance));
+  p.set("u_limb_radiance", glm::vec3(s.limb_radiance * sun_intensity));
 }
 
 double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view,
@@ -122,7 +122,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   p.set("u_basemap_min_m", glm::vec2(basemap_rect_.min_m));
   p.set("u_basemap_max_m", glm::vec2(basemap_rect_.max_m));
   p.set("u_ocean_albedo", glm::vec3(s.ocean_albedo));
-  setGlobeUniforms(view, s);
+  setGlobeUniforms(view, s, sun.intensity);
   glBindImageTexture(0, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);

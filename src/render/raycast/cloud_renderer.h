@@ -35,7 +35,7 @@ struct RenderSettings {
   double g_water = 0.85;                 ///< HG asymmetry of droplets (physics/phase.h)
   glm::dvec3 ambient{0.20, 0.24, 0.30};  ///< uniform sky radiance (sun radiance = 1)
   glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};  ///< ground outside the basemap
-  glm::dvec3 limb_radiance{0.30, 0.45, 0.80};  ///< globe: sky glow at the Earth's limb (cosmetic)
+  glm::dvec3 limb_radiance{0.30, 0.45, 0.80};  ///< globe: sky glow at the limb (cosmetic; × sun intensity)
 };
 
 /// The eye rays of a perspective view, as the GPU builds them: pixel (px, py) with py down (row 0
@@ -97,7 +97,7 @@ class CloudRenderer {
   const gl::Texture& frame() const { return frame_tex_; }
 
  private:
-  void setGlobeUniforms(const ViewRays& view, const RenderSettings& settings) const;
+  void setGlobeUniforms(const ViewRays& view, const RenderSettings& settings, double sun_intensity) const;
 
   gl::Program program_;
   gl::Texture basemap_, blank_, cloud_tex_, frame_tex_;
