@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # The frei0r source plugin through Debian's ffmpeg (frei0r_src) against `nephele render` of the
 # same scene: same data and timestep, camera preset, sun and quality preset, 8-bit sRGB output.
-# usage: frei0r_test.sh NEPHELE PLUGIN_DIR IMAGE_DIFF WORKDIR (WORKDIR holds storm.nph)
+# usage: frei0r_test.sh FFMPEG NEPHELE PLUGIN_DIR IMAGE_DIFF WORKDIR (WORKDIR holds storm.nph)
 #
 # Tolerance: both paths cast the same rays through the same Session (same DLM, same jitter) and
 # differ only in where the display transform runs — float on the GPU (composite.frag) vs on the
 # CPU (scene::encodeSrgb8) — and in how 8-bit codes are rounded, so at most 1 code per channel.
 # Allowed: max 2 codes, mean 0.25 codes.
 set -euo pipefail
-nephele=$1 plugin_dir=$2 diff=$3 work=$4
+ffmpeg=$1 nephele=$2 plugin_dir=$3 diff=$4 work=$5
 out=$work/frei0r
 rm -rf "$out" && mkdir -p "$out"
 w=160 h=90
@@ -24,7 +24,7 @@ JSON
 NEPHELE_LOG=warn "$nephele" render "$out/scene.json" -o "$out/reference.png"
 # time 0.5 of 3 timesteps = index 1; sun 0.375 * 360 = 135 deg, 0.5 * 90 = 45 deg.
 params="$work/storm.nph|0.5|oblique|0.375|0.5|draft|n"
-FREI0R_PATH=$plugin_dir NEPHELE_LOG=warn ffmpeg -nostdin -v error -y -f lavfi \
+FREI0R_PATH=$plugin_dir NEPHELE_LOG=warn "$ffmpeg" -nostdin -v error -y -f lavfi \
   -i "frei0r_src=size=${w}x${h}:framerate=5:filter_name=nephele_clouds:filter_params=$params" \
   -frames:v 2 "$out/frame%d.png"
 for f in 1 2; do
