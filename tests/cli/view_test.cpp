@@ -43,7 +43,7 @@ double luminanceSpread(const Image& img, double& mean) {
   const double n = double(img.width) * double(img.height);
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {
-      const double l = (img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3.0;
+      const double l = double(img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3.0;
       sum += l;
       sum2 += l * l;
     }
@@ -82,7 +82,7 @@ TEST_P(ViewTest, ScreenshotMatchesRender) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Views, ViewTest, ::testing::Values(std::string("flat"), std::string("globe")),
-                         [](const auto& info) { return info.param; });
+                         [](const auto& param) { return param.param; });
 
 }  // namespace
 }  // namespace nph::test

@@ -76,7 +76,7 @@ TEST_F(GlobeTest, EmptySpaceSkippingChangesNothing) {
     Image a{on.cloud_layer.width, on.cloud_layer.height, 4, on.cloud_layer.rgba};
     Image b{off.cloud_layer.width, off.cloud_layer.height, 4, off.cloud_layer.rgba};
     double coverage = 0.0;
-    for (std::size_t i = 3; i < b.pixels.size(); i += 4) coverage += b.pixels[i];
+    for (std::size_t i = 3; i < b.pixels.size(); i += 4) coverage += double(b.pixels[i]);
     coverage /= double(b.pixels.size() / 4);
     const CompareResult r = compareImages(a, b, {2e-3, 1e-5}, std::string("globe-skipping-") + preset);
     std::printf("[ globe    ] %s: coverage %.2f, skipping on vs off: max %.2e, mean %.2e\n", preset, coverage,

@@ -104,8 +104,8 @@ TEST_P(GoldenTest, MatchesTheCheckedInFrame) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GoldenTest,
                          ::testing::Combine(::testing::Values(std::string("flat"), std::string("globe")), ::testing::Bool()),
-                         [](const auto& info) {
-                           return std::get<0>(info.param) + (std::get<1>(info.param) ? "Shadows" : "NoShadows");
+                         [](const auto& param) {
+                           return std::get<0>(param.param) + (std::get<1>(param.param) ? "Shadows" : "NoShadows");
                          });
 
 // The tolerance must be able to fail: switching the cloud shadows off changes the frame by much

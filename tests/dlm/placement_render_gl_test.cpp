@@ -87,7 +87,7 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
   const double cosSun = std::sin(glm::radians(60.0));
   const glm::dvec3 light = glm::dvec3(cosSun) + session->renderSettings().ambient;
   double lon = 0.0, lat = 0.0;
-  decodeBasemapColour(float(ground.frame.rgba[o] / light.r), float(ground.frame.rgba[o + 1] / light.g), lon, lat);
+  decodeBasemapColour(float(double(ground.frame.rgba[o]) / light.r), float(double(ground.frame.rgba[o + 1]) / light.g), lon, lat);
   std::printf("[ placement] basemap at that pixel: %.4f, %.4f (truth %.4f, %.4f)\n", lon, lat, stormLl.lon_deg, stormLl.lat_deg);
   EXPECT_NEAR(lon, stormLl.lon_deg, 0.05);
   EXPECT_NEAR(lat, stormLl.lat_deg, 0.05);
@@ -95,8 +95,8 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
 
 INSTANTIATE_TEST_SUITE_P(Wrf, RenderedPlacement,
                          ::testing::Values(datagen::WrfProjection::Lambert, datagen::WrfProjection::Mercator),
-                         [](const auto& info) {
-                           return std::string(info.param == datagen::WrfProjection::Lambert ? "Lambert" : "Mercator");
+                         [](const auto& param) {
+                           return std::string(param.param == datagen::WrfProjection::Lambert ? "Lambert" : "Mercator");
                          });
 
 }  // namespace

@@ -257,7 +257,7 @@ TEST_P(StressTest, InvariantsHold) {
   const auto map = dlm.readBack();
   for (std::size_t t = 0; t < map.nodes.size(); ++t)
     for (std::size_t k = 1; k < map.nodes[t].size(); ++k) {
-      ASSERT_LE(map.nodes[t][k].intensity, map.nodes[t][k - 1].intensity + 1e-7) << c.name << " texel " << t << " node " << k;
+      ASSERT_LE(map.nodes[t][k].intensity, map.nodes[t][k - 1].intensity + 1e-7f) << c.name << " texel " << t << " node " << k;
       ASSERT_GE(map.nodes[t][k].depth_m, map.nodes[t][k - 1].depth_m) << c.name << " texel " << t;
     }
   c.expect(a.out, a.stats, a.map);
