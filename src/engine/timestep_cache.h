@@ -11,9 +11,7 @@
 //   - prefetch(pinned, direction) queues the next `lookahead` timesteps beyond the pinned ones in
 //     the direction of playback (within the animation's range), each only if it fits the memory
 //     budget next to what is kept;
-//   - the worker runs at a lower CPU priority: prefetched work is work the frame would otherwise
-//     do itself, so it must not be done at the frame's expense when the cores are all busy (as
-//     with llvmpipe, which ray casts on every core);
+//   - the worker's CPU priority is a setting (worker_nice, default: the renderer's);
 //   - one worker thread decodes the queue (Dataset::load is thread-safe); get() of a timestep in
 //     flight waits for it, get() of one never asked for decodes it in the caller (a "miss").
 //   - a decode error is kept with its timestep and thrown by the get() that asks for it, so a
@@ -44,9 +42,11 @@ struct PrefetchSettings {
   /// is spent on timesteps that will not be shown.
   std::size_t first_timestep = 0;
   std::size_t last_timestep = std::size_t(-1);
-  /// Nice value of the worker thread (Linux: per thread): it fills CPU time the frame leaves idle
-  /// instead of slowing the frame down on a machine whose cores the (software) renderer saturates.
-  int worker_nice = 10;
+  /// Nice value of the worker thread (Linux: per thread), set when it starts. 0: the read-ahead
+  /// competes evenly with the renderer's threads. A higher value lets it use only CPU time the
+  /// frame leaves idle, but on a machine loaded by other processes it then starves and frames
+  /// wait for it (docs/benchmarks.md#animation-playback: 10 turned 0 ms of waiting into seconds).
+  int worker_nice = 0;
 };
 
 struct PrefetchStats {
