@@ -478,6 +478,12 @@ void Writer::writeTimestep(int t) {
   // ---- hydrometeors ---------------------------------------------------------------------------
   // Structural weights per mass point, from which every class is shaped.
   std::vector<float> qc(n3), qr(n3), qi(n3), qs(n3), qg(n3), qh(n3);
+  // Lateral boundary zone: WRF's outer rows are forced towards the driving model (specified and
+  // relaxation zones, spec_bdy_width = 5 by default), which for an idealised run carries no
+  // condensate; hydrometeors fade to zero over the outer 10 % of the domain (at least five rows),
+  // so a storm wider than the domain ends softly instead of being cut by the box.
+  const double lx_km = (nx - 1) * dx / 1000.0, ly_km = (ny - 1) * dx / 1000.0;
+  const double boundary_km = std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
   tbb::parallel_for(0, nz, [&](int k) {
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
@@ -499,8 +505,8 @@ void Writer::writeTimestep(int t) {
                            std::log(std::max(r, 1.0) / kRadiusMaxWind_km) / std::tan(kSpiralPitch_rad);
         double arm = psi * kSpiralArms / (2.0 * kPi);
         arm -= std::round(arm);
-        const double bands = gaussian(arm, 0.0, 0.13) * smoothstep(60.0, 95.0, r) * gaussian(r, 0.0, 380.0);
-        const double stratiform = 0.25 * smoothstep(50.0, 80.0, r) * gaussian(r, 0.0, 250.0);
+        const double bands = gaussian(arm, 0.0, 0.13) * smoothstep(60.0, 95.0, r) * gaussian(r, 0.0, 260.0);
+        const double stratiform = 0.25 * smoothstep(50.0, 80.0, r) * gaussian(r, 0.0, 180.0);
         const double convective = std::max(eyewall, 0.8 * bands * texture);
 
         const bool warm = temp > kFreezingPoint_k;
@@ -510,19 +516,23 @@ void Writer::writeTimestep(int t) {
         double q_rain = (2.6e-3 * convective + 1.5e-4 * stratiform * texture) * layer(zk, -1.0, 4.3, 0.7);
         if (!warm) q_rain *= 0.2;
         const double q_graupel = 1.4e-3 * eyewall * texture * layer(zk, 4.5, 8.5, 1.0);
-        const double anvil = gaussian(r, 0.0, 320.0) * (0.65 + 0.35 * std::cos(phi + r / 90.0 - 0.2 * hours)) *
+        // Central dense overcast: an outflow anvil of ~200 km e-folding radius, thinning towards
+        // the eye so the eye stays open from above (the storm's signature in satellite imagery).
+        const double anvil = eye * gaussian(r, 0.0, 200.0) * (0.65 + 0.35 * std::cos(phi + r / 90.0 - 0.2 * hours)) *
                              layer(zk, 11.0, 13.8, 1.0) * texture;
         const double q_ice = (3.0e-4 * eyewall * layer(zk, 7.0, 14.5, 1.0) + 1.6e-4 * anvil) * (warm ? 0.0 : 1.0);
         const double q_snow = (7.0e-4 * convective * layer(zk, 5.5, 11.0, 1.0) + 2.0e-4 * stratiform * layer(zk, 5.0, 9.0, 1.0) +
                                0.6e-4 * anvil) * (warm ? 0.0 : 1.0);
         const double q_hail = spec_.include_hail ? 3.0e-4 * eyewall * eyewall * layer(zk, 3.0, 7.5, 1.0) : 0.0;
 
-        qc[m] = static_cast<float>(intensity * q_cloud);
-        qr[m] = static_cast<float>(intensity * q_rain);
-        qi[m] = static_cast<float>(intensity * q_ice);
-        qs[m] = static_cast<float>(intensity * q_snow);
-        qg[m] = static_cast<float>(intensity * q_graupel);
-        qh[m] = static_cast<float>(intensity * q_hail);
+        const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
+        const double scale = intensity * inside;
+        qc[m] = static_cast<float>(scale * q_cloud);
+        qr[m] = static_cast<float>(scale * q_rain);
+        qi[m] = static_cast<float>(scale * q_ice);
+        qs[m] = static_cast<float>(scale * q_snow);
+        qg[m] = static_cast<float>(scale * q_graupel);
+        qh[m] = static_cast<float>(scale * q_hail);
       }
     }
   });
