@@ -73,7 +73,7 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
   if (!(duration_s_ > 0.0) && spec.keyframes.size() > 1) duration_s_ = spec.keyframes.back().at_s;
   if (!(duration_s_ > 0.0)) {
     throw InputError(fmt::format("{}: the animation has no length: from and to are the same time; give "
-                                 "animation.duration_s", file));
+                                 "animation.duration_s (nephele animate --duration)", file));
   }
   frame_count_ = std::int64_t(std::floor(duration_s_ * spec.fps.fps() + kFrameSlack_s * spec.fps.fps())) + 1;
 
