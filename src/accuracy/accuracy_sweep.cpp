@@ -79,6 +79,8 @@ Variant variantOf(const scene::QualitySettings& q) {
   v.knob = "preset";
   v.value = q.preset;
   v.dlm.epsilon = q.dlm_epsilon;
+  v.dlm.step_voxels = q.dlm_step_voxels;
+  v.dlm.texel_voxels = q.dlm_texel_voxels;
   v.dlm.max_texels = q.dlm_resolution;
   v.dlm.max_nodes = q.dlm_max_nodes;
   v.dlm.empty_space_skipping = q.empty_space_skipping;
@@ -154,7 +156,11 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
   if (o.runs < 1) throw UsageError("bench accuracy: --runs must be at least 1");
   const std::string cacheDir = o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
   const SceneSet set = standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
-  const std::vector<Variant> variants = sweepVariants(o.quick);
+  std::vector<Variant> variants = sweepVariants(o.quick);
+  if (!o.knob_filter.empty()) {
+    std::erase_if(variants, [&](const Variant& v) { return v.knob.find(o.knob_filter) == std::string::npos; });
+    if (variants.empty()) throw UsageError("bench accuracy: no knob matches --knobs " + o.knob_filter);
+  }
   std::vector<SweepRow> rows;
   for (const AccuracyScene& sc : set.scenes) {
     if (!o.scene_filter.empty() && sc.name.find(o.scene_filter) == std::string::npos) continue;

@@ -73,6 +73,9 @@ void addBenchCommand(CLI::App& app, Action& run) {
   cmd->add_option("--max-events", o->sweep.ground_truth.max_events,
                   "path-tracer collisions per path before it is cut (counted)")->capture_default_str();
   cmd->add_option("--scenes", o->sweep.scene_filter, "only scenes whose name contains this");
+  cmd->add_option("--knobs", o->sweep.knob_filter,
+                  "only settings whose knob name contains this (default, step_voxels, dlm_texel_voxels, "
+                  "dlm_step_voxels, epsilon, scatter_downsample, forward_angle_deg, preset)");
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });

@@ -19,6 +19,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 scene::DlmSettings dlmSettingsFor(const scene::QualitySettings& q) {
   scene::DlmSettings d;
   d.epsilon = q.dlm_epsilon;
+  d.step_voxels = q.dlm_step_voxels;
+  d.texel_voxels = q.dlm_texel_voxels;
   d.max_nodes = q.dlm_max_nodes;
   d.max_texels = q.dlm_resolution;
   d.empty_space_skipping = q.empty_space_skipping;

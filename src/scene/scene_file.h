@@ -64,6 +64,8 @@ struct QualitySettings {
   double step_voxels = 0.5;                 ///< ray-march step in voxel sizes (Muth 2026 §3.4.3)
   int dlm_resolution = 512;                 ///< deep light map texels per side
   double dlm_epsilon = 0.01;                ///< Lokovic–Veach error bound on I(depth)
+  double dlm_step_voxels = 0.5;             ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
+  double dlm_texel_voxels = 1.0;            ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
   int dlm_max_nodes = 16;                   ///< node budget per DLM texel
   double early_termination_transmittance = 0.01;  ///< stop a ray below this T
   bool empty_space_skipping = true;

@@ -80,7 +80,8 @@ TEST(SceneFile, ValuesAndOverrides) {
   EXPECT_FALSE(s.basemap);
   EXPECT_EQ(s.quality.preset, "draft");
   EXPECT_EQ(s.quality.step_voxels, 0.75);
-  EXPECT_EQ(s.quality.dlm_resolution, 256);  // from the draft preset
+  EXPECT_EQ(s.quality.dlm_step_voxels, 1.0);  // from the draft preset
+  EXPECT_EQ(s.quality.dlm_epsilon, 0.04);     // from the draft preset
   EXPECT_EQ(s.quality.dlm_max_nodes, 12);
   EXPECT_FALSE(s.quality.shadows);
   EXPECT_EQ(s.output.paths[0], "/scenes/a.PNG");
@@ -90,7 +91,9 @@ TEST(SceneFile, ValuesAndOverrides) {
   EXPECT_EQ(s.lonlat_offset.lon_deg, 0.3);
   EXPECT_EQ(s.lonlat_offset.lat_deg, -0.1);
   EXPECT_EQ(s.centre_if_cartesian->lat_deg, 50.0);
-  EXPECT_EQ(parseSceneText(R"({"quality": "reference"})", "q.json").quality.samples_per_pixel, 4);
+  EXPECT_EQ(parseSceneText(R"({"quality": "reference"})", "q.json").quality.dlm_step_voxels, 0.25);
+  EXPECT_EQ(parseSceneText(R"({"quality": {"overrides": {"dlm_texel_voxels": 2}}})", "q.json").quality.dlm_texel_voxels,
+            2.0);
 }
 
 TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
