@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 #include "engine/animation.h"
@@ -80,6 +82,28 @@ TEST(AnimationSection, IsParsedStrictly) {
   fails(R"({ "camera_keyframes": [ { "at_s": 1 }, { "at_s": 0.5 } ] })", "animation.camera_keyframes[1].at_s");
   fails(R"({ "camera_keyframes": [ { "at_s": 0, "fov": 30 } ] })", "animation.camera_keyframes[0].fov: unknown key");
   EXPECT_THROW((void)scene::parseSceneText(R"({ "animation": 3 })", "x.json"), InputError);
+}
+
+TEST(AnimationSection, KeyframesFromAFileRelativeToTheScene) {
+  const auto dir = engineTestDir() / "keys";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "orbit.json") << R"({ "keyframes": [ { "at_s": 0, "preset": "oblique" },
+                                                           { "at_s": 2, "preset": "top", "fov_deg": 30 } ] })";
+    std::ofstream(dir / "bad.json") << R"({ "keyframes": [ { "at_s": 0, "preset": "sideways" } ] })";
+  }
+  const auto s = scene::parseSceneText(R"({ "animation": { "keyframes_file": "orbit.json" } })", "anim.json",
+                                       dir.string());
+  const auto a = scene::parseAnimation(s);
+  ASSERT_EQ(a.keyframes.size(), 2u);
+  EXPECT_EQ(a.keyframes[1].camera.fov_deg, 30.0);
+  EXPECT_EQ(a.keyframes_file, (dir / "orbit.json").string());
+  try {
+    (void)scene::loadCameraKeyframes((dir / "bad.json").string());
+    ADD_FAILURE() << "no error for a bad preset";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json: keyframes[0].preset"), std::string::npos) << e.what();
+  }
 }
 
 struct PlanFixture : ::testing::Test {

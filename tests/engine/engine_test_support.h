@@ -19,24 +19,29 @@
 
 namespace nph::test {
 
-inline std::filesystem::path engineTestDir() {
+inline std::filesystem::path engineTestPath() {
   return std::filesystem::temp_directory_path() / ("nephele-engine-test-" + std::to_string(::getpid()));
 }
 
-/// Removes engineTestDir() when the process ends.
+/// Removes engineTestPath() when the process ends.
 struct EngineTestDirCleanup {
   ~EngineTestDirCleanup() {
     std::error_code ec;
-    std::filesystem::remove_all(engineTestDir(), ec);
+    std::filesystem::remove_all(engineTestPath(), ec);
   }
 };
 
+/// A folder for this test process's files, removed at exit.
+inline std::filesystem::path engineTestDir() {
+  static EngineTestDirCleanup cleanup;
+  std::filesystem::create_directories(engineTestPath());
+  return engineTestPath();
+}
+
 /// A tiny 3-timestep hurricane (hourly, drifting and intensifying), written once per process.
 inline const std::string& tinyStormFile() {
-  static EngineTestDirCleanup cleanup;
   static const std::string path = [] {
     const auto dir = engineTestDir();
-    std::filesystem::create_directories(dir);
     const std::string p = (dir / "wrfout_tiny.nc").string();
     datagen::WrfHurricaneSpec spec;
     spec.ntimes = 3;
