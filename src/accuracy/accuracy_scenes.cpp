@@ -13,17 +13,7 @@ namespace nph::accuracy {
 namespace {
 
 ExtinctionVolumes emptyBox(int nx, int ny, int nz, double dx_m, double dz_m, double z_bottom_m) {
-  ExtinctionVolumes v;
-  v.nx = nx;
-  v.ny = ny;
-  v.nz = nz;
-  v.dz_m = dz_m;
-  v.z_bottom_m = z_bottom_m;
-  v.georef.dx_m = dx_m;
-  v.georef.dy_m = dx_m;
-  v.ice_per_m.assign(v.voxelCount(), 0.0f);
-  v.water_per_m.assign(v.voxelCount(), 0.0f);
-  return v;
+  return ExtinctionVolumes::zeros(nx, ny, nz, dx_m, dz_m, z_bottom_m);
 }
 
 // Smooth 2-D value noise in [0, 1]: a seeded random lattice of `cells`² values, bicubic-smoothed

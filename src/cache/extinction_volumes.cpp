@@ -12,4 +12,18 @@ void ExtinctionVolumes::updateMaxima() {
   max_water_per_m = std::max(max_water_per_m, 0.0f);
 }
 
+ExtinctionVolumes ExtinctionVolumes::zeros(int nx, int ny, int nz, double dx_m, double dz_m, double z_bottom_m) {
+  ExtinctionVolumes v;
+  v.nx = nx;
+  v.ny = ny;
+  v.nz = nz;
+  v.dz_m = dz_m;
+  v.z_bottom_m = z_bottom_m;
+  v.georef.dx_m = dx_m;
+  v.georef.dy_m = dx_m;
+  v.ice_per_m.assign(v.voxelCount(), 0.0f);
+  v.water_per_m.assign(v.voxelCount(), 0.0f);
+  return v;
+}
+
 }  // namespace nph

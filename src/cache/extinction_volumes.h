@@ -56,6 +56,9 @@ struct ExtinctionVolumes {
   double layerCentreHeight_m(int k) const { return z_bottom_m + (double(k) + 0.5) * dz_m; }
   /// Recomputes max_ice_per_m / max_water_per_m from the arrays.
   void updateMaxima();
+  /// An all-zero (clear-air) volume on a Cartesian grid of nx×ny×nz voxels, dx = dy = dx_m: the
+  /// start of every built scene (tests, benchmarks, the accuracy scenes).
+  static ExtinctionVolumes zeros(int nx, int ny, int nz, double dx_m, double dz_m, double z_bottom_m);
 };
 
 }  // namespace nph

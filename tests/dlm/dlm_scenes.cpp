@@ -12,19 +12,7 @@
 namespace nph::test {
 namespace {
 
-ExtinctionVolumes box(int nx, int ny, int nz) {
-  ExtinctionVolumes v;
-  v.nx = nx;
-  v.ny = ny;
-  v.nz = nz;
-  v.dz_m = 250.0;
-  v.z_bottom_m = 0.0;
-  v.georef.dx_m = 3000.0;
-  v.georef.dy_m = 3000.0;
-  v.ice_per_m.assign(v.voxelCount(), 0.0f);
-  v.water_per_m.assign(v.voxelCount(), 0.0f);
-  return v;
-}
+ExtinctionVolumes box(int nx, int ny, int nz) { return ExtinctionVolumes::zeros(nx, ny, nz, 3000.0, 250.0, 0.0); }
 
 ExtinctionVolumes convert(const std::string& path) {
   const auto file = io::openModelFile(path);

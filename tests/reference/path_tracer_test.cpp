@@ -24,17 +24,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 ExtinctionVolumes emptyVolume(int nx, int ny, int nz, double dx_m, double dz_m, double z_bottom_m) {
-  ExtinctionVolumes v;
-  v.nx = nx;
-  v.ny = ny;
-  v.nz = nz;
-  v.dz_m = dz_m;
-  v.z_bottom_m = z_bottom_m;
-  v.georef.dx_m = dx_m;
-  v.georef.dy_m = dx_m;
-  v.ice_per_m.assign(v.voxelCount(), 0.0f);
-  v.water_per_m.assign(v.voxelCount(), 0.0f);
-  return v;
+  return ExtinctionVolumes::zeros(nx, ny, nz, dx_m, dz_m, z_bottom_m);
 }
 
 // Homogeneous water slab: 100 km × 100 km, 1 km thick from 1 km to 2 km height.

@@ -53,17 +53,7 @@ namespace nph::test {
 namespace {
 
 ExtinctionVolumes box(int nx, int ny, int nz, double dx_m, double dz_m) {
-  ExtinctionVolumes v;
-  v.nx = nx;
-  v.ny = ny;
-  v.nz = nz;
-  v.dz_m = dz_m;
-  v.z_bottom_m = 1000.0;
-  v.georef.dx_m = dx_m;
-  v.georef.dy_m = dx_m;
-  v.ice_per_m.assign(v.voxelCount(), 0.0f);
-  v.water_per_m.assign(v.voxelCount(), 0.0f);
-  return v;
+  return ExtinctionVolumes::zeros(nx, ny, nz, dx_m, dz_m, 1000.0);
 }
 
 ExtinctionVolumes uniform(int nx, int ny, int nz, double dx_m, double dz_m, float beta) {
