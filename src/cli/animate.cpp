@@ -24,6 +24,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/headless.h"
 #include "cli/progress.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -193,12 +194,7 @@ int runAnimate(const AnimateOptions& o) {
   }
   const auto dataset = o.data.size() > 1 ? engine::Dataset::openSeries(o.data) : engine::Dataset::open(s.data->path);
 
-  gl::ContextOptions co;
-  const auto backend = gl::parseBackend(o.gl);
-  if (!backend) throw UsageError("--gl " + o.gl + ": expected auto, egl or osmesa");
-  co.backend = *backend == gl::Backend::Auto ? gl::backendFromEnvironment() : *backend;
-  co.visible = false;
-  auto ctx = gl::createContext(co);
+  auto ctx = createHeadlessContext(o.gl);
 
   engine::Session session(dataset, s);
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());

@@ -7,6 +7,7 @@
 #include "accuracy/accuracy_sweep.h"
 #include "accuracy/pareto.h"
 #include "cli/commands.h"
+#include "cli/headless.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "render/gl/context.h"
@@ -31,12 +32,7 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
   }
   if (o.spp > 0) s.ground_truth.samples_per_pixel = o.spp;
   std::filesystem::create_directories(s.out_dir);
-  gl::ContextOptions co;
-  const auto backend = gl::parseBackend(o.gl);
-  if (!backend) throw UsageError("--gl " + o.gl + ": expected auto, egl or osmesa");
-  co.backend = *backend == gl::Backend::Auto ? gl::backendFromEnvironment() : *backend;
-  co.visible = false;
-  const auto ctx = gl::createContext(co);
+  const auto ctx = createHeadlessContext(o.gl);
 
   const std::vector<accuracy::SweepRow> rows = accuracy::runSweep(s);
   if (rows.empty()) throw UsageError("bench accuracy: no scene matches --scenes " + s.scene_filter);

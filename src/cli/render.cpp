@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/headless.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "engine/dataset.h"
@@ -39,12 +40,7 @@ int runRender(const RenderOptions& o) {
   if (s.output.paths.empty() && o.layer.empty()) throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
   const auto dataset = engine::Dataset::open(s.data->path);
 
-  gl::ContextOptions co;
-  const auto backend = gl::parseBackend(o.gl);
-  if (!backend) throw UsageError("--gl " + o.gl + ": expected auto, egl or osmesa");
-  co.backend = *backend == gl::Backend::Auto ? gl::backendFromEnvironment() : *backend;
-  co.visible = false;
-  auto ctx = gl::createContext(co);
+  auto ctx = createHeadlessContext(o.gl);
 
   engine::Session session(dataset, s);
   const scene::PreparedScene& prepared = session.prepared();
