@@ -1,4 +1,5 @@
 // `nephele render`: one frame of a scene file, headless (EGL or OSMesa).
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/headless.h"
+#include "cli/quick_look.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "engine/dataset.h"
@@ -25,20 +27,33 @@ struct RenderOptions {
   std::string gl = "auto";
   int width = 0, height = 0;
   int timestep = -1;
+  bool print_scene = false;
 };
 
 int runRender(const RenderOptions& o) {
-  scene::SceneDescription s = scene::loadSceneFile(o.scene);
-  if (o.width > 0) s.output.width = o.width;
-  if (o.height > 0) s.output.height = o.height;
-  if (!o.outputs.empty()) s.output.paths = o.outputs;
+  std::shared_ptr<const engine::Dataset> dataset;
+  scene::SceneDescription s;
+  if (isDataFile(o.scene)) {
+    // Quick look: a scene written for the data; --print-scene shows it for editing.
+    QuickLook q = makeQuickLook({o.scene, o.outputs, o.width > 0 ? o.width : 1920, o.height > 0 ? o.height : 1080});
+    if (o.print_scene) std::fputs(q.scene_json.c_str(), stdout);
+    if (o.print_scene && o.outputs.empty() && o.layer.empty()) return kExitOk;
+    s = std::move(q.scene);
+    dataset = std::move(q.dataset);
+  } else {
+    if (o.print_scene) throw UsageError("--print-scene: " + o.scene + " is already a scene file");
+    s = scene::loadSceneFile(o.scene);
+    if (o.width > 0) s.output.width = o.width;
+    if (o.height > 0) s.output.height = o.height;
+    if (!o.outputs.empty()) s.output.paths = o.outputs;
+  }
   if (o.timestep >= 0 && s.data) {
     s.data->timestep = o.timestep;
     s.data->time_utc.reset();
   }
   if (!s.data) throw InputError(o.scene + ": no \"data\" section: which .nph or model file to render?");
   if (s.output.paths.empty() && o.layer.empty()) throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
-  const auto dataset = engine::Dataset::open(s.data->path);
+  if (!dataset) dataset = engine::Dataset::open(s.data->path);
 
   auto ctx = createHeadlessContext(o.gl);
 
@@ -74,8 +89,15 @@ void addRenderCommand(CLI::App& app, Action& run) {
       "Render one frame of a scene file (JSON: data, camera, sun, basemap, quality, output; see "
       "docs/scene-file.md) headless through EGL or OSMesa. Writes the clouds composited over the "
       "basemap to every output path (.png: sRGB 8-bit; .exr: linear half) and, with --layer, the "
-      "premultiplied cloud layer alone for a compositor.");
-  cmd->add_option("scene", opts->scene, "scene file (JSON)")->required()->check(CLI::ExistingFile);
+      "premultiplied cloud layer alone for a compositor.\n\nQuick look: give a wrfout, ICON or .nph "
+      "file instead of a scene (`nephele render wrfout_d01.nc -o look.png`): the data is framed "
+      "automatically (oblique camera, sun from the data's time, Blue Marble); --print-scene prints "
+      "that scene as JSON to start editing from.");
+  cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--print-scene", opts->print_scene,
+                "quick look: print the generated scene (JSON) to stdout; renders too when -o/--layer is given");
   cmd->add_option("-o,--output", opts->outputs, "output image(s) (.png/.exr); replaces output.paths");
   cmd->add_option("--layer", opts->layer, "also write the premultiplied cloud layer (.exr or .png)");
   cmd->add_option("--gl", opts->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include <glm/glm.hpp>
 
 #include "cli/commands.h"
+#include "cli/quick_look.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "engine/dataset.h"
@@ -284,7 +286,9 @@ class Viewer {
 };
 
 int runView(const ViewOptions& o) {
-  scene::SceneDescription s = scene::loadSceneFile(o.scene);
+  std::optional<QuickLook> quick;  // a data file instead of a scene: framed automatically
+  if (isDataFile(o.scene)) quick = makeQuickLook({o.scene, {}, o.width, o.height});
+  scene::SceneDescription s = quick ? quick->scene : scene::loadSceneFile(o.scene);
   if (!s.data) throw InputError(o.scene + ": no \"data\" section: which .nph or model file to view?");
   if (o.timestep >= 0) {
     s.data->timestep = o.timestep;
@@ -293,7 +297,7 @@ int runView(const ViewOptions& o) {
   // The camera presets frame the volume for the window's aspect ratio.
   s.output.width = o.width;
   s.output.height = o.height;
-  const auto dataset = engine::Dataset::open(s.data->path);
+  const auto dataset = quick ? quick->dataset : engine::Dataset::open(s.data->path);
   gl::ContextOptions co;
   co.backend = gl::Backend::Glfw;
   co.width = o.width;
@@ -314,7 +318,7 @@ void addViewCommand(CLI::App& app, Action& run) {
       "Interactive viewer of a scene file in a GLFW window: orbit/pan/zoom with the mouse, timesteps, "
       "playback, sun and quality from the keyboard (H prints the keys). --frames N --screenshot F "
       "renders N frames without interaction and writes the last one.");
-  cmd->add_option("scene", opts->scene, "scene file (JSON)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")->required()->check(CLI::ExistingFile);
   cmd->add_option("--width", opts->width, "window width")->capture_default_str()->check(CLI::Range(16, 16384));
   cmd->add_option("--height", opts->height, "window height")->capture_default_str()->check(CLI::Range(16, 16384));
   cmd->add_option("--frames", opts->frames, "render this many frames, then exit (non-interactive)")->check(CLI::PositiveNumber);

@@ -147,6 +147,59 @@ case $case in
       cmp -s "$f" "$out/held/$(basename "$f")" || fail "$(basename "$f") differs when the sub-range starts there"
     done
     ;;
+  animate-chunks)  # --chunk I/N and --frames A-B (render-farm forms) = one run, byte for byte
+    animate_cache
+    run "$nephele" animate "$out/scene.json" -o "$out/one" --no-progress
+    expect_rc 0
+    for i in 0 1 2; do
+      run "$nephele" animate "$out/scene.json" -o "$out/chunks" --chunk "$i/3" --no-progress
+      expect_rc 0
+    done
+    run "$nephele" animate "$out/scene.json" -o "$out/dash" --frames 3-6 --no-progress
+    expect_rc 0
+    expect_out "frames 3 to 6"
+    n=$(ls "$out/one" | grep -c '^frame_.*\.png$')
+    [ "$n" -eq 10 ] || fail "one run wrote $n frames, expected 10"
+    for f in "$out"/one/frame_*.png; do
+      cmp -s "$f" "$out/chunks/$(basename "$f")" || fail "chunked $(basename "$f") differs from the one-run frame"
+    done
+    [ "$(ls "$out/dash" | grep -c '^frame_')" -eq 4 ] || fail "--frames 3-6 wrote $(ls "$out/dash") "
+    cmp -s "$out/one/frame_000004.png" "$out/dash/frame_000004.png" || fail "--frames 3-6 frame 4 differs"
+    run "$nephele" animate "$out/scene.json" -o "$out/empty" --chunk 0/12 --no-progress  # 10 frames, 12 chunks: chunk 0 is empty
+    expect_rc 0
+    expect_out "rendered 0 frames"
+    for bad in 3/3 1/0 x/2 2 -1/4; do
+      run "$nephele" animate "$out/scene.json" -o "$out/bad" --chunk "$bad"
+      expect_rc 2
+      expect_err "--chunk"
+    done
+    run "$nephele" animate "$out/scene.json" -o "$out/bad" --chunk 0/2 --frames 0:1
+    expect_rc 2
+    expect_err "either --frames or --chunk"
+    ;;
+  quicklook)  # a data file instead of a scene: framed automatically; the printed scene re-renders the same bytes
+    for f in wrfout_lambert_thompson.nc icon_regular.nc; do
+      run "$nephele" render "$data/$f" -o "$out/$f.png" --width 96 --height 54 --print-scene
+      expect_rc 0
+      [ -s "$out/$f.png" ] || fail "quick look of $f wrote no image"
+      cp "$out/stdout" "$out/$f.scene.json"
+      grep -q '"preset": "oblique"' "$out/$f.scene.json" || fail "printed scene of $f: $stdout"
+      run "$nephele" render "$out/$f.scene.json" -o "$out/$f.again.png"
+      expect_rc 0
+      cmp -s "$out/$f.png" "$out/$f.again.png" || fail "re-rendering the printed scene of $f gave other bytes"
+    done
+    grep -q '"basemap"' "$out/wrfout_lambert_thompson.nc.scene.json" || fail "no Blue Marble under georeferenced WRF data"
+    "$nephele" convert "$data/wrfout_lambert_thompson.nc" -o "$out/q.nph" --no-progress >/dev/null || fail "convert failed"
+    run "$nephele" render "$out/q.nph" --print-scene   # print only: no output given, nothing rendered
+    expect_rc 0
+    expect_out '"height_exaggeration"'
+    run "$nephele" render "$out/q.nph"
+    expect_rc 2
+    expect_err "no output"
+    run "$nephele" render "$out/wrfout_lambert_thompson.nc.scene.json" --print-scene
+    expect_rc 2
+    expect_err "already a scene file"
+    ;;
   animate-resume)  # a second run skips complete frames without rewriting them
     animate_cache
     run "$nephele" animate "$out/scene.json" -o "$out/seq" --frames 0:4
