@@ -25,6 +25,7 @@
 
 #include "cli/commands.h"
 #include "cli/headless.h"
+#include "cli/quick_look.h"
 #include "cli/progress.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -48,6 +49,8 @@ struct AnimateOptions {
   std::string formats = "png";
   bool layer = false;
   std::string frames;
+  std::string chunk;
+  bool print_scene = false;
   std::vector<std::string> data;
   std::string from, to, fps, keyframes, interpolation;
   std::optional<double> duration_s, speed;
@@ -62,26 +65,40 @@ struct AnimateOptions {
   std::string video_codec = "prores4444";
 };
 
-/// "A:B" (inclusive, either side may be empty) within [0, count).
-std::pair<std::int64_t, std::int64_t> parseFrameRange(const std::string& text, std::int64_t count) {
-  if (text.empty()) return {0, count - 1};
-  const auto colon = text.find(':');
-  const auto number = [&](const std::string& s, std::int64_t def) -> std::int64_t {
-    if (s.empty()) return def;
-    std::size_t used = 0;
-    long long v = -1;
-    try {
-      v = std::stoll(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
+/// A whole number ≥ 0 from `s` (all of it), or `def` when `s` is empty; -1 when it is not one.
+std::int64_t wholeNumber(const std::string& s, std::int64_t def) {
+  if (s.empty()) return def;
+  if (s.find_first_not_of("0123456789") != std::string::npos || s.size() > 18) return -1;
+  return std::stoll(s);
+}
+
+/// The frames to render among [0, count): `frames` "A:B" or "A-B" (inclusive, either side may be
+/// empty, as render farms write ranges), or `chunk` "I/N": the frames split into N contiguous
+/// chunks of near-equal length, chunk I (0 ≤ I < N; Slurm `--array=0-(N-1)` with
+/// `--chunk $SLURM_ARRAY_TASK_ID/N`). An empty chunk (more chunks than frames) is {0, -1}.
+std::pair<std::int64_t, std::int64_t> frameRangeFor(const std::string& frames, const std::string& chunk,
+                                                    std::int64_t count) {
+  if (!frames.empty() && !chunk.empty()) throw UsageError("give either --frames or --chunk, not both");
+  if (!chunk.empty()) {
+    const auto slash = chunk.find('/');
+    const std::int64_t i = slash == std::string::npos ? -1 : wholeNumber(chunk.substr(0, slash), -1);
+    const std::int64_t n = slash == std::string::npos ? -1 : wholeNumber(chunk.substr(slash + 1), -1);
+    if (i < 0 || n < 1 || i >= n) {
+      throw UsageError(fmt::format("--chunk {}: expected I/N with 0 ≤ I < N (chunk I of N contiguous chunks)", chunk));
     }
-    if (used != s.size() || v < 0) throw UsageError(fmt::format("--frames {}: expected A:B with frame numbers ≥ 0", text));
-    return v;
-  };
-  const std::int64_t a = number(text.substr(0, colon), 0);
-  const std::int64_t b = colon == std::string::npos ? a : number(text.substr(colon + 1), count - 1);
+    // Boundaries floor(i·count/n) in 128-bit arithmetic: no overflow for any count and n.
+    __extension__ using Wide = __int128;
+    const auto bound = [&](std::int64_t k) { return static_cast<std::int64_t>(Wide(k) * count / n); };
+    return {bound(i), bound(i + 1) - 1};
+  }
+  if (frames.empty()) return {0, count - 1};
+  auto sep = frames.find(':');
+  if (sep == std::string::npos) sep = frames.find('-');
+  const std::int64_t a = wholeNumber(frames.substr(0, sep), 0);
+  const std::int64_t b = sep == std::string::npos ? a : wholeNumber(frames.substr(sep + 1), count - 1);
+  if (a < 0 || b < 0) throw UsageError(fmt::format("--frames {}: expected A:B or A-B with frame numbers ≥ 0", frames));
   if (a > b || b >= count) {
-    throw UsageError(fmt::format("--frames {}: the animation has frames 0 to {}", text, count - 1));
+    throw UsageError(fmt::format("--frames {}: the animation has frames 0 to {}", frames, count - 1));
   }
   return {a, b};
 }
@@ -160,7 +177,18 @@ void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t la
 }
 
 int runAnimate(const AnimateOptions& o) {
-  scene::SceneDescription s = scene::loadSceneFile(o.scene);
+  std::shared_ptr<const engine::Dataset> quick_dataset;
+  scene::SceneDescription s;
+  if (isDataFile(o.scene)) {
+    // Quick look: a scene written for the data, its whole time range at one second per timestep.
+    QuickLook q = makeQuickLook({o.scene, {}, o.width > 0 ? o.width : 1920, o.height > 0 ? o.height : 1080});
+    if (o.print_scene) std::fputs(q.scene_json.c_str(), stdout);
+    s = std::move(q.scene);
+    if (o.data.empty()) quick_dataset = std::move(q.dataset);
+  } else {
+    if (o.print_scene) throw UsageError("--print-scene: " + o.scene + " is already a scene file");
+    s = scene::loadSceneFile(o.scene);
+  }
   if (o.width > 0) s.output.width = o.width;
   if (o.height > 0) s.output.height = o.height;
   if (!s.data && o.data.empty()) throw InputError(o.scene + ": no \"data\" section: which .nph or model files to animate?");
@@ -192,13 +220,15 @@ int runAnimate(const AnimateOptions& o) {
   if (!o.video.empty() && std::find(exts.begin(), exts.end(), ".png") == exts.end()) {
     throw UsageError("--video encodes the PNG sequence: add png to --format");
   }
-  const auto dataset = o.data.size() > 1 ? engine::Dataset::openSeries(o.data) : engine::Dataset::open(s.data->path);
+  const auto dataset = quick_dataset                 ? quick_dataset
+                       : o.data.size() > 1 ? engine::Dataset::openSeries(o.data)
+                                           : engine::Dataset::open(s.data->path);
 
   auto ctx = createHeadlessContext(o.gl);
 
   engine::Session session(dataset, s);
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
-  const auto [first, last] = parseFrameRange(o.frames, plan.frameCount());
+  const auto [first, last] = frameRangeFor(o.frames, o.chunk, plan.frameCount());
 
   fs::create_directories(o.output_dir);
   const auto pathOf = [&](const char* kind, std::int64_t k, const std::string& ext) {
@@ -292,7 +322,7 @@ int runAnimate(const AnimateOptions& o) {
         static_cast<unsigned long long>(pf.hits), static_cast<unsigned long long>(pf.waits),
         static_cast<unsigned long long>(pf.misses), pf.blocked_ms, double(pf.peak_bytes) / 1048576.0, peakResidentMb());
   }
-  if (!o.video.empty()) {
+  if (!o.video.empty() && first <= last) {
     const char* kind = o.layer ? "layer" : "frame";
     encodeVideo((fs::path(o.output_dir) / fmt::format("{}_%06d.png", kind)).string(), first, last, spec.fps,
                 o.video_codec, o.video);
@@ -310,14 +340,21 @@ void addAnimateCommand(CLI::App& app, Action& run) {
       "Render an image sequence of a scene file's animation section (time range, frame rate, camera "
       "keyframes, sun fixed or following the clock; docs/animation.md) to OUTPUT_DIR/frame_NNNNNN.png/.exr, "
       "optionally the premultiplied cloud layer (layer_NNNNNN) and a video with alpha through ffmpeg. "
-      "Frames already complete are skipped; --frames A:B renders a sub-range with the same bytes as one run.");
-  cmd->add_option("scene", opts->scene, "scene file (JSON) with an optional \"animation\" section")
+      "Frames already complete are skipped; --frames A:B (or A-B) and --chunk I/N render a sub-range with the "
+      "same bytes as one run (render farms: examples/03-slurm-farm). Quick look: a wrfout, ICON or .nph file instead "
+      "of a scene animates all its timesteps, framed automatically (--print-scene shows the scene).");
+  cmd->add_option("scene", opts->scene,
+                  "scene file (JSON) with an optional \"animation\" section, or a data file for a quick look")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output-dir", opts->output_dir, "folder of the image sequence")->required();
   cmd->add_option("--format", opts->formats, "png, exr or png,exr")->capture_default_str();
   cmd->add_flag("--layer", opts->layer, "also write the premultiplied cloud layer alone (layer_NNNNNN)");
-  cmd->add_option("--frames", opts->frames, "sub-range A:B of frame numbers, inclusive (render farms)");
+  cmd->add_option("--frames", opts->frames, "sub-range A:B or A-B of frame numbers, inclusive (render farms)");
+  cmd->add_option("--chunk", opts->chunk,
+                  "I/N: chunk I (0-based) of the frames split into N contiguous chunks, e.g. "
+                  "--chunk $SLURM_ARRAY_TASK_ID/8 with sbatch --array=0-7");
+  cmd->add_flag("--print-scene", opts->print_scene, "quick look: print the generated scene (JSON) to stdout");
   cmd->add_option("--data", opts->data, "model files (a series, time-ordered) or one .nph; replaces data.path")
       ->check(CLI::ExistingFile);
   cmd->add_option("--from", opts->from, "start: timestep index or UTC time (replaces animation.from)");
