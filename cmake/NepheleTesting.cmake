@@ -1,0 +1,47 @@
+# nephele_add_gtest(<target> PREFIX <prefix> LABELS <label>...
+#                   [ENVIRONMENT <VAR=value>...] [DISCOVERY_TIMEOUT <s>])
+#
+# The one way a GoogleTest executable becomes CTest tests (issue 17, "Tests and habits"):
+#  - DISCOVERY_MODE PRE_TEST: `--gtest_list_tests` runs when ctest starts, not as a POST_BUILD step,
+#    so a slow listing on a loaded machine can no longer fail `make` (it did: a 5 s discovery timeout
+#    broke `make test` while another build ran). The list is cached next to the executable and
+#    re-read only when the executable changes.
+#  - NO_PRETTY_VALUES: value-parameterised tests are named `Suite/Test.Case/N` (or by their name
+#    generator) instead of `.../GetParam() = <bytes>`, whose byte dumps changed from run to run.
+#  - LABELS and ENVIRONMENT are real lists. gtest_discover_tests (CMake 3.25) flattens a list given
+#    in PROPERTIES, so `LABELS "unit;io"` gave the label `unit` and a bogus property `io`; here the
+#    properties are set by a second CTest include file, read after the discovered tests, on the
+#    TEST_LIST the discovery defines.
+# Call it once per environment (e.g. once per GL backend, with distinct prefixes).
+function(nephele_add_gtest target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "PREFIX;DISCOVERY_TIMEOUT" "LABELS;ENVIRONMENT")
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "nephele_add_gtest(${target}): unknown arguments ${arg_UNPARSED_ARGUMENTS}")
+  endif()
+  if(NOT arg_PREFIX OR NOT arg_LABELS)
+    message(FATAL_ERROR "nephele_add_gtest(${target}): PREFIX and LABELS are required")
+  endif()
+  if(NOT arg_DISCOVERY_TIMEOUT)
+    # Listing is fast when idle (< 0.1 s); the margin is for a machine kept busy by other builds.
+    set(arg_DISCOVERY_TIMEOUT 120)
+  endif()
+  string(MAKE_C_IDENTIFIER "nephele_tests_${target}_${arg_PREFIX}" list_var)
+  gtest_discover_tests(${target}
+    TEST_PREFIX "${arg_PREFIX}"
+    TEST_LIST ${list_var}
+    NO_PRETTY_VALUES
+    DISCOVERY_MODE PRE_TEST
+    DISCOVERY_TIMEOUT ${arg_DISCOVERY_TIMEOUT})
+
+  set(properties "LABELS [==[${arg_LABELS}]==]")
+  if(arg_ENVIRONMENT)
+    string(APPEND properties " ENVIRONMENT [==[${arg_ENVIRONMENT}]==]")
+  endif()
+  set(props_file "${CMAKE_CURRENT_BINARY_DIR}/${list_var}_properties.cmake")
+  file(WRITE "${props_file}"
+    "# Written by nephele_add_gtest (cmake/NepheleTesting.cmake): list-valued properties.\n"
+    "if(${list_var})\n"
+    "  set_tests_properties(\${${list_var}} PROPERTIES ${properties})\n"
+    "endif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${props_file}")
+endfunction()
