@@ -16,6 +16,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -33,8 +34,11 @@ extern "C" {
 namespace {
 
 // frei0r parameters are conventionally in [0, 1]; angles are therefore fractions of their range.
-enum Param { kDataset, kTime, kCamera, kSunAzimuth, kSunElevation, kQuality, kCloudsOnly, kParamCount };
+enum Param { kDataset, kTime, kCamera, kSunAzimuth, kSunElevation, kQuality, kCloudsOnly, kClock, kParamCount };
 constexpr double kAzimuthRangeDeg = 360.0, kElevationRangeDeg = 90.0;
+/// `clock` 1 = this many timesteps per second of stream time (GStreamer's frei0r elements clamp
+/// double parameters to [0, 1], so the range is a fraction like the angles).
+constexpr double kClockRangeTimestepsPerS = 10.0;
 
 const f0r_param_info_t kParamInfo[kParamCount] = {
     {"dataset", F0R_PARAM_STRING, "path of a .nph cache or a WRF wrfout / ICON NetCDF file"},
@@ -44,6 +48,9 @@ const f0r_param_info_t kParamInfo[kParamCount] = {
     {"sun_elevation", F0R_PARAM_DOUBLE, "sun elevation / 90 deg above the horizon (0.5 = 45 deg)"},
     {"quality", F0R_PARAM_STRING, "quality preset: draft, broadcast or reference"},
     {"clouds_only", F0R_PARAM_BOOL, "1: the cloud layer alone with alpha; 0: clouds over the lit ground"},
+    {"clock", F0R_PARAM_DOUBLE,
+     "advance with the host's stream clock: timesteps per second / 10 (0.1 = one timestep per second), "
+     "added to `time`; 0 = `time` alone places every frame"},
 };
 
 struct Params {
@@ -54,7 +61,18 @@ struct Params {
   double sun_elevation = 45.0 / kElevationRangeDeg;
   std::string quality = "broadcast";
   bool clouds_only = false;
+  double clock = 0.0;  ///< timesteps per second / kClockRangeTimestepsPerS
 };
+
+/// The fractional timestep of a frame: `time` places the start in [0, last] and the host's stream
+/// clock (f0r_update's time, seconds) advances it at `clock` × 10 timesteps/s; clamped to the data.
+double frameTimestep(const Params& p, double stream_time_s, int32_t timesteps) {
+  const double last = double(std::max(timesteps - 1, 0));
+  const double clock = std::isfinite(p.clock) && std::isfinite(stream_time_s)
+                           ? p.clock * kClockRangeTimestepsPerS * stream_time_s
+                           : 0.0;
+  return std::clamp(std::clamp(p.time, 0.0, 1.0) * last + clock, 0.0, last);
+}
 
 const nph_api_v1* api() {
   static const auto* table = static_cast<const nph_api_v1*>(nph_get_api(1));
@@ -77,9 +95,9 @@ class Instance {
   Params params;      // set by f0r_set_param_value on the host's thread
   std::string string_value;  // what f0r_get_param_value returned last for a string
 
-  void update(std::uint32_t* out) {
+  void update(double stream_time_s, std::uint32_t* out) {
     const Params p = params;
-    run([this, &p, out] { renderFrame(p, out); });
+    run([this, &p, stream_time_s, out] { renderFrame(p, stream_time_s, out); });
   }
 
  private:
@@ -157,11 +175,11 @@ class Instance {
     return true;
   }
 
-  void renderFrame(const Params& p, std::uint32_t* out) {
+  void renderFrame(const Params& p, double stream_time_s, std::uint32_t* out) {
     const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
     std::fill(out, out + pixels, 0u);
     if (api() == nullptr || !ensureContext() || !ensureRenderer(p)) return;
-    const double t = std::clamp(p.time, 0.0, 1.0) * double(std::max(timesteps_ - 1, 0));
+    const double t = frameTimestep(p, stream_time_s, timesteps_);
     nph_renderer* r = renderer_;
     if (api()->set_time(r, t) != NPH_OK || api()->set_camera_preset(r, p.camera.c_str(), width_, height_) != NPH_OK ||
         api()->set_sun(r, p.sun_azimuth * kAzimuthRangeDeg, p.sun_elevation * kElevationRangeDeg) != NPH_OK ||
@@ -272,6 +290,7 @@ void f0r_set_param_value(f0r_instance_t instance, f0r_param_t param, int index) 
     case kSunElevation: p.sun_elevation = value; break;
     case kQuality: p.quality = text(); break;
     case kCloudsOnly: p.clouds_only = value >= 0.5; break;
+    case kClock: p.clock = value; break;
     default: break;
   }
 }
@@ -292,15 +311,16 @@ void f0r_get_param_value(f0r_instance_t instance, f0r_param_t param, int index) 
     case kSunElevation: *static_cast<double*>(param) = p.sun_elevation; break;
     case kQuality: text(p.quality); break;
     case kCloudsOnly: *static_cast<double*>(param) = p.clouds_only ? 1.0 : 0.0; break;
+    case kClock: *static_cast<double*>(param) = p.clock; break;
     default: break;
   }
 }
 
-void f0r_update(f0r_instance_t instance, double /*time*/, const uint32_t* /*inframe*/, uint32_t* outframe) {
+void f0r_update(f0r_instance_t instance, double time, const uint32_t* /*inframe*/, uint32_t* outframe) {
   auto* in = static_cast<Instance*>(instance);
   if (in == nullptr || outframe == nullptr) return;
   try {
-    in->update(outframe);
+    in->update(time, outframe);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nephele_clouds: %s\n", e.what());
   }
