@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Installs exactly the Debian 12 packages nephele needs; skips what is installed and runs
 # `apt-get update` once, only when something is missing. Idempotent.
+# usage: install-deps.sh [LIST]   (default: tools/debian-packages.txt)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-mapfile -t pkgs < <(grep -v -E '^\s*(#|$)' "$here/debian-packages.txt" | awk '{print $1}')
+list=${1:-$here/debian-packages.txt}
+mapfile -t pkgs < <(grep -v -E '^\s*(#|$)' "$list" | awk '{print $1}')
 missing=()
 for p in "${pkgs[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -21,6 +21,7 @@ void addConvertCommand(CLI::App& app, Action& run);
 void addRenderCommand(CLI::App& app, Action& run);
 void addAnimateCommand(CLI::App& app, Action& run);
 void addBenchCommand(CLI::App& app, Action& run);
+void addExportVdbCommand(CLI::App& app, Action& run);  ///< interop/vdb_export.h
 void addViewCommand(CLI::App& app, Action& run);  ///< only with NEPHELE_HAVE_GLFW
 
 }  // namespace nph::cli

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   nph::cli::addRenderCommand(app, run);
   nph::cli::addAnimateCommand(app, run);
   nph::cli::addBenchCommand(app, run);
+  nph::cli::addExportVdbCommand(app, run);
 #ifdef NEPHELE_HAVE_GLFW
   nph::cli::addViewCommand(app, run);
 #endif
