@@ -134,7 +134,7 @@ else:
     obj.location.z *= z_scale
     az, el = (float(v) for v in opts.get("--sun", "200,35").split(","))
     sun_data = bpy.data.lights.new("sun", "SUN")
-    sun_data.energy = 3.0
+    sun_data.energy = 5.0
     sun = bpy.data.objects.new("sun", sun_data)
     to_sun = Vector((math.sin(math.radians(az)) * math.cos(math.radians(el)),
                      math.cos(math.radians(az)) * math.cos(math.radians(el)), math.sin(math.radians(el))))
@@ -143,10 +143,11 @@ else:
     world = bpy.data.worlds.new("sky")  # (absorption mode has no world: a node world of
     scene.world = world                  # strength 0 made Cycles 3.4 drop the volume's alpha)
     world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.35, 0.5, 0.8, 1.0)
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
+    # a dark navy sky like nephele's background without basemap, so thin cloud shows as in nephele
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.01, 0.02, 0.05, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
     scene.render.film_transparent = False
-    scene.cycles.volume_bounces = 4
+    scene.cycles.volume_bounces = 8
     scene.view_settings.view_transform = "Filmic"
 
 scene.render.image_settings.file_format = "PNG"
