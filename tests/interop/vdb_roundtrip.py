@@ -183,6 +183,20 @@ frame = g.metadata["nephele_frame_proj"]
 check(f"+proj=eqc +lat_ts={lat_c:.10g}" in frame and "+R=6370000" in frame, f"icon: frame proj {frame!r}")
 check(np.array_equal(dense(g, ice.shape), ice + water), "icon: density differs from the cache")
 
+# ---- bad requests get clear errors and leave no file ------------------------------------------
+def run_rc(*cmd):
+    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+    return r.returncode, r.stderr
+
+rc, err = run_rc(nephele, "export-vdb", nph, "-o", work / "bad" / "storm", "-t", "5")
+check(rc == 2 and "--timestep 5" in err and str(nph) in err and "2 timesteps" in err,
+      f"timestep out of range: rc {rc}, stderr {err!r}")
+check(not (work / "bad").exists() or not any((work / "bad").iterdir()), "files left after a bad --timestep")
+blocker = work / "not_a_folder"
+blocker.write_text("a file where the output folder should be\n")
+rc, err = run_rc(nephele, "export-vdb", nph, "-o", blocker / "storm")
+check(rc == 1 and "not_a_folder" in err, f"output under a file: rc {rc}, stderr {err!r}")
+
 if failures:
     sys.exit(f"{len(failures)} check(s) failed")
 print("vdb round trip: all checks passed")
