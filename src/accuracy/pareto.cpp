@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "core/process.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -101,23 +102,23 @@ bool plotSummary(const std::vector<VariantSummary>& summary, const std::string& 
     std::ofstream g(gp);
     g << "# nephele bench accuracy: error against time (mean over the standard scenes)\n"
          "set terminal pngcairo size 1400,620 font 'DejaVu Sans,10'\n"
-         "set output '" << png << "'\n"
+         "set output " << process::gnuplotQuoted(png) << "\n"
          "set multiplot layout 1,2\n"
          "set logscale x\nset logscale y\nset grid\nset key top right\n"
          "set xlabel 'GPU time per frame: DLM build + ray cast [ms, llvmpipe]'\n"
          "set ylabel 'RMSE of luminance vs path-traced ground truth'\n"
          "set title 'Model bias + discretisation (vs ground truth)'\n"
-         "plot '" << dat << "' using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa' title 'variants', \\\n"
-         "     '" << stem << "-front.dat' using 1:2 with linespoints lw 2 pt 6 ps 2 lc rgb '#cc3311' title 'Pareto front', \\\n"
-         "     '" << dat << "' using 1:2:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
+         "plot " << process::gnuplotQuoted(dat) << " using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa' title 'variants', \\\n"
+         "     " << process::gnuplotQuoted(stem + "-front.dat") << " using 1:2 with linespoints lw 2 pt 6 ps 2 lc rgb '#cc3311' title 'Pareto front', \\\n"
+         "     " << process::gnuplotQuoted(dat) << " using 1:2:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
          "set ylabel 'RMSE of luminance vs CPU reference (same DLM)'\n"
          "set title 'Discretisation + float (vs CPU reference of the same approximation)'\n"
-         "plot '" << dat << "' using 1:3 with points pt 7 ps 1.2 lc rgb '#228833' title 'variants', \\\n"
-         "     '" << dat << "' using 1:3:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
+         "plot " << process::gnuplotQuoted(dat) << " using 1:3 with points pt 7 ps 1.2 lc rgb '#228833' title 'variants', \\\n"
+         "     " << process::gnuplotQuoted(dat) << " using 1:3:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
          "unset multiplot\n";
   }
-  const std::string cmd = fmt::format("gnuplot '{}' 2>&1", gp);
-  const int rc = std::system(cmd.c_str());
+  // No shell: the paths come from --out and may hold any character (issue #18).
+  const int rc = process::run({process::toolPath("NEPHELE_GNUPLOT", "gnuplot"), gp});
   if (rc != 0) {
     log::warn("gnuplot failed or is missing (exit {}): no {} (install Debian gnuplot-nox; the CSVs are complete)", rc, png);
     return false;

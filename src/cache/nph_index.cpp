@@ -2,18 +2,25 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <stdexcept>
 
 #include "cache/checksum.h"
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/json_limits.h"
+#include "core/limits.h"
 
 namespace nph::cache {
 
 namespace {
 
 using nlohmann::json;
+
+/// Heights an index may declare: +-1000 km (the atmosphere nephele renders ends near 100 km).
+/// z_bottom_m = +-1e308 overflowed the float -> int conversions of the ray caster.
+constexpr double kMaxAbsHeight_m = 1.0e6;
 
 json chunkJson(const ChunkRef& c) {
   return {{"offset", c.offset}, {"bytes", c.bytes}, {"raw_bytes", c.raw_bytes},
@@ -77,7 +84,7 @@ json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timestep
 DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
   DecodedIndex d;
   try {
-    const json j = json::parse(text);
+    const json j = json_limits::parse(text, file, "the .nph index");
     NphMetadata& m = d.metadata;
     m.created_by = j.at("created_by").get<std::string>();
     const json& g = j.at("grid");
@@ -118,6 +125,17 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
   if (m.nx <= 0 || m.ny <= 0 || d.nz < 0 || !(m.dz_m > 0.0)) {
     throw InputError(fmt::format("{}: invalid grid {}x{}x{}, dz {} m in the index", file, m.nx,
                                  m.ny, d.nz, m.dz_m));
+  }
+  // Every size below is a product of these: bound it first (a valid-checksum index declaring
+  // nx = ny = 2^30 made the byte count wrap to 0 and readQuantised copy from a wild address).
+  limits::requireProductWithin(file, "the index's grid nx x ny x nz", {std::uint64_t(m.nx), std::uint64_t(m.ny),
+                               std::uint64_t(std::max(d.nz, 1))}, limits::kMaxGridPoints,
+                               "limits::kMaxGridPoints; a real grid this large needs a nephele built with a higher limit");
+  if (!std::isfinite(m.z_bottom_m) || std::abs(m.z_bottom_m) > kMaxAbsHeight_m ||
+      !(m.dz_m <= kMaxAbsHeight_m)) {
+    throw InputError(fmt::format("{}: grid z_bottom_m {} m / dz_m {} m in the index, expected heights within "
+                                 "+-{} m",
+                                 file, m.z_bottom_m, m.dz_m, kMaxAbsHeight_m));
   }
   for (std::size_t n = 0; n < d.timesteps.size(); ++n) {
     const TimestepInfo& t = d.timesteps[n];

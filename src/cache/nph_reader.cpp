@@ -15,6 +15,8 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/limits.h"
 
 namespace nph::cache {
 
@@ -67,6 +69,16 @@ struct NphReader::State {
       throw InputError(fmt::format("{}: {} is corrupt: XXH64 {} , expected {}", name(), what,
                                    toHex(sum), toHex(c.xxh64)));
     }
+    // The zstd frame states its decompressed size: compare before allocating raw_bytes, so a
+    // small file cannot make the reader allocate what its index claims.
+    const unsigned long long frame_bytes = ZSTD_getFrameContentSize(packed.data(), packed.size());
+    if (frame_bytes != c.raw_bytes) {
+      throw InputError(fmt::format("{}: {} decompresses to {} bytes, the index says {}", name(), what,
+                                   frame_bytes == ZSTD_CONTENTSIZE_UNKNOWN || frame_bytes == ZSTD_CONTENTSIZE_ERROR
+                                       ? std::string("an unknown number of")
+                                       : std::to_string(frame_bytes),
+                                   c.raw_bytes));
+    }
     std::vector<std::byte> raw(c.raw_bytes);
     const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
     if (ZSTD_isError(n) || n != raw.size()) {
@@ -78,10 +90,13 @@ struct NphReader::State {
 };
 
 bool NphReader::sniff(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: opening a FIFO for reading must not wait for a writer; only regular files count.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return false;
+  struct stat st {};
   std::array<char, 8> magic{};
-  const bool ok = readAt(fd, magic.data(), magic.size(), 0) && magic == detail::kMagic;
+  const bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && readAt(fd, magic.data(), magic.size(), 0) &&
+                  magic == detail::kMagic;
   ::close(fd);
   return ok;
 }
@@ -89,11 +104,13 @@ bool NphReader::sniff(const std::filesystem::path& path) {
 NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State>()) {
   State& s = *state_;
   s.path = std::move(path);
-  s.fd = ::open(s.path.c_str(), O_RDONLY | O_CLOEXEC);
+  requireRegularFile(s.name(), "a .nph cache file");
+  // O_NONBLOCK as well, in case the path was swapped for a FIFO after the check above.
+  s.fd = ::open(s.path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (s.fd < 0) throw InputError(fmt::format("{}: cannot open: {}", s.name(), errnoText()));
   struct stat st {};
   if (::fstat(s.fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    throw InputError(fmt::format("{}: not a regular file", s.name()));
+    throw InputError(fmt::format("{}: not a regular file, expected a .nph cache file", s.name()));
   }
   const auto actual_bytes = static_cast<std::uint64_t>(st.st_size);
   std::array<std::byte, kHeaderBytes> raw{};
@@ -134,6 +151,15 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
     throw InputError(fmt::format("{}: the index is corrupt (checksum mismatch)", s.name()));
   }
   s.index = decodeIndex(s.name(), text);
+  {
+    // read() holds two uint16 code volumes and two float volumes of the padded grid at once.
+    const NphMetadata& m = s.index.metadata;
+    const std::uint64_t per_voxel_bytes = 2 * sizeof(std::uint16_t) + 2 * sizeof(float);
+    const std::uint64_t budget = limits::memoryBudgetBytesFromEnv();
+    limits::requireProductWithin(s.name(), "bytes to read one timestep (nx x ny x nz x 12)",
+                                 {std::uint64_t(m.nx), std::uint64_t(m.ny), std::uint64_t(s.index.nz), per_voxel_bytes},
+                                 budget, "raise NEPHELE_IO_MEMORY_BUDGET_MB");
+  }
   if (s.index.geolocation.present()) {
     const std::size_t columns = std::size_t(s.index.metadata.nx) * std::size_t(s.index.metadata.ny);
     if (s.index.geolocation.raw_bytes != 2 * columns * sizeof(float)) {
@@ -184,6 +210,12 @@ QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
   q.max_water_per_m = info.max_water_per_m;
   const std::size_t stored = std::size_t(m.nx) * std::size_t(m.ny) * std::size_t(info.nz);
   const std::size_t padded = std::size_t(m.nx) * std::size_t(m.ny) * std::size_t(q.nz);
+  // decodeIndex bounded nx*ny*nz and matched raw_bytes to it; re-checked here at the copy so
+  // that no index can make the memcpy below read past the decompressed block.
+  if (raw.size() != 2 * stored * sizeof(std::uint16_t) || info.nz > q.nz) {
+    throw InputError(fmt::format("{}: chunk {} holds {} bytes, expected {} for {}x{}x{} voxels", s.name(), t,
+                                 raw.size(), 2 * stored * sizeof(std::uint16_t), m.nx, m.ny, info.nz));
+  }
   q.ice_codes.assign(padded, 0);  // layers above nz_t stay 0 (cropped, empty)
   q.water_codes.assign(padded, 0);
   std::memcpy(q.ice_codes.data(), raw.data(), stored * sizeof(std::uint16_t));

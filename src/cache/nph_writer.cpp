@@ -15,6 +15,7 @@
 #include "cache/nph_format.h"
 #include "cache/nph_index.h"
 #include "cache/quantize.h"
+#include "core/temp_files.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -36,6 +37,7 @@ struct NphWriter::State {
   std::vector<TimestepInfo> timesteps;
   ChunkRef geolocation;
   bool committed = false;
+  int cleanup_slot = -1;  ///< temp_files::registerForCleanup (unlinked on SIGINT/SIGTERM)
   ZSTD_CCtx* cctx = nullptr;
 
   void writeAll(const void* data, std::size_t bytes) {
@@ -71,6 +73,7 @@ struct NphWriter::State {
   }
 
   ~State() {
+    temp_files::unregisterForCleanup(cleanup_slot);
     if (cctx != nullptr) ZSTD_freeCCtx(cctx);
     if (fd >= 0) ::close(fd);
     if (!committed && !temp_path.empty()) {
@@ -90,17 +93,16 @@ NphWriter::NphWriter(std::filesystem::path path, NphMetadata metadata, WriterOpt
     throw UsageError(fmt::format("{}: invalid grid {}x{}, dz {} m", s.path.string(),
                                  s.metadata.nx, s.metadata.ny, s.metadata.dz_m));
   }
-  // mkstemp in the target's directory, so that rename() stays on one file system (atomic).
+  // Exclusive, unpredictable temporary in the target's directory, so that rename() stays on one
+  // file system (atomic); named with our pid, so that a later run removes it if we are killed.
   const std::filesystem::path dir =
       s.path.has_parent_path() ? s.path.parent_path() : std::filesystem::path(".");
-  std::string templ = (dir / (s.path.filename().string() + ".tmp-XXXXXX")).string();
-  s.fd = ::mkstemp(templ.data());
-  if (s.fd < 0) {
-    throw IoError(fmt::format("{}: cannot create a temporary file in {}: {}", s.path.string(),
-                              dir.string(), errnoText()));
-  }
-  s.temp_path = templ;
-  ::fchmod(s.fd, 0644);
+  temp_files::removeStale(dir, ".tmp-");
+  const temp_files::Created temp =
+      temp_files::createExclusive(s.path, s.path.filename().string(), ".tmp-", "");
+  s.fd = temp.fd;
+  s.temp_path = temp.path;
+  s.cleanup_slot = temp_files::registerForCleanup(s.temp_path);
   s.cctx = ZSTD_createCCtx();
   if (s.cctx == nullptr) throw IoError("zstd: cannot create a compression context");
   ZSTD_CCtx_setParameter(s.cctx, ZSTD_c_compressionLevel, s.options.zstd_level);
@@ -179,7 +181,10 @@ void NphWriter::append(const ExtinctionVolumes& v) {
 void NphWriter::commit() {
   State& s = *state_;
   if (s.committed) return;
-  const std::string index = encodeIndex(s.metadata, s.timesteps, s.geolocation).dump(1);
+  // Provenance strings (input paths) need not be UTF-8 on Linux; dump() threw an error naming no
+  // file at the very end of a conversion. Such bytes are stored as U+FFFD instead.
+  const std::string index = encodeIndex(s.metadata, s.timesteps, s.geolocation)
+                                .dump(1, ' ', false, nlohmann::json::error_handler_t::replace);
   detail::Header h;
   h.version = kFormatVersion;
   h.header_bytes = kHeaderBytes;
@@ -215,6 +220,8 @@ void NphWriter::commit() {
                               s.temp_path.string(), ec.message()));
   }
   s.committed = true;
+  temp_files::unregisterForCleanup(s.cleanup_slot);
+  s.cleanup_slot = -1;
   log::debug("{}: wrote {} timesteps, {} bytes", s.path.string(), s.timesteps.size(), s.offset);
 }
 

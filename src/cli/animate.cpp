@@ -27,6 +27,8 @@
 #include "cli/headless.h"
 #include "cli/quick_look.h"
 #include "cli/progress.h"
+#include "core/temp_files.h"
+#include "core/process.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "engine/animation.h"
@@ -133,28 +135,12 @@ double peakResidentMb() {
   return double(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
-/// Runs a program (no shell) and waits; returns its exit status, -1 when it could not start.
-int runProgram(const std::vector<std::string>& argv) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    ::execvp(args[0], args.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  if (::waitpid(pid, &status, 0) < 0) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 /// Encodes the PNG sequence `pattern` (printf-style) of frames first..last into `video` with
 /// alpha: ProRes 4444 (prores_ks, yuva444p10le) or QuickTime Animation (qtrle, argb), through
 /// Debian's ffmpeg. Written under a temporary name and renamed.
 void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t last, const scene::FrameRate& fps,
                  const std::string& codec, const std::string& video) {
-  std::vector<std::string> args{"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", fps.text(),
+  std::vector<std::string> args{process::toolPath("NEPHELE_FFMPEG", "ffmpeg"), "-nostdin", "-y", "-loglevel", "error", "-framerate", fps.text(),
                                 "-start_number", std::to_string(first), "-i", pattern,
                                 "-frames:v", std::to_string(last - first + 1)};
   if (codec == "prores4444") {
@@ -163,10 +149,14 @@ void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t la
     args.insert(args.end(), {"-c:v", "qtrle", "-pix_fmt", "argb"});
   }
   const fs::path final(video);
-  const fs::path tmp = final.parent_path() / fmt::format(".{}.partial-{}", final.filename().string(), ::getpid());
+  temp_files::removeStale(final.has_parent_path() ? final.parent_path() : fs::path("."), ".partial-");
+  const temp_files::Created created = temp_files::createExclusive(final, "." + final.filename().string(), ".partial-", "");
+  ::close(created.fd);
+  const fs::path tmp = created.path;
+  const temp_files::CleanupRegistration cleanup(tmp);
   args.insert(args.end(), {"-f", "mov", tmp.string()});
   log::info("encoding {} with ffmpeg ({})", video, codec);
-  const int status = runProgram(args);
+  const int status = process::run(args);
   if (status != 0) {
     std::error_code ec;
     fs::remove(tmp, ec);
@@ -242,12 +232,14 @@ int runAnimate(const AnimateOptions& o) {
     }
     return paths;
   };
-  std::vector<std::int64_t> todo;
-  std::int64_t skipped = 0;
-  for (std::int64_t k = first; k <= last; ++k) {
+  const auto complete = [&](std::int64_t k) {
     const auto outs = outputsOf(k);
-    const bool complete = std::all_of(outs.begin(), outs.end(), [](const auto& p) { return fs::exists(p.second); });
-    if (complete && !o.overwrite) {
+    return std::all_of(outs.begin(), outs.end(), [](const auto& p) { return fs::exists(p.second); });
+  };
+  std::vector<std::int64_t> todo;
+  std::int64_t skipped = 0, rendered_elsewhere = 0, rendered = 0;
+  for (std::int64_t k = first; k <= last; ++k) {
+    if (complete(k) && !o.overwrite) {
       ++skipped;
       log::info("frame {}: complete, skipped", k);
     } else {
@@ -274,6 +266,20 @@ int runAnimate(const AnimateOptions& o) {
   std::uint64_t dlm_reused_frames = 0, volume_reused_frames = 0, stalls = 0;
   for (std::size_t i = 0; i < todo.size(); ++i) {
     const std::int64_t k = todo[i];
+    // A frame is claimed before it is rendered (temp_files::Claim), so that two runs on one
+    // folder share the frames instead of both rendering every one (issue #18).
+    temp_files::Claim claim;
+    if (!claim.tryAcquire(pathOf(".frame", k, ".claim"))) {
+      ++rendered_elsewhere;
+      log::info("frame {}: claimed by process {}, left to it", k, claim.holder());
+      bar.update(i + 1, fmt::format("frame {} (other run)", k));
+      continue;
+    }
+    if (!o.overwrite && complete(k)) {  // finished by another run since the list was made
+      ++skipped;
+      bar.update(i + 1, fmt::format("frame {} (complete)", k));
+      continue;
+    }
     const engine::AnimationFrame f = plan.frame(k);
     const auto t0 = Clock::now();
     const std::string when = f.utc ? f.utc->iso8601() : fmt::format("timestep {:.4f}", f.time_index);
@@ -294,6 +300,7 @@ int runAnimate(const AnimateOptions& o) {
     scene::ImageOutputOptions image = s.output.image;
     image.date_time = exrDateTime(f);
     for (const auto& [is_layer, path] : outputsOf(k)) scene::writeImage(is_layer ? out.cloud_layer : out.frame, path, image);
+    ++rendered;
     const engine::FrameStats& st = session.stats();
     dlm_reused_frames += st.dlm_rebuilt ? 0 : 1;
     volume_reused_frames += st.volume_changed ? 0 : 1;
@@ -308,8 +315,10 @@ int runAnimate(const AnimateOptions& o) {
   bar.finish();
   const double total_s = std::chrono::duration<double>(Clock::now() - t_start).count();
   const auto pf = session.prefetchStats();
-  std::printf("animate: rendered %zu frames, skipped %lld complete (frames %lld to %lld of %lld)\n", todo.size(),
-              static_cast<long long>(skipped), static_cast<long long>(first), static_cast<long long>(last),
+  std::printf("animate: rendered %lld frames, skipped %lld complete and %lld claimed by another run (frames %lld to "
+              "%lld of %lld)\n",
+              static_cast<long long>(rendered), static_cast<long long>(skipped),
+              static_cast<long long>(rendered_elsewhere), static_cast<long long>(first), static_cast<long long>(last),
               static_cast<long long>(plan.frameCount()));
   if (!todo.empty()) {
     std::printf(
@@ -322,7 +331,10 @@ int runAnimate(const AnimateOptions& o) {
         static_cast<unsigned long long>(pf.hits), static_cast<unsigned long long>(pf.waits),
         static_cast<unsigned long long>(pf.misses), pf.blocked_ms, double(pf.peak_bytes) / 1048576.0, peakResidentMb());
   }
-  if (!o.video.empty() && first <= last) {
+  if (!o.video.empty() && rendered_elsewhere > 0) {
+    std::printf("animate: no video: %lld frames are being rendered by another run; run again when it ends\n",
+                static_cast<long long>(rendered_elsewhere));
+  } else if (!o.video.empty() && first <= last) {
     const char* kind = o.layer ? "layer" : "frame";
     encodeVideo((fs::path(o.output_dir) / fmt::format("{}_%06d.png", kind)).string(), first, last, spec.fps,
                 o.video_codec, o.video);

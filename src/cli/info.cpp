@@ -12,6 +12,7 @@
 
 #include "cache/nph_cache.h"
 #include "cli/commands.h"
+#include "core/terminal_text.h"
 #include "core/error.h"
 #include "io/model_file.h"
 #include "physics/optics_settings.h"
@@ -27,7 +28,9 @@ struct InfoOptions {
   bool verify = false;
 };
 
-void out(const std::string& text) { std::fputs(text.c_str(), stdout); }
+/// Everything printed holds strings from the files (times, provenance, attributes): control
+/// characters are escaped so that a crafted file cannot drive the terminal (issue #18).
+void out(const std::string& text) { std::fputs(terminalSafe(text).c_str(), stdout); }
 
 std::string rangeText(const std::vector<float>& v) {
   if (v.empty()) return "absent";
@@ -172,7 +175,7 @@ int runInfo(const InfoOptions& o) {
     } catch (const UsageError&) {
       throw;
     } catch (const std::exception& e) {  // report and go on with the next file
-      std::fprintf(stderr, "nephele: error: %s\n", e.what());
+      std::fprintf(stderr, "nephele: error: %s\n", terminalSafe(e.what(), false).c_str());
       status = kExitFailure;
     }
   }

@@ -4,9 +4,12 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/temp_files.h"
+#include "core/terminal_text.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -35,13 +38,21 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);  // prints help/version to stdout, errors to stderr
     return code == 0 ? nph::cli::kExitOk : nph::cli::kExitUsage;
   }
+  // Ctrl-C or a kill removes this run's temporary files (a later run would, too).
+  nph::temp_files::installSignalCleanup();
   try {
     return run ? run() : nph::cli::kExitUsage;
   } catch (const nph::UsageError& e) {
-    std::fprintf(stderr, "nephele: error: %s\n", e.what());
+    std::fprintf(stderr, "nephele: error: %s\n", nph::terminalSafe(e.what(), false).c_str());
     return nph::cli::kExitUsage;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "nephele: error: %s\n", e.what());
+  } catch (const std::bad_alloc&) {
+    // The limits (core/limits.h) are checked before every allocation a file can size; this is
+    // the machine running out of memory on an accepted input.
+    std::fprintf(stderr, "nephele: error: out of memory (std::bad_alloc); lower NEPHELE_IO_MEMORY_BUDGET_MB or "
+                         "render a smaller image/sub-range\n");
+    return nph::cli::kExitFailure;
+  } catch (const std::exception& e) {  // messages may quote strings from files: escape controls
+    std::fprintf(stderr, "nephele: error: %s\n", nph::terminalSafe(e.what(), false).c_str());
     return nph::cli::kExitFailure;
   }
 }

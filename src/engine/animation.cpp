@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "core/limits.h"
 #include "core/error.h"
 #include "scene/georeference.h"
 
@@ -75,7 +76,16 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
     throw InputError(fmt::format("{}: the animation has no length: from and to are the same time; give "
                                  "animation.duration_s (nephele animate --duration)", file));
   }
-  frame_count_ = std::int64_t(std::floor(duration_s_ * spec.fps.fps() + kFrameSlack_s * spec.fps.fps())) + 1;
+  // Checked on the double, before the cast: animation.speed = 1e-10 or --duration 1e12 planned
+  // 1.8e15 frames (and a cast beyond int64 is undefined behaviour).
+  const double frames = std::floor(duration_s_ * spec.fps.fps() + kFrameSlack_s * spec.fps.fps()) + 1.0;
+  if (!(frames <= double(limits::kMaxFrames))) {
+    throw InputError(fmt::format("{}: the animation would have {:.3g} frames ({:.3g} s at {} frames/s), more than the "
+                                 "limit of {} (limits::kMaxFrames, 10 h at 60 frames/s); check animation.speed / "
+                                 "animation.duration_s (nephele animate --duration) or render a sub-range",
+                                 file, frames, duration_s_, spec.fps.text(), limits::kMaxFrames));
+  }
+  frame_count_ = static_cast<std::int64_t>(frames);
 
   sun_follows_clock_ = spec.sun_follows_clock.value_or(scene.sun.from_time && !scene.sun.time_utc);
   if (sun_follows_clock_) {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "cache/nph_cache.h"
+#include "core/input_file.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "io/model_file.h"
@@ -60,7 +61,7 @@ std::string Dataset::identity(std::size_t t) const {
 }
 
 std::shared_ptr<const Dataset> Dataset::open(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: no such file", path));
+  requireRegularFile(path, "a .nph cache or a WRF/ICON NetCDF file");
   if (cache::NphReader::sniff(path)) {
     cache::NphReader reader(path);
     std::vector<std::string> times;
@@ -74,7 +75,7 @@ std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string
   if (paths.empty()) throw UsageError("Dataset::openSeries: no files");
   if (paths.size() == 1 && std::filesystem::exists(paths[0]) && cache::NphReader::sniff(paths[0])) return open(paths[0]);
   for (const auto& p : paths) {
-    if (!std::filesystem::exists(p)) throw InputError(fmt::format("{}: no such file", p));
+    requireRegularFile(p, "a WRF/ICON NetCDF file");
     if (cache::NphReader::sniff(p)) {
       throw InputError(fmt::format("{}: a .nph cache cannot be part of a series of model files; convert them together", p));
     }

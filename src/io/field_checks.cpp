@@ -32,6 +32,20 @@ void requireRange(const std::string& path, const std::string& var, const std::ve
   }
 }
 
+void requireAtMost(const std::string& path, const std::string& var, const std::vector<float>& data, double hi,
+                   const std::string& what) {
+  const auto h = static_cast<float>(hi);
+  bool all_ok = true;
+  for (float v : data) all_ok &= v <= h;  // branch-free scan, details only on failure
+  if (all_ok) return;
+  for (std::size_t n = 0; n < data.size(); ++n) {
+    if (!(data[n] <= h)) {
+      throw InputError(fmt::format("{}: {} is {} at element {}, expected {} of at most {}", path, var, data[n], n,
+                                   what, hi));
+    }
+  }
+}
+
 std::int64_t clampNegative(std::vector<float>& data) {
   std::int64_t count = 0;
   for (float& v : data) {  // branch-free so that it vectorises

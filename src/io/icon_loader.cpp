@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/limits.h"
 #include "field_checks.h"
 #include "netcdf_reader.h"
 
@@ -202,9 +203,13 @@ class CellLocator {
     double best = std::numeric_limits<double>::max();
     std::size_t best_cell = 0;
     for (int ring = 0; ring < std::max(nbx_, nby_) + 1; ++ring) {
-      for (int j = cy - ring; j <= cy + ring; ++j) {
-        for (int i = cx - ring; i <= cx + ring; ++i) {
-          if (std::max(std::abs(i - cx), std::abs(j - cy)) != ring || i < 0 || j < 0 || i >= nbx_ || j >= nby_) continue;
+      // Only the buckets on the ring's perimeter, clipped to the grid (the inner ones were
+      // searched by the smaller rings).
+      for (int j = std::max(cy - ring, 0); j <= std::min(cy + ring, nby_ - 1); ++j) {
+        const bool edge_row = std::abs(j - cy) == ring;
+        const int step = edge_row ? 1 : std::max(2 * ring, 1);
+        for (int i = cx - ring; i <= cx + ring; i += step) {
+          if (i < 0 || i >= nbx_) continue;
           const std::size_t b = bucketIndex(i, j);
           for (std::size_t n = start_[b]; n < start_[b + 1]; ++n) {
             const std::size_t c = cells_[n];
@@ -300,7 +305,9 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
   ReadStats cond_stats;
   for (const IconClass& c : kClasses) {
     if (auto name = nc.firstVar(c.names)) {
+      nc.requireFloatingOrPacked(*name);
       auto data = readLevels(nc, l, *name, t, nz, 0.0f, cond_stats);
+      requireAtMost(path, *name, data, kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
       const std::int64_t negative = clampNegative(data);
       if (negative > 0) {
         log::warn("{}: {} had {} negative values, set to 0", path, *name, negative);
@@ -328,7 +335,9 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
   src.pressure_pa = read_state(l.pres, nz);
   requireRange(path, l.pres, src.pressure_pa, 1.0, 2.0e5, "a pressure [Pa]");
   if (auto qv = nc.firstVar({"qv", "QV"})) {
+    nc.requireFloatingOrPacked(*qv);
     src.water_vapour_kg_per_kg = readLevels(nc, l, *qv, t, nz, 0.0f, cond_stats);
+    requireAtMost(path, *qv, src.water_vapour_kg_per_kg, kMaxMixingRatio_kg_per_kg, "a specific humidity [kg/kg]");
     src.repairs.negative_clamped += clampNegative(src.water_vapour_kg_per_kg);
   } else {
     log::warn("{}: qv is missing; specific humidity taken as 0", path);
@@ -343,6 +352,7 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
   }
   src.repairs.missing_as_zero = cond_stats.fill_values;
   std::vector<float> heights = read_state(l.heights, l.heights_are_half_levels ? nz + 1 : nz);
+  requireRange(path, l.heights, heights, kLowestHeight_m, kHighestHeight_m, "a height [m]");
 
   // Vertical order: ICON writes level 1 at the model top; nephele wants bottom to top.
   const bool top_down = nz > 1 ? heights[0] > heights[(l.heights_are_half_levels ? nz : nz - 1) * nsrc] : false;
@@ -460,13 +470,24 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
       // One target point per cell on average over the cells' bounding box.
       const double area = std::max((lon_max - lon_min) * cos_mid, 1e-9) * std::max(lat_max - lat_min, 1e-9);
       dlat = std::sqrt(area / double(l.ncells));
+      // ... but never finer than the longer extent over ncells: for cells along a line (two
+      // cells, or one row) the box has no area, and the clamped area above gave ~1e-5 deg
+      // spacing, a 44 000-point row whose empty buckets CellLocator::nearest scanned for hours.
+      // With this floor each axis has at most ncells + 1 points, the grid at most 3 ncells + 1.
+      dlat = std::max(dlat, std::max((lon_max - lon_min) * cos_mid, lat_max - lat_min) / double(l.ncells));
     }
     const double dlon = dlat / cos_mid;
     const double nx_d = std::floor((lon_max - lon_min) / dlon) + 1.0;
     const double ny_d = std::floor((lat_max - lat_min) / dlat) + 1.0;
     requireWithinBudget(path, "the resampled native grid", nx_d * ny_d * double(nz), 12, budget);
-    ts.nx = static_cast<int>(nx_d);
-    ts.ny = static_cast<int>(ny_d);
+    const auto nx_checked = limits::toIntChecked<int>(nx_d), ny_checked = limits::toIntChecked<int>(ny_d);
+    if (!nx_checked || !ny_checked) {
+      throw InputError(fmt::format("{}: the resampled native grid would be {} x {} points, more than an int "
+                                   "indexes (LoadOptions::native_resolution_deg too fine)",
+                                   path, nx_d, ny_d));
+    }
+    ts.nx = *nx_checked;
+    ts.ny = *ny_checked;
     ts.georef.dx_m = dlon;
     ts.georef.dy_m = dlat;
     ts.georef.x0 = lon_min;

@@ -8,21 +8,18 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/env.h"
+#include "classic_header.h"
+#include "core/limits.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "load_options.h"
 
 namespace nph::io {
 
 std::size_t memoryBudgetBytes(const LoadOptions& options) {
   if (options.memory_budget_bytes != 0) return options.memory_budget_bytes;
-  constexpr std::size_t kDefaultBudget = std::size_t(8) << 30;  // 8 GiB
-  if (const auto mb = env::get("NEPHELE_IO_MEMORY_BUDGET_MB")) {
-    char* end = nullptr;
-    const unsigned long long v = std::strtoull(mb->c_str(), &end, 10);
-    if (end != mb->c_str() && v > 0) return static_cast<std::size_t>(v) << 20;
-  }
-  return kDefaultBudget;
+  // Strict: garbage or a value whose bytes overflow is an error, not a silent default or 0.
+  return static_cast<std::size_t>(limits::memoryBudgetBytesFromEnv());
 }
 
 std::string joinNames(const std::vector<std::string>& names) {
@@ -32,9 +29,7 @@ std::string joinNames(const std::vector<std::string>& names) {
 }
 
 NcReader::NcReader(std::string path) : path_(std::move(path)) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path_, ec)) throw InputError(fmt::format("{}: no such file", path_));
-  if (std::filesystem::is_directory(path_, ec)) throw InputError(fmt::format("{}: is a directory, expected a NetCDF file", path_));
+  requireRegularFile(path_, "a NetCDF file");
   const int status = nc_open(path_.c_str(), NC_NOWRITE, &ncid_);
   if (status != NC_NOERR) {
     ncid_ = -1;
@@ -47,51 +42,40 @@ NcReader::NcReader(std::string path) : path_(std::move(path)) {
   checkClassicFileSize();
 }
 
-void NcReader::checkClassicFileSize() const {
+void NcReader::checkClassicFileSize() {
   // NetCDF-C opens a truncated classic (CDF-1/2/5) file and reads zeros past its end without an
-  // error, so compare the file size with the data its header declares (a lower bound: the
-  // header itself is at least 32 bytes). NetCDF-4/HDF5 files fail to open when truncated.
-  int format = 0;
-  if (nc_inq_format(ncid_, &format) != NC_NOERR ||
-      (format != NC_FORMAT_CLASSIC && format != NC_FORMAT_64BIT_OFFSET && format != NC_FORMAT_CDF5)) {
-    return;
-  }
-  int nvars = 0, unlimited = -1;
-  nc_inq_nvars(ncid_, &nvars);
-  nc_inq_unlimdim(ncid_, &unlimited);
-  std::size_t numrecs = 0;
-  if (unlimited >= 0) nc_inq_dimlen(ncid_, unlimited, &numrecs);
-  double fixed_bytes = 0.0, record_bytes = 0.0;
-  for (int v = 0; v < nvars; ++v) {
-    int ndims = 0;
-    nc_type type = NC_NAT;
-    nc_inq_varndims(ncid_, v, &ndims);
-    nc_inq_vartype(ncid_, v, &type);
-    std::vector<int> dims(static_cast<std::size_t>(ndims));
-    if (ndims > 0) nc_inq_vardimid(ncid_, v, dims.data());
-    std::size_t type_size = 0;
-    nc_inq_type(ncid_, type, nullptr, &type_size);
-    double bytes = double(type_size);
-    bool is_record = false;
-    for (int d : dims) {
-      if (d == unlimited) {
-        is_record = true;
-        continue;
-      }
-      std::size_t len = 0;
-      nc_inq_dimlen(ncid_, d, &len);
-      bytes *= double(len);
-    }
-    bytes = std::ceil(bytes / 4.0) * 4.0;  // variables are padded to 4-byte boundaries
-    (is_record ? record_bytes : fixed_bytes) += bytes;
-  }
-  const double declared = 32.0 + fixed_bytes + double(numrecs) * record_bytes;
+  // error: compare the file size with the exact end of the data its header declares
+  // (classic_header.h). NetCDF-4/HDF5 files fail to open when truncated (but see
+  // requireStoredData for variables declared and never written).
+  if (nc_inq_format(ncid_, &format_) != NC_NOERR) return;
   std::error_code ec;
   const auto size = std::filesystem::file_size(path_, ec);
-  if (!ec && double(size) < declared) {
-    throw InputError(fmt::format("{}: truncated NetCDF file: {} bytes, but its header declares at least {:.0f} bytes of "
-                                 "data",
-                                 path_, size, declared));
+  if (ec) return;
+  file_bytes_ = size;
+  if (format_ != NC_FORMAT_CLASSIC && format_ != NC_FORMAT_64BIT_OFFSET && format_ != NC_FORMAT_CDF5) return;
+  const auto declared = classicDataEnd_bytes(path_);
+  if (declared && size < *declared) {
+    throw InputError(fmt::format("{}: truncated NetCDF file: {} bytes, but its header declares data up to byte {} "
+                                 "({} bytes missing)",
+                                 path_, size, *declared, *declared - size));
+  }
+}
+
+void NcReader::requireStoredData(const std::string& var, int id) const {
+  // A NetCDF-4 file may declare gigabytes it never wrote: HDF5 then makes up fill values (a 16 KB
+  // file declaring 2000 x 2000 x 55 grew to 2.7 GB over 162 s). One variable cannot hold more
+  // than any compression of the whole file could store.
+  if (format_ != NC_FORMAT_NETCDF4 && format_ != NC_FORMAT_NETCDF4_CLASSIC) return;
+  nc_type type = NC_NAT;
+  nc_inq_vartype(ncid_, id, &type);
+  std::size_t type_size = 0;
+  nc_inq_type(ncid_, type, nullptr, &type_size);
+  double declared = double(type_size);
+  for (const std::size_t len : varShape(var)) declared *= double(len);
+  if (declared > kMaxCompressionRatio * double(std::max<std::uintmax_t>(file_bytes_, 1))) {
+    throw InputError(fmt::format("{}: {} declares {:.0f} bytes in a NetCDF-4 file of {} bytes, more than {:.0f}x its "
+                                 "size: its data were never written (deflate cannot pass ~1032x)",
+                                 path_, var, declared, file_bytes_, kMaxCompressionRatio));
   }
 }
 
@@ -205,11 +189,42 @@ std::optional<std::string> NcReader::varText(const std::string& var, const std::
   return textAtt(ncid_, varId(var), att);
 }
 
+bool NcReader::packingAttribute(const std::string& var, int id, const char* name, double& value) const {
+  nc_type type = NC_NAT;
+  std::size_t len = 0;
+  if (nc_inq_att(ncid_, id, name, &type, &len) != NC_NOERR) return false;
+  // CF conventions §8.1: scale_factor and add_offset are single numbers of the unpacked type. A
+  // char "scale_factor" was ignored before, and packed shorts read as 1.8e4 kg/kg.
+  if (type == NC_CHAR || type == NC_STRING || type > NC_STRING || len != 1) {
+    fail(fmt::format("{}:{} is {}, expected one number (CF packing attribute)", var, name,
+                     type == NC_CHAR || type == NC_STRING ? "text" : fmt::format("{} values", len)));
+  }
+  if (nc_get_att_double(ncid_, id, name, &value) != NC_NOERR || !std::isfinite(value)) {
+    fail(fmt::format("{}:{} cannot be read as a finite number", var, name));
+  }
+  return true;
+}
+
+void NcReader::requireFloatingOrPacked(const std::string& var) const {
+  requireNumeric(var);
+  const int id = varId(var);
+  nc_type type = NC_NAT;
+  nc_inq_vartype(ncid_, id, &type);
+  if (type == NC_FLOAT || type == NC_DOUBLE) return;
+  nc_type at = NC_NAT;
+  std::size_t len = 0;
+  if (nc_inq_att(ncid_, id, "scale_factor", &at, &len) == NC_NOERR) return;  // packed (CF §8.1)
+  fail(fmt::format("{} is an integer variable without scale_factor, expected float or double mixing ratios "
+                   "[kg/kg] (or CF-packed integers with scale_factor)",
+                   var));
+}
+
 std::vector<float> NcReader::readFloats(const std::string& var, const std::vector<std::size_t>& start,
                                         const std::vector<std::size_t>& count, float fill_replacement,
                                         ReadStats& stats) const {
   const int id = varId(var);
   requireNumeric(var);
+  requireStoredData(var, id);
   std::size_t n = 1;
   for (std::size_t c : count) n *= c;
   std::vector<float> data(n);
@@ -234,12 +249,8 @@ std::vector<float> NcReader::readFloats(const std::string& var, const std::vecto
   }
   if (type == NC_FLOAT || type == NC_DOUBLE) markers.push_back(NC_FILL_FLOAT);
   double scale = 1.0, offset = 0.0;
-  nc_type at = NC_NAT;
-  std::size_t len = 0;
-  const bool has_scale = nc_inq_att(ncid_, id, "scale_factor", &at, &len) == NC_NOERR;
-  if (has_scale) nc_get_att_double(ncid_, id, "scale_factor", &scale);
-  const bool has_offset = nc_inq_att(ncid_, id, "add_offset", &at, &len) == NC_NOERR;
-  if (has_offset) nc_get_att_double(ncid_, id, "add_offset", &offset);
+  const bool has_scale = packingAttribute(var, id, "scale_factor", scale);
+  const bool has_offset = packingAttribute(var, id, "add_offset", offset);
   const bool nan_marker = std::any_of(markers.begin(), markers.end(), [](float m) { return std::isnan(m); });
   markers.erase(std::remove_if(markers.begin(), markers.end(), [](float m) { return std::isnan(m); }), markers.end());
   const bool scaled = has_scale || has_offset;
@@ -272,6 +283,7 @@ std::vector<float> NcReader::readFloats(const std::string& var, const std::vecto
 std::vector<double> NcReader::readDoubles(const std::string& var) const {
   const int id = varId(var);
   requireNumeric(var);
+  requireStoredData(var, id);
   std::size_t n = 1;
   for (std::size_t c : varShape(var)) n *= c;
   std::vector<double> data(n);

@@ -44,6 +44,9 @@ class NcReader {
   void requireDims(const std::string& var, const std::vector<std::string>& expected) const;
   /// Throws InputError unless `var` is a numeric (not char/string) variable.
   void requireNumeric(const std::string& var) const;
+  /// Throws InputError unless `var` is float/double, or an integer packed with scale_factor
+  /// (an unpacked integer mixing ratio is garbage: 1 kg/kg per count).
+  void requireFloatingOrPacked(const std::string& var) const;
 
   /// Reads a hyperslab as float, applying scale_factor/add_offset. Values equal to _FillValue,
   /// missing_value or NetCDF's default fill become `fill_replacement` and are counted in `stats`.
@@ -56,7 +59,18 @@ class NcReader {
 
  private:
   int varId(const std::string& name) const;
-  void checkClassicFileSize() const;
+  void checkClassicFileSize();
+  /// InputError when `var` of a NetCDF-4 file declares more bytes than kMaxCompressionRatio
+  /// times the file's size (declared, never written).
+  void requireStoredData(const std::string& var, int id) const;
+  /// A NetCDF-4 variable may declare at most this many times the file's size: deflate cannot
+  /// pass ~1032:1, and zstd on all-zero fields of a real wrfout stays far below.
+  static constexpr double kMaxCompressionRatio = 4096.0;
+  int format_ = 0;                 ///< nc_inq_format
+  std::uintmax_t file_bytes_ = 0;  ///< size on disk at open
+  /// A CF packing attribute (scale_factor / add_offset) of `var` into `value`: false when absent,
+  /// InputError unless it is one finite number.
+  bool packingAttribute(const std::string& var, int id, const char* name, double& value) const;
   [[noreturn]] void fail(const std::string& what) const;
   std::string path_;
   int ncid_ = -1;

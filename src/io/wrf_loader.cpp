@@ -51,6 +51,18 @@ double requireAttribute(const NcReader& nc, const char* name, double lo, double 
   return *v;
 }
 
+/// A global attribute that WRF writes as a small integer code (MAP_PROJ, MP_PHYSICS), checked
+/// before the cast: 1e20 or NaN converted to int is undefined behaviour.
+int requireSmallInteger(const NcReader& nc, const char* name, const char* meaning) {
+  constexpr double kMaxCode = 1000.0;  // WRF's codes are < 100
+  const double v = *nc.globalNumber(name);
+  if (!(v >= -kMaxCode && v <= kMaxCode) || v != std::floor(v)) {
+    throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {} (an integer in [{}, {}])",
+                                 nc.path(), name, v, meaning, -kMaxCode, kMaxCode));
+  }
+  return static_cast<int>(v);
+}
+
 struct Dims {
   int nx = 0, ny = 0, nz = 0;
   std::size_t nt = 0;
@@ -91,8 +103,9 @@ Georeference wrfGeoreference(const WrfProjectionAttributes& a, int nx, int ny, c
   auto bad = [&](const char* name, double v, const char* expected) {
     throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {}", path, name, v, expected));
   };
-  if (!(std::isfinite(a.dx_m) && a.dx_m > 0.0 && a.dx_m < 1e7)) bad("DX", a.dx_m, "a grid spacing in (0, 1e7) m");
-  if (!(std::isfinite(a.dy_m) && a.dy_m > 0.0 && a.dy_m < 1e7)) bad("DY", a.dy_m, "a grid spacing in (0, 1e7) m");
+  // 0.1 m (below any LES) .. 10 000 km; dx = 1e-30 m passed before and overflowed the DLM.
+  if (!(std::isfinite(a.dx_m) && a.dx_m >= 0.1 && a.dx_m < 1e7)) bad("DX", a.dx_m, "a grid spacing in [0.1, 1e7) m");
+  if (!(std::isfinite(a.dy_m) && a.dy_m >= 0.1 && a.dy_m < 1e7)) bad("DY", a.dy_m, "a grid spacing in [0.1, 1e7) m");
   g.dx_m = a.dx_m;
   g.dy_m = a.dy_m;
   if (a.map_proj == 0) return g;  // Cartesian (idealized): x0 = y0 = 0, no projection
@@ -235,9 +248,11 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     requireFinite(path, var, data);
     return data;
   };
-  auto read_mixing = [&](const char* var) {
+  auto read_mixing = [&](const char* var, double max_value, const char* what) {
+    nc.requireFloatingOrPacked(var);
     auto data = nc.readFloats(var, start, count, 0.0f, stats);
     requireFinite(path, var, data);
+    requireAtMost(path, var, data, max_value, what);
     const std::int64_t negative = clampNegative(data);
     if (negative > 0) {
       log::warn("{}: {} had {} negative values, set to 0", path, var, negative);
@@ -246,10 +261,14 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     return data;
   };
 
-  for (const WrfClass* c : present_q) ts.q_kg_per_kg[c->kind] = read_mixing(c->q_name);
-  for (const WrfClass* c : present_n) ts.number_per_kg[c->kind] = read_mixing(c->n_name);
+  for (const WrfClass* c : present_q) {
+    ts.q_kg_per_kg[c->kind] = read_mixing(c->q_name, kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
+  }
+  for (const WrfClass* c : present_n) {
+    ts.number_per_kg[c->kind] = read_mixing(c->n_name, kMaxNumberConcentration_per_kg, "a number concentration [1/kg]");
+  }
   if (has_qv) {
-    ts.water_vapour_kg_per_kg = read_mixing("QVAPOR");
+    ts.water_vapour_kg_per_kg = read_mixing("QVAPOR", kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
   } else {
     log::warn("{}: QVAPOR is missing; water vapour taken as 0 (air density then ignores moisture)", path);
     ts.water_vapour_kg_per_kg.assign(nx * ny * nz, 0.0f);
@@ -283,6 +302,7 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     auto phi = read_state("PH", count_stag);
     const auto phb = read_state("PHB", count_stag);
     for (std::size_t n = 0; n < phi.size(); ++n) phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
+    requireRange(path, "(PH+PHB)/g", phi, kLowestHeight_m, kHighestHeight_m, "a height [m]");
     const std::size_t n2 = nx * ny;
     ts.height_m.resize(nx * ny * nz);
     for (std::size_t k = 0; k < nz; ++k) {
@@ -300,12 +320,15 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     if (nc.hasVar("HGT")) {
       nc.requireDims("HGT", surface_dims);
       ts.terrain_height_m = read_state("HGT", {1, ny, nx});
+      requireRange(path, "HGT", ts.terrain_height_m, kLowestHeight_m, kHighestTerrain_m, "a terrain height [m]");
     } else {
       ts.terrain_height_m.assign(phi.begin(), phi.begin() + std::ptrdiff_t(n2));
     }
   }
 
-  if (const auto mp = nc.globalNumber("MP_PHYSICS")) ts.microphysics_scheme = static_cast<int>(*mp);
+  if (nc.globalNumber("MP_PHYSICS")) {
+    ts.microphysics_scheme = requireSmallInteger(nc, "MP_PHYSICS", "a WRF microphysics scheme number");
+  }
   if (ts.microphysics_scheme >= 0 && ts.microphysics_scheme <= 3 && ts.q_kg_per_kg.count(Hydrometeor::Ice) == 0) {
     log::debug("{}: MP_PHYSICS = {}: no separate ice; frozen condensate lives in QCLOUD/QRAIN below 0 °C", path,
                ts.microphysics_scheme);
@@ -313,7 +336,7 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
 
   // Georeference.
   WrfProjectionAttributes a;
-  a.map_proj = static_cast<int>(nc.globalNumber("MAP_PROJ").value_or(0.0));
+  a.map_proj = nc.globalNumber("MAP_PROJ") ? requireSmallInteger(nc, "MAP_PROJ", "a WRF map projection code") : 0;
   a.dx_m = requireAttribute(nc, "DX", -1e300, 1e300, "the grid spacing [m]");
   a.dy_m = requireAttribute(nc, "DY", -1e300, 1e300, "the grid spacing [m]");
   const bool has_geo = nc.hasVar("XLAT") && nc.hasVar("XLONG");

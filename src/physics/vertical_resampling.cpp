@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "physics/pchip.h"
 
 namespace nph::physics {
@@ -27,6 +28,20 @@ void requireHeights(const io::ModelTimestep& ts) {
     throw InputError(fmt::format("{}: terrain height has {} values, expected {} ({}x{})",
                                  ts.source_file, ts.terrain_height_m.size(), columns, ts.nx, ts.ny));
   }
+}
+
+/// `levels` (a double from heights) as the grid's nz, range-checked before the cast against
+/// limits::kMaxDerivedLevels: terrain of -1e7 m planned 40 026 levels, heights of 1e26 m
+/// overflowed the int conversion (undefined behaviour).
+int checkedLevels(const io::ModelTimestep& ts, const VerticalGrid& g, double levels, const char* up_to) {
+  if (!(levels <= double(limits::kMaxDerivedLevels))) {
+    throw InputError(fmt::format(
+        "{}: timestep {}: the resampled grid from {} m up to {} would have {} levels of {} m, more than the "
+        "limit of {} (limits::kMaxDerivedLevels); check the file's heights and terrain, or choose a larger "
+        "dz / an explicit top",
+        ts.source_file, ts.time_index, g.z_bottom_m, up_to, levels, g.dz_m, limits::kMaxDerivedLevels));
+  }
+  return static_cast<int>(levels);
 }
 
 double surfaceHeight(const io::ModelTimestep& ts, int i, int j) {
@@ -54,6 +69,13 @@ double defaultBottomHeight_m(const io::ModelTimestep& ts, double dz_m) {
   }
   if (!std::isfinite(lowest)) {
     throw InputError(fmt::format("{}: surface height is not finite", ts.source_file));
+  }
+  // Lower bound of real surfaces: the Dead Sea shore lies at -430 m; heights below -1 km are not
+  // terrain (a -1e7 m terrain planned a 40 026-level grid).
+  constexpr double kLowestSurface_m = -1000.0;
+  if (lowest < kLowestSurface_m) {
+    throw InputError(fmt::format("{}: timestep {}: surface height {} m, expected terrain above {} m",
+                                 ts.source_file, ts.time_index, lowest, kLowestSurface_m));
   }
   return dz_m * std::floor(lowest / dz_m);
 }
@@ -96,13 +118,13 @@ VerticalGrid planVerticalGrid(const io::ModelTimestep& ts, const ModelLevelExtin
       throw UsageError(fmt::format("top height {} m is not above the bottom {} m", *o.z_top_m,
                                    g.z_bottom_m));
     }
-    g.nz = static_cast<int>(std::ceil((*o.z_top_m - g.z_bottom_m) / o.dz_m));
+    g.nz = checkedLevels(ts, g, std::ceil((*o.z_top_m - g.z_bottom_m) / o.dz_m), "the top height");
     return g;
   }
   const std::optional<double> top = condensateTopHeight_m(ts, beta, o.crop_threshold_per_m);
   // layers whose centre lies below the top, plus one empty guard layer
   const double below = top ? std::ceil((*top - g.z_bottom_m) / o.dz_m - 0.5) : 0.0;
-  g.nz = static_cast<int>(std::max(below, 0.0)) + 1;
+  g.nz = checkedLevels(ts, g, std::max(below, 0.0) + 1.0, "the highest condensate");
   return g;
 }
 

@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/json_limits.h"
 #include "scene/json_object.h"
 #include "scene/solar_position.h"
 
@@ -74,15 +76,12 @@ std::vector<CameraKeyframe> parseKeyframes(Object& o, std::string_view key) {
 }
 
 json parseFile(const std::string& path) {
+  requireRegularFile(path, "a camera keyframe file (JSON)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open the keyframe file", path));
   std::ostringstream text;
   text << in.rdbuf();
-  try {
-    return json::parse(text.str(), nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON: {}", path, e.what()));
-  }
+  return json_limits::parse(text.str(), path, "the keyframe file", /*ignore_comments=*/true);
 }
 
 }  // namespace
@@ -138,7 +137,7 @@ std::vector<CameraKeyframe> loadCameraKeyframes(const std::string& path) {
 AnimationSpec parseAnimation(const SceneDescription& scene) {
   AnimationSpec a;
   if (scene.animation_json.empty()) return a;
-  const json root = json::parse(scene.animation_json);
+  const json root = json_limits::parse(scene.animation_json, scene.source_file, "the animation section");
   Object o(root, "animation", scene.source_file, scene.base_dir);
   a.from = parseTimePoint(o, "from");
   a.to = parseTimePoint(o, "to");

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/input_file.h"
+#include "core/limits.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -44,11 +46,12 @@ EquirectangularImage::EquirectangularImage(LinearRgbImage image, std::string nam
 
 EquirectangularImage EquirectangularImage::load(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
+  if (!std::filesystem::exists(path, ec)) {
     throw InputError(fmt::format("{}: basemap image not found (expected an equirectangular "
                                  "satellite image, e.g. Blue Marble from Debian's marble-qt-data)",
                                  path));
   }
+  requireRegularFile(path, "a basemap image");  // a FIFO would block the decoder forever
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     throw InputError(fmt::format("{}: cannot read the basemap image: {}", path, OIIO::geterror()));
@@ -58,6 +61,10 @@ EquirectangularImage EquirectangularImage::load(const std::string& path) {
   if (nc < 1 || nc > 4 || spec.depth > 1) {
     throw InputError(fmt::format("{}: basemap has {} channels, expected 1-4 (grey, RGB, RGBA)", path, nc));
   }
+  // The header's size is checked before the decode buffers are allocated.
+  limits::requireProductWithin(path, "basemap width x height", {std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))},
+                               limits::kMaxBasemapPixels,
+                               "limits::kMaxBasemapPixels; downsample the image, e.g. to 8192x4096");
   requireTwoToOne(w, h, path);
   const std::size_t n = std::size_t(w) * std::size_t(h);
   LinearRgbImage img{w, h, std::vector<float>(n * 3)};

@@ -35,8 +35,11 @@ LightSpace fitLightSpace(const glm::dvec3& lightDirection, const glm::dvec3& box
   ls.depth_m = hi.z - lo.z;
   for (int i = 0; i < 2; ++i) {
     const double e = std::max(extent[i], texelSize_m[i]);  // a degenerate (flat) box still gets one texel
-    int n = static_cast<int>(std::ceil(e / texelSize_m[i] - 1e-9));
-    n = std::clamp(n, 1, maxTexels);
+    // Clamp in double before the cast: with voxels of 1e-300 m the ratio is far beyond int
+    // (undefined behaviour for the cast); NaN (a non-finite box) is refused.
+    const double texels = std::ceil(e / texelSize_m[i] - 1e-9);
+    if (std::isnan(texels)) throw UsageError("fitLightSpace: the box or the texel size is not finite");
+    const int n = static_cast<int>(std::clamp(texels, 1.0, double(maxTexels)));
     ls.texels[i] = n;
     ls.extent_m[i] = e;
   }

@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/temp_files.h"
 #include "scene/basemap.h"
 
 namespace nph::scene {
@@ -34,14 +35,20 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-/// Writes through OIIO to `<dir>/.<name>.partial-<pid>-<n><ext>` and renames onto `path`.
+/// Writes through OIIO to `<dir>/.<name>.partial-<pid>-XXXXXX<ext>` and renames onto `path`.
+/// The temporary is created exclusively first (temp_files.h): OIIO opens its file with
+/// O_CREAT|O_TRUNC, which followed a symlink planted under the old predictable name and
+/// overwrote another file.
 void writeAtomically(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels,
                      OIIO::TypeDesc pixelType) {
-  static std::atomic<unsigned> counter{0};
   const fs::path final(path);
   const fs::path dir = final.has_parent_path() ? final.parent_path() : fs::path(".");
-  const fs::path tmp = dir / fmt::format(".{}.partial-{}-{}{}", final.stem().string(), ::getpid(),
-                                         counter++, final.extension().string());
+  temp_files::removeStale(dir, ".partial-");
+  const temp_files::Created created =
+      temp_files::createExclusive(final, "." + final.stem().string(), ".partial-", final.extension().string());
+  ::close(created.fd);
+  const fs::path tmp = created.path;
+  const temp_files::CleanupRegistration cleanup(tmp);
   auto fail = [&](const std::string& why) {
     std::error_code ec;
     fs::remove(tmp, ec);

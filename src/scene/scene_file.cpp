@@ -11,6 +11,9 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/limits.h"
+#include "core/json_limits.h"
 #include "core/log.h"
 #include "scene/json_object.h"
 #include "scene/solar_position.h"
@@ -23,6 +26,16 @@ namespace fs = std::filesystem;
 
 constexpr int kMaxImageSide = 16384;   ///< largest output/basemap side accepted (GL_MAX_TEXTURE_SIZE on llvmpipe)
 constexpr double kMaxExaggeration = 1000.0;
+/// Explicit camera coordinates beyond 1e9 m leave float positions without precision in the ray
+/// caster (a position of 1e300 m rendered a blank image).
+constexpr double kMaxCameraCoordinate_m = 1e9;
+/// sin of the smallest angle accepted between a camera's up vector and its view direction
+/// (1e-6 rad: below, the image plane orientation is numerically undefined; exactly parallel
+/// gave NaN and a blank image).
+constexpr double kMinUpSine = 1e-6;
+/// Largest sun colour component: the colour is a relative tint (intensity carries brightness);
+/// 1e300 overflowed float radiance to Inf and rendered a blank image.
+constexpr double kMaxSunColour = 100.0;
 
 using json_detail::Object;
 using json_detail::typeName;
@@ -97,8 +110,25 @@ void parseCameraObject(Object& c, CameraSpec& cam) {
              "required with the other (an explicit camera needs position_m and target_m)");
     }
     if (preset) c.fail(c.at("preset"), "give either a preset or position_m/target_m, not both");
+    // Degenerate cameras rendered a blank image with exit 0 (issue #18): points so far away that
+    // float positions lose all precision, and an up vector along the view direction (no image
+    // plane orientation).
+    for (const char* key : {"position_m", "target_m"}) {
+      const glm::dvec3& p = std::string_view(key) == "position_m" ? *cam.position_m : *cam.target_m;
+      if (glm::any(glm::greaterThan(glm::abs(p), glm::dvec3(kMaxCameraCoordinate_m)))) {
+        c.fail(c.at(key), fmt::format("expected coordinates within +-{} m (the Moon is at 3.8e8 m), got ({}, {}, {})",
+                                      kMaxCameraCoordinate_m, p.x, p.y, p.z));
+      }
+    }
     if (glm::length(*cam.target_m - *cam.position_m) < 1e-6) {
       c.fail(c.at("target_m"), "expected a point different from position_m");
+    }
+    const glm::dvec3 view = glm::normalize(*cam.target_m - *cam.position_m);
+    if (glm::length(glm::cross(view, cam.up)) < kMinUpSine) {
+      c.fail(c.at(up ? "up" : "target_m"),
+             fmt::format("up ({}, {}, {}) is parallel to the view direction ({:.6f}, {:.6f}, {:.6f}); expected an up "
+                         "vector at an angle to it",
+                         cam.up.x, cam.up.y, cam.up.z, view.x, view.y, view.z));
     }
     cam.preset.reset();
   } else if (up) {
@@ -116,12 +146,7 @@ void parseCameraObject(Object& c, CameraSpec& cam) {
 }  // namespace json_detail
 
 SceneDescription parseSceneText(std::string_view text, const std::string& name, const std::string& base_dir) {
-  json root;
-  try {
-    root = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON: {}", name, e.what()));
-  }
+  const json root = json_limits::parse(text, name, "the scene file", /*ignore_comments=*/true);
   SceneDescription s;
   s.source_file = name;
   s.base_dir = base_dir;
@@ -168,7 +193,11 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     sun.azimuth_deg = az.value_or(sun.azimuth_deg);
     sun.elevation_deg = el.value_or(sun.elevation_deg);
     if (auto col = u->optVec3("colour")) {
-      if (col->x < 0.0 || col->y < 0.0 || col->z < 0.0) u->fail(u->at("colour"), "expected non-negative components");
+      if (col->x < 0.0 || col->y < 0.0 || col->z < 0.0 || col->x > kMaxSunColour || col->y > kMaxSunColour ||
+          col->z > kMaxSunColour) {
+        u->fail(u->at("colour"), fmt::format("expected components in [0, {}] (a tint; intensity sets the "
+                                             "brightness)", kMaxSunColour));
+      }
       sun.colour = *col;
     }
     sun.intensity = u->number("intensity", sun.intensity, 0.0, 1e6);
@@ -231,6 +260,11 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     }
     out.width = o->integer("width", out.width, 1, kMaxImageSide);
     out.height = o->integer("height", out.height, 1, kMaxImageSide);
+    if (std::uint64_t(out.width) * std::uint64_t(out.height) > limits::kMaxImagePixels) {
+      o->fail(o->at("width"), fmt::format("{} x {} pixels is more than the limit of {} (limits::kMaxImagePixels: a "
+                                          "16384^2 image ran out of GL memory after 565 s)",
+                                          out.width, out.height, limits::kMaxImagePixels));
+    }
     out.image.exposure_ev = o->number("exposure_ev", 0.0, -20.0, 20.0);
     if (const auto curve = o->optString("tone_curve")) {
       try {
@@ -262,6 +296,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
 }
 
 SceneDescription loadSceneFile(const std::string& path) {
+  requireRegularFile(path, "a scene file (JSON)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open the scene file", path));
   std::ostringstream text;
@@ -273,6 +308,11 @@ SceneDescription loadSceneFile(const std::string& path) {
 
 Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, int height) {
   if (width <= 0 || height <= 0) throw UsageError("cameraFor: image size must be positive");
+  if (std::uint64_t(width) * std::uint64_t(height) > limits::kMaxImagePixels) {
+    throw UsageError(fmt::format("image of {} x {} pixels: more than the limit of {} pixels (limits::kMaxImagePixels; "
+                                 "a 16384^2 image ran out of GL memory after 565 s)",
+                                 width, height, limits::kMaxImagePixels));
+  }
   Camera cam;
   cam.width = width;
   cam.height = height;

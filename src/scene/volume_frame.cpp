@@ -1,5 +1,7 @@
 #include "scene/volume_frame.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <numbers>
 
@@ -25,8 +27,17 @@ VolumeFrame frameOf(const ExtinctionVolumes& v, double height_exaggeration) {
     dx = v.georef.dx_m * degToRad * kEarthRadius_m * std::cos(latCentre * degToRad);
     dy = v.georef.dy_m * degToRad * kEarthRadius_m;
   }
-  if (!(dx > 0.0) || !(dy > 0.0) || !(v.dz_m > 0.0)) {
-    throw UsageError("frameOf: non-positive grid spacing");
+  // Plausible spacings and heights, checked before they reach float textures and int texel
+  // counts (dx = 1e+-300 m and z_bottom_m = +-1e308 overflowed conversions in the DLM and the
+  // ray caster). 1 mm .. 10 000 km covers LES to global grids.
+  constexpr double kMinSpacing_m = 1e-3, kMaxSpacing_m = 1e7, kMaxAbsHeight_m = 1e6;
+  const auto spacing_ok = [](double s) { return s >= kMinSpacing_m && s <= kMaxSpacing_m; };
+  if (!spacing_ok(dx) || !spacing_ok(dy) || !spacing_ok(v.dz_m) || !std::isfinite(v.z_bottom_m) ||
+      std::abs(v.z_bottom_m) > kMaxAbsHeight_m) {
+    throw InputError(fmt::format("{}: grid spacing dx {} m, dy {} m, dz {} m, bottom {} m; expected spacings in "
+                                 "[{}, {}] m and a bottom within +-{} m",
+                                 v.source_file.empty() ? std::string("extinction volume") : v.source_file, dx, dy,
+                                 v.dz_m, v.z_bottom_m, kMinSpacing_m, kMaxSpacing_m, kMaxAbsHeight_m));
   }
   f.voxel_size_m = {dx, dy, v.dz_m * height_exaggeration};
   f.z_bottom_m = v.z_bottom_m * height_exaggeration;

@@ -116,9 +116,15 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
                                       settings.max_texels);
   step_m_ = settings.step_voxels * std::min({voxel.x, voxel.y, voxel.z});
   if (!(step_m_ > 0.0)) throw UsageError("DLM settings: step_voxels must be positive");
-  steps_ = static_cast<int>(std::ceil(light_space_.depth_m / step_m_ - 1e-9));
-  const double maxSteps = 1 << 22;
-  if (steps_ > maxSteps) throw UsageError(fmt::format("DLM: {} steps per ray is absurd (depth {} m, step {} m)", steps_, light_space_.depth_m, step_m_));
+  // The bound is checked on the double, before the cast (dx = 1e-300 m made the step count
+  // overflow int: undefined behaviour that the old check after the cast could not see).
+  const double steps = std::ceil(light_space_.depth_m / step_m_ - 1e-9);
+  constexpr double kMaxSteps = 1 << 22;
+  if (!(steps <= kMaxSteps)) {
+    throw UsageError(fmt::format("DLM: {} steps per ray is absurd (depth {} m, step {} m; at most {})", steps,
+                                 light_space_.depth_m, step_m_, kMaxSteps));
+  }
+  steps_ = static_cast<int>(std::max(steps, 0.0));
 
   const glm::ivec2 n = light_space_.texels;
   if (nodes_.width() != n.x || nodes_.height() != n.y || nodes_.depth() != settings.max_nodes) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/limits.h"
 #include "core/env.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -151,7 +152,9 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
       queryDevices(count, devices.data(), &count);
       // NEPHELE_EGL_DEVICE picks one device; by default the first that gives a 4.5 context.
       int only = -1;
-      if (auto v = env::get("NEPHELE_EGL_DEVICE")) only = std::stoi(*v);
+      if (auto v = env::get("NEPHELE_EGL_DEVICE")) {
+        only = static_cast<int>(limits::parseUnsignedStrict("NEPHELE_EGL_DEVICE", *v, 0, 1023));  // std::stoi named nothing
+      }
       for (EGLint i = 0; i < count; ++i) {
         if (only >= 0 && i != only) continue;
         EGLDisplay dpy = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[std::size_t(i)], nullptr);

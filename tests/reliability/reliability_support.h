@@ -1,0 +1,94 @@
+#pragma once
+// Helpers of the reliability tests: a scratch folder per test, NetCDF-C edits of generated
+// files, and the expectation "throws E whose message mentions all of these".
+#include <gtest/gtest.h>
+#include <netcdf.h>
+
+#include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <unistd.h>
+
+#include "cache/nph_cache.h"
+#include "wrf_hurricane.h"
+
+namespace nph::reliability {
+
+/// A small valid wrfout (12 x 10 x 8 mass points, hourly timesteps) written by the generator.
+inline void writeSmallWrf(const std::string& path, int timesteps = 1) {
+  datagen::WrfHurricaneSpec s;
+  s.nx = 12;
+  s.ny = 10;
+  s.nz = 8;
+  s.ntimes = timesteps;
+  datagen::writeWrfHurricane(s, path);
+}
+
+/// The .nph metadata describing `v`'s grid (what a conversion writes).
+inline cache::NphMetadata nphMetadataOf(const ExtinctionVolumes& v) {
+  cache::NphMetadata m;
+  m.nx = v.nx;
+  m.ny = v.ny;
+  m.dz_m = v.dz_m;
+  m.z_bottom_m = v.z_bottom_m;
+  m.georef = v.georef;
+  m.created_by = "nephele reliability test";
+  return m;
+}
+
+/// A fresh folder under the temp dir, removed at the end of the test.
+class Scratch {
+ public:
+  Scratch() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() /
+            ("nephele-rel-" + std::string(info ? info->name() : "x") + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~Scratch() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Opens a NetCDF file for writing, runs `fn(ncid)` in define mode when `define` is set, closes.
+inline void ncEdit(const std::string& path, bool define, const std::function<void(int)>& fn) {
+  int ncid = -1;
+  ASSERT_EQ(nc_open(path.c_str(), NC_WRITE, &ncid), NC_NOERR) << path;
+  if (define) {
+    ASSERT_EQ(nc_redef(ncid), NC_NOERR);
+  }
+  fn(ncid);
+  ASSERT_EQ(nc_close(ncid), NC_NOERR) << path;
+}
+
+inline int ncVar(int ncid, const char* name) {
+  int id = -1;
+  EXPECT_EQ(nc_inq_varid(ncid, name, &id), NC_NOERR) << name;
+  return id;
+}
+
+/// Runs `fn`, expects an exception of type E whose what() contains every one of `mentions`.
+template <class E>
+void expectError(const std::function<void()>& fn, std::initializer_list<std::string> mentions) {
+  try {
+    fn();
+    ADD_FAILURE() << "no exception; expected one mentioning " << *mentions.begin();
+  } catch (const E& e) {
+    const std::string what = e.what();
+    for (const std::string& m : mentions) EXPECT_NE(what.find(m), std::string::npos) << "\"" << m << "\" not in: " << what;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "wrong exception type: " << e.what();
+  }
+}
+
+}  // namespace nph::reliability
