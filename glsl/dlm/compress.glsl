@@ -1,6 +1,6 @@
 // Online ε-bounded compression of a light function into nodes (s, I) — Nes 2008 §5.3.4,
 // Algorithm 2, eq. 5.14-5.17, after Lokovic & Veach 2000. Line-by-line twin of
-// scene/light_function.cpp (the CPU oracle of the tests); see there for the error argument.
+// lighting/light_function.cpp (the CPU oracle of the tests); see there for the error argument.
 // The node list of texel (a, b) lives in layers 0 … count−1 of u_nodes (RG32F: depth, intensity).
 layout(rg32f, binding = 0) uniform image3D u_nodes;
 uniform int u_max_nodes;

@@ -1,4 +1,4 @@
-// The deep light map's light space (scene/light_space.h): orthonormal u, v and w = the direction
+// The deep light map's light space (lighting/light_space.h): orthonormal u, v and w = the direction
 // the sunlight travels; texel (a, b) owns the ray origin + (a+½)·du·u + (b+½)·dv·v + s·w.
 uniform vec3 u_ls_origin_m;
 uniform vec3 u_ls_u;

@@ -1,5 +1,5 @@
 #version 450 core
-// Deep light map passes 1 and 3 (Nes 2008 §5.3.2-5.3.3, Algorithm 3; model in scene/dlm_model.h).
+// Deep light map passes 1 and 3 (Nes 2008 §5.3.2-5.3.3, Algorithm 3; model in lighting/dlm_model.h).
 // One invocation per light-space texel marches its light ray at fixed steps Δ, integrating
 // attenuation and central forward scattering (eq. 5.13),
 //     I_{n+1} = I_n·[T + (1 − T)·CP(θ/4)],  T = exp(−β(s_n + Δ/2)·Δ),
@@ -7,7 +7,7 @@
 // before compressing — so the ε bound holds for the final function. The sum is clamped to 1:
 // the model adds a cloud's peripheral share to its neighbours without removing it from the
 // cloud's own central light, so a clear column beside a bright cloud edge could exceed the
-// unobstructed sun (scene/dlm_model.h). Empty occupancy bricks are
+// unobstructed sun (lighting/dlm_model.h). Empty occupancy bricks are
 // skipped whole (I is constant there; in pass 3 the skip also stops at scatter-slice centres,
 // where P has its breakpoints, so the compressor sees the same piecewise-linear function).
 // Instead of copying render-target slices as Nes did on 2008 hardware, nodes are written with

@@ -4,7 +4,7 @@
 //   P_k = P_{k−1}·[T + (1 − T)·CP(θ/4)] + avg4(I_c + P)_{k−1}·(1 − T)·(CP(θ/2) − CP(θ/4)),
 // T = exp(−β·L_slice) with β at the cell's centre between the two slices, I_c the pass-1 DLM
 // (central light) at the four neighbouring cells of the previous slice. Neighbours outside the
-// map see unshadowed sunlight (I_c = 1, P = 0). See scene/dlm_model.h.
+// map see unshadowed sunlight (I_c = 1, P = 0). See lighting/dlm_model.h.
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"

@@ -1,6 +1,6 @@
 // Extinction volumes (Nes 2008 §5.2.1): ice and water β_ext [1/m] as 3-D textures, sampled
 // trilinearly between voxel centres with zero outside the grid (GL_LINEAR, GL_CLAMP_TO_BORDER,
-// border 0) — the same rule as scene/extinction_sampler.cpp on the CPU. β is continuous
+// border 0) — the same rule as volume/extinction_sampler.cpp on the CPU. β is continuous
 // everywhere: it fades to 0 over the half voxel outside the box instead of jumping at the face,
 // so a ray skimming a face cannot flip between "cloud" and "clear" on float rounding.
 layout(binding = 0) uniform sampler3D u_ice_per_m;

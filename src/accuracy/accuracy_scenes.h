@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "cache/extinction_volumes.h"
 #include "scene/camera.h"
 #include "scene/sun.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::accuracy {
 

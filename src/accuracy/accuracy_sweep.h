@@ -15,8 +15,8 @@
 
 #include "accuracy/ground_truth.h"
 #include "accuracy/image_error.h"
+#include "lighting/dlm_model.h"
 #include "render/raycast/cloud_renderer.h"
-#include "scene/dlm_model.h"
 #include "scene/scene_file.h"
 
 namespace nph::accuracy {

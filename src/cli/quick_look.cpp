@@ -16,7 +16,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "scene/georeference.h"
-#include "scene/volume_frame.h"
+#include "volume/volume_frame.h"
 
 namespace nph::cli {
 namespace {

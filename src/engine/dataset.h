@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::engine {
 

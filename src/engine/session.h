@@ -17,10 +17,10 @@
 
 #include "engine/dataset.h"
 #include "engine/timestep_cache.h"
+#include "lighting/dlm_model.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/volume_textures.h"
 #include "render/raycast/cloud_renderer.h"
-#include "scene/dlm_model.h"
 #include "scene/scene_file.h"
 #include "scene/scene_setup.h"
 

@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "scene/georeference.h"
-#include "scene/volume_frame.h"
+#include "volume/volume_frame.h"
 
 namespace nph::interop {
 

@@ -21,7 +21,7 @@
 // Mercator, polar stereographic: x0/y0 are the projected coordinates of mass point (0, 0) with the
 // projection's false easting/northing), and for geographic (lat-lon, rotated-pole) grids the
 // equirectangular projection at the grid's central latitude φc on nephele's sphere, the same
-// local scaling nephele's own flat-map frame uses (scene/volume_frame.h): x = R·λ·cos φc, y = R·φ
+// local scaling nephele's own flat-map frame uses (volume/volume_frame.h): x = R·λ·cos φc, y = R·φ
 // (λ, φ in radians, rotated-pole coordinates for rotated grids). z is height above mean sea level.
 // Voxels are not cubes (dx ≠ dz): the transform is a scale-translate map.
 //
@@ -36,7 +36,7 @@
 #include <filesystem>
 #include <string>
 
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::interop {
 

@@ -17,9 +17,9 @@
 // any column, whose values vanish at h_{k+1} — plus one empty guard layer; or a fixed z_top.
 #include <optional>
 
-#include "cache/extinction_volumes.h"
 #include "io/model_fields.h"
 #include "physics/extinction.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::physics {
 

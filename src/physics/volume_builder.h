@@ -2,10 +2,10 @@
 // ModelTimestep (io/) -> ExtinctionVolumes (cache/): optics on model levels (extinction.h), then
 // vertical resampling with the crop (vertical_resampling.h). One call per timestep; a conversion
 // of several timesteps fixes z_bottom after the first so all share one vertical grid.
-#include "cache/extinction_volumes.h"
 #include "io/model_fields.h"
 #include "physics/optics_settings.h"
 #include "physics/vertical_resampling.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::physics {
 

@@ -5,7 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "scene/extinction_sampler.h"
+#include "volume/extinction_sampler.h"
 
 namespace nph::reference {
 
@@ -20,7 +20,7 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
   const int nu = ls_.texels.x, nv = ls_.texels.y;
   central_.assign(std::size_t(nu) * std::size_t(nv) * std::size_t(samples_), 1.0);
 
-  // Pass 1: I_{n+1} = I_n·[T + (1 − T)·CP(θ/4)], β at the step midpoint (scene/dlm_model.h).
+  // Pass 1: I_{n+1} = I_n·[T + (1 − T)·CP(θ/4)], β at the step midpoint (lighting/dlm_model.h).
   tbb::parallel_for(0, nu * nv, [&](int t) {
     const int a = t % nu, b = t / nu;
     const glm::dvec3 start = ls_.rayStart(a, b);

@@ -1,6 +1,6 @@
 #pragma once
 // CPU reference of the deep light map (no GL, double precision, no compression, no empty-space
-// skipping): the model of scene/dlm_model.h integrated with `refine` sub-steps per GPU step Δ.
+// skipping): the model of lighting/dlm_model.h integrated with `refine` sub-steps per GPU step Δ.
 // With refine = 1 it is the exact arithmetic twin of the GPU build before compression (the GPU
 // must then agree within ε plus float rounding); with refine = 8 it approximates the continuum
 // and |ref(1) − ref(8)| measures the discretisation term. The yardstick for render/dlm/.
@@ -8,10 +8,10 @@
 
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
-#include "scene/dlm_model.h"
-#include "scene/light_space.h"
-#include "scene/volume_frame.h"
+#include "lighting/dlm_model.h"
+#include "lighting/light_space.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::reference {
 

@@ -40,12 +40,12 @@
 
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
 #include "physics/phase.h"
 #include "reference/majorant_grid.h"
 #include "scene/camera.h"
 #include "scene/sun.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::reference {
 

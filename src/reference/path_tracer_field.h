@@ -1,6 +1,6 @@
 #pragma once
-// The extinction field as the path tracer sees it, in world space (scene/volume_frame.h), with the
-// sampling rule the GPU renderer uses — scene/extinction_sampler.h, the one CPU copy of it:
+// The extinction field as the path tracer sees it, in world space (volume/volume_frame.h), with the
+// sampling rule the GPU renderer uses — volume/extinction_sampler.h, the one CPU copy of it:
 // trilinear between voxel centres with zero outside the grid (GL_CLAMP_TO_BORDER, zero border),
 // so β fades linearly to 0 over the half voxel outside each face of the volume box. The field's
 // support is therefore the box grown by half a voxel on every side (`supportMin/Max`); the
@@ -15,9 +15,9 @@
 // step size, no noise. The path tracer's alpha channel is 1 − exp(−τ) computed this way.
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
-#include "scene/extinction_sampler.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_sampler.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::reference {
 

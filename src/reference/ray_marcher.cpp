@@ -5,7 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "scene/extinction_sampler.h"
+#include "volume/extinction_sampler.h"
 
 namespace nph::reference {
 namespace {

@@ -7,11 +7,11 @@
 
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
 #include "scene/sun.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::reference {
 

@@ -26,10 +26,10 @@
 
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
 #include "scene/camera.h"
 #include "scene/sun.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::scene {
 

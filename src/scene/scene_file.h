@@ -19,7 +19,7 @@
 #include "scene/georeference.h"
 #include "scene/output_image.h"
 #include "scene/sun.h"
-#include "scene/volume_frame.h"
+#include "volume/volume_frame.h"
 
 namespace nph::scene {
 

@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "cache/extinction_volumes.h"
 #include "scene/basemap.h"
 #include "scene/camera.h"
 #include "scene/georeference.h"
 #include "scene/scene_file.h"
 #include "scene/sun.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::scene {
 

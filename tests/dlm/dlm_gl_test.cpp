@@ -50,7 +50,7 @@ TEST_F(DlmTest, EmptyVolumeIsFullSunWithOneNodePerTexel) {
 // the centres of the bottom and top layers, linear ramps to 0 over one layer thickness around each
 // face; its integral is exactly β·nz·dz. The discrete solution is the product of the per-step
 // factors T + (1 − T)·CP(θ/4) with T = exp(−β(z_mid)·Δ) of this closed-form profile
-// (scene/dlm_model.h); its continuum limit at the bottom is exp(−β·nz·dz·(1 − CP(θ/4))).
+// (lighting/dlm_model.h); its continuum limit at the bottom is exp(−β·nz·dz·(1 − CP(θ/4))).
 TEST_F(DlmTest, HomogeneousSlabMatchesTheDiscreteClosedFormWithinEpsilon) {
   const double beta = 2e-3, dz = 250.0;  // 1/m; slab 8 × 250 m = 2 km thick → optical depth 4
   const int nz = 8;

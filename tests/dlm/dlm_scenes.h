@@ -2,7 +2,7 @@
 // Volumes for the deep light map tests: analytic ones and the generated sample scenes.
 #include <string>
 
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::test {
 

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <random>
 
-#include "scene/light_function.h"
-#include "scene/light_space.h"
-#include "scene/occupancy.h"
+#include "lighting/light_function.h"
+#include "lighting/light_space.h"
+#include "volume/occupancy.h"
 
 namespace nph::scene {
 namespace {

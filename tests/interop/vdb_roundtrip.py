@@ -170,7 +170,7 @@ run(nephele, "export-vdb", work / "icon.nph", "-o", work / "icon" / "icon", "-t"
 meta, ice, water = dump(work / "icon.nph", 0)
 grids, _ = read_vdb(work / "icon" / "icon_0000.vdb")
 g = grids["density"]
-R = 6370000.0  # nephele's flat-map sphere (scene/volume_frame.h)
+R = 6370000.0  # nephele's flat-map sphere (volume/volume_frame.h)
 lat_c = meta["y0"] + 0.5 * (meta["ny"] - 1) * meta["dy"]
 k = R * math.pi / 180.0
 expect_size = (meta["dx"] * k * math.cos(math.radians(lat_c)), meta["dy"] * k, meta["dz_m"])

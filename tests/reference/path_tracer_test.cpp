@@ -16,7 +16,7 @@
 
 #include "core/error.h"
 #include "reference/path_tracer_sampling.h"
-#include "scene/volume_frame.h"
+#include "volume/volume_frame.h"
 
 namespace nph::reference {
 namespace {
@@ -108,7 +108,7 @@ TEST(PathTracer, AlphaOfHomogeneousSlabIsBeerLambert) {
   // behind the origin.
   EXPECT_NEAR(pt.alpha({0.0, 50000.0, 1500.0}, {1.0, 0.0, 0.0}),
               1.0 - std::exp(-slab.sigma_per_m * (100000.0 - 0.125 * 25000.0)), 1e-12);
-  // The zero-border rule of scene/extinction_sampler.h: ½σ on the face, 0 half a voxel out.
+  // The zero-border rule of volume/extinction_sampler.h: ½σ on the face, 0 half a voxel out.
   const ExtinctionField& f = pt.field();
   EXPECT_NEAR(f.at({0.0, 50000.0, 1500.0}).total(), 0.5 * slab.sigma_per_m, 1e-15);
   EXPECT_NEAR(f.at({50000.0, 50000.0, 2125.0}).total(), 0.25 * slab.sigma_per_m, 1e-15);

@@ -14,7 +14,7 @@
 #include "scene/basemap.h"
 #include "scene/scene_file.h"
 #include "scene/scene_setup.h"
-#include "scene/volume_frame.h"
+#include "volume/volume_frame.h"
 #include "wrf_hurricane.h"
 
 namespace nph::reliability {

@@ -6,7 +6,7 @@
 #include <random>
 #include <string>
 
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::scene::test {
 

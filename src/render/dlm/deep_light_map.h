@@ -1,5 +1,5 @@
 #pragma once
-// Deep light map builder (Nes 2008 §5.3; model and discretisation in scene/dlm_model.h):
+// Deep light map builder (Nes 2008 §5.3; model and discretisation in lighting/dlm_model.h):
 //   pass 1  glsl/dlm/march.comp     central light per texel, ε-compressed node lists
 //   pass 2  glsl/dlm/scatter.comp   low-resolution light-aligned scatter map, slice by slice
 //   pass 3  march.comp + PERIPHERAL re-march adding the peripheral light, re-compressed within ε
@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "lighting/dlm_model.h"
+#include "lighting/light_function.h"
+#include "lighting/light_space.h"
 #include "render/dlm/volume_textures.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
-#include "scene/dlm_model.h"
-#include "scene/light_function.h"
-#include "scene/light_space.h"
 
 namespace nph::render {
 

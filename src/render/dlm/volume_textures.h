@@ -3,11 +3,11 @@
 // An absent phase (all zero) gets no texture and is never fetched.
 #include <string>
 
-#include "cache/extinction_volumes.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
-#include "scene/occupancy.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/occupancy.h"
+#include "volume/volume_frame.h"
 
 namespace nph::render {
 

@@ -1,7 +1,7 @@
 #pragma once
 // The eye pass: ray casting of the ice and water volumes with deep-light-map look-ups, composited
 // over the lit basemap (glsl/render/clouds.comp; Nes 2008 §5.4 eq. 5.18, §5.5; Muth 2026 §3.4).
-// Two views: the flat map (rays in the world frame of scene/volume_frame.h) and, after
+// Two views: the flat map (rays in the world frame of volume/volume_frame.h) and, after
 // setGlobe(), the globe (rays in ECEF; render/raycast/globe.h).
 //
 // Two ways to use it: render() ray casts a scene::Camera and reads the images back (CLI, tests);

@@ -1,4 +1,4 @@
-#include "scene/extinction_sampler.h"
+#include "volume/extinction_sampler.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "scene/occupancy.h"
+#include "volume/occupancy.h"
 
 #include <algorithm>
 

@@ -4,8 +4,8 @@
 // continuous: it fades to 0 over the half voxel outside the box (no jump at the faces).
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
-#include "scene/volume_frame.h"
+#include "volume/extinction_volumes.h"
+#include "volume/volume_frame.h"
 
 namespace nph::scene {
 

@@ -1,4 +1,4 @@
-#include "scene/light_function.h"
+#include "lighting/light_function.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "scene/dlm_model.h"
+#include "lighting/dlm_model.h"
 
 #include <cmath>
 #include <numbers>

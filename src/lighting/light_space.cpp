@@ -1,4 +1,4 @@
-#include "scene/light_space.h"
+#include "lighting/light_space.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 // the grid's central latitude (a local equirectangular approximation, fine for regional domains).
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::scene {
 

@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "cache/extinction_volumes.h"
+#include "volume/extinction_volumes.h"
 
 namespace nph::scene {
 

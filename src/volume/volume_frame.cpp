@@ -1,4 +1,4 @@
-#include "scene/volume_frame.h"
+#include "volume/volume_frame.h"
 
 #include <fmt/format.h>
 
