@@ -29,22 +29,20 @@ constexpr double kReferenceStepVoxels = 0.125;
 
 std::string number(double x) { return fmt::format("{:g}", x); }
 
-Variant defaults() {
-  Variant v;
-  v.knob = "default";
-  v.value = "-";
-  v.render.jitter = false;  // pixel-centre rays, like both references
-  return v;
+// The quality the one-knob-at-a-time sweep starts from: the broadcast preset with the deep light
+// map's own budgets (DlmSettings' 1024 texels and 32 nodes, so that no variant is limited by them).
+lighting::QualitySettings sweepBase() {
+  lighting::QualitySettings q = lighting::qualityPreset(lighting::Preset::Broadcast);
+  q.dlm_resolution = scene::DlmSettings{}.max_texels;
+  q.dlm_max_nodes = scene::DlmSettings{}.max_nodes;
+  return q;
 }
 
-reference::RayMarchSettings marchSettingsFor(const render::RenderSettings& r) {
-  reference::RayMarchSettings m;
-  m.step_voxels = r.step_voxels;
-  m.min_transmittance = r.min_transmittance;
-  m.g_ice = r.g_ice;
-  m.g_water = r.g_water;
-  m.ambient = r.ambient;
-  return m;
+Variant defaults() {
+  Variant v = variantOf(sweepBase());
+  v.knob = "default";
+  v.value = "-";
+  return v;
 }
 
 // The CPU reference of the same approximation, converged: the variant's light-transport model
@@ -65,7 +63,7 @@ const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextu
   constexpr int kRefine = 4;
   const reference::DlmReference light(*sc.volumes, sc.frame, layout.lightSpace(), layout.settings(),
                                       layout.stats().step_m, layout.stats().steps, kRefine);
-  reference::RayMarchSettings march = marchSettingsFor(v.render);
+  reference::RayMarchSettings march = v.render;
   march.step_voxels = kReferenceStepVoxels;
   march.min_transmittance = 0.0;
   return cache[key] = reference::marchCloudLayer(*sc.volumes, sc.frame, sc.camera, sc.sun,
@@ -74,41 +72,49 @@ const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextu
 
 }  // namespace
 
-Variant variantOf(const scene::QualitySettings& q) {
-  Variant v = defaults();
+Variant variantOf(const lighting::QualitySettings& q) {
+  Variant v;
   v.knob = "preset";
   v.value = q.preset;
-  v.dlm.epsilon = q.dlm_epsilon;
-  v.dlm.step_voxels = q.dlm_step_voxels;
-  v.dlm.texel_voxels = q.dlm_texel_voxels;
-  v.dlm.max_texels = q.dlm_resolution;
-  v.dlm.max_nodes = q.dlm_max_nodes;
-  v.dlm.empty_space_skipping = q.empty_space_skipping;
-  v.render.step_voxels = q.step_voxels;
-  v.render.min_transmittance = q.early_termination_transmittance;
-  v.render.empty_space_skipping = q.empty_space_skipping;
+  v.dlm = lighting::dlmSettingsFor(q);
+  v.render = lighting::renderSettingsFor(q, lighting::StyleSettings{});
+  v.render.jitter = false;  // pixel-centre rays, like both references
   return v;
 }
 
 std::vector<Variant> sweepVariants(bool quick) {
   std::vector<Variant> out{defaults()};
-  auto knob = [&](const std::string& name, const std::vector<double>& values, auto&& apply) {
+  // A quality knob of the knob table (lighting/knobs.h), by its name there.
+  auto knob = [&](std::string_view name, const std::vector<double>& values) {
+    const lighting::Knob* k = lighting::findKnob(name);
+    if (k == nullptr || k->group() != lighting::KnobGroup::Quality) throw UsageError(fmt::format("bench accuracy: no quality knob {}", name));
+    for (double x : values) {
+      if (!k->accepts(x)) throw UsageError(fmt::format("bench accuracy: {} = {} is outside the knob's range", name, x));
+      lighting::QualitySettings q = sweepBase();
+      k->set(q, x);
+      Variant v = variantOf(q);
+      v.knob = std::string(name);
+      v.value = number(x);
+      out.push_back(v);
+    }
+  };
+  // A setting of the transport model (DlmSettings) that is no user knob.
+  auto model = [&](const std::string& name, const std::vector<double>& values, auto&& apply) {
     for (double x : values) {
       Variant v = defaults();
       v.knob = name;
       v.value = number(x);
-      apply(v, x);
+      apply(v.dlm, x);
       out.push_back(v);
     }
   };
   using L = std::vector<double>;
-  knob("step_voxels", quick ? L{1.0, 0.25} : L{2.0, 1.0, 0.25, 0.125},
-       [](Variant& v, double x) { v.render.step_voxels = x; });
-  knob("dlm_texel_voxels", quick ? L{2.0} : L{4.0, 2.0, 0.5}, [](Variant& v, double x) { v.dlm.texel_voxels = x; });
-  knob("dlm_step_voxels", quick ? L{1.0} : L{2.0, 1.0, 0.25}, [](Variant& v, double x) { v.dlm.step_voxels = x; });
-  knob("epsilon", quick ? L{0.04} : L{0.08, 0.04, 0.02, 0.005, 0.0025}, [](Variant& v, double x) { v.dlm.epsilon = x; });
-  knob("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
-       [](Variant& v, double x) { v.dlm.scatter_downsample = int(x); });
+  knob("step_voxels", quick ? L{1.0, 0.25} : L{2.0, 1.0, 0.25, 0.125});
+  knob("dlm_texel_voxels", quick ? L{2.0} : L{4.0, 2.0, 0.5});
+  knob("dlm_step_voxels", quick ? L{1.0} : L{2.0, 1.0, 0.25});
+  knob("dlm_epsilon", quick ? L{0.04} : L{0.08, 0.04, 0.02, 0.005, 0.0025});
+  model("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
+        [](scene::DlmSettings& d, double x) { d.scatter_downsample = int(x); });
   if (!quick) {
     Variant off = defaults();
     off.knob = "scatter_downsample";
@@ -116,8 +122,9 @@ std::vector<Variant> sweepVariants(bool quick) {
     off.dlm.peripheral = false;
     out.push_back(off);
   }
-  knob("forward_angle_deg", quick ? L{30.0} : L{10.0, 30.0, 40.0}, [](Variant& v, double x) { v.dlm.forward_angle_deg = x; });
-  for (const char* p : {"draft", "broadcast", "reference"}) out.push_back(variantOf(scene::qualityPreset(p)));
+  model("forward_angle_deg", quick ? L{30.0} : L{10.0, 30.0, 40.0},
+        [](scene::DlmSettings& d, double x) { d.forward_angle_deg = x; });
+  for (std::string_view p : lighting::kPresetNames) out.push_back(variantOf(lighting::qualityPreset(p)));
   return out;
 }
 

@@ -16,20 +16,22 @@
 #include "accuracy/ground_truth.h"
 #include "accuracy/image_error.h"
 #include "lighting/dlm_model.h"
+#include "lighting/knobs.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/scene_file.h"
 
 namespace nph::accuracy {
 
 struct Variant {
-  std::string knob;   ///< "default", "step_voxels", "dlm_texel_voxels", "epsilon", ..., "preset"
+  std::string knob;   ///< "default", a knob of lighting/knobs.h ("step_voxels", "dlm_epsilon", ...), a
+                      ///< transport-model setting ("scatter_downsample", "forward_angle_deg") or "preset"
   std::string value;  ///< the knob's value as text
   scene::DlmSettings dlm;
   render::RenderSettings render;
 };
 
 /// The knobs of a QualitySettings preset as DLM and ray-caster settings (jitter off).
-Variant variantOf(const scene::QualitySettings& quality);
+Variant variantOf(const lighting::QualitySettings& quality);
 /// default, the one-knob-at-a-time sweep and the three presets; `quick` keeps two values a knob.
 std::vector<Variant> sweepVariants(bool quick);
 

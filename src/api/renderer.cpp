@@ -25,7 +25,7 @@ scene::SceneDescription sceneFor(const engine::Dataset& dataset, const RendererO
   const engine::TimeBracket b = engine::bracketTime(o.time_index, dataset.timestepCount());
   data.timestep = int(b.first);
   s.data = data;
-  s.quality = scene::qualityPreset(o.quality_preset);
+  s.quality = lighting::qualityPreset(o.quality_preset);
   s.height_exaggeration = o.height_exaggeration;
   return s;
 }
@@ -117,7 +117,7 @@ void Renderer::setSun(double azimuth_deg, double elevation_deg) {
 
 void Renderer::setQualityPreset(std::string_view preset) {
   try {
-    session_->setQuality(scene::qualityPreset(preset));
+    session_->setQuality(lighting::qualityPreset(preset));
   } catch (const InputError& e) {
     throw ApiError(NPH_ERROR_INVALID_ARGUMENT, e.what());
   }

@@ -29,6 +29,7 @@
 #include "core/log.h"
 #include "engine/dataset.h"
 #include "engine/session.h"
+#include "lighting/knobs.h"
 #include "render/gl/context.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
@@ -43,7 +44,6 @@ constexpr double kOrbitDegPerPixel = 0.3;
 constexpr double kZoomPerScrollStep = 0.9;
 constexpr double kScrubStep = 0.1;            // [ ] : a tenth of a timestep
 constexpr double kSunStep_deg = 5.0;
-constexpr std::array<const char*, 3> kQualityPresets{"draft", "broadcast", "reference"};
 
 constexpr const char* kHelp =
     "nephele view\n"
@@ -109,8 +109,8 @@ class Viewer {
     sun_ = session.sun();
     time_ = session.time();
     const auto& presetName = session.quality().preset;
-    for (std::size_t i = 0; i < kQualityPresets.size(); ++i) {
-      if (presetName == kQualityPresets[i]) quality_ = i;
+    for (std::size_t i = 0; i < lighting::kPresetNames.size(); ++i) {
+      if (presetName == lighting::kPresetNames[i]) quality_ = i;
     }
     glfwSetWindowUserPointer(window_, this);
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
@@ -174,7 +174,7 @@ class Viewer {
     const auto& st = session_.stats();
     glfwSetWindowTitle(window_, fmt::format("nephele view — t {:.2f}{} — sun {:.0f}/{:.0f} deg — {} — {}x{} {:.0f} ms",
                                             time_, playing_ ? fmt::format(" (playing x{:g})", speed_) : "",
-                                            sun_.azimuth_deg, sun_.elevation_deg, kQualityPresets[quality_],
+                                            sun_.azimuth_deg, sun_.elevation_deg, lighting::kPresetNames[quality_],
                                             camera_.width, camera_.height, st.raycast_ms + st.dlm_ms)
                                     .c_str());
   }
@@ -229,10 +229,9 @@ class Viewer {
         break;
       }
       case GLFW_KEY_Q: {
-        quality_ = (quality_ + ((mods & GLFW_MOD_SHIFT) != 0 ? kQualityPresets.size() - 1 : 1)) % kQualityPresets.size();
-        scene::QualitySettings q = scene::qualityPreset(kQualityPresets[quality_]);
-        session_.setQuality(q);
-        log::info("quality preset {}", kQualityPresets[quality_]);
+        quality_ = (quality_ + ((mods & GLFW_MOD_SHIFT) != 0 ? lighting::kPresetNames.size() - 1 : 1)) % lighting::kPresetNames.size();
+        session_.setQuality(lighting::qualityPreset(lighting::Preset(quality_)));  // keeps the style
+        log::info("quality preset {}", lighting::kPresetNames[quality_]);
         break;
       }
       default: return;

@@ -16,27 +16,6 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-scene::DlmSettings dlmSettingsFor(const scene::QualitySettings& q) {
-  scene::DlmSettings d;
-  d.epsilon = q.dlm_epsilon;
-  d.step_voxels = q.dlm_step_voxels;
-  d.texel_voxels = q.dlm_texel_voxels;
-  d.max_nodes = q.dlm_max_nodes;
-  d.max_texels = q.dlm_resolution;
-  d.empty_space_skipping = q.empty_space_skipping;
-  return d;
-}
-
-render::RenderSettings renderSettingsFor(const scene::QualitySettings& q) {
-  render::RenderSettings r;
-  r.step_voxels = q.step_voxels;
-  r.min_transmittance = q.early_termination_transmittance;
-  r.jitter = q.jitter;
-  r.empty_space_skipping = q.empty_space_skipping;
-  r.shadows = q.shadows;
-  return r;
-}
-
 Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription scene)
     : dataset_(std::move(dataset)), scene_(std::move(scene)) {
   if (!dataset_) throw UsageError("Session: no dataset");
@@ -47,7 +26,7 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
   time_index_ = double(t);
   prepared_ = scene::prepareScene(scene_, *timesteps_->get(t));
   sun_ = prepared_.sun;
-  render_settings_ = renderSettingsFor(scene_.quality);
+  render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
   if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
   if (prepared_.to_sun_ecef) {  // globe view (scene_setup.h): rays in ECEF
     renderer_.setGlobe(render::buildGlobeMapping(*prepared_.geo), prepared_.basemap_equirect, *prepared_.to_sun_ecef);
@@ -71,14 +50,14 @@ void Session::setTime(double time_index) {
 
 void Session::setSun(const scene::Sun& sun) { sun_ = sun; }
 
-void Session::setQuality(const scene::QualitySettings& quality) {
+void Session::setQuality(const lighting::QualitySettings& quality) {
   scene_.quality = quality;
-  const auto keep = render_settings_;
-  render_settings_ = renderSettingsFor(quality);
-  render_settings_.g_ice = keep.g_ice;
-  render_settings_.g_water = keep.g_water;
-  render_settings_.ambient = keep.ambient;
-  render_settings_.ocean_albedo = keep.ocean_albedo;
+  render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
+}
+
+void Session::setStyle(const lighting::StyleSettings& style) {
+  style_ = style;
+  render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
 }
 
 void Session::update() {
@@ -115,7 +94,7 @@ void Session::update() {
     renderer_.setGlobeSun(scene::toSunEcef(sun_, *prepared_.geo, {0.5 * size.x, 0.5 * size.y}));
   }
   const auto t0 = std::chrono::steady_clock::now();
-  stats_.dlm_rebuilt = dlm_.build(*textures_, -sun_.toSun(), dlmSettingsFor(scene_.quality));
+  stats_.dlm_rebuilt = dlm_.build(*textures_, -sun_.toSun(), lighting::dlmSettingsFor(scene_.quality));
   if (stats_.dlm_rebuilt) stats_.dlm_ms = msSince(t0);
   stats_.dlm_builds = dlm_.stats().builds;
   stats_.dlm_reuses = dlm_.stats().reuses;

@@ -17,7 +17,7 @@
 
 #include "engine/dataset.h"
 #include "engine/timestep_cache.h"
-#include "lighting/dlm_model.h"
+#include "lighting/knobs.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/volume_textures.h"
 #include "render/raycast/cloud_renderer.h"
@@ -25,10 +25,6 @@
 #include "scene/scene_setup.h"
 
 namespace nph::engine {
-
-/// The DLM and ray-caster settings of a scene file's quality section.
-scene::DlmSettings dlmSettingsFor(const scene::QualitySettings& q);
-render::RenderSettings renderSettingsFor(const scene::QualitySettings& q);
 
 struct FrameStats {
   double time_index = 0.0;   ///< fractional timestep index rendered
@@ -66,9 +62,14 @@ class Session {
   /// The sun in the world frame (prepared().sun initially).
   void setSun(const scene::Sun& sun);
   const scene::Sun& sun() const { return sun_; }
-  void setQuality(const scene::QualitySettings& quality);
-  const scene::QualitySettings& quality() const { return scene_.quality; }
-  /// Ray-caster-only settings (phase functions, ambient, ...) on top of the quality section.
+  /// Quality (lighting/knobs.h): sampling, DLM error bound and budgets. Keeps the style.
+  void setQuality(const lighting::QualitySettings& quality);
+  const lighting::QualitySettings& quality() const { return scene_.quality; }
+  /// Style (phase functions, ambient light): presets and setQuality never change it.
+  void setStyle(const lighting::StyleSettings& style);
+  const lighting::StyleSettings& style() const { return style_; }
+  /// The ray caster's settings, lighting::renderSettingsFor(quality(), style()); setQuality and
+  /// setStyle rebuild them (tests change single fields here).
   render::RenderSettings& renderSettings() { return render_settings_; }
 
   /// Brings volume and DLM up to date, then ray casts `camera` and reads the images back.
@@ -95,6 +96,7 @@ class Session {
   scene::SceneDescription scene_;
   scene::PreparedScene prepared_;
   scene::Sun sun_;
+  lighting::StyleSettings style_;
   render::RenderSettings render_settings_;
   double time_index_ = 0.0;
   int direction_ = 0;

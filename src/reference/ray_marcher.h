@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "lighting/render_settings.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
 #include "scene/sun.h"
@@ -15,13 +16,9 @@
 
 namespace nph::reference {
 
-struct RayMarchSettings {
-  double step_voxels = 0.5;
-  double min_transmittance = 0.01;
-  double g_ice = 0.75;
-  double g_water = 0.85;
-  glm::dvec3 ambient{0.20, 0.24, 0.30};
-};
+/// The GPU ray caster's settings (lighting/render_settings.h); the marcher reads step_voxels,
+/// min_transmittance, g_ice, g_water and ambient (no jitter, no empty-space skipping, no ground).
+using RayMarchSettings = lighting::RenderSettings;
 
 /// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,

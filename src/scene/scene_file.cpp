@@ -40,54 +40,20 @@ constexpr double kMaxSunColour = 100.0;
 using json_detail::Object;
 using json_detail::typeName;
 
-void parseQualityOverrides(Object& o, QualitySettings& q) {
-  q.step_voxels = o.number("step_voxels", q.step_voxels, 0.01, 10.0);
-  q.dlm_resolution = o.integer("dlm_resolution", q.dlm_resolution, 16, kMaxImageSide);
-  q.dlm_epsilon = o.number("dlm_epsilon", q.dlm_epsilon, 0.0, 1.0);
-  q.dlm_step_voxels = o.number("dlm_step_voxels", q.dlm_step_voxels, 0.01, 10.0);
-  q.dlm_texel_voxels = o.number("dlm_texel_voxels", q.dlm_texel_voxels, 0.1, 16.0);
-  q.dlm_max_nodes = o.integer("dlm_max_nodes", q.dlm_max_nodes, 2, 256);
-  q.early_termination_transmittance =
-      o.number("early_termination_transmittance", q.early_termination_transmittance, 0.0, 1.0);
-  q.empty_space_skipping = o.boolean("empty_space_skipping", q.empty_space_skipping);
-  q.jitter = o.boolean("jitter", q.jitter);
-  q.shadows = o.boolean("shadows", q.shadows);
-  q.samples_per_pixel = o.integer("samples_per_pixel", q.samples_per_pixel, 1, 1024);
+// The keys of quality.overrides are the quality rows of the knob table (lighting/knobs.h), with
+// their ranges; booleans are JSON true/false.
+void parseQualityOverrides(Object& o, lighting::QualitySettings& q) {
+  for (const lighting::Knob& k : lighting::knobs()) {
+    if (k.group() != lighting::KnobGroup::Quality) continue;
+    switch (k.type()) {
+      case lighting::KnobType::Number: k.set(q, o.number(k.name, k.get(q), k.min, k.max)); break;
+      case lighting::KnobType::Integer: k.set(q, o.integer(k.name, int(k.get(q)), int(k.min), int(k.max))); break;
+      case lighting::KnobType::Boolean: k.set(q, o.boolean(k.name, k.get(q) != 0.0) ? 1.0 : 0.0); break;
+    }
+  }
 }
 
 }  // namespace
-
-QualitySettings qualityPreset(std::string_view name) {
-  QualitySettings q;  // defaults = broadcast
-  if (name == "broadcast") return q;
-  // Chosen from the run-time/error sweep of `nephele bench accuracy` (docs/accuracy.md): the
-  // DLM step and the view step are the knobs that buy time at a small error against the converged
-  // reference of the same model; ε below 0.01 and the scatter-map resolution change little; a
-  // node budget under 16 costs time (overflowed texels are re-marched) instead of saving it.
-  if (name == "draft") {
-    // Interactive preview: steps of one voxel in the view and the light, looser ε.
-    q.preset = "draft";
-    q.step_voxels = 1.0;
-    q.dlm_step_voxels = 1.0;
-    q.dlm_resolution = 512;
-    q.dlm_epsilon = 0.04;
-    q.dlm_max_nodes = 16;
-    q.early_termination_transmittance = 0.02;
-    return q;
-  }
-  if (name == "reference") {
-    // For comparisons with the CPU references: quarter-voxel steps, tight ε, long node lists.
-    q.preset = "reference";
-    q.step_voxels = 0.25;
-    q.dlm_step_voxels = 0.25;
-    q.dlm_resolution = 1024;
-    q.dlm_epsilon = 0.0025;
-    q.dlm_max_nodes = 32;
-    q.early_termination_transmittance = 0.001;
-    return q;
-  }
-  throw InputError(fmt::format("quality preset '{}': expected \"draft\", \"broadcast\" or \"reference\"", name));
-}
 
 namespace json_detail {
 
@@ -217,7 +183,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
   if (const json* q = top.get("quality")) {
     if (q->is_string()) {
       try {
-        s.quality = qualityPreset(q->get<std::string>());
+        s.quality = lighting::qualityPreset(q->get<std::string>());
       } catch (const InputError& e) {
         top.fail("quality", e.what());
       }
@@ -225,7 +191,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
       Object o(*q, "quality", name, base_dir);
       const std::string presetName = o.optString("preset").value_or("broadcast");
       try {
-        s.quality = qualityPreset(presetName);
+        s.quality = lighting::qualityPreset(presetName);
       } catch (const InputError& e) {
         o.fail("quality.preset", e.what());
       }

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include "lighting/knobs.h"
 #include "scene/camera.h"
 #include "scene/georeference.h"
 #include "scene/output_image.h"
@@ -58,23 +59,6 @@ struct BasemapSpec {
   int pixels_long_side = 2048; ///< resolution of the reprojected basemap
 };
 
-/// Renderer quality knobs. Presets are starting points; every field can be overridden.
-struct QualitySettings {
-  std::string preset = "broadcast";
-  double step_voxels = 0.5;                 ///< ray-march step in voxel sizes (Muth 2026 §3.4.3)
-  int dlm_resolution = 512;                 ///< deep light map texels per side
-  double dlm_epsilon = 0.01;                ///< Lokovic–Veach error bound on I(depth)
-  double dlm_step_voxels = 0.5;             ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
-  double dlm_texel_voxels = 1.0;            ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
-  int dlm_max_nodes = 16;                   ///< node budget per DLM texel
-  double early_termination_transmittance = 0.01;  ///< stop a ray below this T
-  bool empty_space_skipping = true;
-  bool jitter = true;                       ///< per-pixel start offset against banding
-  bool shadows = true;                      ///< cloud shadows on the basemap
-  int samples_per_pixel = 1;
-};
-/// "draft" | "broadcast" | "reference"; InputError otherwise.
-QualitySettings qualityPreset(std::string_view name);
 
 struct OutputSpec {
   std::vector<std::string> paths;  ///< .png and/or .exr; may be empty when the CLI gives them
@@ -91,7 +75,7 @@ struct SceneDescription {
   CameraSpec camera;
   SunSpec sun;
   std::optional<BasemapSpec> basemap;
-  QualitySettings quality;
+  lighting::QualitySettings quality;  ///< "quality": a preset and overrides (lighting/knobs.h)
   OutputSpec output;
   double height_exaggeration = 1.0;  ///< Nes 2008 §5.5.2
   ViewMode view = ViewMode::Flat;

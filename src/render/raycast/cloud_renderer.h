@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include "lighting/render_settings.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/volume_textures.h"
 #include "render/gl/objects.h"
@@ -25,18 +26,8 @@
 
 namespace nph::render {
 
-struct RenderSettings {
-  double step_voxels = 0.5;              ///< view-ray step Δ in units of the smallest voxel side
-  double min_transmittance = 0.01;       ///< early ray termination
-  bool jitter = true;                    ///< per-pixel start offset against banding
-  bool empty_space_skipping = true;
-  bool shadows = true;                   ///< cloud shadows on the ground (DLM at z = 0)
-  double g_ice = 0.75;                   ///< HG asymmetry of ice crystals (physics/phase.h)
-  double g_water = 0.85;                 ///< HG asymmetry of droplets (physics/phase.h)
-  glm::dvec3 ambient{0.20, 0.24, 0.30};  ///< uniform sky radiance (sun radiance = 1)
-  glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};  ///< ground outside the basemap
-  glm::dvec3 limb_radiance{0.30, 0.45, 0.80};  ///< globe: sky glow at the limb (cosmetic; × sun intensity)
-};
+// The ray caster's settings live with the other lighting knobs (GL-free, lighting/render_settings.h).
+using lighting::RenderSettings;
 
 /// The eye rays of a perspective view, as the GPU builds them: pixel (px, py) with py down (row 0
 /// at the top) maps to NDC (x, y) = (2(px+½)/w − 1, 1 − 2(py+½)/h); its ray leaves the eye along

@@ -1,0 +1,222 @@
+#include "lighting/knobs.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace nph::lighting {
+namespace {
+
+using Q = QualitySettings;
+using S = StyleSettings;
+
+// The table. One accepted range per knob, for scene files and the C API alike (until issue 17 the
+// API and the scene parser each had their own, and they had drifted):
+// - step_voxels, dlm_step_voxels [0.01, 10] voxels: the union of both old ranges, so no scene
+//   file or host call that worked before is refused. The bench's converged reference marches at
+//   1/8 voxel; 0.01 leaves room for convergence studies, 10 voxels skips most of a cloud.
+// - dlm_resolution [16, 4096] texels: the node texture holds texels² × dlm_max_nodes × 8 bytes,
+//   2 GiB at 4096² and the presets' 16 nodes. Scene files accepted up to 16384 (32 GiB), which no
+//   GPU this runs on can allocate; the C API's 4096 is kept.
+// - dlm_max_nodes [2, 256]: at the reference preset's 1024² texels 256 nodes are again 2 GiB; the
+//   C API's old cap of 64 refused budgets scene files could use.
+// - dlm_epsilon [0, 1]: ε = 0 is valid (every sample a node until the budget runs out; the stress
+//   suite's epsilon_0 case), 1 is the whole range of I; the C API refused ε < 1e-5 for no reason
+//   the DLM has.
+// - early_termination_transmittance [0, 1]: any transmittance (the C API capped it at 0.5).
+// - style knobs keep the C API's ranges: |g| < 1 for a normalised Henyey–Greenstein phase,
+//   ambient up to 10 × the sun's radiance.
+//
+// Presets (values in draft, broadcast, reference order) were chosen from the run-time/error sweep
+// of `nephele bench accuracy` (docs/accuracy.md): the DLM step and the view step are the knobs that
+// buy time at a small error against the converged reference of the same model; ε below 0.01 and
+// the scatter-map resolution change little; a node budget under 16 costs time (overflowed texels
+// are re-marched) instead of saving it. Draft is the interactive preview (one-voxel steps in the
+// view and the light, looser ε); reference is for comparisons with the CPU references
+// (quarter-voxel steps, tight ε, long node lists).
+// clang-format off
+constexpr std::array kKnobs{
+    Knob{.name = "step_voxels", .unit = "voxels", .min = 0.01, .max = 10.0, .field = &Q::step_voxels,
+         .preset = {1.0, 0.5, 0.25}, .doc = "ray-march step in voxel sizes"},
+    Knob{.name = "dlm_step_voxels", .unit = "voxels", .min = 0.01, .max = 10.0, .field = &Q::dlm_step_voxels,
+         .preset = {1.0, 0.5, 0.25}, .doc = "deep light map march step in voxel sizes"},
+    Knob{.name = "dlm_texel_voxels", .unit = "voxels", .min = 0.1, .max = 16.0, .field = &Q::dlm_texel_voxels,
+         .preset = {1.0, 1.0, 1.0}, .doc = "deep light map texel size in voxel sizes"},
+    Knob{.name = "dlm_resolution", .unit = "texels", .min = 16, .max = 4096, .field = &Q::dlm_resolution,
+         .preset = {512, 512, 1024}, .doc = "cap on deep light map texels per side"},
+    Knob{.name = "dlm_epsilon", .unit = "1", .min = 0.0, .max = 1.0, .field = &Q::dlm_epsilon,
+         .preset = {0.04, 0.01, 0.0025}, .doc = "Lokovic–Veach error bound of the stored I(depth)"},
+    Knob{.name = "dlm_max_nodes", .unit = "nodes", .min = 2, .max = 256, .field = &Q::dlm_max_nodes,
+         .preset = {16, 16, 32}, .doc = "node budget per deep light map texel"},
+    Knob{.name = "early_termination_transmittance", .unit = "1", .min = 0.0, .max = 1.0,
+         .field = &Q::early_termination_transmittance,
+         .preset = {0.02, 0.01, 0.001}, .doc = "a ray stops below this transmittance"},
+    Knob{.name = "empty_space_skipping", .unit = "", .min = 0, .max = 1, .field = &Q::empty_space_skipping,
+         .preset = {1, 1, 1}, .doc = "skip empty bricks of the occupancy grid"},
+    Knob{.name = "jitter", .unit = "", .min = 0, .max = 1, .field = &Q::jitter,
+         .preset = {1, 1, 1}, .doc = "jittered ray start (deterministic per pixel) against banding"},
+    Knob{.name = "shadows", .unit = "", .min = 0, .max = 1, .field = &Q::shadows,
+         .preset = {1, 1, 1}, .doc = "cloud shadows on the ground"},
+    Knob{.name = "samples_per_pixel", .unit = "", .min = 1, .max = 1024, .field = &Q::samples_per_pixel,
+         .preset = {1, 1, 1}, .doc = "parsed, but the ray caster takes one jittered sample per pixel for now"},
+    Knob{.name = "g_ice", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_ice,
+         .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},
+    Knob{.name = "g_water", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_water,
+         .doc = "Henyey–Greenstein asymmetry of droplets in the eye pass"},
+    Knob{.name = "ambient_r", .unit = "sun = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 0},
+         .doc = "uniform sky radiance, red"},
+    Knob{.name = "ambient_g", .unit = "sun = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 1},
+         .doc = "uniform sky radiance, green"},
+    Knob{.name = "ambient_b", .unit = "sun = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 2},
+         .doc = "uniform sky radiance, blue"},
+};
+// clang-format on
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+
+[[noreturn]] void wrongGroup(const Knob& k, const char* what) {
+  throw UsageError(fmt::format("knob {} is not a {} knob", k.name, what));
+}
+
+std::string number(double x) { return fmt::format("{:g}", x); }
+
+std::string valueText(const Knob& k, double v, bool json) {
+  if (k.type() == KnobType::Boolean) return json ? (v != 0.0 ? "true" : "false") : (v != 0.0 ? "1" : "0");
+  return number(v);
+}
+
+}  // namespace
+
+QualitySettings::QualitySettings() {
+  for (const Knob& k : kKnobs) {
+    if (k.group() == KnobGroup::Quality) k.set(*this, k.preset[std::size_t(Preset::Broadcast)]);
+  }
+}
+
+QualitySettings qualityPreset(Preset preset) {
+  QualitySettings q;
+  q.preset = std::string(kPresetNames[std::size_t(preset)]);
+  for (const Knob& k : kKnobs) {
+    if (k.group() == KnobGroup::Quality) k.set(q, k.preset[std::size_t(preset)]);
+  }
+  return q;
+}
+
+QualitySettings qualityPreset(std::string_view name) {
+  for (std::size_t i = 0; i < kPresetNames.size(); ++i) {
+    if (name == kPresetNames[i]) return qualityPreset(Preset(i));
+  }
+  throw InputError(fmt::format("quality preset '{}': expected \"draft\", \"broadcast\" or \"reference\"", name));
+}
+
+scene::DlmSettings dlmSettingsFor(const QualitySettings& q) {
+  scene::DlmSettings d;
+  d.epsilon = q.dlm_epsilon;
+  d.step_voxels = q.dlm_step_voxels;
+  d.texel_voxels = q.dlm_texel_voxels;
+  d.max_nodes = q.dlm_max_nodes;
+  d.max_texels = q.dlm_resolution;
+  d.empty_space_skipping = q.empty_space_skipping;
+  return d;
+}
+
+RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& style) {
+  RenderSettings r;
+  static_cast<StyleSettings&>(r) = style;
+  r.step_voxels = q.step_voxels;
+  r.min_transmittance = q.early_termination_transmittance;
+  r.jitter = q.jitter;
+  r.empty_space_skipping = q.empty_space_skipping;
+  r.shadows = q.shadows;
+  return r;
+}
+
+KnobGroup Knob::group() const {
+  return std::holds_alternative<double S::*>(field) || std::holds_alternative<Vec3Component>(field) ? KnobGroup::Style
+                                                                                                   : KnobGroup::Quality;
+}
+
+KnobType Knob::type() const {
+  if (std::holds_alternative<int Q::*>(field)) return KnobType::Integer;
+  if (std::holds_alternative<bool Q::*>(field)) return KnobType::Boolean;
+  return KnobType::Number;
+}
+
+bool Knob::accepts(double value) const {
+  if (!(value >= min && value <= max)) return false;  // also refuses NaN
+  return type() == KnobType::Number || value == std::floor(value);
+}
+
+double Knob::get(const QualitySettings& q) const {
+  return std::visit(Overloaded{[&](double Q::* m) { return q.*m; }, [&](int Q::* m) { return double(q.*m); },
+                               [&](bool Q::* m) { return q.*m ? 1.0 : 0.0; },
+                               [&](auto) -> double { wrongGroup(*this, "quality"); }},
+                    field);
+}
+
+double Knob::get(const StyleSettings& s) const {
+  return std::visit(Overloaded{[&](double S::* m) { return s.*m; },
+                               [&](Vec3Component c) { return (s.*c.vector)[c.component]; },
+                               [&](auto) -> double { wrongGroup(*this, "style"); }},
+                    field);
+}
+
+void Knob::set(QualitySettings& q, double v) const {
+  std::visit(Overloaded{[&](double Q::* m) { q.*m = v; }, [&](int Q::* m) { q.*m = int(v); },
+                        [&](bool Q::* m) { q.*m = v != 0.0; }, [&](auto) { wrongGroup(*this, "quality"); }},
+             field);
+}
+
+void Knob::set(StyleSettings& s, double v) const {
+  std::visit(Overloaded{[&](double S::* m) { s.*m = v; }, [&](Vec3Component c) { (s.*c.vector)[c.component] = v; },
+                        [&](auto) { wrongGroup(*this, "style"); }},
+             field);
+}
+
+double Knob::defaultValue() const {
+  return group() == KnobGroup::Quality ? preset[std::size_t(Preset::Broadcast)] : get(StyleSettings{});
+}
+
+std::span<const Knob> knobs() { return kKnobs; }
+
+const Knob* findKnob(std::string_view name) {
+  for (const Knob& k : kKnobs) {
+    if (k.name == name) return &k;
+  }
+  return nullptr;
+}
+
+std::string sceneFileQualityMarkdown() {
+  std::string md = "| field | type | unit | draft | broadcast | reference | meaning |\n|---|---|---|---|---|---|---|\n";
+  for (const Knob& k : kKnobs) {
+    if (k.group() != KnobGroup::Quality) continue;
+    const std::string type = k.type() == KnobType::Boolean
+                                 ? "boolean"
+                                 : fmt::format("{} in [{}, {}]", k.type() == KnobType::Integer ? "integer" : "number",
+                                               number(k.min), number(k.max));
+    md += fmt::format("| `{}` | {} | {} | {} | {} | {} | {} |\n", k.name, type, k.unit.empty() ? "—" : k.unit,
+                      valueText(k, k.preset[0], true), valueText(k, k.preset[1], true), valueText(k, k.preset[2], true),
+                      k.doc);
+  }
+  return md;
+}
+
+std::string apiParametersMarkdown() {
+  std::string md = "| name | range | default | unit | what |\n| --- | --- | --- | --- | --- |\n";
+  for (const Knob& k : kKnobs) {
+    std::string range = k.type() == KnobType::Boolean ? "0/1" : fmt::format("{}–{}", number(k.min), number(k.max));
+    if (k.type() == KnobType::Integer) range += ", integer";
+    const std::string def = valueText(k, k.defaultValue(), false);
+    md += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, range,
+                      k.group() == KnobGroup::Quality ? "preset (" + def + ")" : def, k.unit.empty() ? "—" : k.unit,
+                      k.doc);
+  }
+  return md;
+}
+
+}  // namespace nph::lighting

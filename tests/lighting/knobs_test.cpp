@@ -1,0 +1,187 @@
+// The knob table (lighting/knobs.h) is the one definition of the renderer's knobs: the presets give
+// the values they gave before the table existed, scene files accept exactly its quality rows with
+// its ranges, and the docs tables are generated from it. (The C API side: tests/api/api_knobs_test.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "lighting/knobs.h"
+#include "scene/scene_file.h"
+
+namespace nph::lighting {
+namespace {
+
+// The presets as they were written out by hand before issue 17 (scene/scene_file.cpp at 4cc50f4):
+// the table must reproduce them exactly, or renders change.
+TEST(Knobs, PresetsGiveTheValuesTheyGaveBefore) {
+  struct Expected {
+    std::string_view name;
+    double step, dlm_step, texel, epsilon, early_termination;
+    int resolution, nodes;
+  };
+  const Expected expected[] = {{"draft", 1.0, 1.0, 1.0, 0.04, 0.02, 512, 16},
+                               {"broadcast", 0.5, 0.5, 1.0, 0.01, 0.01, 512, 16},
+                               {"reference", 0.25, 0.25, 1.0, 0.0025, 0.001, 1024, 32}};
+  for (const Expected& e : expected) {
+    SCOPED_TRACE(e.name);
+    const QualitySettings q = qualityPreset(e.name);
+    EXPECT_EQ(q.preset, e.name);
+    EXPECT_EQ(q.step_voxels, e.step);
+    EXPECT_EQ(q.dlm_step_voxels, e.dlm_step);
+    EXPECT_EQ(q.dlm_texel_voxels, e.texel);
+    EXPECT_EQ(q.dlm_epsilon, e.epsilon);
+    EXPECT_EQ(q.early_termination_transmittance, e.early_termination);
+    EXPECT_EQ(q.dlm_resolution, e.resolution);
+    EXPECT_EQ(q.dlm_max_nodes, e.nodes);
+    EXPECT_TRUE(q.empty_space_skipping);
+    EXPECT_TRUE(q.jitter);
+    EXPECT_TRUE(q.shadows);
+    EXPECT_EQ(q.samples_per_pixel, 1);
+  }
+  EXPECT_EQ(QualitySettings{}, qualityPreset("broadcast"));
+  try {
+    (void)qualityPreset("ultra");
+    FAIL() << "no error for an unknown preset";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "quality preset 'ultra': expected \"draft\", \"broadcast\" or \"reference\"");
+  }
+}
+
+// The settings structs' own defaults (RenderSettings is also built field by field in tests and
+// references) agree with the table's broadcast column and the default style.
+TEST(Knobs, RenderSettingsDefaultsAreTheBroadcastPresetAndDefaultStyle) {
+  const RenderSettings d;
+  const RenderSettings r = renderSettingsFor(QualitySettings{}, StyleSettings{});
+  EXPECT_EQ(r.step_voxels, d.step_voxels);
+  EXPECT_EQ(r.min_transmittance, d.min_transmittance);
+  EXPECT_EQ(r.jitter, d.jitter);
+  EXPECT_EQ(r.empty_space_skipping, d.empty_space_skipping);
+  EXPECT_EQ(r.shadows, d.shadows);
+  EXPECT_EQ(r.g_ice, d.g_ice);
+  EXPECT_EQ(r.g_water, d.g_water);
+  EXPECT_EQ(r.ambient, d.ambient);
+  EXPECT_EQ(r.ocean_albedo, d.ocean_albedo);
+  EXPECT_EQ(r.limb_radiance, d.limb_radiance);
+  const scene::DlmSettings dlm = dlmSettingsFor(qualityPreset("reference"));
+  EXPECT_EQ(dlm.epsilon, 0.0025);
+  EXPECT_EQ(dlm.step_voxels, 0.25);
+  EXPECT_EQ(dlm.max_texels, 1024);
+  EXPECT_EQ(dlm.max_nodes, 32);
+  EXPECT_EQ(dlm.forward_angle_deg, scene::DlmSettings{}.forward_angle_deg);  // the model is no knob
+}
+
+// Quality and style are separate: a preset never changes the style, a style knob never the quality.
+TEST(Knobs, QualityAndStyleAreSeparate) {
+  std::set<std::string_view> names;
+  for (const Knob& k : knobs()) {
+    SCOPED_TRACE(k.name);
+    EXPECT_TRUE(names.insert(k.name).second) << "duplicate knob name";
+    EXPECT_FALSE(k.doc.empty());
+    EXPECT_LT(k.min, k.max);
+    EXPECT_TRUE(k.accepts(k.defaultValue()));
+    EXPECT_FALSE(k.accepts(k.max + 1.0));
+    EXPECT_FALSE(k.accepts(k.min - 1.0));
+    EXPECT_FALSE(k.accepts(std::nan("")));
+    if (k.type() != KnobType::Number) {
+      EXPECT_FALSE(k.accepts(k.min + 0.5));
+    }
+    if (k.group() == KnobGroup::Quality) {
+      for (double v : k.preset) EXPECT_TRUE(k.accepts(v));
+      QualitySettings q;
+      const double other = k.type() == KnobType::Boolean ? 1.0 - k.get(q) : k.max;
+      k.set(q, other);
+      EXPECT_EQ(k.get(q), other);
+      EXPECT_THROW((void)k.get(StyleSettings{}), UsageError);
+    } else {
+      for (double v : k.preset) EXPECT_EQ(v, 0.0) << "presets do not set style knobs";
+      StyleSettings s;
+      k.set(s, k.max);
+      EXPECT_EQ(k.get(s), k.max);
+      EXPECT_THROW((void)k.get(QualitySettings{}), UsageError);
+    }
+  }
+  EXPECT_EQ(findKnob("ambient_g")->get(StyleSettings{}), 0.24);
+  EXPECT_EQ(findKnob("no_such_knob"), nullptr);
+}
+
+// Scene files: quality.overrides takes every quality row of the table under its name, with the
+// table's range and type, and nothing else.
+TEST(Knobs, SceneFileOverridesAreTheQualityRows) {
+  std::string overrides;
+  QualitySettings expected = qualityPreset("draft");
+  for (const Knob& k : knobs()) {
+    if (k.group() != KnobGroup::Quality) continue;
+    const double v = k.type() == KnobType::Boolean ? 0.0 : k.max;  // differs from every preset
+    ASSERT_NE(v, k.preset[0]) << k.name;
+    k.set(expected, v);
+    overrides += fmt::format("{}\"{}\": {}", overrides.empty() ? "" : ", ", k.name,
+                             k.type() == KnobType::Boolean ? "false" : fmt::format("{}", v));
+    // out of range, named with the table's range
+    const std::string bad = fmt::format(R"({{"quality": {{"overrides": {{"{}": {}}}}}}})", k.name,
+                                        k.type() == KnobType::Boolean ? "2" : fmt::format("{}", k.max * 2 + 1));
+    try {
+      (void)scene::parseSceneText(bad, "q.json");
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const InputError& e) {
+      const std::string want = k.type() == KnobType::Boolean
+                                   ? fmt::format("q.json: quality.overrides.{}: expected true or false", k.name)
+                                   : fmt::format("q.json: quality.overrides.{}: expected {} in [{}, {}]", k.name,
+                                                 k.type() == KnobType::Integer ? "an integer" : "a number", k.min, k.max);
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what() << "\nexpected: " << want;
+    }
+  }
+  const scene::SceneDescription s =
+      scene::parseSceneText(fmt::format(R"({{"quality": {{"preset": "draft", "overrides": {{{}}}}}}})", overrides), "q.json");
+  EXPECT_EQ(s.quality, expected);
+  // style knobs are no scene-file keys (yet): the API sets them
+  EXPECT_THROW((void)scene::parseSceneText(R"({"quality": {"overrides": {"g_ice": 0.5}}})", "q.json"), InputError);
+}
+
+// The docs tables are generated from the table; NEPHELE_UPDATE_DOCS=1 rewrites them in place.
+void checkGeneratedSection(const std::string& relativePath, const std::string& generated) {
+  const std::string path = std::string(NEPHELE_SOURCE_DIR) + "/" + relativePath;
+  std::ifstream in(path, std::ios::binary);
+  ASSERT_TRUE(in) << "cannot read " << path;
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string doc = text.str();
+  const std::string begin = "<!-- generated from src/lighting/knobs.cpp: do not edit -->\n";
+  const std::string end = "<!-- end of generated table -->";
+  const std::size_t a = doc.find(begin);
+  const std::size_t b = doc.find(end, a == std::string::npos ? 0 : a);
+  ASSERT_NE(a, std::string::npos) << path << ": no line \"" << begin << "\"";
+  ASSERT_NE(b, std::string::npos) << path << ": no line \"" << end << "\" after the begin marker";
+  const std::string committed = doc.substr(a + begin.size(), b - a - begin.size());
+  if (committed != generated && std::getenv("NEPHELE_UPDATE_DOCS") != nullptr) {
+    doc.replace(a + begin.size(), b - a - begin.size(), generated);
+    std::ofstream(path, std::ios::binary) << doc;
+    std::cout << "NEPHELE_UPDATE_DOCS: rewrote " << path << "\n";
+    return;
+  }
+  EXPECT_EQ(committed, generated) << path << " differs from the knob table; run the test with NEPHELE_UPDATE_DOCS=1 "
+                                  << "to regenerate it";
+}
+
+TEST(Knobs, DocsTablesAreGeneratedFromTheTable) {
+  checkGeneratedSection("docs/scene-file.md", sceneFileQualityMarkdown());
+  checkGeneratedSection("docs/plugin-api.md", apiParametersMarkdown());
+  for (const Knob& k : knobs()) {
+    const std::string row = fmt::format("| `{}` |", k.name);
+    if (k.group() == KnobGroup::Quality) {
+      EXPECT_NE(sceneFileQualityMarkdown().find(row), std::string::npos) << k.name;
+    }
+    EXPECT_NE(apiParametersMarkdown().find(row), std::string::npos) << k.name;
+  }
+}
+
+}  // namespace
+}  // namespace nph::lighting
