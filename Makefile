@@ -15,7 +15,6 @@ ifeq ($(CI),true)
   CMAKE_ARGS += -DNEPHELE_WERROR=ON
 endif
 
-
 .PHONY: all deps build test test-blender demo bench bench-accuracy clean install
 all: build
 
