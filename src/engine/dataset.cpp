@@ -9,6 +9,7 @@
 
 #include "cache/nph_cache.h"
 #include "core/input_file.h"
+#include "core/limits.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "io/model_file.h"
@@ -95,18 +96,26 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
   w = std::clamp(w, 0.0, 1.0);
   if (w == 0.0) return a;
   if (w == 1.0) return b;
-  if (a.nx != b.nx || a.ny != b.ny || a.dz_m != b.dz_m || a.z_bottom_m != b.z_bottom_m) {
+  // Each timestep converted on the fly is cropped to its own column (bottom from its lowest
+  // surface, top above its highest condensate), so two timesteps may start and end at different
+  // layers of the same dz lattice: blend on the union of both (issue #18: a real 4-timestep
+  // wrfout failed at frame 1), as the .nph route pads every timestep to one grid.
+  const double shift_layers = (b.z_bottom_m - a.z_bottom_m) / a.dz_m;
+  if (a.nx != b.nx || a.ny != b.ny || a.dz_m != b.dz_m || !(std::abs(shift_layers - std::round(shift_layers)) < 1e-6) ||
+      !(std::abs(shift_layers) < double(limits::kMaxDerivedLevels))) {
     throw UsageError(fmt::format("cannot blend timesteps on different grids: {}x{}x{} (dz {} m from {} m) at {} and "
                                  "{}x{}x{} (dz {} m from {} m) at {}",
                                  a.nx, a.ny, a.nz, a.dz_m, a.z_bottom_m, a.time_utc, b.nx, b.ny, b.nz, b.dz_m,
                                  b.z_bottom_m, b.time_utc));
   }
+  const int shift = static_cast<int>(std::round(shift_layers));  // b's layer 0 is out's layer ob
+  const int oa = std::max(-shift, 0), ob = std::max(shift, 0);
   ExtinctionVolumes out;
   out.nx = a.nx;
   out.ny = a.ny;
-  out.nz = std::max(a.nz, b.nz);
+  out.nz = std::max(oa + a.nz, ob + b.nz);
   out.dz_m = a.dz_m;
-  out.z_bottom_m = a.z_bottom_m;
+  out.z_bottom_m = std::min(a.z_bottom_m, b.z_bottom_m);
   out.georef = a.georef;
   out.time_utc = w < 0.5 ? a.time_utc : b.time_utc;
   out.source_file = a.source_file;
@@ -117,8 +126,9 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
     dst.assign(layer * std::size_t(out.nz), 0.0f);
     const float wa = float(1.0 - w), wb = float(w);
     const std::size_t na = va.empty() ? 0 : layer * std::size_t(nza), nb = vb.empty() ? 0 : layer * std::size_t(nzb);
-    for (std::size_t i = 0; i < na; ++i) dst[i] = wa * va[i];
-    for (std::size_t i = 0; i < nb; ++i) dst[i] += wb * vb[i];
+    const std::size_t da = layer * std::size_t(oa), db = layer * std::size_t(ob);
+    for (std::size_t i = 0; i < na; ++i) dst[da + i] = wa * va[i];
+    for (std::size_t i = 0; i < nb; ++i) dst[db + i] += wb * vb[i];
   };
   mix(a.ice_per_m, a.nz, b.ice_per_m, b.nz, out.ice_per_m);
   mix(a.water_per_m, a.nz, b.water_per_m, b.nz, out.water_per_m);

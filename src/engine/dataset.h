@@ -51,8 +51,9 @@ class Dataset {
   std::vector<std::string> sources_;  ///< per timestep, for series; empty otherwise
 };
 
-/// β = (1−w)·a + w·b on a's grid. The grids must agree horizontally and in dz / z_bottom (the
-/// layer counts may differ: the shorter column is padded with zeros). UsageError otherwise.
+/// β = (1−w)·a + w·b on the union of both columns: the grids must agree horizontally and in dz,
+/// and their bottoms must lie on one dz lattice (layer counts and bottoms may differ: missing
+/// layers count as zeros). UsageError otherwise.
 /// w is clamped to [0, 1]; w = 0 and w = 1 return a and b exactly.
 ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w);
 

@@ -143,5 +143,33 @@ TEST(HostileScene, AnimationPlanningMoreFramesThanTheLimitIsRefused) {
   }
 }
 
+TEST(SeriesBlend, TimestepsCroppedDifferentlyBlendOnTheUnionOfTheirColumns) {
+  // Converted on the fly, each timestep gets its own bottom (lowest surface) and top (highest
+  // condensate): "cannot blend timesteps on different grids" stopped animate at frame 1.
+  // a: layers 0..3 from 0 m; b: a cloud risen higher, layers 0..3 from 500 m (= out layers 2..5).
+  ExtinctionVolumes a = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 250.0, 0.0);
+  ExtinctionVolumes b = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 250.0, 500.0);
+  for (std::size_t i = 0; i < a.ice_per_m.size(); ++i) {
+    a.ice_per_m[i] = float(i + 1);     // 1..8
+    b.ice_per_m[i] = float(10 * (i + 1));  // 10..80
+  }
+  for (const bool swapped : {false, true}) {
+    const ExtinctionVolumes m = swapped ? engine::blendVolumes(b, a, 0.5) : engine::blendVolumes(a, b, 0.5);
+    ASSERT_EQ(m.nz, 6);
+    EXPECT_EQ(m.z_bottom_m, 0.0);
+    // out layer k, column c: 0.5 a[k] (k < 4) + 0.5 b[k - 2] (k >= 2)
+    for (int k = 0; k < 6; ++k) {
+      for (int c = 0; c < 2; ++c) {
+        const float av = k < 4 ? float(2 * k + c + 1) : 0.0f;
+        const float bv = k >= 2 ? float(10 * (2 * (k - 2) + c + 1)) : 0.0f;
+        EXPECT_EQ(m.ice_per_m[std::size_t(2 * k + c)], 0.5f * av + 0.5f * bv) << "layer " << k << " column " << c;
+      }
+    }
+  }
+  // Bottoms off the dz lattice are still refused, naming both grids.
+  ExtinctionVolumes off = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 250.0, 100.0);
+  expectError<UsageError>([&] { (void)engine::blendVolumes(a, off, 0.5); }, {"different grids", "from 100 m"});
+}
+
 }  // namespace
 }  // namespace nph::reliability
