@@ -4,7 +4,7 @@
 // the shadow falls beside the storm — flat and globe, cloud shadows on and off, compared with the
 // checked-in frames in tests/golden/*.exr (linear RGB, half).
 //
-// Regenerate: NEPHELE_UPDATE_GOLDEN=1 build/tests/dlm/nephele_dlm_tests --gtest_filter='Golden*'
+// Regenerate: NEPHELE_UPDATE_GOLDEN=1 build/tests/render/nephele_render_tests --gtest_filter='Golden*'
 // (writes tests/golden/ in the source tree; review the pictures before committing them).
 //
 // Tolerances. The render is deterministic: the jitter is a hash of the pixel (no random state), and
