@@ -4,27 +4,26 @@
 
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <random>
 
 #include "cache/quantize.h"
 #include "core/error.h"
+#include "support/scratch_dir.h"
 
 namespace nph::cache {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh directory per test under the build tree's temp dir.
+/// A fresh scratch directory per test.
 class NphCacheTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / (std::string("nph_cache_test_") + info->name() + "_" +
-                                        std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    scratch_ = std::make_unique<test::ScratchDir>("cache");
+    dir_ = scratch_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { scratch_.reset(); }
 
   std::vector<fs::path> filesInDir() const {
     std::vector<fs::path> out;
@@ -32,6 +31,7 @@ class NphCacheTest : public ::testing::Test {
     return out;
   }
 
+  std::unique_ptr<test::ScratchDir> scratch_;
   fs::path dir_;
 };
 

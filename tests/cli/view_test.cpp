@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "support/image_compare.h"
+#include "support/scratch_dir.h"
 #include "wrf_hurricane.h"
 
 namespace nph::test {
@@ -26,16 +27,8 @@ constexpr Tolerance kViewVsRender{2.0 / 255.0 + 1e-6, 1e-3};
 
 class ViewTest : public ::testing::TestWithParam<std::string> {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / fmt::format("nephele-view-{}", std::random_device{}());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    std::filesystem::remove_all(dir_, ec);
-  }
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
-  std::filesystem::path dir_;
+  std::string file(const std::string& name) const { return dir_.file(name); }
+  ScratchDir dir_{"view"};
 };
 
 double luminanceSpread(const Image& img, double& mean) {

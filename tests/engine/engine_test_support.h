@@ -15,27 +15,15 @@
 
 #include "core/error.h"
 #include "engine/dataset.h"
+#include "support/scratch_dir.h"
 #include "wrf_hurricane.h"
 
 namespace nph::test {
 
-inline std::filesystem::path engineTestPath() {
-  return std::filesystem::temp_directory_path() / ("nephele-engine-test-" + std::to_string(::getpid()));
-}
-
-/// Removes engineTestPath() when the process ends.
-struct EngineTestDirCleanup {
-  ~EngineTestDirCleanup() {
-    std::error_code ec;
-    std::filesystem::remove_all(engineTestPath(), ec);
-  }
-};
-
 /// A folder for this test process's files, removed at exit.
 inline std::filesystem::path engineTestDir() {
-  static EngineTestDirCleanup cleanup;
-  std::filesystem::create_directories(engineTestPath());
-  return engineTestPath();
+  static const ScratchDir dir = ScratchDir::forProcess("engine");
+  return dir.path();
 }
 
 /// A tiny 3-timestep hurricane (hourly, drifting and intensifying), written once per process.

@@ -18,7 +18,7 @@ std::string slurp(const std::string& path) {
 }
 
 TEST(Datagen, SameSeedSameBytesOtherSeedOtherBytes) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("io");
   datagen::WrfHurricaneSpec s;
   s.nx = 20;
   s.ny = 16;
@@ -38,7 +38,7 @@ TEST(Datagen, SameSeedSameBytesOtherSeedOtherBytes) {
 }
 
 TEST(Datagen, WrfoutCarriesWrfConventions) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("io");
   datagen::WrfHurricaneSpec s;
   s.ntimes = 6;
   s.nz = 6;

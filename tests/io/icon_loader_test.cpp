@@ -16,10 +16,10 @@
 namespace nph::io {
 namespace {
 
-using test::TempDir;
+using nph::test::ScratchDir;
 
 TEST(IconLoader, RegularGridLoadsBottomToTop) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("icon.nc");
   datagen::IconSceneSpec spec;
   datagen::writeIconScene(spec, path);
@@ -56,7 +56,7 @@ TEST(IconLoader, RegularGridLoadsBottomToTop) {
 }
 
 TEST(IconLoader, DescendingLatitudesGiveTheSameGrid) {
-  TempDir dir;
+  ScratchDir dir("io");
   datagen::IconSceneSpec spec;
   spec.ntimes = 1;
   datagen::writeIconScene(spec, dir.file("north_up.nc"));
@@ -71,7 +71,7 @@ TEST(IconLoader, DescendingLatitudesGiveTheSameGrid) {
 }
 
 TEST(IconCorrections, LoaderKeepsBothInconsistenciesAndPhysicsRemovesThemCellByCell) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("icon.nc");
   datagen::IconSceneSpec spec;
   spec.ntimes = 1;
@@ -107,7 +107,7 @@ TEST(IconCorrections, LoaderKeepsBothInconsistenciesAndPhysicsRemovesThemCellByC
 }
 
 TEST(IconLoader, NativeGridResamplesToNearestCell) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("icon_native.nc");
   datagen::IconSceneSpec spec;
   spec.ntimes = 1;

@@ -22,7 +22,7 @@ namespace nph::io {
 namespace {
 
 using test::ncCheck;
-using test::TempDir;
+using nph::test::ScratchDir;
 
 /// A small valid wrfout to start from.
 void writeSmallWrf(const std::string& path) {
@@ -253,7 +253,7 @@ class BadFile : public ::testing::TestWithParam<BadFileCase> {};
 
 TEST_P(BadFile, IsAnInputErrorNamingFileAndVariable) {
   const BadFileCase& c = GetParam();
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file(std::string("bad_") + c.name + ".nc");
   c.make(path);
   try {
@@ -278,7 +278,7 @@ TEST(Robustness, MissingFileIsAnInputError) {
 }
 
 TEST(Robustness, NegativeMixingRatiosAreClampedAndCounted) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_negative.nc");
   writeSmallWrf(path);
   edit(path, [](int nc) {
@@ -293,7 +293,7 @@ TEST(Robustness, NegativeMixingRatiosAreClampedAndCounted) {
 }
 
 TEST(Robustness, FillValuesInCondensateReadAsZeroAndCounted) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_fill.nc");
   writeSmallWrf(path);
   constexpr float kFill = 9.96921e36f;  // NetCDF's default float fill (NC_FILL_FLOAT)
@@ -313,7 +313,7 @@ TEST(Robustness, FillValuesInCondensateReadAsZeroAndCounted) {
 }
 
 TEST(Robustness, LengthOneDimensionsLoad) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_1x1x1.nc");
   writeSkeletonWrf(path, 1, 1, 1, 1, true);
   const ModelTimestep ts = openModelFile(path).load(0);
@@ -324,7 +324,7 @@ TEST(Robustness, LengthOneDimensionsLoad) {
 }
 
 TEST(Robustness, SmallMemoryBudgetRejectsBeforeAllocating) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout.nc");
   writeSmallWrf(path);
   LoadOptions options;
@@ -345,7 +345,7 @@ namespace {
 
 TEST(Robustness, PackedShortFieldsWithFillValueAreUnpacked) {
   // cdo and DWD tools may write packed data: short with scale_factor/add_offset and _FillValue.
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("icon_packed.nc");
   writeSmallIcon(path);
   const ModelTimestep original = loadIconTimestep(path, 0);
@@ -385,7 +385,7 @@ TEST(Robustness, PackedShortFieldsWithFillValueAreUnpacked) {
 }
 
 TEST(Robustness, IconSeriesAcrossFilesIsTimeOrdered) {
-  TempDir dir;
+  ScratchDir dir("io");
   datagen::IconSceneSpec s;
   s.nlon = 8;
   s.nlat = 6;

@@ -16,7 +16,7 @@ namespace nph::io {
 namespace {
 
 using datagen::WrfHurricaneSpec;
-using test::TempDir;
+using nph::test::ScratchDir;
 
 WrfHurricaneSpec smallSpec() {
   WrfHurricaneSpec s;  // tiny preset: 40 x 36 x 20
@@ -32,7 +32,7 @@ double maxAbsDiff(const std::vector<float>& a, const std::vector<double>& b) {
 }
 
 TEST(WrfLoader, StateMatchesGeneratorTruth) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_d01.nc");
   const auto truth = datagen::writeWrfHurricane(smallSpec(), path);
   for (std::int64_t t = 0; t < 2; ++t) {
@@ -52,7 +52,7 @@ TEST(WrfLoader, StateMatchesGeneratorTruth) {
 }
 
 TEST(WrfLoader, AtmosphereIsPhysicallyPlausible) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_d01.nc");
   datagen::writeWrfHurricane(smallSpec(), path);
   const ModelTimestep ts = loadWrfTimestep(path, 0);
@@ -79,7 +79,7 @@ TEST(WrfLoader, AtmosphereIsPhysicallyPlausible) {
 }
 
 TEST(WrfLoader, ThompsonLikeHasSeparateIceAndNumberConcentrations) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_d01.nc");
   auto spec = smallSpec();
   spec.include_hail = true;
@@ -111,7 +111,7 @@ TEST(WrfLoader, ThompsonLikeHasSeparateIceAndNumberConcentrations) {
 }
 
 TEST(WrfLoader, Wsm3LikeHasOnlyCloudAndRainWithFrozenCondensate) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_wsm3.nc");
   auto spec = smallSpec();
   spec.scheme = datagen::WrfScheme::Wsm3Like;
@@ -137,7 +137,7 @@ TEST(WrfLoader, Wsm3LikeHasOnlyCloudAndRainWithFrozenCondensate) {
 }
 
 TEST(WrfLoader, HurricaneHasClearEyeInsideEyewall) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout.nc");
   auto spec = smallSpec();
   spec.ntimes = 1;
@@ -166,7 +166,7 @@ TEST(WrfLoader, HurricaneHasClearEyeInsideEyewall) {
 }
 
 TEST(WrfLoader, TimesAndSeriesOfFiles) {
-  TempDir dir;
+  ScratchDir dir("io");
   auto spec = smallSpec();
   spec.keep_truth = false;
   spec.nx = 16;
@@ -200,7 +200,7 @@ TEST(WrfLoader, TimesAndSeriesOfFiles) {
 }
 
 TEST(WrfLoader, IdealizedRunWithoutGeolocationLoadsAsCartesian) {
-  TempDir dir;
+  ScratchDir dir("io");
   const std::string path = dir.file("wrfout_ideal.nc");
   auto spec = smallSpec();
   spec.projection = datagen::WrfProjection::Cartesian;

@@ -28,7 +28,7 @@ class WrfProjectionTest : public ::testing::TestWithParam<ProjectionCase> {};
 
 TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
   const ProjectionCase& c = GetParam();
-  test::TempDir dir;
+  nph::test::ScratchDir dir("io");
   const std::string path = dir.file(std::string("wrfout_") + c.name + ".nc");
   datagen::WrfHurricaneSpec spec;
   spec.ntimes = 1;

@@ -15,30 +15,13 @@
 #include "io/model_file.h"
 #include "physics/extinction.h"
 #include "physics/volume_builder.h"
+#include "support/scratch_dir.h"
 #include "wrf_hurricane.h"
 
 namespace nph::physics {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("nephele-physics-" + std::string(info->name()) + "-" + std::to_string(std::random_device{}()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
 
 /// One timestep of a 4-D WRF variable (Time, bottom_top, south_north, west_east), raw.
 std::vector<float> readWrf(const std::string& path, const char* var, std::size_t t,
@@ -96,7 +79,7 @@ std::pair<double, double> expectedBeta(double p, double t, double qv,
 }
 
 TEST(RoundTrip, ThompsonWrfChosenVoxels) {
-  TempDir dir;
+  test::ScratchDir dir("physics");
   datagen::WrfHurricaneSpec spec;
   spec.keep_truth = true;
   const std::string path = dir.file("wrfout_thompson.nc");
@@ -138,7 +121,7 @@ TEST(RoundTrip, ThompsonWrfChosenVoxels) {
 }
 
 TEST(RoundTrip, Wsm3FrozenCondensateIsIce) {
-  TempDir dir;
+  test::ScratchDir dir("physics");
   datagen::WrfHurricaneSpec spec;
   spec.scheme = datagen::WrfScheme::Wsm3Like;
   spec.keep_truth = true;
@@ -174,7 +157,7 @@ TEST(RoundTrip, Wsm3FrozenCondensateIsIce) {
 }
 
 TEST(RoundTrip, ResampledColumnKeepsOpticalDepthAndNoOvershoot) {
-  TempDir dir;
+  test::ScratchDir dir("physics");
   const std::string path = dir.file("wrfout.nc");
   datagen::writeWrfHurricane(datagen::WrfHurricaneSpec{}, path);
   const io::ModelTimestep ts = io::openModelFile(path).load(3);

@@ -8,6 +8,7 @@
 #include "io/model_file.h"
 #include "physics/volume_builder.h"
 #include "presets.h"
+#include "support/scratch_dir.h"
 
 namespace nph::test {
 namespace {
@@ -20,10 +21,10 @@ ExtinctionVolumes convert(const std::string& path) {
                                          physics::VerticalGridOptions{});
 }
 
+/// `name` in this process's scratch folder (removed at exit).
 std::string tempPath(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("nephele-dlm-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  static const test::ScratchDir dir = test::ScratchDir::forProcess("dlm");
+  return dir.file(name);
 }
 
 }  // namespace

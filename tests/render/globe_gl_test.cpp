@@ -14,7 +14,7 @@ namespace nph::test {
 namespace {
 
 struct GlobeScene {
-  ScratchDir dir{"nephele-globe"};
+  ScratchDir dir{"globe"};
   std::string data = dir.file("wrfout.nc"), basemap = dir.file("coded.exr");
   GlobeScene() {
     datagen::writeWrfHurricane(smallStormSpec(), data);

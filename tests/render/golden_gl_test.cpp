@@ -57,7 +57,7 @@ Image frameRgb(const scene::RgbaImage& frame) {
 }
 
 struct GoldenScenes {
-  ScratchDir dir{"nephele-golden"};
+  ScratchDir dir{"golden"};
   std::string data = dir.file("wrfout_tiny.nc");
   std::string basemap = dir.file("coded.exr");
   GoldenScenes() {

@@ -37,7 +37,7 @@ double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
 class RenderedPlacement : public GlTest, public ::testing::WithParamInterface<datagen::WrfProjection> {};
 
 TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
-  ScratchDir dir("nephele-placement");
+  ScratchDir dir("placement");
   const datagen::WrfHurricaneSpec spec = smallStormSpec(GetParam());
   const std::string data = dir.file("wrfout.nc"), basemap = dir.file("coded.exr");
   const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, data);

@@ -12,17 +12,6 @@
 
 namespace nph::test {
 
-ScratchDir::ScratchDir(const std::string& name) {
-  std::random_device rd;
-  path_ = (std::filesystem::temp_directory_path() / (name + "-" + std::to_string(rd()))).string();
-  std::filesystem::create_directories(path_);
-}
-
-ScratchDir::~ScratchDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
-}
-
 void writeCodedBasemap(const std::string& path) {
   constexpr int kW = 720, kH = 360;
   std::vector<float> rgb(std::size_t(kW) * kH * 3);

@@ -6,22 +6,10 @@
 
 #include "engine/session.h"
 #include "scene/output_image.h"
+#include "support/scratch_dir.h"
 #include "wrf_hurricane.h"
 
 namespace nph::test {
-
-/// A fresh folder under the temp directory, removed with the object.
-class ScratchDir {
- public:
-  explicit ScratchDir(const std::string& name);
-  ~ScratchDir();
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  std::string file(const std::string& name) const { return path_ + "/" + name; }
-
- private:
-  std::string path_;
-};
 
 /// Writes a 720 × 360 equirectangular linear EXR whose colour encodes lon/lat (R = (lon+180)/360,
 /// G = (90−lat)/180) with a 10° checkerboard in B (0.2 / 0.6), so images show where the map is.

@@ -51,7 +51,7 @@ LonLat snyderLccInverse(double x, double y) {
 }
 
 TEST(Basemap, LonLatImageReprojectedIntoLambertDecodesBack) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("lonlat.exr");
   writeLonLatImage(path, 1440);
   const EquirectangularImage src = EquirectangularImage::load(path);
@@ -126,7 +126,7 @@ TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) 
 }
 
 TEST(Basemap, OffsetMovesTheMapUnderTheVolume) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("lonlat.exr");
   writeLonLatImage(path, 720);
   const EquirectangularImage src = EquirectangularImage::load(path);
@@ -160,7 +160,7 @@ TEST(Basemap, SamplingWrapsAtTheAntimeridianAndClampsAtThePoles) {
 }
 
 TEST(Basemap, EightBitImagesAreSrgbDecoded) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("codes.png");
   const unsigned char codes[4 * 2 * 3] = {0, 128, 255, 10, 20, 30, 200, 100, 50, 255, 255, 255,
                                           1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13};
@@ -182,7 +182,7 @@ TEST(Basemap, EightBitImagesAreSrgbDecoded) {
 }
 
 TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   auto expectInputError = [](const std::string& path, const char* what) {
     try {
       (void)EquirectangularImage::load(path);

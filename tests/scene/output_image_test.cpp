@@ -34,7 +34,7 @@ std::vector<float> readFloat(const std::string& path, OIIO::ImageSpec& spec) {
 }
 
 TEST(OutputImage, ExrIsHalfPremultipliedLinearWithDepth) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("clouds.exr");
   const RgbaImage img = image(2, 1, {0.25f, 0.5f, 0.125f, 0.5f, 3.0f, 2.0f, 1.0f, 1.0f}, {1234.5f, 98765.25f});
   ImageOutputOptions o;
@@ -116,7 +116,7 @@ TEST(OutputImage, KnownValuesGiveKnownSrgbCodes) {
 }
 
 TEST(OutputImage, PngRoundTripKeepsStraightAlphaCodes) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("clouds.png");
   const auto L = static_cast<float>(srgbDecode(100.0 / 255.0));
   const RgbaImage img = image(2, 2, {0.25f * L, 0.25f * L, 0.25f * L, 0.25f,  //
@@ -145,7 +145,7 @@ TEST(OutputImage, PngRoundTripKeepsStraightAlphaCodes) {
 }
 
 TEST(OutputImage, FailedWritesLeaveNoPartialFile) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   const RgbaImage img = image(1, 1, {0.5f, 0.5f, 0.5f, 1.0f});
   // A folder sits where the file should go: the rename fails, the temporary file is removed.
   fs::create_directories(dir.path() / "taken.png" / "inside");

@@ -30,7 +30,7 @@ const char* nameOf(datagen::WrfProjection p) {
 class Placement : public ::testing::TestWithParam<datagen::WrfProjection> {};
 
 TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   datagen::WrfHurricaneSpec spec;
   spec.nx = 80;
   spec.ny = 72;

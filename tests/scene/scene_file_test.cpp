@@ -142,7 +142,7 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
 }
 
 TEST(SceneFile, MissingFileIsAnInputErrorNamingIt) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   try {
     (void)loadSceneFile(dir.file("nope.json"));
     FAIL();

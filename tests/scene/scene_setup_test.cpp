@@ -13,7 +13,7 @@ namespace nph::scene {
 namespace {
 
 /// 360×180 sRGB PNG: red = column (lon), green = row (lat), blue = 0.
-std::string writeBasemap(const test::TempDir& dir) {
+std::string writeBasemap(const nph::test::ScratchDir& dir) {
   const std::string path = dir.file("map.png");
   std::vector<unsigned char> px(360 * 180 * 3);
   for (int y = 0; y < 180; ++y)
@@ -30,7 +30,7 @@ std::string writeBasemap(const test::TempDir& dir) {
 }
 
 TEST(SceneSetup, FlatSceneWithBasemapAndTimedSun) {
-  test::TempDir dir;
+  nph::test::ScratchDir dir("scene");
   writeBasemap(dir);
   std::ofstream(dir.file("scene.json")) << R"({
     "camera": {"preset": "overview"},

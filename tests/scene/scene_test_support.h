@@ -1,35 +1,11 @@
 #pragma once
-// Helpers shared by the scene tests: temporary directories and small georeferenced volumes.
+// Helpers shared by the scene tests: small georeferenced volumes (scratch folders: support/scratch_dir.h).
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <random>
-#include <string>
-
+#include "support/scratch_dir.h"
 #include "volume/extinction_volumes.h"
 
 namespace nph::scene::test {
-
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("nephele-scene-" + std::string(info->name()) + "-" + std::to_string(std::random_device{}()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 /// Lambert conformal (WRF MAP_PROJ = 1 as the loader writes it): true latitudes 30/60, central
 /// meridian −80, grid centred at (lon −80, lat 25), as WRF places a d01 domain at CEN_LAT/CEN_LON.
