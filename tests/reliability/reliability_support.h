@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cache/nph_cache.h"
+#include "support/scratch_dir.h"
 #include "wrf_hurricane.h"
 
 namespace nph::reliability {
@@ -37,28 +38,8 @@ inline cache::NphMetadata nphMetadataOf(const ExtinctionVolumes& v) {
   return m;
 }
 
-/// A fresh folder under the temp dir, removed at the end of the test.
-class Scratch {
- public:
-  Scratch() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("nephele-rel-" + std::string(info ? info->name() : "x") + "-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  Scratch(const Scratch&) = delete;
-  Scratch& operator=(const Scratch&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+/// A fresh folder for the running test, removed at its end (tests/support/scratch_dir.h).
+using Scratch = nph::test::ScratchDir;
 
 /// Opens a NetCDF file for writing, runs `fn(ncid)` in define mode when `define` is set, closes.
 inline void ncEdit(const std::string& path, bool define, const std::function<void(int)>& fn) {
