@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "atmosphere.h"
-#include "civil_time.h"
 #include "core/error.h"
+#include "geo/utc_time.h"
 
 namespace nph::datagen {
 namespace {
@@ -308,7 +308,7 @@ IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
   truth.nlat = spec.nlat;
   truth.nz = spec.nz;
   truth.ntimes = spec.ntimes;
-  const CivilTime start{2026, 3, 18, 12, 0, 0};
+  const geo::UtcTime start = geo::UtcTime::fromCivil(2026, 3, 18, 12);
   truth.first_time_utc = "2026-03-18T12:00:00Z";
 
   NcWriter nc(path, spec.format);
@@ -467,7 +467,7 @@ IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
         for (std::size_t k = 0; k < values.size(); ++k) dst[k * npts + p] = static_cast<float>(values[k]);
       }
     }
-    const CivilTime now = addHours(start, t);
+    const geo::CivilTime now = start.plusSeconds(3600.0 * double(t)).civil();
     const double time_value = native ? now.year * 10000.0 + now.month * 100.0 + now.day + now.hour / 24.0 : hours;
     nc.putDouble(id_time, {std::size_t(t)}, {1}, &time_value);
     for (const FieldDef& f : kFields) {

@@ -10,9 +10,9 @@
 #include <numbers>
 
 #include "atmosphere.h"
-#include "civil_time.h"
 #include "core/error.h"
-#include "geo_transform.h"
+#include "geo/map_projection.h"
+#include "geo/utc_time.h"
 
 namespace nph::datagen {
 namespace {
@@ -163,7 +163,7 @@ class Writer {
   std::vector<float> lat_, lon_;
   std::map<std::string, int> var_;
   WrfTruth truth_;
-  CivilTime start_{2026, 9, 1, 12, 0, 0};
+  geo::UtcTime start_ = geo::UtcTime::fromCivil(2026, 9, 1, 12);
 };
 
 void Writer::stormCentre(int t, double& x_m, double& y_m) const {
@@ -245,7 +245,7 @@ void Writer::defineFile() {
   nc_.attText(G, "TITLE", " OUTPUT FROM WRF V4.5.2 MODEL");
   nc_.attText(G, "NEPHELE_SYNTHETIC",
               fmt::format("idealized hurricane written by nephele-gen, seed {}", spec_.seed));
-  const std::string start = wrfTimeString(start_);
+  const std::string start = start_.wrfTimeString();
   nc_.attText(G, "START_DATE", start);
   nc_.attText(G, "SIMULATION_START_DATE", start);
   nc_.attInt(G, "WEST-EAST_GRID_DIMENSION", g_.nx + 1);
@@ -295,9 +295,9 @@ void Writer::defineFile() {
   nc_.attFloat(G, "STAND_LON", static_cast<float>(proj_.stand_lon));
   nc_.attFloat(G, "POLE_LAT", static_cast<float>(proj_.pole_lat));
   nc_.attFloat(G, "POLE_LON", static_cast<float>(proj_.pole_lon));
-  nc_.attFloat(G, "GMT", static_cast<float>(start_.hour));
-  nc_.attInt(G, "JULYR", start_.year);
-  nc_.attInt(G, "JULDAY", dayOfYear(start_));
+  nc_.attFloat(G, "GMT", static_cast<float>(start_.civil().hour));
+  nc_.attInt(G, "JULYR", start_.civil().year);
+  nc_.attInt(G, "JULDAY", start_.dayOfYear());
   nc_.attInt(G, "MAP_PROJ", proj_.map_proj);
   nc_.attText(G, "MAP_PROJ_CHAR", proj_.name);
   nc_.attText(G, "MMINLU", "MODIFIED_IGBP_MODIS_NOAH");
@@ -332,8 +332,7 @@ void Writer::writeTimestep(int t) {
   }
   const double intensity = 0.85 + 0.05 * hours;  // intensifying storm
 
-  const CivilTime now = addHours(start_, spec_.first_hour + t);
-  const std::string time_string = wrfTimeString(now);
+  const std::string time_string = start_.plusSeconds(3600.0 * double(spec_.first_hour + t)).wrfTimeString();
   truth_.times.push_back(time_string);
   nc_.putText(var_.at("Times"), {std::size_t(t), 0}, {1, 19}, time_string.c_str());
   const float xtime = static_cast<float>(60.0 * hours);
@@ -608,9 +607,10 @@ WrfTruth Writer::run() {
   // Geolocation of mass points: XLAT/XLONG computed with PROJ from the projection, the domain
   // centre ((nx-1)/2, (ny-1)/2) at (CEN_LAT, CEN_LON) as in WRF d01 domains.
   if (proj_.map_proj != 0) {
-    const GeoTransform geo(proj_.proj_definition, kWrfEarthRadius_m);
-    double xc = 0, yc = 0;
-    geo.forward(kCenLon_deg, kCenLat_deg, xc, yc);
+    // (the definitions of projectionSetup() name WRF's sphere, +R=kWrfEarthRadius_m)
+    const geo::MapProjection projection(proj_.proj_definition);
+    const glm::dvec2 centre = projection.forward({kCenLon_deg, kCenLat_deg});
+    const double xc = centre.x, yc = centre.y;
     const double step = proj_.geographic ? spec_.dx_m / (kWrfEarthRadius_m * kPi / 180.0) : spec_.dx_m;
     lat_.resize(g_.n2());
     lon_.resize(g_.n2());
@@ -619,8 +619,7 @@ WrfTruth Writer::run() {
     for (int j = 0; j < g_.ny; ++j) {
       for (int i = 0; i < g_.nx; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(g_.nx) + std::size_t(i);
-        double lon = 0, lat = 0;
-        geo.inverse(xc + (i - 0.5 * (g_.nx - 1)) * step, yc + (j - 0.5 * (g_.ny - 1)) * step, lon, lat);
+        const auto [lon, lat] = projection.inverse({xc + (i - 0.5 * (g_.nx - 1)) * step, yc + (j - 0.5 * (g_.ny - 1)) * step});
         truth_.lat_deg[c] = lat;
         truth_.lon_deg[c] = lon;
         lat_[c] = static_cast<float>(lat);

@@ -41,7 +41,7 @@ struct NphMetadata {
   int nx = 0, ny = 0;
   double dz_m = 0.0;
   double z_bottom_m = 0.0;
-  GridGeoreference georef;
+  geo::GridGeoreference georef;
   std::string optics_json = "{}";  ///< optics settings used (a JSON object, written by physics/)
   std::vector<std::string> inputs;  ///< input files
   std::string created_by;           ///< e.g. "nephele 0.1.0"

@@ -167,7 +167,7 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
                                    s.index.geolocation.raw_bytes, 2 * columns * sizeof(float)));
     }
     const std::vector<std::byte> latlon = s.readBlock(s.index.geolocation, "geolocation chunk");
-    GridGeoreference& g = s.index.metadata.georef;
+    geo::GridGeoreference& g = s.index.metadata.georef;
     g.lat_deg.resize(columns);
     g.lon_deg.resize(columns);
     std::memcpy(g.lat_deg.data(), latlon.data(), columns * sizeof(float));

@@ -114,7 +114,7 @@ NphWriter::NphWriter(std::filesystem::path path, NphMetadata metadata, WriterOpt
   const std::array<std::byte, kHeaderBytes> placeholder{};
   s.writeAll(placeholder.data(), placeholder.size());
 
-  const GridGeoreference& g = s.metadata.georef;
+  const geo::GridGeoreference& g = s.metadata.georef;
   const std::size_t columns = std::size_t(s.metadata.nx) * std::size_t(s.metadata.ny);
   if (!g.lat_deg.empty() || !g.lon_deg.empty()) {
     if (g.lat_deg.size() != columns || g.lon_deg.size() != columns) {

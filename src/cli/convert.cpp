@@ -69,7 +69,7 @@ double peakResidentMb() {
 }
 
 /// Same projection and grid placement (to 1e-6 of a grid spacing; lat/lon follow from these).
-bool sameGrid(const io::Georeference& a, const io::Georeference& b) {
+bool sameGrid(const geo::GridGeoreference& a, const geo::GridGeoreference& b) {
   auto close = [](double x, double y, double spacing) {
     return std::abs(x - y) <= 1e-6 * std::max(std::abs(spacing), 1e-12);
   };
@@ -130,7 +130,7 @@ int runConvert(const ConvertOptions& o) {
   std::size_t model_bytes = 0;
   std::int64_t negative_clamped = 0, missing_as_zero = 0;
   int nx = 0, ny = 0;
-  io::Georeference first_georef;
+  geo::GridGeoreference first_georef;
   for (std::size_t t = 0; t < series.size(); ++t) {
     const io::TimestepRef& ref = series.at(t);
     bar.update(t, fmt::format("{} {}", std::filesystem::path(ref.file).filename().string(), ref.time_utc));
@@ -154,7 +154,7 @@ int runConvert(const ConvertOptions& o) {
       meta.ny = ts.ny;
       meta.dz_m = o.dz_m;
       meta.z_bottom_m = *vertical.z_bottom_m;
-      meta.georef = physics::toGridGeoreference(ts.georef);
+      meta.georef = ts.georef;
       meta.optics_json = optics.toJson();
       meta.inputs = o.inputs;
       meta.created_by = "nephele " NEPHELE_VERSION;

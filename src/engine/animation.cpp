@@ -12,7 +12,6 @@
 namespace nph::engine {
 namespace {
 
-constexpr double kSecondsPerDay = 86400.0;
 /// Slack for "is frame k's video time past the end": a frame exactly at the end is included even
 /// when k·den/num rounds a few ulps above it.
 constexpr double kFrameSlack_s = 1e-9;
@@ -48,8 +47,8 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
   bool timed = true;
   for (const auto& t : dataset.times()) timed = timed && !t.empty();
   if (timed) {
-    jd0_ = scene::UtcTime::parse(dataset.times().front()).julian_day;
-    for (const auto& t : dataset.times()) time_s_.push_back(secondsSinceFirst(scene::UtcTime::parse(t).julian_day));
+    t0_ = scene::UtcTime::parse(dataset.times().front());
+    for (const auto& t : dataset.times()) time_s_.push_back(scene::UtcTime::parse(t).secondsSince(t0_));
     for (std::size_t i = 1; i < time_s_.size(); ++i) {
       if (!(time_s_[i] > time_s_[i - 1])) {
         throw InputError(fmt::format("{}: timesteps {} and {} are not in increasing time order ({}, {})", dataset.path(),
@@ -121,7 +120,7 @@ double AnimationPlan::resolve(const scene::TimePoint& p, double fallback, const 
   if (time_s_.empty()) {
     throw InputError(fmt::format("{}: {}: a UTC time needs timestep times; the data has none", scene_->source_file, what));
   }
-  const double s = secondsSinceFirst(scene::UtcTime::parse(*p.utc).julian_day);
+  const double s = scene::UtcTime::parse(*p.utc).secondsSince(t0_);
   constexpr double kSlack_s = 0.5;
   if (s < time_s_.front() - kSlack_s || s > time_s_.back() + kSlack_s) {
     throw InputError(fmt::format("{}: {}: {} lies outside the data ({} to {})", scene_->source_file, what, *p.utc,
@@ -130,13 +129,7 @@ double AnimationPlan::resolve(const scene::TimePoint& p, double fallback, const 
   return indexAtSeconds(s);
 }
 
-double AnimationPlan::secondsSinceFirst(double jd) const {
-  // Whole milliseconds: Julian days carry ~40 µs of rounding, which must not move a frame that
-  // falls exactly on a timestep (or a sun step) to the other side of it.
-  return std::round((jd - jd0_) * kSecondsPerDay * 1000.0) / 1000.0;
-}
-
-scene::UtcTime AnimationPlan::utcAt(double seconds) const { return scene::UtcTime{jd0_ + seconds / kSecondsPerDay}; }
+scene::UtcTime AnimationPlan::utcAt(double seconds) const { return t0_.plusSeconds(seconds); }
 
 double AnimationPlan::indexAtSeconds(double s) const {
   if (time_s_.size() < 2 || s <= time_s_.front()) return 0.0;

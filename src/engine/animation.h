@@ -66,7 +66,6 @@ class AnimationPlan {
   AnimationFrame frame(std::int64_t k) const;
 
  private:
-  double secondsSinceFirst(double julian_day) const;
   scene::UtcTime utcAt(double seconds) const;
   double indexAtSeconds(double seconds) const;
   double secondsAtIndex(double index) const;
@@ -75,7 +74,7 @@ class AnimationPlan {
   scene::AnimationSpec spec_;
   const scene::SceneDescription* scene_ = nullptr;
   const scene::PreparedScene* prepared_ = nullptr;
-  double jd0_ = 0.0;             ///< Julian day of the first timestep
+  scene::UtcTime t0_;            ///< time of the first timestep
   std::vector<double> time_s_;   ///< per timestep, seconds since the first; empty without times
   std::size_t timestep_count_ = 0;
   double from_index_ = 0.0, to_index_ = 0.0;

@@ -13,36 +13,13 @@
 #include "core/log.h"
 #include "core/limits.h"
 #include "field_checks.h"
+#include "geo/utc_time.h"
 #include "netcdf_reader.h"
 
 namespace nph::io {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-
-// ---- civil time (H. Hinnant's days_from_civil / civil_from_days) -----------------------------
-std::int64_t daysFromCivil(std::int64_t y, unsigned m, unsigned d) {
-  y -= m <= 2;
-  const std::int64_t era = (y >= 0 ? y : y - 399) / 400;
-  const auto yoe = static_cast<unsigned>(y - era * 400);
-  const unsigned doy = (153 * (m > 2 ? m - 3 : m + 9) + 2) / 5 + d - 1;
-  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
-}
-std::string isoFromEpochSeconds(std::int64_t s) {
-  std::int64_t days = s >= 0 ? s / 86400 : (s - 86399) / 86400;
-  std::int64_t rem = s - days * 86400;
-  days += 719468;
-  const std::int64_t era = (days >= 0 ? days : days - 146096) / 146097;
-  const auto doe = static_cast<unsigned>(days - era * 146097);
-  const unsigned yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
-  const unsigned doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-  const unsigned mp = (5 * doy + 2) / 153;
-  const unsigned d = doy - (153 * mp + 2) / 5 + 1;
-  const unsigned m = mp < 10 ? mp + 3 : mp - 9;
-  const std::int64_t y = static_cast<std::int64_t>(yoe) + era * 400 + (m <= 2);
-  return fmt::format("{:04d}-{:02d}-{:02d}T{:02d}:{:02d}:{:02d}Z", y, m, d, rem / 3600, (rem / 60) % 60, rem % 60);
-}
 
 /// Dimension names accepted for each axis (ICON output, cdo, CF).
 const std::vector<std::string> kLonNames = {"lon", "longitude", "x"};
@@ -249,9 +226,8 @@ std::string isoFromTimeValue(double value, const std::string& units) {
     const auto ymd = static_cast<std::int64_t>(std::floor(value));
     const double frac = value - double(ymd);
     const std::int64_t y = ymd / 10000, m = (ymd / 100) % 100, d = ymd % 100;
-    if (m < 1 || m > 12 || d < 1 || d > 31) return "";
-    const std::int64_t s = daysFromCivil(y, unsigned(m), unsigned(d)) * 86400 + std::llround(frac * 86400.0);
-    return isoFromEpochSeconds(s);
+    if (m < 1 || m > 12 || d < 1 || d > geo::daysInMonth(int(y), int(m))) return "";
+    return geo::UtcTime::fromCivil(int(y), int(m), int(d)).plusSeconds(double(std::llround(frac * 86400.0))).iso8601();
   }
   const auto since = units.find(" since ");
   if (since == std::string::npos) return "";
@@ -265,9 +241,9 @@ std::string isoFromTimeValue(double value, const std::string& units) {
   int y = 0, mo = 0, d = 0, hh = 0, mi = 0, ss = 0;
   const std::string ref = units.substr(since + 7);
   const int got = std::sscanf(ref.c_str(), "%d-%d-%d%*[ T]%d:%d:%d", &y, &mo, &d, &hh, &mi, &ss);
-  if (got < 3 || mo < 1 || mo > 12 || d < 1 || d > 31) return "";
-  const std::int64_t base = daysFromCivil(y, unsigned(mo), unsigned(d)) * 86400 + hh * 3600 + mi * 60 + ss;
-  return isoFromEpochSeconds(base + std::llround(value * factor));
+  if (got < 3 || mo < 1 || mo > 12 || d < 1 || d > geo::daysInMonth(y, mo)) return "";
+  const double base_s = double(std::int64_t(hh) * 3600 + std::int64_t(mi) * 60 + ss);
+  return geo::UtcTime::fromCivil(y, mo, d).plusSeconds(base_s + double(std::llround(value * factor))).iso8601();
 }
 
 std::vector<std::string> listIconTimes(const std::string& path) {

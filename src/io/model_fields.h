@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "geo/grid_georeference.h"
+
 namespace nph::io {
 
 /// Hydrometeor classes (Nes 2008 §2.2.3; WRF Q*, ICON q*).
@@ -21,23 +23,6 @@ inline constexpr std::array kAllHydrometeors = {Hydrometeor::Cloud, Hydrometeor:
 
 /// Which model produced the file; decides how mixing ratios are to be read (see below).
 enum class ModelKind : std::uint8_t { Wrf, Icon };
-
-/// Horizontal georeference of the native grid.
-struct Georeference {
-  /// PROJ definition of the map projection ("+proj=lcc ... +R=6370000"); empty for Cartesian
-  /// (idealized) runs without geolocation.
-  std::string proj_definition;
-  double dx_m = 0.0;  ///< grid spacing in projected metres (or degrees for lat-lon grids, see below)
-  double dy_m = 0.0;
-  /// Projected coordinates of the centre of mass point (0, 0) in the units of proj_definition.
-  double x0 = 0.0;
-  double y0 = 0.0;
-  /// true when x/y are longitude/latitude in degrees (regular lat-lon and rotated-pole grids).
-  bool geographic = false;
-  /// Geolocation of mass points from the file (XLAT/XLONG, lat/lon), nx*ny each, may be empty.
-  std::vector<float> lat_deg;
-  std::vector<float> lon_deg;
-};
 
 /// What a loader repaired while reading one timestep (counts of values), for logs and `nephele info`.
 /// (ICON's condensate consistency corrections, Muth 2026 §3.3.1, are not applied by the loaders:
@@ -71,7 +56,7 @@ struct ModelTimestep {
   /// QCLOUD/QRAIN below 0 °C). -1 when unknown or not WRF.
   int microphysics_scheme = -1;
 
-  Georeference georef;
+  geo::GridGeoreference georef;  ///< horizontal georeference of the native grid
 
   LoadRepairs repairs;  ///< added for issue 3 (io): what the loader repaired
 

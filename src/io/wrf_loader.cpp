@@ -12,7 +12,6 @@
 #include "core/log.h"
 #include "field_checks.h"
 #include "netcdf_reader.h"
-#include "projection.h"
 
 namespace nph::io {
 namespace {
@@ -98,8 +97,8 @@ Dims wrfDims(const NcReader& nc) {
 
 }  // namespace
 
-Georeference wrfGeoreference(const WrfProjectionAttributes& a, int nx, int ny, const std::string& path) {
-  Georeference g;
+geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& a, int nx, int ny, const std::string& path) {
+  geo::GridGeoreference g;
   auto bad = [&](const char* name, double v, const char* expected) {
     throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {}", path, name, v, expected));
   };
@@ -163,15 +162,15 @@ Georeference wrfGeoreference(const WrfProjectionAttributes& a, int nx, int ny, c
                                    path, a.map_proj));
   }
   // Origin: WRF places the centre of the domain at (CEN_LAT, CEN_LON) (WPS geogrid, d01).
-  const Projection projection(g.proj_definition);
-  double xc = 0, yc = 0;
+  const geo::MapProjection projection(g.proj_definition);
+  glm::dvec2 centre{0.0};
   try {
-    projection.forward(a.cen_lon, a.cen_lat, xc, yc);
+    centre = projection.forward({a.cen_lon, a.cen_lat});
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: CEN_LAT/CEN_LON cannot be projected: {}", path, e.what()));
   }
-  g.x0 = xc - 0.5 * (nx - 1) * g.dx_m;
-  g.y0 = yc - 0.5 * (ny - 1) * g.dy_m;
+  g.x0 = centre.x - 0.5 * (nx - 1) * g.dx_m;
+  g.y0 = centre.y - 0.5 * (ny - 1) * g.dy_m;
   return g;
 }
 
@@ -371,11 +370,10 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     requireFinite(path, "XLAT", ts.georef.lat_deg);
     requireFinite(path, "XLONG", ts.georef.lon_deg);
     // Consistency of the attribute georeference with the file's own geolocation (corners).
-    const Projection projection(ts.georef.proj_definition);
+    const geo::MapProjection projection(ts.georef.proj_definition);
     double worst = 0.0;
     for (const auto& [i, j] : {std::pair{0, 0}, std::pair{d.nx - 1, 0}, std::pair{0, d.ny - 1}, std::pair{d.nx - 1, d.ny - 1}}) {
-      double lon = 0, lat = 0;
-      gridLonLat(projection, ts.georef, i, j, lon, lat);
+      const auto [lon, lat] = geo::gridLonLat(projection, ts.georef, i, j);
       const std::size_t c = std::size_t(j) * nx + std::size_t(i);
       double dlon = std::fmod(std::abs(lon - double(ts.georef.lon_deg[c])), 360.0);
       dlon = std::min(dlon, 360.0 - dlon);

@@ -34,7 +34,7 @@ struct WrfProjectionAttributes {
 /// 2 polar stereographic, 3 Mercator, 6 lat-lon (rotated pole when POLE_LAT != 90), 0 Cartesian;
 /// all on WRF's sphere of radius 6 370 000 m. The domain centre ((nx-1)/2, (ny-1)/2) lies at
 /// (CEN_LAT, CEN_LON). `path` is for messages; InputError names the offending attribute.
-Georeference wrfGeoreference(const WrfProjectionAttributes& attributes, int nx, int ny, const std::string& path);
+geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& attributes, int nx, int ny, const std::string& path);
 
 /// Times ("2026-09-01T12:00:00Z") of every timestep in the file.
 std::vector<std::string> listWrfTimes(const std::string& path);

@@ -1,5 +1,6 @@
 #pragma once
-// ModelTimestep (io/) -> ExtinctionVolumes (cache/): optics on model levels (extinction.h), then
+// ModelTimestep (io/) -> ExtinctionVolumes (cache/), the georeference passed on as it is (one
+// geo::GridGeoreference type on both sides): optics on model levels (extinction.h), then
 // vertical resampling with the crop (vertical_resampling.h). One call per timestep; a conversion
 // of several timesteps fixes z_bottom after the first so all share one vertical grid.
 #include "io/model_fields.h"
@@ -8,8 +9,6 @@
 #include "volume/extinction_volumes.h"
 
 namespace nph::physics {
-
-GridGeoreference toGridGeoreference(const io::Georeference& g);
 
 ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts,
                                          const OpticsSettings& optics,

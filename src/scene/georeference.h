@@ -3,14 +3,8 @@
 // footprint's corners, grid-north vs true-north, the manual lon/lat offset of Nes 2008 §5.5.1, and
 // Earth-centred (ECEF) coordinates for the globe view.
 //
-// Datum choice. WRF (and WPS) compute on a sphere of radius 6 370 000 m and feed it WGS84 latitudes
-// and longitudes unchanged; ICON does the same on its 6 371 229 m sphere. The model's lon/lat are
-// therefore *numerically* WGS84 lon/lat (a geodetic latitude used as a spherical one). nephele
-// follows this convention: the transformation goes between the data's projection and lon/lat on
-// the projection's own sphere (no datum shift), and those lon/lat are used as-is for the basemap
-// (Blue Marble is a plate carrée in WGS84 lon/lat). Converting "sphere lat -> WGS84 lat" as a datum
-// change instead would move features by up to ~21 km (0.19° at 45°N) against where the model put
-// them, which is exactly the misplacement Nes' §5.5.1 fixes by hand.
+// Datum choice: the lon/lat are those of the projection's own sphere, used as-is as WGS84 lon/lat
+// for the basemap (Blue Marble is a plate carrée in WGS84 lon/lat); see geo/map_projection.h.
 //
 // World -> lon/lat: projected = (x0 − dx/2 + x_world, y0 − dy/2 + y_world) for metric grids (world
 // 0 is the outer corner of cell (0, 0)); for geographic grids the local equirectangular scaling of
@@ -26,6 +20,8 @@
 
 #include <glm/glm.hpp>
 
+#include "geo/grid_georeference.h"
+#include "geo/map_projection.h"
 #include "scene/camera.h"
 #include "scene/sun.h"
 #include "volume/extinction_volumes.h"
@@ -33,10 +29,9 @@
 
 namespace nph::scene {
 
-struct LonLat {
-  double lon_deg = 0.0;  ///< east positive, (-180, 180] after normalisation
-  double lat_deg = 0.0;
-};
+using geo::LonLat;
+using geo::MapProjection;
+using geo::normaliseLongitude_deg;
 
 /// Manual placement correction (Nes 2008 §5.5.1), added to the data's lon/lat.
 struct LonLatOffset {
@@ -44,37 +39,12 @@ struct LonLatOffset {
   double lat_deg = 0.0;
 };
 
-/// A PROJ transformation between a projection ("+proj=lcc ... +R=6370000", as written by the
-/// loaders into GridGeoreference::proj_definition) and lon/lat on the projection's own sphere or
-/// ellipsoid (degrees, lon first). Move-only.
-class MapProjection {
- public:
-  explicit MapProjection(const std::string& proj_definition);
-  ~MapProjection();
-  MapProjection(MapProjection&&) noexcept;
-  MapProjection& operator=(MapProjection&&) noexcept;
-  MapProjection(const MapProjection&) = delete;
-  MapProjection& operator=(const MapProjection&) = delete;
-
-  /// lon/lat -> projected (metres, or degrees for longlat/rotated grids). InputError on failure.
-  glm::dvec2 forward(LonLat ll) const;
-  LonLat inverse(glm::dvec2 xy) const;
-  /// In-place batch inverse of n points (x, y interleaved); unprojectable points become NaN.
-  void inverseBatch(double* xy, std::size_t n) const;
-  const std::string& definition() const { return definition_; }
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-  std::string definition_;
-};
-
 class SceneGeoreference {
  public:
   /// From the grid's georeference. Cartesian grids (empty proj_definition, idealised runs) have no
   /// place on Earth: pass `centre_if_cartesian` to put the footprint's centre at that lon/lat with
   /// an azimuthal equidistant projection on WRF's sphere; without it they throw InputError.
-  SceneGeoreference(const GridGeoreference& grid, const VolumeFrame& frame, LonLatOffset offset = {},
+  SceneGeoreference(const geo::GridGeoreference& grid, const VolumeFrame& frame, LonLatOffset offset = {},
                     std::optional<LonLat> centre_if_cartesian = std::nullopt);
   SceneGeoreference(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
                     LonLatOffset offset = {}, std::optional<LonLat> centre_if_cartesian = std::nullopt)
@@ -118,9 +88,6 @@ class SceneGeoreference {
   glm::dvec2 origin_{0.0};         ///< projected coordinates of world (0, 0)
   glm::dvec2 scale_{1.0};          ///< projected units per world metre (x, y)
 };
-
-/// Longitude wrapped to (-180, 180].
-double normaliseLongitude_deg(double lon_deg);
 
 /// Globe: Earth-centred, Earth-fixed coordinates [m] of lon/lat at height h above a sphere of
 /// radius `radius_m` (x towards lon 0 on the equator, y towards lon 90°E, z towards the north pole).

@@ -16,25 +16,13 @@
 #include <string>
 #include <string_view>
 
+#include "geo/utc_time.h"
 #include "scene/sun.h"
 
 namespace nph::scene {
 
-/// A UTC instant as a Julian Day (UT) — days since -4712-01-01 12:00 UT.
-struct UtcTime {
-  double julian_day = 2451545.0;  ///< J2000.0 = 2000-01-01T12:00:00Z
-
-  /// Parses ISO 8601 ("2026-09-01T12:00:00Z", "2026-09-01T12:00:00.5+02:00", "2026-09-01 12:00")
-  /// and WRF's "2026-09-01_12:00:00". Without a zone designator the time is taken as UTC (WRF and
-  /// ICON write UTC). Throws InputError naming `text` and the expected form.
-  static UtcTime parse(std::string_view text);
-  static UtcTime fromCivil(int year, int month, int day, int hour = 0, int minute = 0,
-                           double second = 0.0);
-  /// "YYYY-MM-DDThh:mm:ssZ" (seconds rounded to the nearest whole second).
-  std::string iso8601() const;
-  /// Hours since 00:00 UTC of the same civil day, in [0, 24).
-  double utcHourOfDay() const;
-};
+/// A UTC instant; the solar position reads its Julian Day (UT).
+using geo::UtcTime;
 
 struct SolarCoordinates {
   double declination_deg = 0.0;           ///< apparent declination δ

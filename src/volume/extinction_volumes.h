@@ -8,35 +8,22 @@
 // level. Voxel (i, j, k) is centred at height z_bottom_m + (k + 0.5) * dz_m.
 // Layout of both arrays: x fastest, then y, then k (bottom to top):
 //   index(i, j, k) = (k * ny + j) * nx + i.
-// This module deliberately does not depend on io/: physics/ converts io::Georeference.
+// This module does not depend on io/: both share the georeference type of geo/.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "geo/grid_georeference.h"
+
 namespace nph {
-
-/// Horizontal georeference of the native grid (a copy of io::Georeference's fields).
-struct GridGeoreference {
-  /// PROJ definition ("+proj=lcc ... +R=6370000"); empty for Cartesian (idealized) grids.
-  std::string proj_definition;
-  double dx_m = 0.0;  ///< grid spacing in projection units (degrees when `geographic`)
-  double dy_m = 0.0;
-  double x0 = 0.0;    ///< projected coordinates of the centre of mass point (0, 0)
-  double y0 = 0.0;
-  bool geographic = false;  ///< x/y are longitude/latitude in degrees
-  std::vector<float> lat_deg;  ///< nx*ny geolocation of mass points, may be empty
-  std::vector<float> lon_deg;
-
-  bool operator==(const GridGeoreference&) const = default;
-};
 
 /// Ice and water extinction volumes of one timestep.
 struct ExtinctionVolumes {
   int nx = 0, ny = 0, nz = 0;
   double dz_m = 0.0;        ///< layer thickness
   double z_bottom_m = 0.0;  ///< height of the bottom face of layer 0 above mean sea level
-  GridGeoreference georef;
+  geo::GridGeoreference georef;
   std::string time_utc;     ///< ISO 8601
   std::string source_file;  ///< model file this timestep came from (provenance)
   std::int64_t source_time_index = 0;

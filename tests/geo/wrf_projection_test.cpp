@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/projection.h"
+#include "geo/grid_georeference.h"
 #include "io/wrf_loader.h"
 #include "io_test_support.h"
 #include "wrf_hurricane.h"
@@ -41,12 +41,11 @@ TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
   EXPECT_EQ(ts.georef.geographic, c.geographic);
   ASSERT_EQ(ts.georef.lat_deg.size(), std::size_t(ts.nx) * std::size_t(ts.ny));
 
-  const Projection projection(ts.georef.proj_definition);
+  const geo::MapProjection projection(ts.georef.proj_definition);
   constexpr double kToleranceDeg = 1e-3;
   for (const auto& [i, j] : {std::pair{0, 0}, std::pair{ts.nx - 1, 0}, std::pair{0, ts.ny - 1}, std::pair{ts.nx - 1, ts.ny - 1},
                              std::pair{ts.nx / 2, ts.ny / 3}}) {
-    double lon = 0, lat = 0;
-    gridLonLat(projection, ts.georef, i, j, lon, lat);
+    const auto [lon, lat] = geo::gridLonLat(projection, ts.georef, i, j);
     const std::size_t p = std::size_t(j) * std::size_t(ts.nx) + std::size_t(i);
     EXPECT_NEAR(lat, truth.lat_deg[p], kToleranceDeg) << c.name << " corner " << i << "," << j;
     EXPECT_NEAR(lon, truth.lon_deg[p], kToleranceDeg) << c.name << " corner " << i << "," << j;
@@ -55,9 +54,8 @@ TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
     EXPECT_NEAR(lon, ts.georef.lon_deg[p], kToleranceDeg);
   }
   // The domain spans what DX says: corner-to-corner distance along the south row ~ (nx-1) DX.
-  double lon0 = 0, lat0 = 0, lon1 = 0, lat1 = 0;
-  gridLonLat(projection, ts.georef, 0, 0, lon0, lat0);
-  gridLonLat(projection, ts.georef, ts.nx - 1, 0, lon1, lat1);
+  const double lon0 = geo::gridLonLat(projection, ts.georef, 0, 0).lon_deg;
+  const double lon1 = geo::gridLonLat(projection, ts.georef, ts.nx - 1, 0).lon_deg;
   EXPECT_NE(lon0, lon1);
 }
 
@@ -82,11 +80,10 @@ TEST(WrfGeoreference, MercatorSpacingMatchesClosedForm) {
   a.moad_cen_lat = 40.0;
   a.dx_m = 10000.0;
   a.dy_m = 10000.0;
-  const Georeference g = wrfGeoreference(a, 101, 51, "test");
-  const Projection p(g.proj_definition);
-  double lon_a = 0, lat_a = 0, lon_b = 0, lat_b = 0;
-  gridLonLat(p, g, 50, 25, lon_a, lat_a);
-  gridLonLat(p, g, 51, 25, lon_b, lat_b);
+  const geo::GridGeoreference g = wrfGeoreference(a, 101, 51, "test");
+  const geo::MapProjection p(g.proj_definition);
+  const auto [lon_a, lat_a] = geo::gridLonLat(p, g, 50, 25);
+  const double lon_b = geo::gridLonLat(p, g, 51, 25).lon_deg;
   EXPECT_NEAR(lon_a, 12.0, 1e-9);  // the centre point is at CEN_LON/CEN_LAT
   EXPECT_NEAR(lat_a, 40.0, 1e-9);
   const double expected_dlon_deg = 10000.0 / (kWrfEarthRadius_m * std::cos(30.0 * std::numbers::pi / 180.0)) * 180.0 / std::numbers::pi;
