@@ -68,7 +68,7 @@ openvdb::FloatGrid::Ptr sparseGrid(const ExtinctionVolumes& v, const std::vector
 
 VdbFrame vdbFrameOf(const ExtinctionVolumes& v) {
   const scene::VolumeFrame world = scene::frameOf(v);  // metres per voxel, as nephele renders it
-  const GridGeoreference& g = v.georef;
+  const geo::GridGeoreference& g = v.georef;
   VdbFrame f;
   f.dx_m = world.voxel_size_m.x;
   f.dy_m = world.voxel_size_m.y;
