@@ -7,16 +7,42 @@ cycle is a build error naming the file and line. Stage files (.comp .vert .frag 
 entries of the embedded table; resolved copies are also written to <resolved_dir> so that
 glslangValidator can compile exactly what the program will see.
 
-usage: embed_glsl.py <glsl_root> <out.cpp> <resolved_dir> <file>...
+Binding points are declared once, in the C++ header src/render/gl/bindings.h (NPH_GLSL_BINDINGS):
+each `X(NAME, value)` entry there becomes `#define NAME value` right after the #version line of
+every stage file, so no unit, image, buffer or block number is a literal in GLSL (issue #17.4).
+
+usage: embed_glsl.py <glsl_root> <out.cpp> <resolved_dir> <bindings.h> <file>...
 """
 import os
 import re
 import sys
 
-root, out_cpp, resolved_dir = sys.argv[1:4]
-files = sys.argv[4:]
+root, out_cpp, resolved_dir, bindings_h = sys.argv[1:5]
+files = sys.argv[5:]
 STAGES = (".comp", ".vert", ".frag", ".geom")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"\s*$')
+BINDING = re.compile(r'^\s*X\((\w+),\s*(0x[0-9a-fA-F]+u|[0-9]+)\)')
+
+
+def binding_defines(path):
+    """The `#define` block for the NPH_GLSL_BINDINGS entries of `path`."""
+    names, lines = set(), []
+    for lineno, line in enumerate(open(path, encoding="utf-8"), 1):
+        m = BINDING.match(line)
+        if not m:
+            continue
+        name, value = m.groups()
+        if name in names:
+            sys.exit(f"embed_glsl.py: {path}:{lineno}: binding {name} declared twice")
+        names.add(name)
+        lines.append(f"#define {name} {value}\n")
+    if not lines:
+        sys.exit(f"embed_glsl.py: {path}: no X(NAME, value) binding entries found")
+    rel = os.path.relpath(path, os.path.dirname(os.path.abspath(root)))
+    return f"// ---- begin bindings ({rel})\n" + "".join(lines) + f"// ---- end bindings\n"
+
+
+BINDINGS = binding_defines(bindings_h)
 
 
 def resolve(rel, done, stack):
@@ -47,8 +73,10 @@ for f in sorted(files):
     if not rel.endswith(STAGES):
         continue
     src = resolve(rel, {rel}, [])
-    if not src.lstrip().startswith("#version"):
+    if not src.startswith("#version"):
         sys.exit(f"embed_glsl.py: {rel}: a stage file must start with #version")
+    eol = src.index("\n") + 1
+    src = src[:eol] + BINDINGS + src[eol:]
     dst = os.path.join(resolved_dir, rel)
     os.makedirs(os.path.dirname(dst), exist_ok=True)
     with open(dst, "w", encoding="utf-8") as o:

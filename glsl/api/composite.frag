@@ -11,27 +11,17 @@
 // Output transform (u_display): 0 = linear radiance (sun radiance 1) times 2^exposure, for hosts
 // that blend in linear light (enable GL_FRAMEBUFFER_SRGB on an sRGB target for display);
 // 1 = display-referred like `nephele render`'s PNG (scene/output_image.h): un-premultiply,
-// exposure, ACES fitted tone curve (Narkowicz 2016), sRGB encode (IEC 61966-2-1), re-premultiply.
-// Keep this in step with scene::applyToneCurve and scene::linearToSrgb; the frei0r test compares
-// both paths code for code.
-layout(binding = 0) uniform sampler2D u_layer;
+// exposure, ACES fitted tone curve (Narkowicz 2016), sRGB encode (IEC 61966-2-1), re-premultiply —
+// glsl/common/display.glsl, the very source the PNG writer compiles as C++; the frei0r test
+// compares both paths code for code.
+#include "common/display.glsl"
+layout(binding = UNIT_COMPOSITE_LAYER) uniform sampler2D u_layer;
 uniform vec4 u_viewport;  // x, y, width, height of the host viewport [pixels]
 uniform float u_exposure_scale;  // 2^exposure_ev
 uniform int u_display;
 
 in vec2 v_uv;
 layout(location = 0) out vec4 o_colour;
-
-float acesFitted(float c) {
-  const float kExposureMatch = 0.6;  // Narkowicz 2016: ACES reference exposure
-  const float a = 2.51, b = 0.03, cc = 2.43, d = 0.59, e = 0.14;
-  float x = kExposureMatch * max(c, 0.0);
-  return clamp((x * (a * x + b)) / (x * (cc * x + d) + e), 0.0, 1.0);
-}
-
-float srgbEncode(float l) {
-  return l <= 0.0031308 ? 12.92 * l : 1.055 * pow(l, 1.0 / 2.4) - 0.055;
-}
 
 void main() {
   ivec2 size = textureSize(u_layer, 0);
@@ -46,8 +36,9 @@ void main() {
   if (u_display == 1) {
     float alpha = clamp(c.a, 0.0, 1.0);
     vec3 straight = alpha > 0.0 ? c.rgb / alpha : vec3(0.0);
-    vec3 disp = vec3(srgbEncode(acesFitted(straight.r)), srgbEncode(acesFitted(straight.g)),
-                     srgbEncode(acesFitted(straight.b)));
+    vec3 disp = vec3(linearToSrgb(toneCurve(straight.r, kToneCurveAcesFitted)),
+                     linearToSrgb(toneCurve(straight.g, kToneCurveAcesFitted)),
+                     linearToSrgb(toneCurve(straight.b, kToneCurveAcesFitted)));
     c = vec4(disp * alpha, alpha);
   }
   o_colour = c;

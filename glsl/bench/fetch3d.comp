@@ -8,8 +8,8 @@
 #define STEPS 128
 #endif
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler3D u_volume;
-layout(r32f, binding = 0) uniform writeonly image2D u_sum;
+layout(binding = UNIT_BENCH_VOLUME) uniform sampler3D u_volume;
+layout(r32f, binding = IMAGE_BENCH_SUM) uniform writeonly image2D u_sum;
 uniform ivec2 u_rays;
 uniform vec3 u_step_uvw;
 void main() {

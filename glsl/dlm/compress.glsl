@@ -2,7 +2,7 @@
 // Algorithm 2, eq. 5.14-5.17, after Lokovic & Veach 2000. Line-by-line twin of
 // lighting/light_function.cpp (the CPU oracle of the tests); see there for the error argument.
 // The node list of texel (a, b) lives in layers 0 … count−1 of u_nodes (RG32F: depth, intensity).
-layout(rg32f, binding = 0) uniform image3D u_nodes;
+layout(rg32f, binding = IMAGE_DLM_NODES) uniform image3D u_nodes;
 uniform int u_max_nodes;
 uniform float u_epsilon;
 

@@ -4,12 +4,12 @@
 // list; the four texels around the point are blended bilinearly. Points outside the map's u/v
 // footprint are in full sunlight (1); before the first node / after the last node the function
 // is constant (so a point below the volume gets the transmittance through it: ground shadows).
-layout(binding = 4) uniform sampler3D u_dlm_nodes;    // RG32F: (depth, intensity) per layer
-layout(binding = 5) uniform usampler2D u_dlm_counts;  // node count (| 0x80000000 if unbounded)
+layout(binding = UNIT_DLM_NODES) uniform sampler3D u_dlm_nodes;  // RG32F: (depth, intensity) per layer
+layout(binding = UNIT_DLM_COUNTS) uniform usampler2D u_dlm_counts;  // count | DLM_COUNT_UNBOUNDED
 
 float dlmEvaluateTexel(ivec2 t, float s) {
   if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, u_ls_texels))) return 1.0;
-  int count = int(texelFetch(u_dlm_counts, t, 0).r & 0x7fffffffu);
+  int count = int(texelFetch(u_dlm_counts, t, 0).r & DLM_COUNT_MASK);
   if (count <= 0) return 1.0;
   vec2 first = texelFetch(u_dlm_nodes, ivec3(t, 0), 0).rg;
   if (s <= first.x) return first.y;

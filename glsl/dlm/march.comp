@@ -17,14 +17,14 @@
 #ifdef UNCOMPRESSED
 // Benchmark baseline: a plain fixed-step light volume — every sample stored, no compression, no
 // skipping (tests/bench/dlm_benchmark.cpp compares pass 1 against it).
-layout(std430, binding = 3) writeonly buffer LightVolume { float u_light_volume[]; };  // [(n·nv + b)·nu + a]
+layout(std430, binding = SSBO_LIGHT_VOLUME) writeonly buffer LightVolume { float u_light_volume[]; };  // [(n·nv + b)·nu + a]
 #else
 #include "dlm/compress.glsl"
 #endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(r32ui, binding = 1) uniform uimage2D u_counts;   // node count | 0x80000000 when the bound was not kept
-layout(r32f, binding = 2) uniform image2D u_texel_eps;  // ε this texel was compressed with
+layout(r32ui, binding = IMAGE_DLM_COUNTS) uniform uimage2D u_counts;  // count | DLM_COUNT_UNBOUNDED: bound not kept
+layout(r32f, binding = IMAGE_DLM_TEXEL_EPSILON) uniform image2D u_texel_eps;  // ε this texel was compressed with
 uniform float u_step_m;
 uniform int u_steps;                 // N: samples n = 0 … N
 uniform float u_central_fraction;    // CP(θ/4)
@@ -32,7 +32,7 @@ uniform bool u_skip_empty;
 uniform bool u_only_overflowed;      // retry pass of the overflow rule
 
 #ifdef PERIPHERAL
-layout(binding = 3) uniform sampler3D u_scatter;  // P at scatter cell centres (pass 2)
+layout(binding = UNIT_SCATTER_MAP) uniform sampler3D u_scatter;  // P at scatter cell centres (pass 2)
 uniform float u_scatter_slice_m;
 uniform int u_scatter_slices;
 uniform int u_slice_steps;
@@ -41,8 +41,6 @@ float peripheralAt(vec3 l) {
   return texture(u_scatter, uvw).r;
 }
 #endif
-
-const uint kUnbounded = 0x80000000u;
 
 #ifdef UNCOMPRESSED
 void main() {
@@ -63,7 +61,7 @@ void main() {
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(texel, u_ls_texels))) return;
-  if (u_only_overflowed && (imageLoad(u_counts, texel).r & kUnbounded) == 0u) return;
+  if (u_only_overflowed && (imageLoad(u_counts, texel).r & DLM_COUNT_UNBOUNDED) == 0u) return;
 
   vec2 uv = (vec2(texel) + 0.5) * u_ls_texel_m;
   vec3 start = worldFromLight(vec3(uv, 0.0));
@@ -113,7 +111,7 @@ void main() {
 #endif
   }
   int count = finishCompressor(c);
-  imageStore(u_counts, texel, uvec4(uint(count) | (c.overflow ? kUnbounded : 0u)));
+  imageStore(u_counts, texel, uvec4(uint(count) | (c.overflow ? DLM_COUNT_UNBOUNDED : 0u)));
   imageStore(u_texel_eps, texel, vec4(u_epsilon));
 }
 #endif

@@ -10,7 +10,7 @@
 #include "dlm/lookup.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(r32f, binding = 1) uniform image3D u_scatter_img;
+layout(r32f, binding = IMAGE_SCATTER_MAP) uniform image3D u_scatter_img;
 uniform ivec2 u_cells;
 uniform float u_slice_m;
 uniform int u_slice;                 // k ≥ 1; slice 0 is cleared to 0

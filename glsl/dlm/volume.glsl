@@ -3,15 +3,21 @@
 // border 0) — the same rule as volume/extinction_sampler.cpp on the CPU. β is continuous
 // everywhere: it fades to 0 over the half voxel outside the box instead of jumping at the face,
 // so a ray skimming a face cannot flip between "cloud" and "clear" on float rounding.
-layout(binding = 0) uniform sampler3D u_ice_per_m;
-layout(binding = 1) uniform sampler3D u_water_per_m;
-layout(binding = 2) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by one voxel)
-uniform vec3 u_box_min_m;      // world AABB of the volume
-uniform vec3 u_box_size_m;
-uniform ivec3 u_voxels;
-uniform int u_brick_voxels;
-uniform bool u_has_ice;        // absent phases are never fetched
-uniform bool u_has_water;
+#include "common/math.glsl"
+#include "common/ray_box.glsl"
+layout(binding = UNIT_ICE_PER_M) uniform sampler3D u_ice_per_m;
+layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
+layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by one voxel)
+// One std140 block, declared in C++ as gl::VolumeBlock (render/gl/uniform_blocks.h): keep the
+// members in its order; the GL test UniformBlocks.MatchTheLinkedPrograms checks every offset.
+layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
+  vec3 u_box_min_m;      // world AABB of the volume
+  int u_brick_voxels;
+  vec3 u_box_size_m;
+  bool u_has_ice;        // absent phases are never fetched
+  ivec3 u_voxels;
+  bool u_has_water;
+};
 
 vec3 volumeUvw(vec3 world_m) { return (world_m - u_box_min_m) / u_box_size_m; }
 
@@ -47,26 +53,22 @@ float brickExitDistance(vec3 world_m, vec3 dir) {
   vec3 rel = world_m - u_box_min_m;
   vec3 brickMin = floor(rel / brickSize) * brickSize;
   vec3 brickMax = min(brickMin + brickSize, u_box_size_m);
-  vec3 safeDir = mix(dir, vec3(1e-20), equal(dir, vec3(0.0)));
+  vec3 safeDir = safeDirection(dir);
   vec3 t = mix((brickMin - rel) / safeDir, (brickMax - rel) / safeDir, greaterThan(dir, vec3(0.0)));
-  t = mix(t, vec3(1e30), equal(dir, vec3(0.0)));
+  t = mix(t, vec3(kNeverExit_m), equal(dir, vec3(0.0)));
   return max(min(t.x, min(t.y, t.z)), 0.0);
 }
 
 // Distance along `dir` over which a ray from `world_m` stays in empty space, given that the
 // occupancy at `world_m` is 0: to the exit of its brick inside the volume; 0 in the one-voxel
-// shell (no skipping there); beyond the shell, to the grown box's entry (1e30 when missed).
+// shell (no skipping there); beyond the shell, to the grown box's entry (kNeverExit_m when missed).
 float emptySkipDistance(vec3 world_m, vec3 dir) {
   vec3 uvw = volumeUvw(world_m);
   if (insideVolume(uvw)) return brickExitDistance(world_m, dir);
   if (insideGrownVolume(uvw)) return 0.0;
   vec3 pad = u_box_size_m / vec3(u_voxels);
-  vec3 safeDir = mix(dir, vec3(1e-20), equal(dir, vec3(0.0)));
-  vec3 t0 = (u_box_min_m - pad - world_m) / safeDir;
-  vec3 t1 = (u_box_min_m + u_box_size_m + pad - world_m) / safeDir;
-  vec3 tmin = min(t0, t1), tmax = max(t0, t1);
-  float tNear = max(max(tmin.x, tmin.y), tmin.z);
-  float tFar = min(min(tmax.x, tmax.y), tmax.z);
-  if (tFar < max(tNear, 0.0)) return 1e30;
-  return max(tNear, 0.0);
+  vec3 safeDir = safeDirection(dir);
+  vec2 t = slabInterval((u_box_min_m - pad - world_m) / safeDir, (u_box_min_m + u_box_size_m + pad - world_m) / safeDir);
+  if (t.y < max(t.x, 0.0)) return kNeverExit_m;
+  return max(t.x, 0.0);
 }

@@ -17,18 +17,20 @@
 // world point; the ground is the sphere R with the whole equirectangular basemap, lit by the true
 // sun direction at each point (day/night), shadowed by the DLM inside the footprint; rays that
 // miss the Earth see black space with a glow at the limb.
+#include "common/math.glsl"
+#include "common/ray_box.glsl"
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = 0) uniform writeonly image2D u_cloud_layer;
-layout(rgba32f, binding = 1) uniform writeonly image2D u_frame;
-layout(r32ui, binding = 2) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
-layout(binding = 6) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
+layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform writeonly image2D u_cloud_layer;
+layout(rgba32f, binding = IMAGE_FRAME) uniform writeonly image2D u_frame;
+layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
+layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
 
 uniform ivec2 u_size;
-layout(binding = 7) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
+layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
 
 uniform vec3 u_cam_pos_m;
 uniform mat3 u_world_from_view;  // view axes in world (render/raycast/cloud_renderer.h ViewRays)
@@ -50,7 +52,6 @@ uniform vec2 u_basemap_max_m;
 uniform vec3 u_ocean_albedo;    // ground albedo outside the basemap
 uniform bool u_count_samples;   // write the number of volume samples per ray (benchmarks)
 
-const float kPi = 3.14159265358979;
 #include "render/globe.glsl"
 
 // Henyey–Greenstein times 4π (1 for isotropic).
@@ -70,10 +71,9 @@ float pixelHash(uvec2 p) {
 // Ray–box entry/exit distances of the volume box grown by one voxel (β fades to 0 across it).
 vec2 volumeInterval(vec3 o, vec3 d) {
   vec3 pad = u_box_size_m / vec3(u_voxels);
-  vec3 inv = 1.0 / mix(d, vec3(1e-20), equal(d, vec3(0.0)));
-  vec3 t0 = (u_box_min_m - pad - o) * inv, t1 = (u_box_min_m + u_box_size_m + pad - o) * inv;
-  vec3 lo = min(t0, t1), hi = max(t0, t1);
-  return vec2(max(max(max(lo.x, lo.y), lo.z), 0.0), min(min(hi.x, hi.y), hi.z));
+  vec3 inv = 1.0 / safeDirection(d);
+  vec2 t = slabInterval((u_box_min_m - pad - o) * inv, (u_box_min_m + u_box_size_m + pad - o) * inv);
+  return vec2(max(t.x, 0.0), t.y);
 }
 
 void main() {
@@ -84,7 +84,7 @@ void main() {
   vec4 viewPoint = u_view_from_clip * vec4(ndc, 0.0, 1.0);
   vec3 dir = normalize(u_world_from_view * normalize(viewPoint.xyz / viewPoint.w));
   vec3 origin = u_cam_pos_m;
-  float hostDistance = 3.4e38;  // distance along the ray to the host's opaque geometry
+  float hostDistance = kNoHostGeometry_m;  // distance along the ray to the host's opaque geometry
   if (u_has_host_depth) {
     float d = texelFetch(u_host_depth, ivec2(px.x, u_size.y - 1 - px.y), 0).r;
     if (d < 1.0) {
@@ -100,7 +100,7 @@ void main() {
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
   uint samples = 0u;  // extinction look-ups (empty-brick jumps not counted)
-  float tGround = u_globe ? globeGroundDistance(origin, dir) : 3.0e38;
+  float tGround = u_globe ? globeGroundDistance(origin, dir) : kNoHit_m;
   vec2 span = u_globe ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
   if (span.x < span.y) {
@@ -134,7 +134,7 @@ void main() {
   // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe).
   vec3 background = u_ambient;
   if (u_globe) {
-    if (tGround < 3.0e38) {
+    if (tGround < kNoHit_m) {
       vec3 g = origin + tGround * dir;
       float sunCos = dot(normalize(g), u_to_sun);
       vec3 gw = globeWorldFromEcef(g);

@@ -3,8 +3,9 @@
 // sample is carried into the flat world frame where the volumes, occupancy bricks and the deep
 // light map live: z = |p| − R, xy through a rotated-lon/lat → world look-up table built with the
 // scene's PROJ transform on the CPU. Requires dlm/volume.glsl.
-layout(binding = 8) uniform sampler2D u_globe_world_xy;  // RG32F world x, y at texel centres
-layout(binding = 9) uniform sampler2D u_globe_basemap;   // equirectangular linear RGB, row 0 = 90°N
+#include "common/math.glsl"
+layout(binding = UNIT_GLOBE_WORLD_XY) uniform sampler2D u_globe_world_xy;  // RG32F world x, y at texel centres
+layout(binding = UNIT_GLOBE_BASEMAP) uniform sampler2D u_globe_basemap;   // equirectangular linear RGB, row 0 = 90°N
 
 uniform bool u_globe;
 uniform mat3 u_local_from_ecef;   // rows east, north, up at the footprint centre
@@ -23,21 +24,22 @@ const float kOutsideTable_m = -1.0e30;
 const float kLimbScaleHeight_m = 30000.0;
 
 // Ray–sphere entry/exit with c = |o|² − r² given (cancellation-free in double on the CPU); the
-// larger-magnitude root first, the other as c/q (Numerical Recipes §5.6). (3e38, −3e38) = missed.
+// larger-magnitude root first, the other as c/q (Numerical Recipes §5.6). (kNoHit_m, −kNoHit_m) =
+// missed.
 vec2 sphereInterval(vec3 o, vec3 d, float c) {
   float b = dot(o, d);
   float disc = b * b - c;
-  if (disc < 0.0) return vec2(3.0e38, -3.0e38);
+  if (disc < 0.0) return vec2(kNoHit_m, -kNoHit_m);
   float q = b < 0.0 ? -b + sqrt(disc) : -b - sqrt(disc);
   if (q == 0.0) return vec2(0.0);
   float t0 = q, t1 = c / q;
   return vec2(min(t0, t1), max(t0, t1));
 }
 
-// Distance to the ground sphere (3e38 when the ray misses it).
+// Distance to the ground sphere (kNoHit_m when the ray misses it).
 float globeGroundDistance(vec3 o, vec3 d) {
   vec2 g = sphereInterval(o, d, u_sphere_c_m2.x);
-  return g.x >= 0.0 ? g.x : 3.0e38;
+  return g.x >= 0.0 ? g.x : kNoHit_m;
 }
 
 // The part of the ray inside the lens |p| ≤ R + z_max, p·c ≥ (R + z_min) cos α (globe.h), before

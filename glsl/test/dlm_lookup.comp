@@ -3,8 +3,8 @@
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Points { vec4 points[]; };
-layout(std430, binding = 1) writeonly buffer Results { float results[]; };
+layout(std430, binding = SSBO_TEST_POINTS) readonly buffer Points { vec4 points[]; };
+layout(std430, binding = SSBO_TEST_RESULTS) writeonly buffer Results { float results[]; };
 uniform int u_count;
 void main() {
   int i = int(gl_GlobalInvocationID.x);

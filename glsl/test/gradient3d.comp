@@ -3,7 +3,7 @@
 #include "common/grid.glsl"
 #include "test/gradient.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(rgba32f, binding = 0) uniform writeonly image3D u_out;
+layout(rgba32f, binding = IMAGE_TEST_OUT) uniform writeonly image3D u_out;
 uniform ivec3 u_size;
 void main() {
   ivec3 v = ivec3(gl_GlobalInvocationID);

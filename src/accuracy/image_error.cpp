@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "scene/display_transform.h"
 
 namespace nph::accuracy {
 namespace {
@@ -11,11 +12,8 @@ namespace {
 constexpr double kRelMseFloor = 0.01;
 constexpr double kDisplayTolerance = 2.0 / 255.0;
 
-// The sRGB transfer function (IEC 61966-2-1).
-double srgbEncode(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-}
+// The sRGB transfer function (IEC 61966-2-1), in double: the metric's resolution is not the PNG's.
+double srgbEncode(double c) { return scene::display::f64::linearToSrgb(std::clamp(c, 0.0, 1.0)); }
 
 double display(float premultiplied) {
   return srgbEncode(scene::applyToneCurve(std::max(premultiplied, 0.0f), scene::ToneCurve::AcesFitted));

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "render/gl/bindings.h"
 #include "render/gl/debug.h"
 
 namespace nph::api {
@@ -20,8 +21,8 @@ void Compositor::draw(const gl::Texture& layer, const CompositeSettings& s) cons
   program_.set("u_display", s.display ? 1 : 0);
   program_.use();
   glBindVertexArray(vertex_array_.id());
-  glBindTextureUnit(0, layer.id());
-  glBindSampler(0, sampler_.id());
+  glBindTextureUnit(gl::binding::UNIT_COMPOSITE_LAYER, layer.id());
+  glBindSampler(gl::binding::UNIT_COMPOSITE_LAYER, sampler_.id());
   // Premultiplied "over" into draw buffer 0; nothing else may reject or alter the fragments.
   glEnablei(GL_BLEND, 0);
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);

@@ -39,6 +39,28 @@ constexpr GLenum kEnables[] = {GL_DEPTH_TEST,  GL_STENCIL_TEST,           GL_CUL
 
 void setEnabled(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
 
+// Indexed buffer bindings (shader storage, uniform): name, start and size of each index.
+template <class Bindings>
+void saveIndexed(GLenum bindingQuery, GLenum startQuery, GLenum sizeQuery, Bindings& saved) {
+  for (std::size_t i = 0; i < saved.size(); ++i) {
+    glGetIntegeri_v(bindingQuery, GLuint(i), &saved[i].name);
+    glGetInteger64i_v(startQuery, GLuint(i), &saved[i].start);
+    glGetInteger64i_v(sizeQuery, GLuint(i), &saved[i].size);
+  }
+}
+
+template <class Bindings>
+void restoreIndexed(GLenum target, const Bindings& saved) {
+  for (std::size_t i = 0; i < saved.size(); ++i) {
+    const auto& b = saved[i];
+    if (b.name != 0 && b.size > 0) {
+      glBindBufferRange(target, GLuint(i), GLuint(b.name), GLintptr(b.start), GLsizeiptr(b.size));
+    } else {
+      glBindBufferBase(target, GLuint(i), GLuint(b.name));
+    }
+  }
+}
+
 }  // namespace
 
 GlStateGuard::GlStateGuard() {
@@ -71,12 +93,10 @@ GlStateGuard::GlStateGuard() {
     glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, GLuint(i), &u.format);
   }
   glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &storage_buffer_);
-  for (int i = 0; i < kStorageBindings; ++i) {
-    IndexedBuffer& b = storage_[std::size_t(i)];
-    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, GLuint(i), &b.name);
-    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, GLuint(i), &b.start);
-    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, GLuint(i), &b.size);
-  }
+  saveIndexed(GL_SHADER_STORAGE_BUFFER_BINDING, GL_SHADER_STORAGE_BUFFER_START, GL_SHADER_STORAGE_BUFFER_SIZE,
+              storage_);
+  glGetIntegerv(GL_UNIFORM_BUFFER_BINDING, &uniform_buffer_);
+  saveIndexed(GL_UNIFORM_BUFFER_BINDING, GL_UNIFORM_BUFFER_START, GL_UNIFORM_BUFFER_SIZE, uniform_);
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer_);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer_);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
@@ -120,15 +140,10 @@ GlStateGuard::~GlStateGuard() {
   for (const auto& p : pixel_store_) glPixelStorei(p.pname, p.value);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pack_buffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(unpack_buffer_));
-  for (int i = 0; i < kStorageBindings; ++i) {
-    const IndexedBuffer& b = storage_[std::size_t(i)];
-    if (b.name != 0 && b.size > 0) {
-      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, GLuint(i), GLuint(b.name), GLintptr(b.start), GLsizeiptr(b.size));
-    } else {
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(i), GLuint(b.name));
-    }
-  }
+  restoreIndexed(GL_SHADER_STORAGE_BUFFER, storage_);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, GLuint(storage_buffer_));
+  restoreIndexed(GL_UNIFORM_BUFFER, uniform_);
+  glBindBuffer(GL_UNIFORM_BUFFER, GLuint(uniform_buffer_));
   for (int i = 0; i < kImageUnits; ++i) {
     const ImageUnit& u = images_[std::size_t(i)];
     glBindImageTexture(GLuint(i), GLuint(u.name), u.level, GLboolean(u.layered), u.layer, GLenum(u.access),

@@ -6,7 +6,8 @@
 // What nephele's passes touch, and therefore what is saved (docs/plugin-api.md lists it too):
 //   program, vertex array, active texture unit, textures of every target and the sampler on units
 //   0..kTextureUnits-1, image units 0..kImageUnits-1, the generic and indexed shader storage
-//   buffer bindings 0..kStorageBindings-1, pixel pack/unpack buffers and every pixel store
+//   buffer bindings 0..kStorageBindings-1 and uniform buffer bindings 0..kUniformBindings-1 (the
+//   counts follow render/gl/bindings.h), pixel pack/unpack buffers and every pixel store
 //   parameter, draw and read framebuffers, viewport, clip control, polygon mode, and the enables
 //   and functions of blending (draw buffer 0), depth, stencil, culling, dither, rasterizer
 //   discard, alpha-to-coverage, colour logic op and the colour write mask of draw buffer 0.
@@ -15,15 +16,18 @@
 #include <array>
 #include <vector>
 
+#include "render/gl/bindings.h"
 #include "render/gl/gl.h"
 
 namespace nph::api {
 
 class GlStateGuard {
  public:
-  static constexpr int kTextureUnits = 16;    ///< clouds.comp binds 0..9; headroom, the test checks 32
-  static constexpr int kImageUnits = 3;       ///< the DLM passes bind 0..2
-  static constexpr int kStorageBindings = 4;  ///< the DLM passes bind 3
+  static constexpr int kTextureUnits = 16;  ///< headroom over the passes' units; the test checks 32
+  static constexpr int kImageUnits = int(gl::binding::highest("IMAGE_")) + 1;
+  static constexpr int kStorageBindings = int(gl::binding::highest("SSBO_")) + 1;
+  static constexpr int kUniformBindings = int(gl::binding::highest("UBO_")) + 1;
+  static_assert(kTextureUnits > int(gl::binding::highest("UNIT_")), "a pass binds a unit the guard does not save");
 
   GlStateGuard();
   ~GlStateGuard();
@@ -47,8 +51,9 @@ class GlStateGuard {
   std::array<std::vector<GLint>, kTextureUnits> textures_;  // per unit: one name per target
   std::array<GLint, kTextureUnits> samplers_{};
   std::array<ImageUnit, kImageUnits> images_{};
-  GLint storage_buffer_ = 0;
+  GLint storage_buffer_ = 0, uniform_buffer_ = 0;
   std::array<IndexedBuffer, kStorageBindings> storage_{};
+  std::array<IndexedBuffer, kUniformBindings> uniform_{};
   GLint pack_buffer_ = 0, unpack_buffer_ = 0;
   std::vector<PixelStore> pixel_store_;
   GLint draw_framebuffer_ = 0, read_framebuffer_ = 0;

@@ -102,7 +102,7 @@ class Viewer {
  public:
   Viewer(gl::Context& ctx, engine::Session& session, const ViewOptions& o)
       : ctx_(ctx), session_(session), window_(ctx.window()), opts_(o),
-        present_(gl::Program::graphics("test/fullscreen.vert", "render/present.frag")),
+        present_(gl::Program::graphics("render/fullscreen.vert", "render/present.frag")),
         sampler_(gl::Sampler::create(GL_LINEAR, GL_CLAMP_TO_EDGE)), vao_(gl::VertexArray::create()) {
     camera_ = session.prepared().camera;
     orbit_ = Orbit::from(camera_, session.scene().view == scene::ViewMode::Globe);
@@ -166,11 +166,11 @@ class Viewer {
     present_.use();
     present_.set("u_exposure_scale", float(std::exp2(session_.scene().output.image.exposure_ev)));
     present_.set("u_tone_curve", int(session_.scene().output.image.tone_curve));
-    glBindTextureUnit(0, session_.renderer().frame().id());
-    glBindSampler(0, sampler_.id());
+    glBindTextureUnit(gl::binding::UNIT_PRESENT_FRAME, session_.renderer().frame().id());
+    glBindSampler(gl::binding::UNIT_PRESENT_FRAME, sampler_.id());
     glBindVertexArray(vao_.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindSampler(0, 0);
+    glBindSampler(gl::binding::UNIT_PRESENT_FRAME, 0);
     const auto& st = session_.stats();
     glfwSetWindowTitle(window_, fmt::format("nephele view — t {:.2f}{} — sun {:.0f}/{:.0f} deg — {} — {}x{} {:.0f} ms",
                                             time_, playing_ ? fmt::format(" (playing x{:g})", speed_) : "",

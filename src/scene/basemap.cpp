@@ -19,10 +19,6 @@ namespace nph::scene {
 float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
-float linearToSrgb(float l) {
-  return l <= 0.0031308f ? 12.92f * l : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
-}
-
 namespace {
 
 void requireTwoToOne(int w, int h, const std::string& name) {

@@ -34,9 +34,9 @@ struct LinearRgbImage {
   }
 };
 
-/// sRGB transfer function (IEC 61966-2-1): encoded [0, 1] -> linear, and back.
+/// sRGB transfer function (IEC 61966-2-1): encoded [0, 1] -> linear (the inverse, linearToSrgb,
+/// is in scene/output_image.h).
 float srgbToLinear(float encoded);
-float linearToSrgb(float linear);
 
 class EquirectangularImage {
  public:

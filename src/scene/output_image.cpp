@@ -12,12 +12,16 @@
 
 #include "core/error.h"
 #include "core/temp_files.h"
-#include "scene/basemap.h"
+#include "scene/display_transform.h"
 
 namespace nph::scene {
 namespace fs = std::filesystem;
 
 namespace {
+
+static_assert(display::kToneCurveClamp == int(ToneCurve::Clamp) &&
+              display::kToneCurveReinhard == int(ToneCurve::Reinhard) &&
+              display::kToneCurveAcesFitted == int(ToneCurve::AcesFitted));
 
 void checkImage(const RgbaImage& img, const std::string& path) {
   const std::size_t n = std::size_t(std::max(img.width, 0)) * std::size_t(std::max(img.height, 0));
@@ -87,21 +91,11 @@ std::string_view toneCurveName(ToneCurve c) {
 }
 
 float applyToneCurve(float c, ToneCurve curve) {
-  c = std::max(c, 0.0f);
-  if (!std::isfinite(c)) c = 0.0f;
-  switch (curve) {
-    case ToneCurve::Clamp: return std::min(c, 1.0f);
-    case ToneCurve::Reinhard: return c / (1.0f + c);  // Reinhard et al. 2002, eq. 3
-    case ToneCurve::AcesFitted: {
-      // Narkowicz 2016: input scaled by 0.6 to match the ACES reference exposure.
-      constexpr float kExposureMatch = 0.6f;
-      constexpr float a = 2.51f, b = 0.03f, cc = 2.43f, d = 0.59f, e = 0.14f;
-      const float x = kExposureMatch * c;
-      return std::clamp((x * (a * x + b)) / (x * (cc * x + d) + e), 0.0f, 1.0f);
-    }
-  }
-  return std::min(c, 1.0f);
+  if (!std::isfinite(c)) c = 0.0f;  // NaN and ±inf (−inf would give 0 anyway)
+  return display::f32::toneCurve(c, int(curve));
 }
+
+float linearToSrgb(float l) { return display::f32::linearToSrgb(l); }
 
 std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOptions& o) {
   checkImage(img, "<image>");

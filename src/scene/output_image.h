@@ -39,8 +39,12 @@ enum class ToneCurve { Clamp, Reinhard, AcesFitted };
 /// "clamp" | "reinhard" | "aces"; InputError otherwise.
 ToneCurve toneCurveFromName(std::string_view name);
 std::string_view toneCurveName(ToneCurve curve);
-/// The curve on one linear channel value (≥ 0), result in [0, 1].
+/// The curve on one linear channel value (≥ 0), result in [0, 1]; non-finite input counts as 0.
+/// Computed by glsl/common/display.glsl compiled as C++: the viewer and the plugin API run the same
+/// source on the GPU.
 float applyToneCurve(float linear, ToneCurve curve);
+/// sRGB transfer function (IEC 61966-2-1): linear [0, 1] -> encoded (glsl/common/display.glsl).
+float linearToSrgb(float linear);
 
 struct ImageOutputOptions {
   double exposure_ev = 0.0;                  ///< radiance scale 2^ev (EXR and PNG alike)

@@ -15,8 +15,8 @@ FetchKernel::FetchKernel(glm::ivec2 rays, int steps)
 void FetchKernel::dispatch(const gl::Texture& volume, const glm::vec3& step_uvw) const {
   program_.set("u_step_uvw", step_uvw);
   program_.use();
-  glBindTextureUnit(0, volume.id());
-  glBindImageTexture(0, sum_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  glBindTextureUnit(gl::binding::UNIT_BENCH_VOLUME, volume.id());
+  glBindImageTexture(gl::binding::IMAGE_BENCH_SUM, sum_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   program_.dispatchCovering({rays_.x, rays_.y, 1});
 }
 

@@ -28,7 +28,7 @@ TEST_F(GlObjectsTest, ComputeGradientInto3DTextureIsExact) {
   auto prog = gl::Program::compute("test/gradient3d.comp", {{"GRADIENT_SCALE", "0.25"}});
   prog.use();
   prog.set("u_size", size);
-  glBindImageTexture(0, tex.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_TEST_OUT, tex.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   prog.dispatchCovering(size);
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
   std::vector<glm::vec4> got(std::size_t(size.x * size.y * size.z));
@@ -57,7 +57,7 @@ TEST_F(GlObjectsTest, RasterGradientSliceMatchesExactly) {
   fbo.attach(GL_COLOR_ATTACHMENT0, colour);
   fbo.checkComplete("gradient slice");
   auto vao = gl::VertexArray::create();
-  auto prog = gl::Program::graphics("test/fullscreen.vert", "test/gradient_slice.frag");
+  auto prog = gl::Program::graphics("render/fullscreen.vert", "test/gradient_slice.frag");
   prog.set("u_slice", slice);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
   glViewport(0, 0, w, h);
@@ -145,7 +145,7 @@ TEST_F(GlObjectsTest, GpuTimerMeasuresWork) {
   prog.set("u_size", glm::ivec3(32));
   timer.start();
   prog.use();
-  glBindImageTexture(0, tex.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_TEST_OUT, tex.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   prog.dispatchCovering(glm::ivec3(32));
   timer.stop();
   EXPECT_GT(timer.elapsedNs(), 0u);

@@ -1,8 +1,15 @@
 #include <gtest/gtest.h>
 
+#include <regex>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "core/error.h"
 #include "render/gl/program.h"
 #include "render/gl/shader_sources.h"
+#include "render/gl/uniform_blocks.h"
 #include "support/gl_fixture.h"
 
 namespace nph::test {
@@ -52,6 +59,90 @@ TEST_F(GlShaderTest, CompileErrorNamesTheShader) {
     EXPECT_NE(std::string(e.what()).find("broken.comp"), std::string::npos) << e.what();
   }
   (void)gl::takeErrors();
+}
+
+// Issue #17 done criterion: a misspelt uniform name fails. In strict mode (debug builds,
+// NEPHELE_GL_DEBUG=strict, every GL test through the fixture) setting a name the program does not
+// have throws a GlError naming the program and the uniform; a declared but unused (optimised away)
+// uniform is the same error. Outside strict mode GL's rule stands: location -1, value ignored.
+TEST_F(GlShaderTest, MisspeltOrInactiveUniformIsAnErrorInStrictMode) {
+  const bool saved = gl::strictUniforms();
+  gl::setStrictUniforms(true);
+  const gl::Program prog = gl::Program::compute("test/gradient3d.comp");
+  EXPECT_NO_THROW(prog.set("u_size", glm::ivec3(4)));
+  try {
+    prog.set("u_sise", glm::ivec3(4));
+    ADD_FAILURE() << "a misspelt uniform was accepted";
+  } catch (const GlError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'u_sise'"), std::string::npos) << what;
+    EXPECT_NE(what.find("test/gradient3d.comp"), std::string::npos) << what;
+  }
+  const gl::Program unused = gl::Program::fromSources(
+      {{GL_COMPUTE_SHADER,
+        {"unused.comp", "#version 450 core\nlayout(local_size_x = 1) in;\nuniform float u_unused;\nvoid main() {}\n"}}});
+  EXPECT_THROW(unused.set("u_unused", 1.0f), GlError);
+  gl::setStrictUniforms(false);
+  EXPECT_EQ(prog.location("u_sise"), -1);
+  EXPECT_NO_THROW(prog.set("u_sise", glm::ivec3(4)));
+  gl::setStrictUniforms(saved);
+}
+
+// The binding points of render/gl/bindings.h reach every stage as #defines right after #version,
+// and no stage writes a binding number itself.
+TEST(ShaderLibrary, BindingsAreInjectedAndNeverLiteral) {
+  const std::regex literalBinding(R"(binding\s*=\s*[0-9])");
+  for (const auto& s : gl::embeddedShaders()) {
+    SCOPED_TRACE(s.name);
+    const std::string src = s.source;
+    EXPECT_TRUE(src.substr(src.find('\n') + 1).starts_with("// ---- begin bindings"));
+    for (const auto& e : gl::binding::kAll) {
+      EXPECT_NE(src.find("#define " + std::string(e.name) + " "), std::string::npos) << e.name;
+    }
+    EXPECT_FALSE(std::regex_search(src, literalBinding));
+  }
+}
+
+// Each std140 block of render/gl/uniform_blocks.h against the driver's layout of every program
+// that declares it: block size, and each member's offset and block (GL 4.5 §7.3.1 interface
+// queries). A member changed on one side only fails here.
+TEST_F(GlShaderTest, UniformBlocksMatchTheLinkedPrograms) {
+  struct Case {
+    const char* block;
+    unsigned binding;
+    std::size_t size;
+    std::span<const gl::BlockMember> members;
+    std::vector<std::pair<const char*, gl::Defines>> programs;
+  };
+  const std::vector<Case> cases = {
+      {gl::LightSpaceBlock::kGlslName, gl::LightSpaceBlock::kBinding, sizeof(gl::LightSpaceBlock), gl::kLightSpaceMembers,
+       {{"dlm/march.comp", {}}, {"dlm/march.comp", {{"PERIPHERAL", "1"}}}, {"dlm/march.comp", {{"UNCOMPRESSED", "1"}}},
+        {"dlm/scatter.comp", {}}, {"render/clouds.comp", {}}, {"test/dlm_lookup.comp", {}}}},
+      {gl::VolumeBlock::kGlslName, gl::VolumeBlock::kBinding, sizeof(gl::VolumeBlock), gl::kVolumeMembers,
+       {{"dlm/march.comp", {}}, {"dlm/scatter.comp", {}}, {"render/clouds.comp", {}}}},
+  };
+  for (const Case& c : cases) {
+    for (const auto& [name, defines] : c.programs) {
+      SCOPED_TRACE(std::string(c.block) + " in " + name);
+      const gl::Program p = gl::Program::compute(name, defines);
+      const GLuint block = glGetProgramResourceIndex(p.id(), GL_UNIFORM_BLOCK, c.block);
+      ASSERT_NE(block, GL_INVALID_INDEX);
+      const GLenum blockProps[] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING};
+      GLint blockValues[2] = {0, 0};
+      glGetProgramResourceiv(p.id(), GL_UNIFORM_BLOCK, block, 2, blockProps, 2, nullptr, blockValues);
+      EXPECT_EQ(std::size_t(blockValues[0]), c.size);
+      EXPECT_EQ(blockValues[1], GLint(c.binding));
+      for (const gl::BlockMember& m : c.members) {
+        const GLuint u = glGetProgramResourceIndex(p.id(), GL_UNIFORM, m.glsl_name);
+        ASSERT_NE(u, GL_INVALID_INDEX) << m.glsl_name;
+        const GLenum props[] = {GL_OFFSET, GL_BLOCK_INDEX};
+        GLint values[2] = {-1, -1};
+        glGetProgramResourceiv(p.id(), GL_UNIFORM, u, 2, props, 2, nullptr, values);
+        EXPECT_EQ(std::size_t(values[0]), m.offset) << m.glsl_name;
+        EXPECT_EQ(GLuint(values[1]), block) << m.glsl_name;
+      }
+    }
+  }
 }
 
 TEST(ShaderLibrary, DefinesGoAfterTheVersionLine) {

@@ -227,10 +227,10 @@ TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
   auto out = gl::Buffer::create(points.size() * sizeof(float));
   auto prog = gl::Program::compute("test/dlm_lookup.comp");
   prog.use();
-  dlm.bindForLookup(prog);
+  dlm.bindForLookup();
   prog.set("u_count", int(points.size()));
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_TEST_POINTS, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_TEST_RESULTS, out.id());
   prog.dispatchCovering({int(points.size()), 1, 1});
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   std::vector<float> gpu(points.size());

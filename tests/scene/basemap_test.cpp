@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "scene/basemap.h"
+#include "scene/output_image.h"
 #include "scene_test_support.h"
 
 namespace nph::scene {

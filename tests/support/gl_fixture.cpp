@@ -2,6 +2,7 @@
 
 #include "core/env.h"
 #include "core/log.h"
+#include "render/gl/program.h"
 
 namespace nph::test {
 
@@ -21,6 +22,7 @@ gl::Context& glContext() {
 void GlTest::SetUp() {
   gl::Context& ctx = glContext();  // throws -> the test fails (never skips)
   ctx.makeCurrent();
+  gl::setStrictUniforms(true);  // a uniform the shader does not have fails the test (program.h)
   (void)gl::takeErrors();
 }
 

@@ -8,12 +8,24 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "render/gl/bindings.h"
 #include "render/gl/debug.h"
 
 namespace nph::render {
 namespace {
 
-constexpr std::uint32_t kUnbounded = 0x80000000u;
+// The light space as glsl/dlm/light_space.glsl reads it (float, like the GPU).
+gl::LightSpaceBlock lightSpaceBlock(const scene::LightSpace& ls) {
+  gl::LightSpaceBlock b;
+  b.origin_m = glm::vec3(ls.origin_m);
+  b.depth_m = float(ls.depth_m);
+  b.u = glm::vec3(ls.u);
+  b.v = glm::vec3(ls.v);
+  b.w = glm::vec3(ls.w);
+  b.texel_m = glm::vec2(ls.texelSize_m());
+  b.texels = ls.texels;
+  return b;
+}
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -31,7 +43,8 @@ DeepLightMap::DeepLightMap()
     : march_(gl::Program::compute("dlm/march.comp")),
       march_peripheral_(gl::Program::compute("dlm/march.comp", {{"PERIPHERAL", "1"}})),
       scatter_(gl::Program::compute("dlm/scatter.comp")),
-      uncompressed_(gl::Program::compute("dlm/march.comp", {{"UNCOMPRESSED", "1"}})) {}
+      uncompressed_(gl::Program::compute("dlm/march.comp", {{"UNCOMPRESSED", "1"}})),
+      light_space_block_(gl::UniformBuffer<gl::LightSpaceBlock>::create(lightSpaceBlock(light_space_), "light space block")) {}
 
 double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, std::size_t& bytes) {
   const glm::ivec2 n = light_space_.texels;
@@ -39,12 +52,12 @@ double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, s
   auto buffer = gl::Buffer::create(bytes).label("uncompressed light volume");
   const gl::Program& p = uncompressed_;
   p.use();
-  volume.bind(p);
-  setLightSpaceUniforms(p);
+  volume.bind();
+  light_space_block_.bind();
   p.set("u_step_m", float(step_m_));
   p.set("u_steps", steps_);
   p.set("u_central_fraction", float(fractions_.central));
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffer.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_LIGHT_VOLUME, buffer.id());
   glFinish();
   const auto t0 = std::chrono::steady_clock::now();
   p.dispatchCovering({n.x, n.y, 1});
@@ -54,26 +67,16 @@ double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, s
   return ms;
 }
 
-void DeepLightMap::setLightSpaceUniforms(const gl::Program& p) const {
-  p.set("u_ls_origin_m", glm::vec3(light_space_.origin_m));
-  p.set("u_ls_u", glm::vec3(light_space_.u));
-  p.set("u_ls_v", glm::vec3(light_space_.v));
-  p.set("u_ls_w", glm::vec3(light_space_.w));
-  p.set("u_ls_texel_m", glm::vec2(light_space_.texelSize_m()));
-  p.set("u_ls_texels", light_space_.texels);
-  p.set("u_ls_depth_m", float(light_space_.depth_m));
-}
-
-void DeepLightMap::bindForLookup(const gl::Program& p) const {
-  glBindTextureUnit(4, nodes_.id());
-  glBindTextureUnit(5, counts_.id());
-  setLightSpaceUniforms(p);
+void DeepLightMap::bindForLookup() const {
+  glBindTextureUnit(gl::binding::UNIT_DLM_NODES, nodes_.id());
+  glBindTextureUnit(gl::binding::UNIT_DLM_COUNTS, counts_.id());
+  light_space_block_.bind();
 }
 
 void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed) {
   p.use();
-  volume.bind(p);
-  setLightSpaceUniforms(p);
+  volume.bind();
+  light_space_block_.bind();
   p.set("u_step_m", float(step_m_));
   p.set("u_steps", steps_);
   p.set("u_central_fraction", float(fractions_.central));
@@ -81,9 +84,9 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
   p.set("u_only_overflowed", onlyOverflowed ? 1 : 0);
   p.set("u_max_nodes", settings_.max_nodes);
   p.set("u_epsilon", float(epsilon));
-  glBindImageTexture(0, nodes_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
-  glBindImageTexture(1, counts_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-  glBindImageTexture(2, texel_eps_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  glBindImageTexture(gl::binding::IMAGE_DLM_NODES, nodes_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
+  glBindImageTexture(gl::binding::IMAGE_DLM_COUNTS, counts_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(gl::binding::IMAGE_DLM_TEXEL_EPSILON, texel_eps_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   p.dispatchCovering({light_space_.texels.x, light_space_.texels.y, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
@@ -114,6 +117,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   const glm::dvec3 voxel = volume.frame().voxel_size_m;
   light_space_ = scene::fitLightSpace(dir, lo, hi, scene::lightTexelSize(basis, voxel, settings.texel_voxels),
                                       settings.max_texels);
+  light_space_block_.update(lightSpaceBlock(light_space_));
   step_m_ = settings.step_voxels * std::min({voxel.x, voxel.y, voxel.z});
   if (!(step_m_ > 0.0)) throw UsageError("DLM settings: step_voxels must be positive");
   // The bound is checked on the double, before the cast (dx = 1e-300 m made the step count
@@ -141,7 +145,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     march(volume, program, settings.epsilon, false);
     for (int d = 1; d <= settings.max_epsilon_doublings; ++d) {
       const auto counts = readCounts(counts_, n);
-      if (std::none_of(counts.begin(), counts.end(), [](std::uint32_t c) { return (c & kUnbounded) != 0; })) break;
+      if (std::none_of(counts.begin(), counts.end(), [](std::uint32_t c) { return (c & gl::binding::DLM_COUNT_UNBOUNDED) != 0; })) break;
       march(volume, program, settings.epsilon * std::ldexp(1.0, d), true);
     }
   };
@@ -175,13 +179,13 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     glClearTexImage(scatter_map_.id(), 0, GL_RED, GL_FLOAT, &zerof);
     const double sliceM = step_m_ * sliceSteps;
     scatter_.use();
-    volume.bind(scatter_);
-    bindForLookup(scatter_);
+    volume.bind();
+    bindForLookup();
     scatter_.set("u_cells", glm::ivec2(cells));
     scatter_.set("u_slice_m", float(sliceM));
     scatter_.set("u_central_fraction", float(fractions_.central));
     scatter_.set("u_peripheral_fraction", float(fractions_.peripheral));
-    glBindImageTexture(1, scatter_map_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(gl::binding::IMAGE_SCATTER_MAP, scatter_map_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     for (int k = 1; k < cells.z; ++k) {
       scatter_.set("u_slice", k);
       scatter_.dispatchCovering({cells.x, cells.y, 1});
@@ -193,7 +197,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
 
     t0 = std::chrono::steady_clock::now();
     march_peripheral_.use();
-    glBindTextureUnit(3, scatter_map_.id());
+    glBindTextureUnit(gl::binding::UNIT_SCATTER_MAP, scatter_map_.id());
     march_peripheral_.set("u_scatter_slice_m", float(sliceM));
     march_peripheral_.set("u_scatter_slices", cells.z);
     march_peripheral_.set("u_slice_steps", sliceSteps);
@@ -227,11 +231,11 @@ void DeepLightMap::computeStats(double pass1Ms, double pass2Ms, double pass3Ms) 
   stats_.max_nodes_used = 0;
   double total = 0.0;
   for (std::size_t i = 0; i < counts.size(); ++i) {
-    const int c = int(counts[i] & ~kUnbounded);
+    const int c = int(counts[i] & gl::binding::DLM_COUNT_MASK);
     total += c;
     stats_.max_nodes_used = std::max(stats_.max_nodes_used, c);
     stats_.node_histogram[std::size_t(std::min(c, settings_.max_nodes))]++;
-    if (counts[i] & kUnbounded) ++stats_.unbounded_texels;
+    if (counts[i] & gl::binding::DLM_COUNT_UNBOUNDED) ++stats_.unbounded_texels;
     const double ratio = settings_.epsilon > 0.0 ? double(eps[i]) / settings_.epsilon : 1.0;
     const int d = ratio > 1.0 ? int(std::lround(std::log2(ratio))) : 0;
     if (d > 0) ++stats_.overflowed_texels;
@@ -265,8 +269,8 @@ DeepLightMap::Readback DeepLightMap::readBack() const {
   r.nodes.resize(counts.size());
   r.unbounded.resize(counts.size());
   for (std::size_t t = 0; t < counts.size(); ++t) {
-    const int c = int(counts[t] & ~kUnbounded);
-    r.unbounded[t] = (counts[t] & kUnbounded) != 0;
+    const int c = int(counts[t] & gl::binding::DLM_COUNT_MASK);
+    r.unbounded[t] = (counts[t] & gl::binding::DLM_COUNT_UNBOUNDED) != 0;
     for (int k = 0; k < c; ++k) {
       const glm::vec2 node = raw[(std::size_t(k) * std::size_t(n.y)) * std::size_t(n.x) + t];
       r.nodes[t].push_back({node.x, node.y});

@@ -10,8 +10,8 @@
 // Node budget overflow rule (never silent): a texel that needs more than max_nodes nodes is
 // rebuilt with ε doubled, up to max_epsilon_doublings times; its ε is stored per texel and the
 // stats give the count per ε. A texel that still overflows keeps its first max_nodes − 1 nodes
-// plus the ray's final sample: its bound is not kept, it is flagged (0x80000000 in the count)
-// and counted in stats.unbounded_texels.
+// plus the ray's final sample: its bound is not kept, it is flagged (DLM_COUNT_UNBOUNDED in the
+// count, render/gl/bindings.h) and counted in stats.unbounded_texels.
 //
 // Cache key: volume identity + sun direction + settings; build() returns false and does nothing
 // when the key is unchanged (an unchanged DLM is never rebuilt).
@@ -25,6 +25,7 @@
 #include "render/dlm/volume_textures.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
+#include "render/gl/uniform_blocks.h"
 
 namespace nph::render {
 
@@ -61,9 +62,10 @@ class DeepLightMap {
   const scene::DlmSettings& settings() const { return settings_; }
   const std::string& cacheKey() const { return key_; }
 
-  /// Binds the node and count textures (units 4, 5) and sets glsl/dlm/light_space.glsl's uniforms,
-  /// for any program that includes glsl/dlm/lookup.glsl.
-  void bindForLookup(const gl::Program& program) const;
+  /// Binds the node and count textures (UNIT_DLM_NODES, UNIT_DLM_COUNTS) and the LightSpaceBlock
+  /// of glsl/dlm/light_space.glsl (UBO_LIGHT_SPACE), for any program that includes
+  /// glsl/dlm/lookup.glsl.
+  void bindForLookup() const;
 
   /// Benchmark baseline for pass 1: the same march over the last build's light space storing every
   /// sample uncompressed (no skipping, no compression) in a buffer. Returns wall ms incl. glFinish;
@@ -82,13 +84,13 @@ class DeepLightMap {
   static double lookup(const Readback& map, const scene::LightSpace& lightSpace, const glm::dvec3& world_m);
 
  private:
-  void setLightSpaceUniforms(const gl::Program& p) const;
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
   void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
 
   gl::Program march_, march_peripheral_, scatter_, uncompressed_;
   gl::Texture nodes_, counts_, texel_eps_, scatter_map_;
   scene::LightSpace light_space_;
+  gl::UniformBuffer<gl::LightSpaceBlock> light_space_block_;  // light_space_ for the GLSL passes
   scene::DlmSettings settings_;
   scene::ForwardFractions fractions_;
   double step_m_ = 0.0;

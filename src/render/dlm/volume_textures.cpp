@@ -58,6 +58,14 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   // Units of absent phases get a 1-voxel zero texture so that no unit is left unbound.
   t.zero_ = upload3D(std::vector<float>{0.0f}, {1, 1, 1}, "zero");
+  gl::VolumeBlock block;
+  block.box_min_m = glm::vec3(t.frame_.min_m());
+  block.box_size_m = glm::vec3(t.frame_.size_m());
+  block.voxels = t.frame_.voxels;
+  block.brick_voxels = t.occupancy_.brick;
+  block.has_ice = t.hasIce() ? 1u : 0u;
+  block.has_water = t.hasWater() ? 1u : 0u;
+  t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
   return t;
 }
 
@@ -75,16 +83,11 @@ void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
   hi = frame_.worldFromGrid(b);
 }
 
-void VolumeTextures::bind(const gl::Program& p) const {
-  glBindTextureUnit(0, ice_ ? ice_.id() : zero_.id());
-  glBindTextureUnit(1, water_ ? water_.id() : zero_.id());
-  glBindTextureUnit(2, occupancy_tex_.id());
-  p.set("u_box_min_m", glm::vec3(frame_.min_m()));
-  p.set("u_box_size_m", glm::vec3(frame_.size_m()));
-  p.set("u_voxels", frame_.voxels);
-  p.set("u_brick_voxels", occupancy_.brick);
-  p.set("u_has_ice", hasIce() ? 1 : 0);
-  p.set("u_has_water", hasWater() ? 1 : 0);
+void VolumeTextures::bind() const {
+  glBindTextureUnit(gl::binding::UNIT_ICE_PER_M, ice_ ? ice_.id() : zero_.id());
+  glBindTextureUnit(gl::binding::UNIT_WATER_PER_M, water_ ? water_.id() : zero_.id());
+  glBindTextureUnit(gl::binding::UNIT_OCCUPANCY_PER_M, occupancy_tex_.id());
+  block_.bind();
 }
 
 }  // namespace nph::render

@@ -8,6 +8,7 @@
 #include "volume/extinction_volumes.h"
 #include "volume/occupancy.h"
 #include "volume/volume_frame.h"
+#include "render/gl/uniform_blocks.h"
 
 namespace nph::render {
 
@@ -28,11 +29,13 @@ class VolumeTextures {
   /// volume's bottom face.
   void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
 
-  /// Binds textures to units 0 (ice), 1 (water), 2 (occupancy) and sets glsl/dlm/volume.glsl's uniforms.
-  void bind(const gl::Program& program) const;
+  /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M and UNIT_OCCUPANCY_PER_M and the
+  /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program.
+  void bind() const;
 
  private:
   gl::Texture ice_, water_, occupancy_tex_, zero_;
+  gl::UniformBuffer<gl::VolumeBlock> block_;
   scene::VolumeFrame frame_;
   scene::OccupancyGrid occupancy_;
   std::string identity_;

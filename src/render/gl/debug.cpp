@@ -10,9 +10,8 @@
 #include "render/gl/gl.h"
 
 namespace nph::gl {
-namespace {
 
-bool strictDefault() {
+bool strictByDefault() {
   if (auto v = env::get("NEPHELE_GL_DEBUG")) return *v == "strict";
 #ifdef NDEBUG
   return false;
@@ -21,8 +20,10 @@ bool strictDefault() {
 #endif
 }
 
+namespace {
+
 std::atomic<bool>& strictRef() {
-  static std::atomic<bool> s{strictDefault()};
+  static std::atomic<bool> s{strictByDefault()};
   return s;
 }
 

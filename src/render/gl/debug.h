@@ -14,6 +14,10 @@ namespace nph::gl {
 /// Enables KHR_debug output into the log (`verbose` also logs notifications). Called by Context.
 void installDebugOutput(bool verbose);
 
+/// True in debug builds (no NDEBUG) unless NEPHELE_GL_DEBUG says otherwise, and whenever
+/// NEPHELE_GL_DEBUG=strict: the default of strict errors and of strict uniforms (program.h).
+bool strictByDefault();
+
 /// Strict mode: abort() on the first GL error. See above for the default.
 void setStrictErrors(bool strict);
 bool strictErrors();

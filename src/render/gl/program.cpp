@@ -1,11 +1,36 @@
 #include "render/gl/program.h"
 
+#include <atomic>
+
+#include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "render/gl/debug.h"
 #include "render/gl/shader_sources.h"
 
 namespace nph::gl {
+namespace {
+
+std::atomic<bool>& strictUniformsRef() {
+  static std::atomic<bool> s{strictByDefault()};
+  return s;
+}
+
+}  // namespace
+
+void setStrictUniforms(bool strict) { strictUniformsRef().store(strict); }
+bool strictUniforms() { return strictUniformsRef().load(); }
+
+GLint Program::location(const char* name) const {
+  const GLint loc = glGetUniformLocation(id(), name);
+  if (loc < 0 && strictUniforms()) {
+    throw GlError(fmt::format("program '{}': '{}' is not an active uniform (misspelt, not declared, or "
+                              "optimised away because the shader never reads it)",
+                              label_, name));
+  }
+  return loc;
+}
 
 std::string injectDefines(std::string_view source, const Defines& defines) {
   if (defines.empty()) return std::string(source);
@@ -65,6 +90,7 @@ Program Program::fromSources(
   glGetProgramiv(p.id(), GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) throw GlError("GLSL link error in " + labels + ":\n" + infoLog(p.id(), true));
   detail::setLabel(GL_PROGRAM, p.id(), labels);
+  p.label_ = labels;
   return p;
 }
 

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "render/gl/bindings.h"  // binding points every pass shares with its GLSL
 #include "render/gl/objects.h"
 
 namespace nph::gl {
@@ -32,11 +33,16 @@ class Program {
   static Program fromSources(const std::vector<std::pair<GLenum, std::pair<std::string, std::string>>>& stages);
 
   GLuint id() const { return handle_.id(); }
+  /// The stage files it was built from, e.g. "api/composite.vert + api/composite.frag".
+  const std::string& label() const { return label_; }
   explicit operator bool() const { return bool(handle_); }
   void use() const { glUseProgram(id()); }
 
-  /// Uniform location, -1 if the uniform is not active (optimised away).
-  GLint location(const char* name) const { return glGetUniformLocation(id(), name); }
+  /// Location of an active uniform. A name that is not an active uniform of this program — misspelt,
+  /// never declared, or declared but optimised away because the shader does not use it — is an
+  /// error in strict mode (see setStrictUniforms): GlError naming the program and the uniform.
+  /// Otherwise it gives -1 and glProgramUniform* ignores the value, as GL does.
+  GLint location(const char* name) const;
   void set(const char* name, int v) const { glProgramUniform1i(id(), location(name), v); }
   void set(const char* name, float v) const { glProgramUniform1f(id(), location(name), v); }
   void set(const char* name, const glm::vec2& v) const { glProgramUniform2f(id(), location(name), v.x, v.y); }
@@ -56,6 +62,15 @@ class Program {
 
  private:
   ObjectHandle<&detail::deleteProgram> handle_;
+  std::string label_;
 };
+
+/// Strict uniforms: setting a uniform that is not active in the program throws GlError (Magnum's
+/// AbstractShaderProgram::uniformLocation warns; a silently ignored uniform is a bug that renders
+/// plausibly). On by default in debug builds (no NDEBUG) and with NEPHELE_GL_DEBUG=strict; the GL
+/// test fixture turns it on for every GL test. Release builds keep GL's rule (ignored), because
+/// another driver may optimise away a uniform that llvmpipe keeps.
+void setStrictUniforms(bool strict);
+bool strictUniforms();
 
 }  // namespace nph::gl

@@ -64,8 +64,8 @@ ViewRays ViewRays::fromMatrices(const glm::dmat4& view_from_world, const glm::dm
 void CloudRenderer::setGlobeUniforms(const ViewRays& view, const RenderSettings& s, double sun_intensity) const {
   const gl::Program& p = program_;
   p.set("u_globe", globe_ ? 1 : 0);
-  glBindTextureUnit(8, globe_ ? globe_table_.id() : blank_.id());
-  glBindTextureUnit(9, globe_basemap_ ? globe_basemap_.id() : blank_.id());
+  glBindTextureUnit(gl::binding::UNIT_GLOBE_WORLD_XY, globe_ ? globe_table_.id() : blank_.id());
+  glBindTextureUnit(gl::binding::UNIT_GLOBE_BASEMAP, globe_basemap_ ? globe_basemap_.id() : blank_.id());
   if (!globe_) return;
   const GlobeMapping& m = *globe_;
   const double o2 = glm::dot(view.position_m, view.position_m);  // double: |o|² − r² cancels
@@ -98,10 +98,10 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   }
   const gl::Program& p = program_;
   p.use();
-  volume.bind(p);
-  dlm.bindForLookup(p);
-  glBindTextureUnit(6, basemap_ ? basemap_.id() : blank_.id());
-  glBindTextureUnit(7, depth.texture ? depth.texture : blank_.id());
+  volume.bind();
+  dlm.bindForLookup();
+  glBindTextureUnit(gl::binding::UNIT_BASEMAP, basemap_ ? basemap_.id() : blank_.id());
+  glBindTextureUnit(gl::binding::UNIT_HOST_DEPTH, depth.texture ? depth.texture : blank_.id());
   p.set("u_size", glm::ivec2(w, h));
   p.set("u_cam_pos_m", glm::vec3(view.position_m));
   p.set("u_world_from_view", glm::mat3(view.world_from_view));
@@ -123,9 +123,9 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   p.set("u_basemap_max_m", glm::vec2(basemap_rect_.max_m));
   p.set("u_ocean_albedo", glm::vec3(s.ocean_albedo));
   setGlobeUniforms(view, s, sun.intensity);
-  glBindImageTexture(0, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(1, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(2, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
   p.set("u_count_samples", count_samples_ ? 1 : 0);
   p.dispatchCovering({w, h, 1});
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);

@@ -1,0 +1,89 @@
+#pragma once
+// Every binding point and bit flag that C++ and GLSL share, declared once (issue #17 item 4;
+// STYLE.md 4, after Filament's binding-point enums shared by C++ and GLSL).
+//
+// The list below is the single source of truth. cmake/embed_glsl.py reads NPH_GLSL_BINDINGS at
+// build time and writes `#define NAME value` for each entry right after the #version line of every
+// embedded stage file, so glslangValidator, the driver and this header all see the same numbers;
+// C++ sees the entries as constants in nph::gl::binding. Shaders write
+// `layout(binding = UNIT_ICE_PER_M) uniform sampler3D u_ice_per_m;` and C++ writes
+// `glBindTextureUnit(binding::UNIT_ICE_PER_M, ...)`: no unit, image, buffer or block number is a
+// literal on either side.
+//
+// Prefixes name the GL binding namespace (each has its own numbering, so the same number may
+// appear under two prefixes): UNIT_ texture units (samplers, glBindTextureUnit), IMAGE_ image units
+// (glBindImageTexture), SSBO_ shader-storage buffers and UBO_ uniform blocks (glBindBufferBase).
+// Units only have to be distinct among the names one program uses together; the numbers are those
+// the passes used before this header, so captures and logs read as before.
+//
+// The format is parsed by embed_glsl.py: one `X(NAME, value)` per line, value an integer literal
+// valid in both languages (decimal, or hex with a `u` suffix for flags).
+// clang-format off
+#define NPH_GLSL_BINDINGS(X)                                                                      \
+  /* Extinction volumes, glsl/dlm/volume.glsl (render/dlm/volume_textures.cpp) */                \
+  X(UBO_VOLUME, 1)              /* VolumeBlock (render/gl/uniform_blocks.h) */                  \
+  X(UNIT_ICE_PER_M, 0)          /* sampler3D: ice β_ext [1/m] */                                \
+  X(UNIT_WATER_PER_M, 1)        /* sampler3D: water β_ext [1/m] */                              \
+  X(UNIT_OCCUPANCY_PER_M, 2)    /* sampler3D: max β per occupancy brick [1/m] */                \
+  /* Deep light map, glsl/dlm/{march,scatter,lookup}.glsl (render/dlm/deep_light_map.cpp) */     \
+  X(UBO_LIGHT_SPACE, 0)         /* LightSpaceBlock (render/gl/uniform_blocks.h) */              \
+  X(UNIT_SCATTER_MAP, 3)        /* sampler3D: peripheral light P per scatter cell (pass 3) */   \
+  X(UNIT_DLM_NODES, 4)          /* sampler3D: RG32F (depth, intensity) node list per texel */   \
+  X(UNIT_DLM_COUNTS, 5)         /* usampler2D: node count per texel | DLM_COUNT_UNBOUNDED */    \
+  X(IMAGE_DLM_NODES, 0)         /* image3D rg32f, written by the compressor */                  \
+  X(IMAGE_DLM_COUNTS, 1)        /* uimage2D r32ui */                                            \
+  X(IMAGE_DLM_TEXEL_EPSILON, 2) /* image2D r32f: ε each texel was compressed with */            \
+  X(IMAGE_SCATTER_MAP, 1)       /* image3D r32f, written by pass 2 (scatter.comp) */            \
+  X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
+  /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
+  X(UNIT_BASEMAP, 6)            /* sampler2D: flat-map ground albedo, linear RGB */             \
+  X(UNIT_HOST_DEPTH, 7)         /* sampler2D: the host's depth buffer [0, 1] */                 \
+  X(UNIT_GLOBE_WORLD_XY, 8)     /* sampler2D: RG32F world x, y per rotated lon/lat */           \
+  X(UNIT_GLOBE_BASEMAP, 9)      /* sampler2D: equirectangular basemap, linear RGB */            \
+  X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
+  X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \
+  X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \
+  /* Display passes: glsl/api/composite.frag (api/compositor.cpp), glsl/render/present.frag */  \
+  X(UNIT_COMPOSITE_LAYER, 0)    /* sampler2D: the cloud layer composited into the host */       \
+  X(UNIT_PRESENT_FRAME, 0)      /* sampler2D: the frame the viewer shows (cli/view.cpp) */      \
+  /* Tests and benchmarks: glsl/test, glsl/bench */                                              \
+  X(IMAGE_TEST_OUT, 0)          /* image3D rgba32f: gradient3d.comp's output */                 \
+  X(SSBO_TEST_POINTS, 0)        /* vec4[]: dlm_lookup.comp's input points */                   \
+  X(SSBO_TEST_RESULTS, 1)       /* float[]: dlm_lookup.comp's results */                       \
+  X(UNIT_BENCH_VOLUME, 0)       /* sampler3D: fetch3d.comp's volume */                          \
+  X(IMAGE_BENCH_SUM, 0)         /* image2D r32f: fetch3d.comp's sums */                         \
+  /* Bit flags stored in textures by one side and read by the other */                           \
+  X(DLM_COUNT_UNBOUNDED, 0x80000000u)  /* count bit: the texel's ε bound was not kept */        \
+  X(DLM_COUNT_MASK, 0x7fffffffu)       /* count bits proper: ~DLM_COUNT_UNBOUNDED */
+// clang-format on
+
+#include <string_view>
+
+namespace nph::gl::binding {
+
+#define NPH_GLSL_BINDING_CONSTANT(name, value) inline constexpr unsigned name = value;
+NPH_GLSL_BINDINGS(NPH_GLSL_BINDING_CONSTANT)
+#undef NPH_GLSL_BINDING_CONSTANT
+
+static_assert(DLM_COUNT_MASK == ~DLM_COUNT_UNBOUNDED, "the count mask is the complement of the flag");
+
+/// Every entry by name, for code that must cover a whole binding namespace (api/gl_state_guard.h).
+struct Entry {
+  std::string_view name;
+  unsigned value;
+};
+#define NPH_GLSL_BINDING_ENTRY(name, value) Entry{#name, value},
+inline constexpr Entry kAll[] = {NPH_GLSL_BINDINGS(NPH_GLSL_BINDING_ENTRY)};
+#undef NPH_GLSL_BINDING_ENTRY
+
+/// The highest binding number among the entries whose name starts with `prefix` ("UNIT_",
+/// "IMAGE_", "SSBO_", "UBO_"); 0 when there is none.
+constexpr unsigned highest(std::string_view prefix) {
+  unsigned h = 0;
+  for (const Entry& e : kAll) {
+    if (e.name.starts_with(prefix) && e.value > h) h = e.value;
+  }
+  return h;
+}
+
+}  // namespace nph::gl::binding
