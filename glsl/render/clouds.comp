@@ -28,29 +28,33 @@ layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform writeonly image2D u_cloud_l
 layout(rgba32f, binding = IMAGE_FRAME) uniform writeonly image2D u_frame;
 layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
 layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
-
-uniform ivec2 u_size;
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
 
-uniform vec3 u_cam_pos_m;
-uniform mat3 u_world_from_view;  // view axes in world (render/raycast/cloud_renderer.h ViewRays)
-uniform mat4 u_view_from_clip;   // inverse projection
-uniform bool u_has_host_depth;   // stop rays at the host's geometry
-uniform vec3 u_to_sun;          // unit, towards the sun
-uniform vec3 u_sun_radiance;    // colour · intensity
-uniform vec3 u_ambient;         // uniform sky radiance
-uniform float u_g_ice;
-uniform float u_g_water;
-uniform float u_step_m;
-uniform float u_min_transmittance;
-uniform bool u_jitter;
-uniform bool u_skip_empty;
-uniform bool u_shadows;
-uniform bool u_has_basemap;
-uniform vec2 u_basemap_min_m;
-uniform vec2 u_basemap_max_m;
-uniform vec3 u_ocean_albedo;    // ground albedo outside the basemap
-uniform bool u_count_samples;   // write the number of volume samples per ray (benchmarks)
+// One std140 block, declared in C++ as gl::RaycastBlock (render/gl/uniform_blocks.h): keep the
+// members in its order; the GL test UniformBlocksMatchTheLinkedPrograms checks every offset.
+layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
+  mat4 u_view_from_clip;      // inverse projection
+  mat3 u_world_from_view;     // view axes in world (render/raycast/cloud_renderer.h ViewRays)
+  vec3 u_cam_pos_m;
+  float u_step_m;
+  vec3 u_to_sun;              // unit, towards the sun
+  float u_min_transmittance;
+  vec3 u_sun_radiance;        // colour · intensity
+  float u_g_ice;
+  vec3 u_ambient;             // uniform sky radiance
+  float u_g_water;
+  vec3 u_ocean_albedo;        // ground albedo outside the basemap
+  bool u_jitter;
+  vec2 u_basemap_min_m;
+  vec2 u_basemap_max_m;
+  ivec2 u_size;
+  bool u_has_host_depth;      // stop rays at the host's geometry
+  bool u_skip_empty;
+  bool u_shadows;
+  bool u_has_basemap;
+  bool u_count_samples;       // write the number of volume samples per ray (benchmarks)
+  bool u_globe;               // rays in ECEF (render/globe.glsl's GlobeBlock)
+};
 
 #include "render/globe.glsl"
 

@@ -7,17 +7,20 @@
 layout(binding = UNIT_GLOBE_WORLD_XY) uniform sampler2D u_globe_world_xy;  // RG32F world x, y at texel centres
 layout(binding = UNIT_GLOBE_BASEMAP) uniform sampler2D u_globe_basemap;   // equirectangular linear RGB, row 0 = 90°N
 
-uniform bool u_globe;
-uniform mat3 u_local_from_ecef;   // rows east, north, up at the footprint centre
-uniform vec2 u_ab_min_rad;        // rotated lon/lat box of the table
-uniform vec2 u_ab_max_rad;
-uniform float u_earth_radius_m;   // scene::kEarthRadius_m
-uniform vec3 u_cap_axis;          // unit ECEF of the footprint centre
-uniform float u_cap_min_dot_m;    // (R + z_min)·cos α: every cloud point has p·c at least this
-uniform vec3 u_sphere_c_m2;       // |o|² − r² for r = R (ground), R + z_max (lens top); double on the CPU
-uniform float u_lipschitz_h;      // world-xy metres per ECEF metre, upper bound (globe.h)
-uniform bool u_has_globe_basemap;
-uniform vec3 u_limb_radiance;     // sky colour at the limb (a cosmetic atmosphere, docs/rendering.md)
+// One std140 block, declared in C++ as gl::GlobeBlock (render/gl/uniform_blocks.h): keep the
+// members in its order; the GL test UniformBlocksMatchTheLinkedPrograms checks every offset.
+layout(std140, binding = UBO_GLOBE) uniform GlobeBlock {
+  mat3 u_local_from_ecef;   // rows east, north, up at the footprint centre
+  vec3 u_cap_axis;          // unit ECEF of the footprint centre
+  float u_cap_min_dot_m;    // (R + z_min)·cos α: every cloud point has p·c at least this
+  vec3 u_sphere_c_m2;       // |o|² − r² for r = R (ground), R + z_max (lens top); double on the CPU
+  float u_lipschitz_h;      // world-xy metres per ECEF metre, upper bound (globe.h)
+  vec3 u_limb_radiance;     // sky colour at the limb (a cosmetic atmosphere, docs/rendering.md)
+  float u_earth_radius_m;   // scene::kEarthRadius_m
+  vec2 u_ab_min_rad;        // rotated lon/lat box of the table
+  vec2 u_ab_max_rad;
+  bool u_has_globe_basemap;
+};
 
 const float kOutsideTable_m = -1.0e30;
 // e-folding height of the limb glow: a look, not a scattering model (docs/rendering.md).

@@ -36,6 +36,8 @@
   X(IMAGE_SCATTER_MAP, 1)       /* image3D r32f, written by pass 2 (scatter.comp) */            \
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
   /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
+  X(UBO_RAYCAST, 2)             /* RaycastBlock (render/gl/uniform_blocks.h) */                 \
+  X(UBO_GLOBE, 3)               /* GlobeBlock (render/gl/uniform_blocks.h) */                   \
   X(UNIT_BASEMAP, 6)            /* sampler2D: flat-map ground albedo, linear RGB */             \
   X(UNIT_HOST_DEPTH, 7)         /* sampler2D: the host's depth buffer [0, 1] */                 \
   X(UNIT_GLOBE_WORLD_XY, 8)     /* sampler2D: RG32F world x, y per rotated lon/lat */           \

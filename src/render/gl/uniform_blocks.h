@@ -79,6 +79,108 @@ inline constexpr BlockMember kVolumeMembers[] = {
     {"u_box_size_m", offsetof(VolumeBlock, box_size_m)}, {"u_has_ice", offsetof(VolumeBlock, has_ice)},
     {"u_voxels", offsetof(VolumeBlock, voxels)},         {"u_has_water", offsetof(VolumeBlock, has_water)}};
 
+/// std140 mat3: three columns, each padded to a vec4 (GL 4.5 §7.6.2.2 rules 5 and 4).
+struct Std140Mat3 {
+  glm::vec4 columns[3]{};
+  Std140Mat3() = default;
+  explicit Std140Mat3(const glm::mat3& m)
+      : columns{glm::vec4(m[0], 0.0f), glm::vec4(m[1], 0.0f), glm::vec4(m[2], 0.0f)} {}
+};
+static_assert(sizeof(Std140Mat3) == 48);
+
+/// glsl/render/clouds.comp `RaycastBlock`: the eye pass's view, light and switches, set per
+/// dispatch (render/raycast/cloud_renderer.cpp). Bools are 32-bit words (0 or 1).
+struct RaycastBlock {
+  static constexpr unsigned kBinding = binding::UBO_RAYCAST;
+  static constexpr const char* kGlslName = "RaycastBlock";
+  glm::mat4 view_from_clip{1.0f};    ///< u_view_from_clip: inverse projection
+  Std140Mat3 world_from_view;        ///< u_world_from_view: view axes in world
+  glm::vec3 cam_pos_m{0.0f};         ///< u_cam_pos_m
+  float step_m = 0.0f;               ///< u_step_m: eye-ray step Δ
+  glm::vec3 to_sun{0.0f};            ///< u_to_sun: unit, towards the sun
+  float min_transmittance = 0.0f;    ///< u_min_transmittance: early ray termination
+  glm::vec3 sun_radiance{0.0f};      ///< u_sun_radiance: colour · intensity
+  float g_ice = 0.0f;                ///< u_g_ice: HG asymmetry of ice
+  glm::vec3 ambient{0.0f};           ///< u_ambient: uniform sky radiance
+  float g_water = 0.0f;              ///< u_g_water: HG asymmetry of water
+  glm::vec3 ocean_albedo{0.0f};      ///< u_ocean_albedo: ground albedo outside the basemap
+  std::uint32_t jitter = 0;          ///< u_jitter (bool)
+  glm::vec2 basemap_min_m{0.0f};     ///< u_basemap_min_m
+  glm::vec2 basemap_max_m{0.0f};     ///< u_basemap_max_m
+  glm::ivec2 size{0};                ///< u_size: image width, height [pixels]
+  std::uint32_t has_host_depth = 0;  ///< u_has_host_depth (bool)
+  std::uint32_t skip_empty = 0;      ///< u_skip_empty (bool)
+  std::uint32_t shadows = 0;         ///< u_shadows (bool)
+  std::uint32_t has_basemap = 0;     ///< u_has_basemap (bool)
+  std::uint32_t count_samples = 0;   ///< u_count_samples (bool)
+  std::uint32_t globe = 0;           ///< u_globe (bool): rays in ECEF, GlobeBlock valid
+};
+static_assert(offsetof(RaycastBlock, world_from_view) == 64 && offsetof(RaycastBlock, cam_pos_m) == 112 &&
+              offsetof(RaycastBlock, step_m) == 124);
+static_assert(offsetof(RaycastBlock, to_sun) == 128 && offsetof(RaycastBlock, sun_radiance) == 144 &&
+              offsetof(RaycastBlock, ambient) == 160 && offsetof(RaycastBlock, ocean_albedo) == 176 &&
+              offsetof(RaycastBlock, jitter) == 188);
+static_assert(offsetof(RaycastBlock, basemap_min_m) == 192 && offsetof(RaycastBlock, size) == 208 &&
+              offsetof(RaycastBlock, skip_empty) == 220 && offsetof(RaycastBlock, globe) == 236);
+static_assert(sizeof(RaycastBlock) == 240, "std140 size of RaycastBlock");
+inline constexpr BlockMember kRaycastMembers[] = {
+    {"u_view_from_clip", offsetof(RaycastBlock, view_from_clip)},
+    {"u_world_from_view", offsetof(RaycastBlock, world_from_view)},
+    {"u_cam_pos_m", offsetof(RaycastBlock, cam_pos_m)},
+    {"u_step_m", offsetof(RaycastBlock, step_m)},
+    {"u_to_sun", offsetof(RaycastBlock, to_sun)},
+    {"u_min_transmittance", offsetof(RaycastBlock, min_transmittance)},
+    {"u_sun_radiance", offsetof(RaycastBlock, sun_radiance)},
+    {"u_g_ice", offsetof(RaycastBlock, g_ice)},
+    {"u_ambient", offsetof(RaycastBlock, ambient)},
+    {"u_g_water", offsetof(RaycastBlock, g_water)},
+    {"u_ocean_albedo", offsetof(RaycastBlock, ocean_albedo)},
+    {"u_jitter", offsetof(RaycastBlock, jitter)},
+    {"u_basemap_min_m", offsetof(RaycastBlock, basemap_min_m)},
+    {"u_basemap_max_m", offsetof(RaycastBlock, basemap_max_m)},
+    {"u_size", offsetof(RaycastBlock, size)},
+    {"u_has_host_depth", offsetof(RaycastBlock, has_host_depth)},
+    {"u_skip_empty", offsetof(RaycastBlock, skip_empty)},
+    {"u_shadows", offsetof(RaycastBlock, shadows)},
+    {"u_has_basemap", offsetof(RaycastBlock, has_basemap)},
+    {"u_count_samples", offsetof(RaycastBlock, count_samples)},
+    {"u_globe", offsetof(RaycastBlock, globe)}};
+
+/// glsl/render/globe.glsl `GlobeBlock`: the globe view's mapping (render/raycast/globe.h), read
+/// only when RaycastBlock::globe is set.
+struct GlobeBlock {
+  static constexpr unsigned kBinding = binding::UBO_GLOBE;
+  static constexpr const char* kGlslName = "GlobeBlock";
+  Std140Mat3 local_from_ecef;            ///< u_local_from_ecef: rows east, north, up
+  glm::vec3 cap_axis{0.0f};              ///< u_cap_axis: unit ECEF of the footprint centre
+  float cap_min_dot_m = 0.0f;            ///< u_cap_min_dot_m: (R + z_min)·cos α
+  glm::vec3 sphere_c_m2{0.0f};           ///< u_sphere_c_m2: |o|² − r² (ground, lens top) [m²]
+  float lipschitz_h = 0.0f;              ///< u_lipschitz_h: world-xy m per ECEF m, upper bound
+  glm::vec3 limb_radiance{0.0f};         ///< u_limb_radiance
+  float earth_radius_m = 0.0f;           ///< u_earth_radius_m
+  glm::vec2 ab_min_rad{0.0f};            ///< u_ab_min_rad: rotated lon/lat box of the table
+  glm::vec2 ab_max_rad{0.0f};            ///< u_ab_max_rad
+  std::uint32_t has_globe_basemap = 0;   ///< u_has_globe_basemap (bool)
+  std::uint32_t pad[3] = {0, 0, 0};      ///< to a multiple of 16 bytes (std140 block rounding)
+};
+static_assert(offsetof(GlobeBlock, cap_axis) == 48 && offsetof(GlobeBlock, cap_min_dot_m) == 60 &&
+              offsetof(GlobeBlock, sphere_c_m2) == 64 && offsetof(GlobeBlock, lipschitz_h) == 76);
+static_assert(offsetof(GlobeBlock, limb_radiance) == 80 && offsetof(GlobeBlock, earth_radius_m) == 92 &&
+              offsetof(GlobeBlock, ab_min_rad) == 96 && offsetof(GlobeBlock, ab_max_rad) == 104 &&
+              offsetof(GlobeBlock, has_globe_basemap) == 112);
+static_assert(sizeof(GlobeBlock) == 128, "std140 size of GlobeBlock, rounded to 16");
+inline constexpr BlockMember kGlobeMembers[] = {
+    {"u_local_from_ecef", offsetof(GlobeBlock, local_from_ecef)},
+    {"u_cap_axis", offsetof(GlobeBlock, cap_axis)},
+    {"u_cap_min_dot_m", offsetof(GlobeBlock, cap_min_dot_m)},
+    {"u_sphere_c_m2", offsetof(GlobeBlock, sphere_c_m2)},
+    {"u_lipschitz_h", offsetof(GlobeBlock, lipschitz_h)},
+    {"u_limb_radiance", offsetof(GlobeBlock, limb_radiance)},
+    {"u_earth_radius_m", offsetof(GlobeBlock, earth_radius_m)},
+    {"u_ab_min_rad", offsetof(GlobeBlock, ab_min_rad)},
+    {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
+    {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)}};
+
 /// A uniform buffer holding one `Block`, bound to the block's binding point (bindings.h).
 template <class Block>
 class UniformBuffer {

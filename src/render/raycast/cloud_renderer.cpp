@@ -12,7 +12,10 @@
 
 namespace nph::render {
 
-CloudRenderer::CloudRenderer() : program_(gl::Program::compute("render/clouds.comp")) {
+CloudRenderer::CloudRenderer()
+    : program_(gl::Program::compute("render/clouds.comp")),
+      raycast_block_(gl::UniformBuffer<gl::RaycastBlock>::create({}, "raycast block")),
+      globe_block_(gl::UniformBuffer<gl::GlobeBlock>::create({}, "globe block")) {
   blank_ = gl::Texture::create2D(GL_RGBA32F, 1, 1).label("no basemap");
   const float zero[4] = {0, 0, 0, 0};
   glTextureSubImage2D(blank_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
@@ -61,25 +64,26 @@ ViewRays ViewRays::fromMatrices(const glm::dmat4& view_from_world, const glm::dm
   return r;
 }
 
-void CloudRenderer::setGlobeUniforms(const ViewRays& view, const RenderSettings& s, double sun_intensity) const {
-  const gl::Program& p = program_;
-  p.set("u_globe", globe_ ? 1 : 0);
+void CloudRenderer::updateGlobeBlock(const ViewRays& view, const RenderSettings& s, double sun_intensity) {
   glBindTextureUnit(gl::binding::UNIT_GLOBE_WORLD_XY, globe_ ? globe_table_.id() : blank_.id());
   glBindTextureUnit(gl::binding::UNIT_GLOBE_BASEMAP, globe_basemap_ ? globe_basemap_.id() : blank_.id());
-  if (!globe_) return;
+  globe_block_.bind();
+  if (!globe_) return;  // clouds.comp reads GlobeBlock only when RaycastBlock::globe is set
   const GlobeMapping& m = *globe_;
   const double o2 = glm::dot(view.position_m, view.position_m);  // double: |o|² − r² cancels
   const double R = scene::kEarthRadius_m;
-  p.set("u_local_from_ecef", glm::mat3(m.local_from_ecef));
-  p.set("u_ab_min_rad", glm::vec2(m.ab_min_rad));
-  p.set("u_ab_max_rad", glm::vec2(m.ab_max_rad));
-  p.set("u_earth_radius_m", float(R));
-  p.set("u_cap_axis", glm::vec3(m.cap_axis));
-  p.set("u_cap_min_dot_m", float(m.shell_min_m * m.cap_cos));
-  p.set("u_sphere_c_m2", glm::vec3(float(o2 - R * R), float(o2 - m.shell_max_m * m.shell_max_m), 0.0f));
-  p.set("u_lipschitz_h", float(m.horizontal_lipschitz));
-  p.set("u_has_globe_basemap", globe_basemap_ ? 1 : 0);
-  p.set("u_limb_radiance", glm::vec3(s.limb_radiance * sun_intensity));
+  gl::GlobeBlock b;
+  b.local_from_ecef = gl::Std140Mat3(glm::mat3(m.local_from_ecef));
+  b.ab_min_rad = glm::vec2(m.ab_min_rad);
+  b.ab_max_rad = glm::vec2(m.ab_max_rad);
+  b.earth_radius_m = float(R);
+  b.cap_axis = glm::vec3(m.cap_axis);
+  b.cap_min_dot_m = float(m.shell_min_m * m.cap_cos);
+  b.sphere_c_m2 = glm::vec3(float(o2 - R * R), float(o2 - m.shell_max_m * m.shell_max_m), 0.0f);
+  b.lipschitz_h = float(m.horizontal_lipschitz);
+  b.has_globe_basemap = globe_basemap_ ? 1u : 0u;
+  b.limb_radiance = glm::vec3(s.limb_radiance * sun_intensity);
+  globe_block_.update(b);
 }
 
 double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view,
@@ -102,31 +106,35 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   dlm.bindForLookup();
   glBindTextureUnit(gl::binding::UNIT_BASEMAP, basemap_ ? basemap_.id() : blank_.id());
   glBindTextureUnit(gl::binding::UNIT_HOST_DEPTH, depth.texture ? depth.texture : blank_.id());
-  p.set("u_size", glm::ivec2(w, h));
-  p.set("u_cam_pos_m", glm::vec3(view.position_m));
-  p.set("u_world_from_view", glm::mat3(view.world_from_view));
-  p.set("u_view_from_clip", glm::mat4(view.view_from_clip));
-  p.set("u_has_host_depth", depth.texture ? 1 : 0);
-  p.set("u_to_sun", glm::vec3(globe_ ? globe_to_sun_ : sun.toSun()));
-  p.set("u_sun_radiance", glm::vec3(sun.colour * sun.intensity));
-  p.set("u_ambient", glm::vec3(s.ambient * sun.intensity));
-  p.set("u_g_ice", float(s.g_ice));
-  p.set("u_g_water", float(s.g_water));
+  gl::RaycastBlock b;
+  b.size = glm::ivec2(w, h);
+  b.cam_pos_m = glm::vec3(view.position_m);
+  b.world_from_view = gl::Std140Mat3(glm::mat3(view.world_from_view));
+  b.view_from_clip = glm::mat4(view.view_from_clip);
+  b.has_host_depth = depth.texture ? 1u : 0u;
+  b.to_sun = glm::vec3(globe_ ? globe_to_sun_ : sun.toSun());
+  b.sun_radiance = glm::vec3(sun.colour * sun.intensity);
+  b.ambient = glm::vec3(s.ambient * sun.intensity);
+  b.g_ice = float(s.g_ice);
+  b.g_water = float(s.g_water);
   const glm::dvec3 voxel = volume.frame().voxel_size_m;
-  p.set("u_step_m", float(s.step_voxels * std::min({voxel.x, voxel.y, voxel.z})));
-  p.set("u_min_transmittance", float(s.min_transmittance));
-  p.set("u_jitter", s.jitter ? 1 : 0);
-  p.set("u_skip_empty", s.empty_space_skipping ? 1 : 0);
-  p.set("u_shadows", s.shadows ? 1 : 0);
-  p.set("u_has_basemap", basemap_ ? 1 : 0);
-  p.set("u_basemap_min_m", glm::vec2(basemap_rect_.min_m));
-  p.set("u_basemap_max_m", glm::vec2(basemap_rect_.max_m));
-  p.set("u_ocean_albedo", glm::vec3(s.ocean_albedo));
-  setGlobeUniforms(view, s, sun.intensity);
+  b.step_m = float(s.step_voxels * std::min({voxel.x, voxel.y, voxel.z}));
+  b.min_transmittance = float(s.min_transmittance);
+  b.jitter = s.jitter ? 1u : 0u;
+  b.skip_empty = s.empty_space_skipping ? 1u : 0u;
+  b.shadows = s.shadows ? 1u : 0u;
+  b.has_basemap = basemap_ ? 1u : 0u;
+  b.basemap_min_m = glm::vec2(basemap_rect_.min_m);
+  b.basemap_max_m = glm::vec2(basemap_rect_.max_m);
+  b.ocean_albedo = glm::vec3(s.ocean_albedo);
+  b.count_samples = count_samples_ ? 1u : 0u;
+  b.globe = globe_ ? 1u : 0u;
+  raycast_block_.update(b);
+  raycast_block_.bind();
+  updateGlobeBlock(view, s, sun.intensity);
   glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
-  p.set("u_count_samples", count_samples_ ? 1 : 0);
   p.dispatchCovering({w, h, 1});
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (finish) glFinish();

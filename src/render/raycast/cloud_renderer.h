@@ -68,7 +68,7 @@ class CloudRenderer {
                       const scene::Sun& sun, const RenderSettings& settings);
 
   /// Ray casts into cloudLayer() (premultiplied linear RGBA, row 0 = top) and frame() without
-  /// reading back. Binds its own program, textures (units 0–9) and image units 0–2; the caller
+  /// reading back. Binds its own program, textures, image units and uniform buffers; the caller
   /// saves and restores GL state if it must (the plugin API does). Returns wall ms incl. glFinish
   /// when `finish`, else the submission time.
   double dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view, const scene::Sun& sun,
@@ -88,7 +88,7 @@ class CloudRenderer {
   const gl::Texture& frame() const { return frame_tex_; }
 
  private:
-  void setGlobeUniforms(const ViewRays& view, const RenderSettings& settings, double sun_intensity) const;
+  void updateGlobeBlock(const ViewRays& view, const RenderSettings& settings, double sun_intensity);
 
   gl::Program program_;
   gl::Texture basemap_, blank_, cloud_tex_, frame_tex_;
@@ -97,6 +97,8 @@ class CloudRenderer {
   std::optional<GlobeMapping> globe_;
   gl::Texture globe_table_, globe_basemap_, sample_count_tex_;
   bool count_samples_ = false;
+  gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
+  gl::UniformBuffer<gl::GlobeBlock> globe_block_;      // globe.glsl's mapping
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
 };
 
