@@ -5,10 +5,10 @@
 
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
+#include "render/gl/uniform_blocks.h"
 #include "volume/extinction_volumes.h"
 #include "volume/occupancy.h"
 #include "volume/volume_frame.h"
-#include "render/gl/uniform_blocks.h"
 
 namespace nph::render {
 
