@@ -1,5 +1,6 @@
 #include "accuracy/ground_truth.h"
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "accuracy/image_error.h"
 #include "cache/checksum.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -14,7 +16,7 @@
 namespace nph::accuracy {
 namespace {
 
-constexpr char kMagic[8] = {'N', 'P', 'H', 'G', 'T', '0', '0', '1'};
+constexpr char kMagic[8] = {'N', 'P', 'H', 'G', 'T', '0', '0', '2'};
 
 class Hasher {
  public:
@@ -47,6 +49,7 @@ reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSetti
   reference::PathTracerSettings s;
   s.samples_per_pixel = settings.samples_per_pixel;
   s.max_events = settings.max_events;
+  s.roulette_after_events = settings.roulette_after_events;
   s.seed = settings.seed;
   s.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_ice};
   s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_water};
@@ -83,6 +86,7 @@ std::string groundTruthKey(const AccuracyScene& sc, const render::RenderSettings
   h.add(rs.ambient);
   h.add(gs.samples_per_pixel);
   h.add(gs.max_events);
+  h.add(gs.roulette_after_events);
   h.add(gs.seed);
   return cache::toHex(h.digest());
 }
@@ -99,11 +103,13 @@ GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& r
   if (std::ifstream in{gt.cache_path, std::ios::binary}) {
     char magic[8] = {};
     int fw = 0, fh = 0;
-    double truncated = 0.0;
+    double truncated = 0.0, rouletted = 0.0, seconds = 0.0;
     in.read(magic, 8);
     in.read(reinterpret_cast<char*>(&fw), sizeof fw);
     in.read(reinterpret_cast<char*>(&fh), sizeof fh);
     in.read(reinterpret_cast<char*>(&truncated), sizeof truncated);
+    in.read(reinterpret_cast<char*>(&rouletted), sizeof rouletted);
+    in.read(reinterpret_cast<char*>(&seconds), sizeof seconds);
     if (in && std::memcmp(magic, kMagic, 8) == 0 && fw == w && fh == hgt) {
       gt.image.rgba.resize(4 * n);
       gt.standard_error.resize(3 * n);
@@ -112,6 +118,9 @@ GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& r
       if (in) {
         gt.from_cache = true;
         gt.truncated_share = truncated;
+        gt.rouletted_share = rouletted;
+        gt.seconds = seconds;
+        gt.noise_rmse = luminanceNoiseRmse(gt.standard_error);
         return gt;
       }
     }
@@ -125,6 +134,8 @@ GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& r
   gt.standard_error = img.standard_error;
   gt.seconds = img.stats.seconds;
   gt.truncated_share = img.stats.paths ? double(img.stats.truncated_paths) / double(img.stats.paths) : 0.0;
+  gt.rouletted_share = img.stats.paths ? double(img.stats.rouletted_paths) / double(img.stats.paths) : 0.0;
+  gt.noise_rmse = luminanceNoiseRmse(gt.standard_error);
   const std::string tmp = gt.cache_path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary);
@@ -132,6 +143,8 @@ GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& r
     out.write(reinterpret_cast<const char*>(&w), sizeof w);
     out.write(reinterpret_cast<const char*>(&hgt), sizeof hgt);
     out.write(reinterpret_cast<const char*>(&gt.truncated_share), sizeof gt.truncated_share);
+    out.write(reinterpret_cast<const char*>(&gt.rouletted_share), sizeof gt.rouletted_share);
+    out.write(reinterpret_cast<const char*>(&gt.seconds), sizeof gt.seconds);
     out.write(reinterpret_cast<const char*>(gt.image.rgba.data()), std::streamsize(4 * n * sizeof(float)));
     out.write(reinterpret_cast<const char*>(gt.standard_error.data()), std::streamsize(3 * n * sizeof(float)));
     if (!out) throw IoError(fmt::format("{}: cannot write the ground-truth cache", tmp));

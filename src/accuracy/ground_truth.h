@@ -12,7 +12,8 @@
 // scattering in a cone from the DLM, no side or back multiple scattering, the ambient term).
 //
 // Cache: <dir>/<scene>-<key>.gt, key = XXH64 of the volume, frame, camera, sun, light and
-// tracer settings; a binary file of width·height RGBA + RGB standard error floats.
+// tracer settings; a binary file: magic, width, height, truncated share, rouletted share, tracing
+// seconds, then width·height RGBA and RGB standard error floats.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -26,7 +27,11 @@ namespace nph::accuracy {
 
 struct GroundTruthSettings {
   int samples_per_pixel = 256;
-  int max_events = 4000;  ///< paths cut beyond this are counted (their energy is the only bias)
+  /// Hard cap; paths cut by it are counted (their energy would be the truth's only bias). With the
+  /// roulette below it is not reached in practice (probability ≈ e^{−99} per path).
+  int max_events = 100000;
+  /// Unbiased Russian roulette past this many collisions (reference/path_tracer.h).
+  int roulette_after_events = 1000;
   std::uint64_t seed = 1;
 };
 
@@ -35,6 +40,8 @@ struct GroundTruth {
   std::vector<float> standard_error;   ///< RGB per pixel
   double seconds = 0.0;                ///< tracing time (0 when read from the cache)
   double truncated_share = 0.0;        ///< paths cut by max_events / paths
+  double rouletted_share = 0.0;        ///< paths ended by Russian roulette / paths (unbiased)
+  double noise_rmse = 0.0;             ///< RMS over pixels of the luminance standard error
   bool from_cache = false;
   std::string cache_path;
 };

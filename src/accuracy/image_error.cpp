@@ -23,6 +23,17 @@ double display(float premultiplied) {
 
 double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
 
+double luminanceNoiseRmse(const std::vector<float>& se) {
+  const std::size_t n = se.size() / 3;
+  if (n == 0) return 0.0;
+  double noise = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double s = luminance(se[3 * i], se[3 * i + 1], se[3 * i + 2]);
+    noise += s * s;
+  }
+  return std::sqrt(noise / double(n));
+}
+
 ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& reference,
                          const std::vector<float>& se) {
   if (image.width != reference.width || image.height != reference.height || image.rgba.size() != reference.rgba.size()) {
@@ -32,7 +43,7 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
   if (n == 0) throw UsageError("compareImages: empty image");
   if (!se.empty() && se.size() != 3 * n) throw UsageError("compareImages: standard error needs 3 floats per pixel");
   ImageError e;
-  double sq = 0.0, rel = 0.0, abs = 0.0, noise = 0.0;
+  double sq = 0.0, rel = 0.0, abs = 0.0, sumY = 0.0, sumYRef = 0.0;
   std::size_t off = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float* a = &image.rgba[4 * i];
@@ -40,6 +51,8 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
     const double ya = luminance(a[0], a[1], a[2]), yb = luminance(b[0], b[1], b[2]);
     const double d = ya - yb;
     sq += d * d;
+    sumY += ya;
+    sumYRef += yb;
     rel += d * d / (yb * yb + kRelMseFloor);
     abs += std::abs(d);
     e.max_abs = std::max(e.max_abs, std::abs(d));
@@ -47,17 +60,14 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
     bool isOff = false;
     for (int c = 0; c < 3; ++c) isOff = isOff || std::abs(display(a[c]) - display(b[c])) > kDisplayTolerance;
     off += isOff ? 1 : 0;
-    if (!se.empty()) {
-      const double s = luminance(se[3 * i], se[3 * i + 1], se[3 * i + 2]);  // perfectly correlated bound
-      noise += s * s;
-    }
   }
   const double count = double(n);
   e.rmse = std::sqrt(sq / count);
   e.rel_mse = rel / count;
   e.mean_abs = abs / count;
   e.share_off_2_255 = double(off) / count;
-  e.ref_noise_rmse = std::sqrt(noise / count);
+  e.ref_noise_rmse = luminanceNoiseRmse(se);
+  e.luminance_bias = sumYRef > 0.0 ? sumY / sumYRef - 1.0 : 0.0;
   return e;
 }
 

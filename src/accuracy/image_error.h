@@ -12,6 +12,8 @@
 //   alpha_max_abs    max |α − α_ref| (coverage)
 //   ref_noise_rmse   √ mean σ²(Y_ref) when the reference carries a per-pixel standard error (the
 //                    path tracer's): the floor below which rmse says nothing
+//   luminance_bias   Σ Y / Σ Y_ref − 1: the mean brightness of the layer against the reference
+//                    (issue 12: "mean cloud-layer luminance within ±5 %")
 #include <vector>
 
 #include "scene/output_image.h"
@@ -26,6 +28,7 @@ struct ImageError {
   double share_off_2_255 = 0.0;
   double alpha_max_abs = 0.0;
   double ref_noise_rmse = 0.0;
+  double luminance_bias = 0.0;
 };
 
 /// `reference_standard_error`: empty, or 3 floats per pixel (RGB standard error of the mean).
@@ -33,5 +36,10 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
                          const std::vector<float>& reference_standard_error = {});
 
 double luminance(double r, double g, double b);
+
+/// √ mean σ²(Y) of a per-pixel RGB standard error (3 floats per pixel), σ(Y) taken as the
+/// luminance of the channel errors (the bound for perfectly correlated channels, which one path's
+/// RGB are): the ground truth's own noise.
+double luminanceNoiseRmse(const std::vector<float>& standard_error);
 
 }  // namespace nph::accuracy

@@ -33,6 +33,7 @@ double maxComponent(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.
 void add(PathTracerStats& into, const PathTracerStats& s) {
   into.paths += s.paths;
   into.truncated_paths += s.truncated_paths;
+  into.rouletted_paths += s.rouletted_paths;
   into.medium_collisions += s.medium_collisions;
   into.ground_hits += s.ground_hits;
 }
@@ -71,6 +72,7 @@ class PathTracer::Path {
           ++stats_.truncated_paths;
           break;
         }
+        if (!survivesRoulette(events, beta)) break;
         const bool ice = rng_.uniform() < physics::PhaseMix::iceWeight(e.ice_per_m, e.water_per_m);
         const physics::PhaseFunction& phase = ice ? s.phase.ice : s.phase.water;
         const double mu = phase.sampleCos(rng_);
@@ -114,6 +116,19 @@ class PathTracer::Path {
   }
 
  private:
+  // Russian roulette past the depth (header comment): survival q = 1 − 1/D, throughput ÷ q.
+  bool survivesRoulette(int events, glm::dvec3& beta) {
+    const int depth = pt_.settings_.roulette_after_events;
+    if (depth <= 0 || events < depth) return true;
+    const double q = 1.0 - 1.0 / double(depth);
+    if (rng_.uniform() >= q) {
+      ++stats_.rouletted_paths;
+      return false;
+    }
+    beta /= q;
+    return true;
+  }
+
   // Delta tracking (Woodcock): tentative collisions at rate μ̄ per brick, real with μ/μ̄.
   bool deltaTrack(const glm::dvec3& o, const glm::dvec3& d, double tMax, double& tHit, Extinction& e) {
     bool hit = false;
@@ -169,6 +184,9 @@ PathTracer::PathTracer(const ExtinctionVolumes& volumes, const scene::VolumeFram
     : field_(volumes, frame), majorants_(field_, settings.brick_voxels), sun_(sun), settings_(std::move(settings)) {
   if (settings_.samples_per_pixel < 1) throw UsageError("PathTracer: samples_per_pixel must be at least 1");
   if (settings_.max_events < 1) throw UsageError("PathTracer: max_events must be at least 1");
+  if (settings_.roulette_after_events < 0 || settings_.roulette_after_events == 1) {
+    throw UsageError("PathTracer: roulette_after_events must be 0 (off) or at least 2");
+  }
   for (const auto* p : {&settings_.phase.ice, &settings_.phase.water}) {
     if (!(p->g > -1.0 && p->g < 1.0)) throw UsageError("PathTracer: phase asymmetry g must lie in (-1, 1)");
   }
@@ -279,9 +297,10 @@ PathTracedImage PathTracer::render(const scene::Camera& camera) const {
   for (const PathTracerStats& s : rowStats) add(img.stats, s);
   img.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (settings_.progress) {
-    log::info("path tracer: {}x{} at {} spp in {:.2f} s, {} paths, {} cut at max_events, {:.2f} collisions/path",
+    log::info("path tracer: {}x{} at {} spp in {:.2f} s, {} paths, {} cut at max_events, {} rouletted, "
+              "{:.2f} collisions/path",
               camera.width, camera.height, settings_.samples_per_pixel, img.stats.seconds, img.stats.paths,
-              img.stats.truncated_paths,
+              img.stats.truncated_paths, img.stats.rouletted_paths,
               double(img.stats.medium_collisions + img.stats.ground_hits) / double(std::max<std::uint64_t>(1, img.stats.paths)));
   }
   return img;

@@ -22,8 +22,16 @@
 //    optionally, exactly (path_tracer_field.h) — the sun is a delta light, so NEE is its only
 //    estimator and nothing is double counted;
 //  * the sky is reached by paths escaping the volume (no NEE for the sky).
-//  Paths end when they escape, or after `max_events` collisions (medium + ground); the number
-//  of paths cut by that cap is reported (their missing energy is the only bias of the tracer).
+//  * Russian roulette past a depth (PBRT 4th ed. §14.1.4; Novák et al. 2018 §5.3): albedo 1
+//    keeps the throughput at 1, so paths in optically thick cores would diffuse for O(τ²)
+//    collisions; after `roulette_after_events` collisions each further one survives with
+//    probability q = 1 − 1/roulette_after_events and the survivor's throughput is divided by q.
+//    Unbiased (E[weight] = 1 at every depth); the expected length beyond the depth is ≤ 1/(1 − q),
+//    and a path needing K more collisions than the depth carries a weight q^−K (≈ e^{K/D}), so
+//    the variance stays moderate for K up to a few D.
+//  Paths end when they escape, are rouletted, or after `max_events` collisions (medium + ground);
+//  the number of paths cut by that hard cap is reported (their missing energy would be the only
+//  bias of the tracer; with roulette on, reaching the default cap has probability ≈ e^{−99}).
 //
 // Output convention (premultiplied, linear — what the compositor layers over the ground):
 //  * alpha = 1 − T(primary ray), T = exp(−τ) with τ integrated exactly through the volume box
@@ -56,6 +64,9 @@ struct PathTracerSettings {
   std::uint64_t seed = 1;
   /// Collisions (medium scatterings + ground bounces) per path; 1 = single scattering only.
   int max_events = 100000;
+  /// Russian roulette past this many collisions (survival 1 − 1/this per collision, weight ÷
+  /// survival): unbiased, bounds the expected path length. 0 = off (paths run to max_events).
+  int roulette_after_events = 1000;
   physics::PhaseMix phase;  ///< ice/water phase functions (defaults: HG 0.75 / 0.85)
   bool sun_enabled = true;
   SunTransmittance sun_transmittance = SunTransmittance::RatioTracking;
@@ -74,7 +85,8 @@ struct PathTracerSettings {
 
 struct PathTracerStats {
   std::uint64_t paths = 0;
-  std::uint64_t truncated_paths = 0;   ///< cut by max_events
+  std::uint64_t truncated_paths = 0;   ///< cut by max_events (biased: their energy is lost)
+  std::uint64_t rouletted_paths = 0;   ///< ended by Russian roulette (unbiased)
   std::uint64_t medium_collisions = 0;
   std::uint64_t ground_hits = 0;
   double seconds = 0.0;
