@@ -38,39 +38,49 @@ lighting::QualitySettings sweepBase() {
   return q;
 }
 
-Variant defaults() {
+}  // namespace
+
+Variant defaultVariant() {
   Variant v = variantOf(sweepBase());
   v.knob = "default";
   v.value = "-";
   return v;
 }
 
+namespace {
+
 // The CPU reference of the same approximation, converged: the variant's light-transport model
 // (forward cone θ, Cornette–Shanks g, scatter map on/off and its cell size) integrated by
-// reference::DlmReference without compression with 4 sub-steps per default DLM step (Δ/8 =
-// 1/8 voxel) on the default light space (1 texel per voxel), and the eye pass marched with 1/8
-// voxel steps and no early termination. One per distinct model in a scene.
+// reference::DlmReference (convergedLight) and the eye pass marched with 1/8 voxel steps and no
+// early termination. One per distinct model in a scene.
 const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextures& tex, const AccuracyScene& sc,
                                      std::map<std::string, scene::RgbaImage>& cache) {
   const std::string key = fmt::format("{}/{}/{}/{}/{}", v.dlm.forward_angle_deg, v.dlm.cornette_shanks_g,
                                       v.dlm.peripheral, v.dlm.scatter_downsample, v.dlm.scatter_slice_steps);
   if (auto it = cache.find(key); it != cache.end()) return it->second;
-  scene::DlmSettings model = v.dlm;
+  const auto light = convergedLight(v.dlm, tex, sc);
+  reference::RayMarchSettings march = v.render;
+  march.step_voxels = kReferenceStepVoxels;
+  march.min_transmittance = 0.0;
+  return cache[key] = reference::marchCloudLayer(*sc.volumes, sc.frame, sc.camera, sc.sun,
+                                                 [&](const glm::dvec3& p) { return light->intensityAt(p); }, march);
+}
+
+}  // namespace
+
+std::unique_ptr<reference::DlmReference> convergedLight(const scene::DlmSettings& dlm,
+                                                        const render::VolumeTextures& tex, const AccuracyScene& sc) {
+  // The model of `dlm` without compression, 4 sub-steps per default DLM step (Δ/8 = 1/8 voxel), on
+  // the default light space (1 texel per voxel) the GPU builder lays out.
+  scene::DlmSettings model = dlm;
   model.texel_voxels = scene::DlmSettings{}.texel_voxels;
   model.step_voxels = scene::DlmSettings{}.step_voxels;
   render::DeepLightMap layout;  // the light space (texel grid, extent) and step the GPU would use
   layout.build(tex, -sc.sun.toSun(), model);
   constexpr int kRefine = 4;
-  const reference::DlmReference light(*sc.volumes, sc.frame, layout.lightSpace(), layout.settings(),
-                                      layout.stats().step_m, layout.stats().steps, kRefine);
-  reference::RayMarchSettings march = v.render;
-  march.step_voxels = kReferenceStepVoxels;
-  march.min_transmittance = 0.0;
-  return cache[key] = reference::marchCloudLayer(*sc.volumes, sc.frame, sc.camera, sc.sun,
-                                                 [&](const glm::dvec3& p) { return light.intensityAt(p); }, march);
+  return std::make_unique<reference::DlmReference>(*sc.volumes, sc.frame, layout.lightSpace(), layout.settings(),
+                                                   layout.stats().step_m, layout.stats().steps, kRefine);
 }
-
-}  // namespace
 
 Variant variantOf(const lighting::QualitySettings& q) {
   Variant v;
@@ -83,7 +93,7 @@ Variant variantOf(const lighting::QualitySettings& q) {
 }
 
 std::vector<Variant> sweepVariants(bool quick) {
-  std::vector<Variant> out{defaults()};
+  std::vector<Variant> out{defaultVariant()};
   // A quality knob of the knob table (lighting/knobs.h), by its name there.
   auto knob = [&](std::string_view name, const std::vector<double>& values) {
     const lighting::Knob* k = lighting::findKnob(name);
@@ -101,7 +111,7 @@ std::vector<Variant> sweepVariants(bool quick) {
   // A setting of the transport model (DlmSettings) that is no user knob.
   auto model = [&](const std::string& name, const std::vector<double>& values, auto&& apply) {
     for (double x : values) {
-      Variant v = defaults();
+      Variant v = defaultVariant();
       v.knob = name;
       v.value = number(x);
       apply(v.dlm, x);
@@ -116,7 +126,7 @@ std::vector<Variant> sweepVariants(bool quick) {
   model("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
         [](scene::DlmSettings& d, double x) { d.scatter_downsample = int(x); });
   if (!quick) {
-    Variant off = defaults();
+    Variant off = defaultVariant();
     off.knob = "scatter_downsample";
     off.value = "off";
     off.dlm.peripheral = false;
@@ -171,7 +181,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
   std::vector<SweepRow> rows;
   for (const AccuracyScene& sc : set.scenes) {
     if (!o.scene_filter.empty() && sc.name.find(o.scene_filter) == std::string::npos) continue;
-    const GroundTruth gt = groundTruth(sc, defaults().render, o.ground_truth, cacheDir);
+    const GroundTruth gt = groundTruth(sc, defaultVariant().render, o.ground_truth, cacheDir);
     double coverage = 0.0;
     for (std::size_t i = 3; i < gt.image.rgba.size(); i += 4) coverage += double(gt.image.rgba[i]);
     coverage /= double(gt.image.rgba.size() / 4);

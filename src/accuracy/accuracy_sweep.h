@@ -10,6 +10,7 @@
 //       so (b) is the discretisation, compression and early-termination error of the setting.
 // The GPU renders without jitter (pixel-centre rays, like both references), so every number is
 // deterministic up to timing.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@
 #include "accuracy/image_error.h"
 #include "lighting/dlm_model.h"
 #include "lighting/knobs.h"
+#include "reference/dlm_reference.h"
+#include "render/dlm/volume_textures.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/scene_file.h"
 
@@ -32,6 +35,12 @@ struct Variant {
 
 /// The knobs of a QualitySettings preset as DLM and ray-caster settings (jitter off).
 Variant variantOf(const lighting::QualitySettings& quality);
+/// The converged CPU deep light map of `dlm`'s transport model for scene `sc` (no compression,
+/// 1/8-voxel sub-steps, the GPU's default light space; needs a current GL context for the layout).
+std::unique_ptr<reference::DlmReference> convergedLight(const scene::DlmSettings& dlm,
+                                                        const render::VolumeTextures& tex, const AccuracyScene& sc);
+/// The sweep's default variant: the broadcast preset with the DLM's own budgets (jitter off).
+Variant defaultVariant();
 /// default, the one-knob-at-a-time sweep and the three presets; `quick` keeps two values a knob.
 std::vector<Variant> sweepVariants(bool quick);
 

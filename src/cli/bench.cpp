@@ -1,10 +1,12 @@
 // `nephele bench accuracy`: run time against error of every quality knob (issue 6; the sweep is
 // src/accuracy/accuracy_sweep.h, its output is described in docs/accuracy.md).
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 
 #include "accuracy/accuracy_sweep.h"
+#include "accuracy/octave_fit.h"
 #include "accuracy/pareto.h"
 #include "cli/commands.h"
 #include "cli/headless.h"
@@ -19,6 +21,7 @@ struct BenchAccuracyOptions {
   accuracy::SweepOptions sweep;
   std::string gl = "auto";
   int spp = 0;
+  bool fit_octaves = false;
 };
 
 int runBenchAccuracy(BenchAccuracyOptions o) {
@@ -28,11 +31,20 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
     s.height = std::min(s.height, 27);
     s.runs = std::min(s.runs, 1);
     s.ground_truth.samples_per_pixel = 8;
-    s.ground_truth.max_events = 200;
+    s.ground_truth.max_events = 2000;
+    s.ground_truth.roulette_after_events = 100;
   }
   if (o.spp > 0) s.ground_truth.samples_per_pixel = o.spp;
   std::filesystem::create_directories(s.out_dir);
   const auto ctx = createHeadlessContext(o.gl);
+  if (o.fit_octaves) {
+    const accuracy::OctaveFitResult fit = accuracy::fitOctaveSeries(s);
+    const std::string md = accuracy::octaveFitMarkdown(fit);
+    std::ofstream((std::filesystem::path(s.out_dir) / "octave-fit.md").string()) << md;
+    std::fputs(md.c_str(), stdout);
+    log::info("wrote {}/octave-fit.md", s.out_dir);
+    return kExitOk;
+  }
 
   const std::vector<accuracy::SweepRow> rows = accuracy::runSweep(s);
   if (rows.empty()) throw UsageError("bench accuracy: no scene matches --scenes " + s.scene_filter);
@@ -68,10 +80,16 @@ void addBenchCommand(CLI::App& app, Action& run) {
   cmd->add_option("--spp", o->spp, "path-tracer samples per pixel (default 256; quick 8)");
   cmd->add_option("--max-events", o->sweep.ground_truth.max_events,
                   "path-tracer collisions per path before it is cut (counted)")->capture_default_str();
+  cmd->add_option("--roulette-after", o->sweep.ground_truth.roulette_after_events,
+                  "path tracer: unbiased Russian roulette past this many collisions (0 = off)")
+      ->capture_default_str();
   cmd->add_option("--scenes", o->sweep.scene_filter, "only scenes whose name contains this");
   cmd->add_option("--knobs", o->sweep.knob_filter,
                   "only settings whose knob name contains this (default, step_voxels, dlm_texel_voxels, "
                   "dlm_step_voxels, epsilon, scatter_downsample, forward_angle_deg, preset)");
+  cmd->add_flag("--fit-octaves", o->fit_octaves,
+                "instead of the sweep: fit the multiple-scattering octave series (a, b, c, N) to the path-traced "
+                "truth on the CPU reference and write octave-fit.md (issue 12)");
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });

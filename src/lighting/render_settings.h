@@ -5,6 +5,8 @@
 // CPU references (reference/ray_marcher.h, accuracy/) read the same structs.
 #include <glm/glm.hpp>
 
+#include "lighting/octave_series.h"
+
 namespace nph::lighting {
 
 /// Appearance: the eye phase functions and the ambient light. The knob table (lighting/knobs.h)
@@ -25,6 +27,7 @@ struct RenderSettings : StyleSettings {
   bool jitter = true;                    ///< per-pixel start offset against banding
   bool empty_space_skipping = true;
   bool shadows = true;                   ///< cloud shadows on the ground (DLM at z = 0)
+  OctaveSeries octaves;                  ///< multiple scattering of sunlight (issue 12); 1 octave = single
 };
 
 }  // namespace nph::lighting

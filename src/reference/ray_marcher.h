@@ -17,8 +17,27 @@
 namespace nph::reference {
 
 /// The GPU ray caster's settings (lighting/render_settings.h); the marcher reads step_voxels,
-/// min_transmittance, g_ice, g_water and ambient (no jitter, no empty-space skipping, no ground).
+/// min_transmittance, g_ice, g_water, ambient and octaves (no jitter, no empty-space skipping,
+/// no ground).
 using RayMarchSettings = lighting::RenderSettings;
+
+/// One sample of a view ray with β > 0: its point, the share of the light it sends to the eye
+/// that reaches the eye, w = T_acc·(1 − e^{−βΔ}), and β_ice/β.
+struct RaySample {
+  glm::dvec3 position_m{0.0};
+  double weight = 0.0;
+  double ice_weight = 0.0;
+};
+using SampleVisitor = std::function<void(int x, int y, const glm::dvec3& dir, const RaySample& sample)>;
+using RayEndVisitor = std::function<void(int x, int y, double transmittance)>;
+
+/// The eye pass's march (pixel-centre rays, step × the smallest voxel side, midpoint samples,
+/// stop below `min_transmittance`): `visit` for every sample front to back, `end` once per ray
+/// with its final transmittance. Rows run in parallel (TBB): the visitors must only touch their
+/// own pixel's data.
+void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
+                  double step_voxels, double min_transmittance, const SampleVisitor& visit,
+                  const RayEndVisitor& end);
 
 /// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,

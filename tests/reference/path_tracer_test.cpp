@@ -64,6 +64,32 @@ struct SlabView {
   }
 };
 
+// Diffuse flux through the horizontal plane at height z (world metres, above the slab centre):
+// π × the mean radiance over n cosine-distributed directions looking towards −sign·z (sign = −1
+// looks down: the upward flux). `se` receives its standard error; `stats` (optional) sums the
+// paths' counters.
+double diffuseFlux(const PathTracer& pt, double z, double sign, int n, std::uint64_t stream0, double& se,
+                   PathTracerStats* stats) {
+  std::mt19937_64 rng(stream0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double sum = 0.0, sumSq = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double cosTheta = std::sqrt(u(rng)), phi = 2.0 * kPi * u(rng);
+    const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
+    const glm::dvec3 d(sinTheta * std::cos(phi), sinTheta * std::sin(phi), sign * cosTheta);
+    const PixelEstimate e = pt.estimateRay({50000.0, 50000.0, z}, d, 1, stream0 + std::uint64_t(i));
+    sum += e.rgb.x;
+    sumSq += e.rgb.x * e.rgb.x;
+    if (stats) {
+      stats->truncated_paths += e.stats.truncated_paths;
+      stats->rouletted_paths += e.stats.rouletted_paths;
+    }
+  }
+  const double mean = sum / n;
+  se = kPi * std::sqrt((sumSq / n - mean * mean) / (n - 1));
+  return kPi * mean;
+}
+
 PathTracerSettings sunOnly(int max_events) {
   PathTracerSettings s;
   s.max_events = max_events;
@@ -281,20 +307,7 @@ TEST(PathTracer, SunlitSlabConservesEnergy) {
   const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), view.sun, s);
   const int n = 150000;
   auto flux = [&](double z, double sign, std::uint64_t stream0, double& se) {
-    std::mt19937_64 rng(stream0);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    double sum = 0.0, sumSq = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const double cosTheta = std::sqrt(u(rng)), phi = 2.0 * kPi * u(rng);
-      const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
-      const glm::dvec3 d(sinTheta * std::cos(phi), sinTheta * std::sin(phi), sign * cosTheta);
-      const double l = pt.estimateRay({50000.0, 50000.0, z}, d, 1, stream0 + std::uint64_t(i)).rgb.x;
-      sum += l;
-      sumSq += l * l;
-    }
-    const double mean = sum / n;
-    se = kPi * std::sqrt((sumSq / n - mean * mean) / (n - 1));
-    return kPi * mean;
+    return diffuseFlux(pt, z, sign, n, stream0, se, nullptr);
   };
   double seUp = 0.0, seDown = 0.0;
   const double up = flux(Slab::kBottom_m + Slab::kThickness_m + 1.0, -1.0, 1u << 20, seUp);
@@ -332,22 +345,7 @@ TEST(PathTracer, ThickSlabTransmissionMatchesVanDeHulstUnderRoulette) {
   const int n = 100000;
   PathTracerStats stats;
   auto flux = [&](double z, double sign, std::uint64_t stream0, double& se) {
-    std::mt19937_64 rng(stream0);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    double sum = 0.0, sumSq = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const double cosTheta = std::sqrt(u(rng)), phi = 2.0 * kPi * u(rng);
-      const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
-      const glm::dvec3 d(sinTheta * std::cos(phi), sinTheta * std::sin(phi), sign * cosTheta);
-      const PixelEstimate e = pt.estimateRay({50000.0, 50000.0, z}, d, 1, stream0 + std::uint64_t(i));
-      sum += e.rgb.x;
-      sumSq += e.rgb.x * e.rgb.x;
-      stats.truncated_paths += e.stats.truncated_paths;
-      stats.rouletted_paths += e.stats.rouletted_paths;
-    }
-    const double mean = sum / n;
-    se = kPi * std::sqrt((sumSq / n - mean * mean) / (n - 1));
-    return kPi * mean;
+    return diffuseFlux(pt, z, sign, n, stream0, se, &stats);
   };
   double seUp = 0.0, seDown = 0.0;
   // Measured beyond the zero-border ramps (β fades to 0 half a voxel, 250 m, outside the faces), so
