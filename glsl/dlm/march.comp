@@ -28,6 +28,7 @@ layout(r32f, binding = IMAGE_DLM_TEXEL_EPSILON) uniform image2D u_texel_eps;  //
 uniform float u_step_m;
 uniform int u_steps;                 // N: samples n = 0 … N
 uniform float u_central_fraction;    // CP(θ/4)
+uniform float u_optical_depth_scale; // f(light): height exaggeration keeps the data's τ (VolumeFrame)
 uniform bool u_skip_empty;
 uniform bool u_only_overflowed;      // retry pass of the overflow rule
 
@@ -52,7 +53,7 @@ void main() {
   u_light_volume[idx] = Ic;
   for (int n = 0; n < u_steps; ++n) {
     vec2 beta = extinctionAt(start + (float(n) + 0.5) * u_step_m * u_ls_w);
-    float T = exp(-(beta.x + beta.y) * u_step_m);
+    float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_step_m);
     Ic *= T + (1.0 - T) * u_central_fraction;
     u_light_volume[(n + 1) * layer + idx] = Ic;
   }
@@ -100,7 +101,7 @@ void main() {
       }
     }
     vec2 beta = extinctionAt(p + 0.5 * u_step_m * u_ls_w);
-    float T = exp(-(beta.x + beta.y) * u_step_m);
+    float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_step_m);
     Ic *= T + (1.0 - T) * u_central_fraction;
     n++;
     float sn = float(n) * u_step_m;

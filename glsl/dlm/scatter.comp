@@ -15,6 +15,7 @@ uniform ivec2 u_cells;
 uniform float u_slice_m;
 uniform int u_slice;                 // k ≥ 1; slice 0 is cleared to 0
 uniform float u_central_fraction;    // CP(θ/4)
+uniform float u_optical_depth_scale; // f(light): height exaggeration keeps the data's τ (VolumeFrame)
 uniform float u_peripheral_fraction; // CP(θ/2) − CP(θ/4)
 
 vec2 cellCentre(ivec2 cell) { return (vec2(cell) + 0.5) * (u_ls_texel_m * vec2(u_ls_texels)) / vec2(u_cells); }
@@ -31,7 +32,7 @@ void main() {
   int k = u_slice;
   vec3 mid = worldFromLight(vec3(cellCentre(cell), float(k) * u_slice_m));
   vec2 beta = extinctionAt(mid);
-  float T = exp(-(beta.x + beta.y) * u_slice_m);
+  float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_slice_m);
   float Pprev = imageLoad(u_scatter_img, ivec3(cell, k - 1)).r;
   float around = 0.25 * (lightAt(cell + ivec2(1, 0), k - 1) + lightAt(cell - ivec2(1, 0), k - 1) +
                          lightAt(cell + ivec2(0, 1), k - 1) + lightAt(cell - ivec2(0, 1), k - 1));

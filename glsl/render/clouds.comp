@@ -1,18 +1,27 @@
 #version 450 core
-// Cloud ray caster and compositor (Nes 2008 §5.4, eq. 5.18; Muth 2026 §3.4).
+// Cloud ray caster and compositor (Nes 2008 §5.4, eq. 5.18; Muth 2026 §3.4; issue 12).
 // One invocation per pixel: the view ray marches the ice and water extinction volumes front to
 // back with step Δ from a jittered start (against banding), skipping empty occupancy bricks,
 // stopping when the transmittance falls below u_min_transmittance. Each step scatters the
 // fraction (1 − T) of the light it receives towards the eye (single-scattering albedo 1):
-//   C += T_acc · (1 − T) · [ E_sun · I_DLM(p) · 4π·p_v(ψ) + L_ambient ],   T_acc *= T,
-// with p_v the β_sca-weighted mix of the ice and water Henyey–Greenstein phase functions
-// (Nes eq. 5.12; 4π·p = 1 for isotropic scattering) at the angle ψ between the sunlight and the
-// direction to the eye, I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl) and L_ambient
-// a uniform sky term so that shadowed sides are not black (multiple scattering the eye pass
-// does not carry). Output: the premultiplied cloud layer (rgb = C, a = 1 − T_acc) and the frame
-// composited over the lit ground: C + T_acc · L_ground (Nes eq. 5.18's background term).
-// Ground: the plane z = 0 (sea level) textured with the reprojected basemap; sunlit by
-// E_sun·cos(θ_sun)·I_DLM(ground) — the cloud shadow (Nes §5.4.1) — plus the ambient sky.
+//   C += T_acc · (1 − T) · L_s,   T_acc *= T,
+//   L_s = E_sun · F(I_DLM, ψ) + L_sky · T_d(τ_up) / 2 + L_below · T_d(τ_down) / 2
+// Units and conventions: docs/rendering.md "Conventions" (issue 12). E_sun is the sun's irradiance,
+// F the octave series of multiple scattering [1/sr] (glsl/common/cloud_light.glsl; its first
+// octave is single scattering E·p_v(ψ)·I_DLM with p_v the β-weighted ice/water Henyey–Greenstein
+// mix, Nes eq. 5.12), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl). The sky light:
+// the upper hemisphere's clear-sky radiance L_sky reaches the sample through the cloud column
+// above it, the lower hemisphere's L_below (ground-reflected light) through the column below, each
+// attenuated by the two-stream diffuse transmittance T_d of that column's vertical optical depth
+// (volume/column_depth.h), and scattered isotropically on average (½ each hemisphere).
+// Height exaggeration keeps the data's optical depth: β is scaled by f(d) = |(d_x, d_y, d_z/e)|
+// along the ray (scene::VolumeFrame::opticalDepthScale). Early termination renormalises: a ray
+// stopped at T_acc < u_min_transmittance is written as (C/(1 − T_acc), 1), so opaque cloud has α = 1.
+// Output: the premultiplied cloud layer (rgb = C, a = 1 − T_acc) and the frame composited over the
+// lit ground: C + T_acc · L_ground (Nes eq. 5.18's background term).
+// Ground: the plane z = 0 (sea level) textured with the reprojected basemap, a Lambertian surface:
+// L_ground = ρ/π · (E_sun·cos θ_sun·I_DLM(ground) + π·L_sky·T_d(τ_up)) — the cloud shadow (Nes
+// §5.4.1) and the sky the cloud above hides.
 // Globe view (u_globe, render/globe.glsl): the rays are in ECEF, each sample is looked up at its
 // world point; the ground is the sphere R with the whole equirectangular basemap, lit by the true
 // sun direction at each point (day/night), shadowed by the DLM inside the footprint; rays that
@@ -22,6 +31,7 @@
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
+#include "common/cloud_light.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform writeonly image2D u_cloud_layer;
@@ -29,6 +39,7 @@ layout(rgba32f, binding = IMAGE_FRAME) uniform writeonly image2D u_frame;
 layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
 layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
+layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;  // (τ_up, τ_down) per voxel centre
 
 // One std140 block, declared in C++ as gl::RaycastBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocksMatchTheLinkedPrograms checks every offset.
@@ -41,7 +52,7 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   float u_min_transmittance;
   vec3 u_sun_radiance;        // colour · intensity
   float u_g_ice;
-  vec3 u_ambient;             // uniform sky radiance
+  vec3 u_sky_radiance;        // upper hemisphere: clear-sky radiance
   float u_g_water;
   vec3 u_ocean_albedo;        // ground albedo outside the basemap
   bool u_jitter;
@@ -54,14 +65,25 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   bool u_has_basemap;
   bool u_count_samples;       // write the number of volume samples per ray (benchmarks)
   bool u_globe;               // rays in ECEF (render/globe.glsl's GlobeBlock)
+  vec3 u_below_radiance;      // lower hemisphere: ground-reflected radiance
+  float u_ms_extinction_scale;  // octave series a (glsl/common/cloud_light.glsl)
+  float u_ms_energy_scale;      // octave series b
+  float u_ms_anisotropy_scale;  // octave series c
+  int u_octaves;                // octave series N (1 = single scattering)
+  float u_height_exaggeration;  // e: β is scaled by |(d_x, d_y, d_z/e)| along a ray
 };
 
 #include "render/globe.glsl"
 
-// Henyey–Greenstein times 4π (1 for isotropic).
-float hg4pi(float cosPsi, float g) {
-  float g2 = g * g;
-  return (1.0 - g2) / pow(max(1.0 + g2 - 2.0 * g * cosPsi, 1e-6), 1.5);
+// (τ_up, τ_down) at a world point: the column depths trilinear between voxel centres, clamped to
+// the edge (the CPU twin: volume/column_depth.h columnDepthAt).
+vec2 columnDepthAt(vec3 world_m) { return texture(u_column_depth, volumeUvw(world_m)).rg; }
+
+// Sky light reaching a point through the cloud around it, scattered isotropically (the two
+// hemispheres, each attenuated by the diffuse transmittance of its column; cloud_light.glsl).
+vec3 skyLightAt(vec3 world_m, float g) {
+  vec2 tau = columnDepthAt(world_m);
+  return 0.5 * (u_sky_radiance * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
 }
 
 // Deterministic per-pixel jitter in [0, 1) (integer hash, Jarzynski & Olano 2020 "PCG").
@@ -99,7 +121,10 @@ void main() {
 
   vec3 lightDir = -u_to_sun;              // direction the sunlight travels
   float cosPsi = dot(lightDir, -dir);     // scattering angle: sunlight → towards the eye
-  float phaseIce = hg4pi(cosPsi, u_g_ice), phaseWater = hg4pi(cosPsi, u_g_water);
+  // Optical depth per world metre along this ray: the data's, whatever the exaggeration. On the
+  // globe the ray's direction in the footprint's local frame (east, north, up) stands for it.
+  vec3 dLocal = u_globe ? globeLocalDirection(dir) : dir;
+  float depthScale = length(vec3(dLocal.xy, dLocal.z / u_height_exaggeration));
 
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
@@ -119,32 +144,40 @@ void main() {
           continue;
         }
       }
-      vec2 beta = extinctionAt(w);
+      vec2 beta = extinctionAt(w) * depthScale;
       ++samples;
       float b = beta.x + beta.y;
       if (b > 0.0) {
         float T = exp(-b * u_step_m);
-        float phase = (beta.x * phaseIce + beta.y * phaseWater) / b;  // Nes eq. 5.12
-        vec3 L = u_sun_radiance * dlmIntensity(w) * phase + u_ambient;
+        float iceWeight = beta.x / b;  // Nes eq. 5.12
+        float sun = octaveSeries(dlmIntensity(w), cosPsi, iceWeight, u_g_ice, u_g_water, u_octaves,
+                                 u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale);
+        vec3 L = u_sun_radiance * sun + skyLightAt(w, mix(u_g_water, u_g_ice, iceWeight));
         C += Tacc * (1.0 - T) * L;
         Tacc *= T;
       }
       t += u_step_m;
     }
   }
+  // Renormalised early termination: the medium left behind is assumed to send the mean radiance of
+  // what was gathered, C/(1 − T_acc), and to be opaque (docs/rendering.md "Conventions" 4).
+  if (Tacc <= u_min_transmittance && Tacc < 1.0) {
+    C /= 1.0 - Tacc;
+    Tacc = 0.0;
+  }
   imageStore(u_cloud_layer, px, vec4(C, 1.0 - Tacc));
   if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples));
 
   // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe).
-  vec3 background = u_ambient;
+  vec3 background = u_sky_radiance;
   if (u_globe) {
     if (tGround < kNoHit_m) {
       vec3 g = origin + tGround * dir;
       float sunCos = dot(normalize(g), u_to_sun);
       vec3 gw = globeWorldFromEcef(g);
       float shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
-      background = globeAlbedo(g, u_ocean_albedo) *
-                   (u_sun_radiance * max(sunCos, 0.0) * shadow + u_ambient * globeDaylight(sunCos));
+      background = globeAlbedo(g, u_ocean_albedo) / kPi *
+                   (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
     } else {
       background = globeSpace(origin, dir, u_to_sun);
     }
@@ -159,7 +192,8 @@ void main() {
     }
     float sunCos = max(u_to_sun.z, 0.0);
     float shadow = u_shadows ? dlmIntensity(g) : 1.0;
-    background = albedo * (u_sun_radiance * sunCos * shadow + u_ambient);
+    float skyShadow = u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0;
+    background = albedo / kPi * (u_sun_radiance * sunCos * shadow + kPi * u_sky_radiance * skyShadow);
   }
   imageStore(u_frame, px, vec4(C + Tacc * background, 1.0));
 }

@@ -23,6 +23,9 @@ layout(std140, binding = UBO_GLOBE) uniform GlobeBlock {
 };
 
 const float kOutsideTable_m = -1.0e30;
+
+// An ECEF direction in the footprint centre's local frame (east, north, up).
+vec3 globeLocalDirection(vec3 d) { return u_local_from_ecef * d; }
 // e-folding height of the limb glow: a look, not a scattering model (docs/rendering.md).
 const float kLimbScaleHeight_m = 30000.0;
 

@@ -88,7 +88,8 @@ Variant variantOf(const lighting::QualitySettings& q) {
   v.value = q.preset;
   v.dlm = lighting::dlmSettingsFor(q);
   v.render = lighting::renderSettingsFor(q, lighting::StyleSettings{});
-  v.render.jitter = false;  // pixel-centre rays, like both references
+  v.render.jitter = false;     // pixel-centre rays, like both references
+  v.render.sky_below = true;   // the path-traced truth has no ground: sky all round
   return v;
 }
 

@@ -1,5 +1,7 @@
 #include "accuracy/ground_truth.h"
 
+#include "lighting/cloud_light.h"
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -38,13 +40,7 @@ class Hasher {
 
 }  // namespace
 
-scene::Sun pathTracerSunForGpu(const scene::Sun& sun) {
-  scene::Sun s = sun;
-  s.intensity = 4.0 * std::numbers::pi * sun.intensity;  // the GPU's 4π·p convention
-  return s;
-}
-
-reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSettings& rs,
+reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSettings& rs, const scene::Sun& sun,
                                                        const GroundTruthSettings& settings) {
   reference::PathTracerSettings s;
   s.samples_per_pixel = settings.samples_per_pixel;
@@ -53,7 +49,7 @@ reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSetti
   s.seed = settings.seed;
   s.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_ice};
   s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_water};
-  s.sky_radiance = rs.ambient;  // times the sun's intensity by the caller (1 in the scenes)
+  s.sky_radiance = lighting::skyLightFor(rs, sun.elevation_deg, sun.colour, sun.intensity).above;
   s.ground_enabled = false;
   s.include_background = false;
   s.pixel_jitter = false;
@@ -70,6 +66,7 @@ std::string groundTruthKey(const AccuracyScene& sc, const render::RenderSettings
   h.addFloats(v.water_per_m);
   h.add(sc.frame.voxel_size_m);
   h.add(sc.frame.z_bottom_m);
+  h.add(sc.frame.height_exaggeration);  // issue 12: exaggeration keeps the data's optical depth
   const scene::Camera& c = sc.camera;
   h.add(c.position_m);
   h.add(c.target_m);
@@ -83,7 +80,7 @@ std::string groundTruthKey(const AccuracyScene& sc, const render::RenderSettings
   h.add(sc.sun.intensity);
   h.add(rs.g_ice);
   h.add(rs.g_water);
-  h.add(rs.ambient);
+  h.add(pathTracerSettingsForGpu(rs, sc.sun, gs).sky_radiance);  // issue 12: E·p units, clear sky
   h.add(gs.samples_per_pixel);
   h.add(gs.max_events);
   h.add(gs.roulette_after_events);
@@ -126,9 +123,8 @@ GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& r
     }
     log::warn("{}: unreadable ground-truth cache, tracing again", gt.cache_path);
   }
-  reference::PathTracerSettings ps = pathTracerSettingsForGpu(rs, gs);
-  ps.sky_radiance *= sc.sun.intensity;
-  const reference::PathTracer pt(*sc.volumes, sc.frame, pathTracerSunForGpu(sc.sun), ps);
+  const reference::PathTracerSettings ps = pathTracerSettingsForGpu(rs, sc.sun, gs);
+  const reference::PathTracer pt(*sc.volumes, sc.frame, sc.sun, ps);
   const reference::PathTracedImage img = pt.render(sc.camera);
   gt.image.rgba = img.rgba;
   gt.standard_error = img.standard_error;

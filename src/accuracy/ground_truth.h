@@ -47,9 +47,10 @@ struct GroundTruth {
 };
 
 /// The tracer's light and phase for the GPU's `render_settings` (see above).
+/// The sun is the scene's (irradiance E; docs/rendering.md "Conventions"), the sky a uniform sphere
+/// of the eye pass's clear-sky radiance (lighting::skyLightFor).
 reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSettings& render_settings,
-                                                       const GroundTruthSettings& settings);
-scene::Sun pathTracerSunForGpu(const scene::Sun& sun);
+                                                       const scene::Sun& sun, const GroundTruthSettings& settings);
 
 std::string groundTruthKey(const AccuracyScene& scene, const render::RenderSettings& render_settings,
                            const GroundTruthSettings& settings);

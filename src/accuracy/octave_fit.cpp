@@ -34,8 +34,9 @@ std::vector<double> grid(double lo, double hi, double step) {
 struct SceneSamples {
   std::string name;
   int pixels = 0;
-  double y_sun = 0.0, y_ambient = 0.0;  // luminance of E (sun, the tracer's 4π·E convention) and L_amb
+  double y_sun = 0.0;  // luminance of E
   std::vector<double> alpha, cos_psi, y_truth, sigma_truth;
+  std::vector<double> y_sky;  // luminance of the sky light each pixel gathers (not fitted)
   std::vector<float> hist_ice, hist_water;  // [pixel][bin]
 };
 
@@ -117,8 +118,9 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
     d.pixels = sc.camera.width * sc.camera.height;
     const glm::dvec3 e = sc.sun.colour * sc.sun.intensity;
     d.y_sun = luminance(e.x, e.y, e.z);
-    const glm::dvec3 amb = march.ambient * sc.sun.intensity;
-    d.y_ambient = luminance(amb.x, amb.y, amb.z);
+    const lighting::SkyLight sky = lighting::skyLightFor(march, sc.sun.elevation_deg, sc.sun.colour, sc.sun.intensity);
+    const ColumnDepths depths = columnDepths(*sc.volumes);
+    d.y_sky.assign(std::size_t(d.pixels), 0.0);
     d.alpha.assign(std::size_t(d.pixels), 0.0);
     d.cos_psi.assign(std::size_t(d.pixels), 0.0);
     d.y_truth.resize(std::size_t(d.pixels));
@@ -141,6 +143,8 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
           const double sunlight = light.intensityAt(s.position_m);
           addToHistogram(&d.hist_ice[px * kBins], sunlight, s.weight * s.ice_weight);
           addToHistogram(&d.hist_water[px * kBins], sunlight, s.weight * (1.0 - s.ice_weight));
+          const glm::dvec3 l = s.weight * reference::sampleSkyLight(sky, depths, sc.frame, s, march);
+          d.y_sky[px] += luminance(l.x, l.y, l.z);
         },
         [&](int x, int y, double T) { d.alpha[std::size_t(y) * std::size_t(w) + std::size_t(x)] = 1.0 - T; });
     data.push_back(std::move(d));
@@ -194,14 +198,14 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
         for (int n = 0; n < kMaxOctaves; ++n) {
           const double aniso = std::pow(cs[ic], n);
           for (std::size_t px = 0; px < P; ++px) {
-            q[std::size_t(n) * P + px] = sIce[std::size_t(n) * P + px] * lighting::hg4pi(d.cos_psi[px], aniso * gIce) +
-                                         sWater[std::size_t(n) * P + px] * lighting::hg4pi(d.cos_psi[px], aniso * gWater);
+            q[std::size_t(n) * P + px] = sIce[std::size_t(n) * P + px] * lighting::hgPhase(d.cos_psi[px], aniso * gIce) +
+                                         sWater[std::size_t(n) * P + px] * lighting::hgPhase(d.cos_psi[px], aniso * gWater);
           }
         }
         {  // normal equations of the free weights w_1 … w_{N−1} (w_0 = 1): r = Y_ref − Y_amb·α − Y_sun·Q_0
           NormalEquations& ne = normal[ia * nc + ic];
           for (std::size_t px = 0; px < P; ++px) {
-            const double res = d.y_truth[px] - d.y_ambient * d.alpha[px] - d.y_sun * q[px];
+            const double res = d.y_truth[px] - d.y_sky[px] - d.y_sun * q[px];
             ne.c0 += res * res / yTruthSq / double(data.size());
             for (int n = 1; n < kMaxOctaves; ++n) {
               const double qn = d.y_sun * q[std::size_t(n) * P + px];
@@ -215,7 +219,7 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
         for (std::size_t ib = 0; ib < nb; ++ib) {
           std::vector<double> sq(kMaxOctaves, 0.0);
           for (std::size_t px = 0; px < P; ++px) {
-            double y = d.y_ambient * d.alpha[px], energy = 1.0;
+            double y = d.y_sky[px], energy = 1.0;
             const double yt = d.y_truth[px];
             for (int n = 0; n < kMaxOctaves; ++n) {
               y += d.y_sun * energy * q[std::size_t(n) * P + px];

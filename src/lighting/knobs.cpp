@@ -27,7 +27,7 @@ using S = StyleSettings;
 //   the DLM has.
 // - early_termination_transmittance [0, 1]: any transmittance (the C API capped it at 0.5).
 // - style knobs keep the C API's ranges: |g| < 1 for a normalised Henyey–Greenstein phase,
-//   ambient up to 10 × the sun's radiance.
+//   the sky light's scale up to 10 × the analytic clear sky (issue 12; it was a radiance before).
 //
 // Presets (values in draft, broadcast, reference order) were chosen from the run-time/error sweep
 // of `nephele bench accuracy` (docs/accuracy.md): the DLM step and the view step are the knobs that
@@ -65,12 +65,12 @@ constexpr std::array kKnobs{
          .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},
     Knob{.name = "g_water", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_water,
          .doc = "Henyey–Greenstein asymmetry of droplets in the eye pass"},
-    Knob{.name = "ambient_r", .unit = "sun = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 0},
-         .doc = "uniform sky radiance, red"},
-    Knob{.name = "ambient_g", .unit = "sun = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 1},
-         .doc = "uniform sky radiance, green"},
-    Knob{.name = "ambient_b", .unit = "sun = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 2},
-         .doc = "uniform sky radiance, blue"},
+    Knob{.name = "ambient_r", .unit = "clear sky = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 0},
+         .doc = "sky light scale, red (1 = the analytic clear sky at the sun's elevation)"},
+    Knob{.name = "ambient_g", .unit = "clear sky = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 1},
+         .doc = "sky light scale, green (1 = the analytic clear sky at the sun's elevation)"},
+    Knob{.name = "ambient_b", .unit = "clear sky = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 2},
+         .doc = "sky light scale, blue (1 = the analytic clear sky at the sun's elevation)"},
 };
 // clang-format on
 

@@ -15,10 +15,9 @@
 // value, no extra look-up. n = 0 is today's single-scattering term exactly, and a, b, c ∈ (0, 1].
 // Wrenninge et al. guessed a, b, c by eye (a ≈ b ≈ 0.5); here they are FITTED to the path tracer on
 // the accuracy scenes (src/accuracy/octave_fit.h, docs/accuracy.md), not guessed.
-// p_v is the β_sca-weighted mix of Nes eq. 5.12 with Henyey–Greenstein lobes; the functions return
-// 4π·p (1 for isotropic scattering), the eye pass's convention.
-#include <algorithm>
-#include <cmath>
+// p_v is the β_sca-weighted mix of Nes eq. 5.12 with Henyey–Greenstein lobes, a density over the
+// sphere [1/sr] (docs/rendering.md "Conventions"). The GLSL and its C++ twin:
+// glsl/common/cloud_light.glsl, lighting/cloud_light.h.
 #include <vector>
 
 namespace nph::lighting {
@@ -33,28 +32,11 @@ struct OctaveSeries {
   std::vector<double> energy;
 };
 
-/// Henyey–Greenstein times 4π (1 for isotropic).
-inline double hg4pi(double cos_psi, double g) {
-  const double g2 = g * g;
-  return (1.0 - g2) / std::pow(std::max(1.0 + g2 - 2.0 * g * cos_psi, 1e-6), 1.5);
-}
-
-/// Σ_n bⁿ · I^{aⁿ} · 4π·p_v(ψ; cⁿ g): the factor that multiplies E_sun at a sample whose DLM
-/// sunlight is `sunlight` ∈ [0, 1]; `ice_weight` = β_ice / (β_ice + β_water) (Nes eq. 5.12).
-inline double octaveSunFactor(const OctaveSeries& s, double sunlight, double cos_psi, double ice_weight,
-                              double g_ice, double g_water) {
-  double sum = 0.0, energy = 1.0, depth = 1.0, aniso = 1.0;
-  const int octaves = s.energy.empty() ? s.octaves : int(s.energy.size());
-  for (int n = 0; n < octaves; ++n) {
-    if (!s.energy.empty()) energy = s.energy[std::size_t(n)];
-    const double light = n == 0 ? sunlight : (sunlight > 0.0 ? std::pow(sunlight, depth) : 0.0);
-    const double phase = ice_weight * hg4pi(cos_psi, aniso * g_ice) + (1.0 - ice_weight) * hg4pi(cos_psi, aniso * g_water);
-    sum += energy * light * phase;
-    energy *= s.energy_scale;
-    depth *= s.extinction_scale;
-    aniso *= s.anisotropy_scale;
-  }
-  return sum;
-}
+/// Σ_n bⁿ · I^{aⁿ} · p_v(ψ; cⁿ g) [1/sr]: the factor that multiplies E_sun at a sample whose DLM
+/// sunlight is `sunlight` ∈ [0, 1]; `ice_weight` = β_ice / (β_ice + β_water) (Nes eq. 5.12). With
+/// free weights (s.energy non-empty) they replace bⁿ; otherwise this is the eye pass's
+/// octaveSeries() of glsl/common/cloud_light.glsl exactly (lighting/cloud_light.cpp).
+double octaveSunFactor(const OctaveSeries& s, double sunlight, double cos_psi, double ice_weight, double g_ice,
+                       double g_water);
 
 }  // namespace nph::lighting

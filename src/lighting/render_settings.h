@@ -14,9 +14,15 @@ namespace nph::lighting {
 struct StyleSettings {
   double g_ice = 0.75;                   ///< HG asymmetry of ice crystals (physics/phase.h)
   double g_water = 0.85;                 ///< HG asymmetry of droplets (physics/phase.h)
-  glm::dvec3 ambient{0.20, 0.24, 0.30};  ///< uniform sky radiance (sun radiance = 1)
+  /// Sky light per channel, × the analytic clear sky at the sun's elevation (lighting/cloud_light.h;
+  /// 1 = physical, 0 = no sky light). Issue 12 replaced the former constant ambient radiance.
+  glm::dvec3 ambient{1.0, 1.0, 1.0};
+  /// Mean ground albedo for the light the ground reflects up into the clouds' bases.
+  double ground_albedo = 0.1;
+  /// The lower hemisphere is sky too (the accuracy scenes, whose path-traced truth has no ground).
+  bool sky_below = false;
   glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};   ///< ground outside the basemap
-  glm::dvec3 limb_radiance{0.30, 0.45, 0.80};  ///< globe: sky glow at the limb (cosmetic; × sun intensity)
+  glm::dvec3 limb_radiance{0.053, 0.080, 0.141};  ///< globe: sky glow at the limb (cosmetic; × sun intensity; the pre-issue-12 look at +2.5 EV)
 };
 
 /// The ray caster's settings: sampling (from QualitySettings, lighting::renderSettingsFor) and
@@ -27,7 +33,9 @@ struct RenderSettings : StyleSettings {
   bool jitter = true;                    ///< per-pixel start offset against banding
   bool empty_space_skipping = true;
   bool shadows = true;                   ///< cloud shadows on the ground (DLM at z = 0)
-  OctaveSeries octaves;                  ///< multiple scattering of sunlight (issue 12); 1 octave = single
+  /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer
+  /// (docs/accuracy.md, `nephele bench accuracy --fit-octaves`); {1, …} = single scattering only.
+  OctaveSeries octaves{3, 0.65, 0.75, 0.0, {}};
 };
 
 }  // namespace nph::lighting

@@ -15,6 +15,8 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
     : ls_(lightSpace), settings_(settings) {
   const scene::ExtinctionSampler sampler(volumes, frame);
   const scene::ForwardFractions cp = scene::forwardFractions(settings);
+  // Height exaggeration keeps the data's optical depth along the light (VolumeFrame).
+  const double f = frame.opticalDepthScale(ls_.w);
   sub_m_ = step_m / refine;
   samples_ = steps * refine + 1;
   const int nu = ls_.texels.x, nv = ls_.texels.y;
@@ -27,7 +29,7 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
     double* I = &central_[std::size_t(t) * std::size_t(samples_)];
     I[0] = 1.0;
     for (int n = 0; n + 1 < samples_; ++n) {
-      const double beta = sampler.at(start + (double(n) + 0.5) * sub_m_ * ls_.w).total();
+      const double beta = f * sampler.at(start + (double(n) + 0.5) * sub_m_ * ls_.w).total();
       const double T = std::exp(-beta * sub_m_);
       I[n + 1] = I[n] * scene::centralStepFactor(T, cp.central);
     }
@@ -56,7 +58,7 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
         return centralAtLight(p.x, p.y, sPrev) + at(xx, yy, k - 1);
       };
       const glm::dvec2 p = cellCentre(x, y);
-      const double beta = sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_})).total();
+      const double beta = f * sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_})).total();
       const double T = std::exp(-beta * slice_m_);
       const double around = 0.25 * (lightAt(x + 1, y) + lightAt(x - 1, y) + lightAt(x, y + 1) + lightAt(x, y - 1));
       at(x, y, k) = at(x, y, k - 1) * scene::centralStepFactor(T, cp.central) + around * (1.0 - T) * cp.peripheral;

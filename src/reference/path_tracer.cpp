@@ -130,12 +130,16 @@ class PathTracer::Path {
   }
 
   // Delta tracking (Woodcock): tentative collisions at rate μ̄ per brick, real with μ/μ̄.
+  // Height exaggeration keeps the data's optical depth: along d both β and μ̄ are scaled by
+  // f(d) (VolumeFrame::opticalDepthScale), so the free flights shrink by f and the real/null
+  // ratio β/μ̄ is unchanged.
   bool deltaTrack(const glm::dvec3& o, const glm::dvec3& d, double tMax, double& tHit, Extinction& e) {
     bool hit = false;
+    const double f = pt_.field_.frame().opticalDepthScale(d);
     pt_.majorants_.traverse(o, d, 0.0, tMax, [&](double mu, double ta, double tb) {
       if (!(mu > 0.0)) return true;
       for (double t = ta;;) {
-        t += freeFlight(rng_, mu);
+        t += freeFlight(rng_, mu * f);
         if (t >= tb) return true;
         e = pt_.field_.at(o + t * d);
         if (rng_.uniform() * mu < e.total()) {
@@ -156,10 +160,11 @@ class PathTracer::Path {
       return std::exp(-pt_.field_.opticalDepth(x, pt_.to_sun_, 0.0, kInfinity));
     }
     double tr = 1.0;
+    const double f = pt_.field_.frame().opticalDepthScale(pt_.to_sun_);
     pt_.majorants_.traverse(x, pt_.to_sun_, 0.0, kInfinity, [&](double mu, double ta, double tb) {
       if (!(mu > 0.0)) return true;
       for (double t = ta;;) {
-        t += freeFlight(rng_, mu);
+        t += freeFlight(rng_, mu * f);
         if (t >= tb) return true;
         tr *= 1.0 - pt_.field_.at(x + t * pt_.to_sun_).total() / mu;
         if (tr < kRouletteTransmittance) {

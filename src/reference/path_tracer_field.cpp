@@ -85,7 +85,7 @@ double ExtinctionField::opticalDepth(const glm::dvec3& origin_m, const glm::dvec
                        ? (double(plane[axis]) + 0.5 - g0[axis]) / gd[axis]
                        : std::numeric_limits<double>::infinity();
   }
-  return tau;
+  return tau * frame_.opticalDepthScale(dir);  // the data's τ whatever the height exaggeration
 }
 
 }  // namespace nph::reference

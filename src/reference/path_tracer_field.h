@@ -36,7 +36,8 @@ class ExtinctionField {
   /// false when the ray misses it. `dir` need not be unit length (t is then in units of |dir|).
   bool clipToBox(const glm::dvec3& origin_m, const glm::dvec3& dir, double t_min, double t_max, double& t0,
                  double& t1) const;
-  /// Exact ∫ β_total ds along origin + t·dir (unit dir, metres) for t in [t_min, t_max].
+  /// Exact ∫ β_total ds along origin + t·dir (unit dir, metres) for t in [t_min, t_max], times
+  /// VolumeFrame::opticalDepthScale(dir): the data's optical depth whatever the exaggeration.
   double opticalDepth(const glm::dvec3& origin_m, const glm::dvec3& dir, double t_min, double t_max) const;
 
   const scene::VolumeFrame& frame() const { return frame_; }

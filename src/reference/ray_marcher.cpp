@@ -5,6 +5,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "lighting/cloud_light.h"
+#include "volume/column_depth.h"
 #include "volume/extinction_sampler.h"
 
 namespace nph::reference {
@@ -33,18 +35,26 @@ void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& fr
         t1 = std::min(t1, tb);
       }
       double T = 1.0;
+      const double depthScale = frame.opticalDepthScale(dir);  // the data's τ (VolumeFrame)
       for (double t = t0 + 0.5 * step; t < t1 && T > min_transmittance; t += step) {
         const glm::dvec3 p = o + t * dir;
         const scene::ExtinctionSample b = sampler.at(p);
-        const double bt = b.total();
+        const double bt = depthScale * b.total();
         if (bt <= 0.0) continue;
         const double Ts = std::exp(-bt * step);
-        visit(x, y, dir, RaySample{p, T * (1.0 - Ts), b.ice_per_m / bt});
+        visit(x, y, dir, RaySample{p, T * (1.0 - Ts), b.ice_per_m / b.total()});
         T *= Ts;
       }
       end(x, y, T);
     }
   });
+}
+
+glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const scene::VolumeFrame& frame,
+                          const RaySample& sample, const RayMarchSettings& s) {
+  const glm::dvec2 tau = columnDepthAt(depths, frame, sample.position_m);
+  const double g = s.g_water + (s.g_ice - s.g_water) * sample.ice_weight;
+  return 0.5 * (sky.above * lighting::diffuseTransmittance(tau.x, g) + sky.below * lighting::diffuseTransmittance(tau.y, g));
 }
 
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
@@ -58,19 +68,25 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
   std::vector<glm::dvec3> colour(std::size_t(img.width) * std::size_t(img.height), glm::dvec3(0.0));
   const glm::dvec3 lightDir = -sun.toSun();
   const glm::dvec3 sunRadiance = sun.colour * sun.intensity;
-  const glm::dvec3 ambient = s.ambient * sun.intensity;
+  const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
+  const ColumnDepths depths = columnDepths(volumes);
   const auto pixel = [&](int x, int y) { return std::size_t(y) * std::size_t(img.width) + std::size_t(x); };
   marchSamples(
       volumes, frame, camera, s.step_voxels, s.min_transmittance,
       [&](int x, int y, const glm::dvec3& dir, const RaySample& smp) {
-        // Nes eq. 5.12 mix; octave n = 0 is single scattering, n ≥ 1 multiple (octave_series.h).
+        // Nes eq. 5.12 mix; octave n = 0 is single scattering, n ≥ 1 multiple (octave_series.h);
+        // the sky light through the columns above and below (glsl/render/clouds.comp skyLightAt).
         const double cosPsi = glm::dot(lightDir, -dir);
-        const double sunFactor =
-            octaveSunFactor(s.octaves, sunlightAt(smp.position_m), cosPsi, smp.ice_weight, s.g_ice, s.g_water);
-        colour[pixel(x, y)] += smp.weight * (sunRadiance * sunFactor + ambient);
+        const double sunFactor = lighting::octaveSunFactor(s.octaves, sunlightAt(smp.position_m), cosPsi,
+                                                           smp.ice_weight, s.g_ice, s.g_water);
+        colour[pixel(x, y)] += smp.weight * (sunRadiance * sunFactor + sampleSkyLight(sky, depths, frame, smp, s));
       },
       [&](int x, int y, double T) {
-        const glm::dvec3& C = colour[pixel(x, y)];
+        glm::dvec3& C = colour[pixel(x, y)];
+        if (T <= s.min_transmittance && T < 1.0) {  // renormalised early termination (clouds.comp)
+          C /= 1.0 - T;
+          T = 0.0;
+        }
         float* px = &img.rgba[pixel(x, y) * 4];
         px[0] = float(C.x);
         px[1] = float(C.y);

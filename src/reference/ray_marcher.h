@@ -7,10 +7,12 @@
 
 #include <glm/glm.hpp>
 
+#include "lighting/cloud_light.h"
 #include "lighting/render_settings.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
 #include "scene/sun.h"
+#include "volume/column_depth.h"
 #include "volume/extinction_volumes.h"
 #include "volume/volume_frame.h"
 
@@ -38,6 +40,11 @@ using RayEndVisitor = std::function<void(int x, int y, double transmittance)>;
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit,
                   const RayEndVisitor& end);
+
+/// The sky light a sample scatters towards the eye (glsl/render/clouds.comp skyLightAt):
+/// ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) with g the sample's β-weighted asymmetry.
+glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const scene::VolumeFrame& frame,
+                          const RaySample& sample, const RayMarchSettings& settings);
 
 /// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,

@@ -46,8 +46,15 @@ float applyToneCurve(float linear, ToneCurve curve);
 /// sRGB transfer function (IEC 61966-2-1): linear [0, 1] -> encoded (glsl/common/display.glsl).
 float linearToSrgb(float linear);
 
+/// Default exposure (issue 12): with the sun an irradiance E = 1 and clouds in E·p units
+/// (docs/rendering.md "Conventions"), a thick sunlit cloud top has a radiance of ≈ 0.2–0.3, the
+/// sunlit ocean ≈ 0.02; +2.5 EV puts cloud tops just under the ACES curve's shoulder (white, not
+/// clipped) and keeps shadowed sides and the ground readable (chosen by looking at the demo, before
+/// and after pictures in docs/light-transport.md).
+inline constexpr double kDefaultExposureEv = 2.5;
+
 struct ImageOutputOptions {
-  double exposure_ev = 0.0;                  ///< radiance scale 2^ev (EXR and PNG alike)
+  double exposure_ev = 0.0;  ///< radiance scale 2^ev (EXR and PNG alike); scenes default to kDefaultExposureEv
   ToneCurve tone_curve = ToneCurve::AcesFitted;  ///< PNG only; EXR stays linear
   bool write_depth = true;                   ///< EXR: add Z when the image has depth
   /// EXR capDate ("YYYY:MM:DD hh:mm:ss"). Empty: OpenImageIO writes the wall-clock time, so two

@@ -231,7 +231,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
                                           "16384^2 image ran out of GL memory after 565 s)",
                                           out.width, out.height, limits::kMaxImagePixels));
     }
-    out.image.exposure_ev = o->number("exposure_ev", 0.0, -20.0, 20.0);
+    out.image.exposure_ev = o->number("exposure_ev", kDefaultExposureEv, -20.0, 20.0);
     if (const auto curve = o->optString("tone_curve")) {
       try {
         out.image.tone_curve = toneCurveFromName(*curve);

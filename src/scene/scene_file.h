@@ -64,7 +64,7 @@ struct OutputSpec {
   std::vector<std::string> paths;  ///< .png and/or .exr; may be empty when the CLI gives them
   int width = 1920;
   int height = 1080;
-  ImageOutputOptions image{0.0, ToneCurve::AcesFitted, /*write_depth=*/false, /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
+  ImageOutputOptions image{kDefaultExposureEv, ToneCurve::AcesFitted, /*write_depth=*/false, /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
 };
 
 enum class ViewMode { Flat, Globe };

@@ -30,6 +30,14 @@ struct VolumeFrame {
     return (world_m - min_m()) / voxel_size_m;
   }
   glm::dvec3 worldFromGrid(const glm::dvec3& grid) const { return min_m() + grid * voxel_size_m; }
+  /// Height exaggeration keeps the data's optical depth (issue 12; docs/rendering.md
+  /// "Conventions"): a world path of length ℓ along the unit direction `dir` has the optical depth
+  /// of its unexaggerated image, ℓ·|(d_x, d_y, d_z/e)|·β. This is that factor f(dir): 1 for
+  /// horizontal paths, 1/e for vertical ones; every integrator multiplies β by it.
+  double opticalDepthScale(const glm::dvec3& dir) const {
+    const double e = height_exaggeration > 0.0 ? height_exaggeration : 1.0;
+    return glm::length(glm::dvec3(dir.x, dir.y, dir.z / e)) / glm::length(dir);
+  }
 };
 
 /// The frame of `volumes` with heights scaled by `height_exaggeration` (≥ 1 typical; 1 = true scale).

@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "dlm_scenes.h"
+#include "lighting/cloud_light.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/sun.h"
@@ -43,7 +45,7 @@ Rendered renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, co
 }
 
 // An empty volume leaves the basemap unchanged: alpha 0, no cloud light, and the frame is the
-// lit ground albedo·(E·cos θ_sun + L_ambient) exactly (no shadow anywhere).
+// Lambertian ground ρ/π·(E·cos θ_sun + π·L_sky) exactly (no shadow anywhere; issue 12's units).
 TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
   const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
   scene::LinearRgbImage map{4, 4, std::vector<float>(48, 0.0f)};
@@ -57,7 +59,8 @@ TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
   const auto r = renderLookingDown(v, sun, rs, &map);
   const double cosSun = std::sin(glm::radians(30.0));
   const glm::dvec3 albedo(0.2, 0.4, 0.6);
-  const glm::dvec3 expected = albedo * (glm::dvec3(1.0) * cosSun + rs.ambient);
+  const glm::dvec3 sky = lighting::skyLightFor(rs, sun.elevation_deg, sun.colour, sun.intensity).above;
+  const glm::dvec3 expected = albedo / std::numbers::pi * (glm::dvec3(1.0) * cosSun + std::numbers::pi * sky);
   double maxAlpha = 0.0, maxDiff = 0.0;
   for (std::size_t i = 0; i < r.out.frame.rgba.size(); i += 4) {
     maxAlpha = std::max(maxAlpha, double(r.out.cloud_layer.rgba[i + 3]));

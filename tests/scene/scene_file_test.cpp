@@ -52,7 +52,7 @@ TEST(SceneFile, Defaults) {
   EXPECT_TRUE(s.output.paths.empty());
   EXPECT_EQ(s.output.width, 1920);
   EXPECT_EQ(s.output.height, 1080);
-  EXPECT_EQ(s.output.image.exposure_ev, 0.0);
+  EXPECT_EQ(s.output.image.exposure_ev, kDefaultExposureEv);  // +2.5 EV since issue 12
   EXPECT_FALSE(s.output.image.write_depth);
   EXPECT_EQ(s.height_exaggeration, 1.0);
   EXPECT_EQ(s.view, ViewMode::Flat);

@@ -57,6 +57,7 @@ double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, s
   p.set("u_step_m", float(step_m_));
   p.set("u_steps", steps_);
   p.set("u_central_fraction", float(fractions_.central));
+  p.set("u_optical_depth_scale", float(depth_scale_));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_LIGHT_VOLUME, buffer.id());
   glFinish();
   const auto t0 = std::chrono::steady_clock::now();
@@ -80,6 +81,7 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
   p.set("u_step_m", float(step_m_));
   p.set("u_steps", steps_);
   p.set("u_central_fraction", float(fractions_.central));
+  p.set("u_optical_depth_scale", float(depth_scale_));
   p.set("u_skip_empty", settings_.empty_space_skipping ? 1 : 0);
   p.set("u_only_overflowed", onlyOverflowed ? 1 : 0);
   p.set("u_max_nodes", settings_.max_nodes);
@@ -94,13 +96,18 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
 bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDirection,
                          const scene::DlmSettings& settings) {
   const glm::dvec3 dir = glm::normalize(lightDirection);
-  const std::string key = fmt::format("{}|{:.12f},{:.12f},{:.12f}|{}", volume.identity(), dir.x, dir.y, dir.z, settings.key());
+  // Height exaggeration keeps the data's optical depth: β along the light is scaled by f(light)
+  // (scene::VolumeFrame::opticalDepthScale; docs/rendering.md "Conventions" 3).
+  const double depthScale = volume.frame().opticalDepthScale(dir);
+  const std::string key = fmt::format("{}|{:.12f},{:.12f},{:.12f}|{:.12f}|{}", volume.identity(), dir.x, dir.y, dir.z,
+                                      depthScale, settings.key());
   if (key == key_) {
     ++stats_.reuses;
     stats_.rebuilt = false;
     return false;
   }
   if (settings.max_nodes < 2) throw UsageError("DLM settings: max_nodes must be at least 2");
+  depth_scale_ = depthScale;
   if (settings.scatter_slice_steps < 2 || settings.scatter_slice_steps % 2 != 0) {
     throw UsageError("DLM settings: scatter_slice_steps must be even and >= 2");
   }
@@ -185,6 +192,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     scatter_.set("u_slice_m", float(sliceM));
     scatter_.set("u_central_fraction", float(fractions_.central));
     scatter_.set("u_peripheral_fraction", float(fractions_.peripheral));
+    scatter_.set("u_optical_depth_scale", float(depth_scale_));
     glBindImageTexture(gl::binding::IMAGE_SCATTER_MAP, scatter_map_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     for (int k = 1; k < cells.z; ++k) {
       scatter_.set("u_slice", k);

@@ -94,6 +94,7 @@ class DeepLightMap {
   scene::DlmSettings settings_;
   scene::ForwardFractions fractions_;
   double step_m_ = 0.0;
+  double depth_scale_ = 1.0;  ///< β scale along the light (VolumeFrame::opticalDepthScale)
   int steps_ = 0;
   std::string key_;
   DlmStats stats_;

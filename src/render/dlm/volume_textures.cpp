@@ -1,11 +1,13 @@
 #include "render/dlm/volume_textures.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "volume/column_depth.h"
 
 namespace nph::render {
 
@@ -56,6 +58,20 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   }
   t.occupancy_tex_ = upload3D(t.occupancy_.max_per_m, t.occupancy_.bricks, "occupancy max [1/m]");
   t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+  // Vertical optical depths above and below each voxel for the sky light (volume/column_depth.h),
+  // interleaved (τ_up, τ_down) as RG16F: 0.1 % precision is far below the two-stream model's own
+  // error, and the 65504 ceiling of a half float is a column no sky light crosses anyway.
+  {
+    const ColumnDepths cd = columnDepths(v);
+    std::vector<float> rg(2 * cd.up.size());
+    for (std::size_t i = 0; i < cd.up.size(); ++i) {
+      rg[2 * i] = cd.up[i];  // already rounded to half (and clamped to 65504) by columnDepths
+      rg[2 * i + 1] = cd.down[i];
+    }
+    t.column_depth_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("column optical depth (up, down)");
+    glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_FLOAT, rg.data());
+    t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  }
   // Units of absent phases get a 1-voxel zero texture so that no unit is left unbound.
   t.zero_ = upload3D(std::vector<float>{0.0f}, {1, 1, 1}, "zero");
   gl::VolumeBlock block;
@@ -87,6 +103,7 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_ICE_PER_M, ice_ ? ice_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_WATER_PER_M, water_ ? water_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_OCCUPANCY_PER_M, occupancy_tex_.id());
+  glBindTextureUnit(gl::binding::UNIT_COLUMN_DEPTH, column_depth_.id());
   block_.bind();
 }
 

@@ -29,12 +29,13 @@ class VolumeTextures {
   /// volume's bottom face.
   void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
 
-  /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M and UNIT_OCCUPANCY_PER_M and the
+  /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
+  /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h) and the
   /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program.
   void bind() const;
 
  private:
-  gl::Texture ice_, water_, occupancy_tex_, zero_;
+  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_;
   gl::UniformBuffer<gl::VolumeBlock> block_;
   scene::VolumeFrame frame_;
   scene::OccupancyGrid occupancy_;

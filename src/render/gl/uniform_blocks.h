@@ -101,7 +101,7 @@ struct RaycastBlock {
   float min_transmittance = 0.0f;    ///< u_min_transmittance: early ray termination
   glm::vec3 sun_radiance{0.0f};      ///< u_sun_radiance: colour · intensity
   float g_ice = 0.0f;                ///< u_g_ice: HG asymmetry of ice
-  glm::vec3 ambient{0.0f};           ///< u_ambient: uniform sky radiance
+  glm::vec3 sky_radiance{0.0f};      ///< u_sky_radiance: upper hemisphere (clear sky), radiance
   float g_water = 0.0f;              ///< u_g_water: HG asymmetry of water
   glm::vec3 ocean_albedo{0.0f};      ///< u_ocean_albedo: ground albedo outside the basemap
   std::uint32_t jitter = 0;          ///< u_jitter (bool)
@@ -114,15 +114,23 @@ struct RaycastBlock {
   std::uint32_t has_basemap = 0;     ///< u_has_basemap (bool)
   std::uint32_t count_samples = 0;   ///< u_count_samples (bool)
   std::uint32_t globe = 0;           ///< u_globe (bool): rays in ECEF, GlobeBlock valid
+  glm::vec3 below_radiance{0.0f};    ///< u_below_radiance: lower hemisphere (ground bounce), radiance
+  float ms_extinction_scale = 1.0f;  ///< u_ms_extinction_scale: octave series a
+  float ms_energy_scale = 0.0f;      ///< u_ms_energy_scale: octave series b
+  float ms_anisotropy_scale = 1.0f;  ///< u_ms_anisotropy_scale: octave series c
+  std::int32_t octaves = 1;          ///< u_octaves: octave series N (1 = single scattering)
+  float height_exaggeration = 1.0f;  ///< u_height_exaggeration: e of the volume frame
 };
 static_assert(offsetof(RaycastBlock, world_from_view) == 64 && offsetof(RaycastBlock, cam_pos_m) == 112 &&
               offsetof(RaycastBlock, step_m) == 124);
 static_assert(offsetof(RaycastBlock, to_sun) == 128 && offsetof(RaycastBlock, sun_radiance) == 144 &&
-              offsetof(RaycastBlock, ambient) == 160 && offsetof(RaycastBlock, ocean_albedo) == 176 &&
+              offsetof(RaycastBlock, sky_radiance) == 160 && offsetof(RaycastBlock, ocean_albedo) == 176 &&
               offsetof(RaycastBlock, jitter) == 188);
 static_assert(offsetof(RaycastBlock, basemap_min_m) == 192 && offsetof(RaycastBlock, size) == 208 &&
               offsetof(RaycastBlock, skip_empty) == 220 && offsetof(RaycastBlock, globe) == 236);
-static_assert(sizeof(RaycastBlock) == 240, "std140 size of RaycastBlock");
+static_assert(offsetof(RaycastBlock, below_radiance) == 240 && offsetof(RaycastBlock, ms_extinction_scale) == 252 &&
+              offsetof(RaycastBlock, octaves) == 264 && offsetof(RaycastBlock, height_exaggeration) == 268);
+static_assert(sizeof(RaycastBlock) == 272, "std140 size of RaycastBlock");
 inline constexpr BlockMember kRaycastMembers[] = {
     {"u_view_from_clip", offsetof(RaycastBlock, view_from_clip)},
     {"u_world_from_view", offsetof(RaycastBlock, world_from_view)},
@@ -132,7 +140,7 @@ inline constexpr BlockMember kRaycastMembers[] = {
     {"u_min_transmittance", offsetof(RaycastBlock, min_transmittance)},
     {"u_sun_radiance", offsetof(RaycastBlock, sun_radiance)},
     {"u_g_ice", offsetof(RaycastBlock, g_ice)},
-    {"u_ambient", offsetof(RaycastBlock, ambient)},
+    {"u_sky_radiance", offsetof(RaycastBlock, sky_radiance)},
     {"u_g_water", offsetof(RaycastBlock, g_water)},
     {"u_ocean_albedo", offsetof(RaycastBlock, ocean_albedo)},
     {"u_jitter", offsetof(RaycastBlock, jitter)},
@@ -144,7 +152,13 @@ inline constexpr BlockMember kRaycastMembers[] = {
     {"u_shadows", offsetof(RaycastBlock, shadows)},
     {"u_has_basemap", offsetof(RaycastBlock, has_basemap)},
     {"u_count_samples", offsetof(RaycastBlock, count_samples)},
-    {"u_globe", offsetof(RaycastBlock, globe)}};
+    {"u_globe", offsetof(RaycastBlock, globe)},
+    {"u_below_radiance", offsetof(RaycastBlock, below_radiance)},
+    {"u_ms_extinction_scale", offsetof(RaycastBlock, ms_extinction_scale)},
+    {"u_ms_energy_scale", offsetof(RaycastBlock, ms_energy_scale)},
+    {"u_ms_anisotropy_scale", offsetof(RaycastBlock, ms_anisotropy_scale)},
+    {"u_octaves", offsetof(RaycastBlock, octaves)},
+    {"u_height_exaggeration", offsetof(RaycastBlock, height_exaggeration)}};
 
 /// glsl/render/globe.glsl `GlobeBlock`: the globe view's mapping (render/raycast/globe.h), read
 /// only when RaycastBlock::globe is set.

@@ -1,5 +1,7 @@
 #include "render/raycast/cloud_renderer.h"
 
+#include "lighting/cloud_light.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -114,7 +116,14 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.has_host_depth = depth.texture ? 1u : 0u;
   b.to_sun = glm::vec3(globe_ ? globe_to_sun_ : sun.toSun());
   b.sun_radiance = glm::vec3(sun.colour * sun.intensity);
-  b.ambient = glm::vec3(s.ambient * sun.intensity);
+  const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
+  b.sky_radiance = glm::vec3(sky.above);
+  b.below_radiance = glm::vec3(sky.below);
+  b.octaves = s.octaves.octaves;
+  b.ms_extinction_scale = float(s.octaves.extinction_scale);
+  b.ms_energy_scale = float(s.octaves.energy_scale);
+  b.ms_anisotropy_scale = float(s.octaves.anisotropy_scale);
+  b.height_exaggeration = float(volume.frame().height_exaggeration);
   b.g_ice = float(s.g_ice);
   b.g_water = float(s.g_water);
   const glm::dvec3 voxel = volume.frame().voxel_size_m;

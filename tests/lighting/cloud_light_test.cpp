@@ -1,0 +1,107 @@
+// The cloud-light functions of glsl/common/cloud_light.glsl (compiled as C++, lighting/cloud_light.h)
+// and the column depths of volume/column_depth.h against closed forms (issue 12).
+#include "lighting/cloud_light.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "volume/column_depth.h"
+#include "volume/volume_frame.h"
+
+namespace nph::lighting {
+namespace {
+
+TEST(CloudLight, PhaseIsADensityOverTheSphere) {
+  // ∫ p dΩ = 2π ∫_{−1}^{1} p(μ) dμ = 1 for every g (Simpson, 20 000 intervals), and the isotropic
+  // lobe is 1/(4π): the E·p convention of docs/rendering.md.
+  for (double g : {0.0, 0.5, 0.75, 0.85, -0.3}) {
+    const int n = 20000;
+    double sum = 0.0;
+    for (int i = 0; i <= n; ++i) {
+      const double mu = -1.0 + 2.0 * i / n;
+      const double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+      sum += w * hgPhase(mu, g);
+    }
+    EXPECT_NEAR(2.0 * std::numbers::pi * sum * (2.0 / n) / 3.0, 1.0, 2e-3) << "g " << g;
+  }
+  EXPECT_NEAR(hgPhase(0.3, 0.0), 1.0 / (4.0 * std::numbers::pi), 1e-15);
+  EXPECT_NEAR(mixedPhase(0.3, 0.25, 0.75, 0.85), 0.25 * hgPhase(0.3, 0.75) + 0.75 * hgPhase(0.3, 0.85), 1e-15);
+}
+
+TEST(CloudLight, DiffuseTransmittanceIsTheTwoStreamClosedForm) {
+  EXPECT_EQ(diffuseTransmittance(0.0, 0.85), 1.0);
+  EXPECT_NEAR(diffuseTransmittance(20.0, 0.85), 1.0 / (1.0 + 0.75 * 0.15 * 20.0), 1e-15);
+  EXPECT_EQ(diffuseTransmittance(-1.0, 0.85), 1.0);  // negative depth clamps (never darker than clear)
+  // Thick layers: ∝ 1/τ with the diffusion limit's slope 4/(3(1 − g)τ) (van de Hulst 1980).
+  const double tau = 1e4, g = 0.85;
+  EXPECT_NEAR(diffuseTransmittance(tau, g) * 0.75 * (1.0 - g) * tau, 1.0, 1e-3);
+}
+
+TEST(CloudLight, ClearSkyIsBlueOverheadFadesAtDuskAndScalesWithTheSun) {
+  const glm::dvec3 noon = clearSkyRadiance(std::sin(60.0 * std::numbers::pi / 180.0));
+  EXPECT_GT(noon.b, noon.g);
+  EXPECT_GT(noon.g, noon.r);
+  // Diffuse irradiance on the ground π·L against E: 0.05–0.2 of E at 60° (Bird & Hulstrom 1981).
+  const double y = 0.2126 * noon.r + 0.7152 * noon.g + 0.0722 * noon.b;
+  EXPECT_GT(std::numbers::pi * y, 0.05);
+  EXPECT_LT(std::numbers::pi * y, 0.2);
+  // Monotone in elevation above the horizon; 0 below civil twilight (−6°).
+  double previous = -1.0;
+  for (double deg = -10.0; deg <= 90.0; deg += 1.0) {
+    const glm::dvec3 l = clearSkyRadiance(std::sin(deg * std::numbers::pi / 180.0));
+    const double yl = l.r + l.g + l.b;
+    EXPECT_GE(yl, previous - 1e-12) << deg << "°";
+    EXPECT_TRUE(std::isfinite(yl));
+    if (deg <= -7.0) {
+      EXPECT_EQ(yl, 0.0) << deg << "°";
+    }
+    previous = yl;
+  }
+  // The Kasten–Young air mass: 1 at the zenith, ≈ 38 at the horizon.
+  EXPECT_NEAR(airMass(1.0), 1.0, 1e-3);
+  EXPECT_NEAR(airMass(0.0), 38.0, 0.2);
+  // skyLightFor: above = clear sky × style × intensity; below = the ground's ρ/π of sun + sky.
+  StyleSettings style;
+  const SkyLight s = skyLightFor(style, 30.0, glm::dvec3(1.0), 2.0);
+  const glm::dvec3 sky = 2.0 * clearSkyRadiance(0.5);
+  EXPECT_NEAR(s.above.g, sky.g, 1e-12);
+  EXPECT_NEAR(s.below.g, style.ground_albedo / std::numbers::pi * (2.0 * 0.5 + std::numbers::pi * sky.g), 1e-12);
+  style.sky_below = true;
+  EXPECT_EQ(skyLightFor(style, 30.0, glm::dvec3(1.0), 2.0).below, skyLightFor(style, 30.0, glm::dvec3(1.0), 2.0).above);
+}
+
+TEST(ColumnDepth, SumsTheColumnAboveAndBelowAtTheDataScale) {
+  // One column of 4 layers, dz = 100 m, β = 1e-3, 2e-3, 0, 4e-3 /m (bottom to top).
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(1, 1, 4, 1000.0, 100.0, 0.0);
+  v.water_per_m = {1e-3f, 2e-3f, 0.0f, 4e-3f};
+  const ColumnDepths d = columnDepths(v);
+  EXPECT_NEAR(d.up[0], 0.05 + 0.2 + 0.0 + 0.4, 1e-3);  // half precision (the GPU texture)
+  EXPECT_NEAR(d.up[3], 0.2, 1e-3);
+  EXPECT_NEAR(d.down[0], 0.05, 1e-3);
+  EXPECT_NEAR(d.down[3], 0.1 + 0.2 + 0.2, 1e-3);
+  // Height exaggeration changes world heights, not the depths (the data's optical depth).
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const glm::dvec3 centre1 = frame.worldFromGrid(glm::dvec3(0.5, 0.5, 1.5));
+  EXPECT_NEAR(columnDepthAt(d, frame, centre1).x, 0.1 + 0.4, 1e-3);
+  // Halfway between layer centres 1 and 2: the mean; above the top: clamped to the top centre.
+  const glm::dvec3 between = frame.worldFromGrid(glm::dvec3(0.5, 0.5, 2.0));
+  EXPECT_NEAR(columnDepthAt(d, frame, between).x, 0.5 * (0.5 + 0.4), 1e-3);
+  EXPECT_NEAR(columnDepthAt(d, frame, frame.worldFromGrid(glm::dvec3(0.5, 0.5, 9.0))).x, 0.2, 1e-3);
+}
+
+TEST(VolumeFrame, OpticalDepthScaleKeepsTheDataDepthAlongEveryDirection) {
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(2, 2, 2, 1000.0, 100.0, 0.0);
+  const scene::VolumeFrame f = scene::frameOf(v, 8.0);
+  EXPECT_NEAR(f.opticalDepthScale({0.0, 0.0, 1.0}), 1.0 / 8.0, 1e-15);
+  EXPECT_NEAR(f.opticalDepthScale({1.0, 0.0, 0.0}), 1.0, 1e-15);
+  // A slanted world path between two grid points has the length of the unexaggerated path.
+  const glm::dvec3 a = f.worldFromGrid({0.2, 0.3, 0.1}), b = f.worldFromGrid({1.7, 1.1, 1.9});
+  const double world = glm::length(b - a);
+  const glm::dvec3 realDelta = (b - a) * glm::dvec3(1.0, 1.0, 1.0 / 8.0);
+  EXPECT_NEAR(world * f.opticalDepthScale(b - a), glm::length(realDelta), 1e-9);
+}
+
+}  // namespace
+}  // namespace nph::lighting
