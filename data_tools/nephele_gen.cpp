@@ -58,7 +58,12 @@ int main(int argc, char** argv) {
   std::string proj_name = "lambert", scheme_name = "thompson";
   int times = 6, start_hour = 0;
   bool hail = false;
+  std::string case_name = "hurricane";
   add_common(wrf);
+  wrf->add_option("--case", case_name,
+                  "hurricane (the sample storm, --size applies) | storm (issue 13's coarse storm: 72x64x30 at 10 km, "
+                  "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored)")
+      ->check(CLI::IsMember({"hurricane", "storm"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
   wrf->add_option("--proj", proj_name, "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | cartesian (0, no XLAT/XLONG)")
       ->check(CLI::IsMember({"lambert", "polar", "mercator", "latlon", "rotated", "cartesian"}));
@@ -91,11 +96,12 @@ int main(int argc, char** argv) {
       return compress ? nph::datagen::NcFormat::Netcdf4Deflate : preset;
     };
     auto write_wrf = [&](const std::string& path, nph::datagen::WrfProjection p, nph::datagen::WrfScheme s) {
-      auto spec = nph::datagen::wrfPreset(size);
+      const bool storm = case_name == "storm";
+      auto spec = storm ? nph::datagen::coarseStormSpec() : nph::datagen::wrfPreset(size);
       spec.projection = p;
       spec.scheme = s;
       spec.seed = seed;
-      spec.ntimes = times;
+      if (!storm || wrf->count("--times") > 0) spec.ntimes = times;
       spec.first_hour = start_hour;
       spec.include_hail = hail;
       spec.format = format(spec.format);

@@ -153,6 +153,17 @@ class Writer {
   // Storm position of timestep t in metres from grid point (0, 0).
   void stormCentre(int t, double& x_m, double& y_m) const;
 
+  // ---- the coarse storm (WrfCase::CoarseStorm) ----
+  struct StormCell {
+    double x_km, y_km, radius_km, top_km, strength;
+  };
+  struct StormPoint {
+    double q_cloud = 0, q_rain = 0, q_ice = 0, q_snow = 0, q_graupel = 0, w_m_per_s = 0, tke_m2_per_s2 = 0;
+  };
+  std::vector<StormCell> stormCells(double hours) const;
+  StormPoint stormPoint(const std::vector<StormCell>& cells, int i, int j, double x_km, double y_km, double z_m,
+                        double terrain_m, double temperature_k, double hours) const;
+
   const WrfHurricaneSpec& spec_;
   NcWriter nc_;
   ProjectionSetup proj_;
@@ -172,6 +183,68 @@ void Writer::stormCentre(int t, double& x_m, double& y_m) const {
   // Starts south-east of the domain centre and drifts north-west across it over 6 hours.
   x_m = 0.5 * lx + (hours - 2.5) * 3600.0 * kStormMotionX_m_per_s;
   y_m = 0.5 * ly + (hours - 2.5) * 3600.0 * kStormMotionY_m_per_s;
+}
+
+// The coarse storm: a mesoscale convective system as a 10-km model resolves it. Deep cells are
+// 7–16 km in radius, so each fills one to three grid columns; their tops (7.5–12.5 km) end within
+// a few hundred metres, i.e. inside one model level. A stratiform ice/snow shield (a 260 × 170 km
+// ellipse) has a top that varies by a few hundred metres from column to column, so it ends at
+// different model levels in neighbouring columns: the terraces of real coarse output. Every field
+// carries a per-column (2Δx) factor, as model output does.
+std::vector<Writer::StormCell> Writer::stormCells(double hours) const {
+  const double lx_km = (g_.nx - 1) * spec_.dx_m / 1000.0, ly_km = (g_.ny - 1) * spec_.dx_m / 1000.0;
+  constexpr int kCells = 28;
+  std::vector<StormCell> cells;
+  for (int c = 0; c < kCells; ++c) {
+    const double a = noise_.hash(c, 1, 0), b = noise_.hash(c, 2, 0), h = noise_.hash(c, 3, 0);
+    // Half the cells on a south-west → north-east squall line, the rest scattered.
+    const bool line = c % 2 == 0;
+    const double x = line ? lx_km * (0.2 + 0.6 * a) : lx_km * (0.15 + 0.7 * a);
+    const double y = line ? ly_km * (0.25 + 0.5 * a) + 25.0 * (b - 0.5) : ly_km * (0.15 + 0.7 * b);
+    // Cells move with the mean wind and grow/decay over a 3-hour life cycle.
+    const double life = std::sin(kPi * std::fmod(hours / 3.0 + h, 1.0));
+    cells.push_back({x + hours * 3.6 * kStormMotionX_m_per_s, y + hours * 3.6 * kStormMotionY_m_per_s,
+                     7.0 + 9.0 * noise_.hash(c, 4, 0), 7.5 + 5.0 * noise_.hash(c, 5, 0), 0.5 + 0.5 * life});
+  }
+  return cells;
+}
+
+Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i, int j, double x_km, double y_km,
+                                      double z_m, double terrain_m, double temperature_k, double hours) const {
+  StormPoint p;
+  const double zk = z_m / 1000.0;
+  const auto hour = static_cast<std::int64_t>(std::floor(hours));
+  const double column = 0.7 + 0.6 * noise_.hash(i, j, 1000 + hour);  // grid-scale noise
+  double cell = 0.0, top_km = 0.0;
+  for (const StormCell& s : cells) {
+    const double w = s.strength * gaussian(std::hypot(x_km - s.x_km, y_km - s.y_km), 0.0, s.radius_km);
+    if (w > cell) {
+      cell = w;
+      top_km = s.top_km;
+    }
+  }
+  cell = cell < 0.05 ? 0.0 : cell * column;
+  const double ellipse = std::hypot((x_km - 0.5 * (g_.nx - 1) * spec_.dx_m / 1000.0) / 260.0,
+                                    (y_km - 0.55 * (g_.ny - 1) * spec_.dx_m / 1000.0) / 170.0);
+  const double shield = (1.0 - smoothstep(0.8, 1.0, ellipse)) * column;
+  const double shield_top_km = 8.2 + 1.6 * noise_.fbm(x_km / 90.0, y_km / 90.0, 0.2 * hours, 2) +
+                               0.6 * (noise_.hash(i, j, 2000) - 0.5);
+  const bool warm = temperature_k > kFreezingPoint_k;
+  const double freezing_mix = smoothstep(kFreezingPoint_k - 25.0, kFreezingPoint_k - 2.0, temperature_k);
+  // Convective cores: sharp tops (0.3 km edge) and bases at 1.2 km.
+  const double core = cell * layer(zk, 1.2, top_km, 0.3);
+  p.q_cloud = 1.6e-3 * core * freezing_mix + 1.2e-4 * shield * layer(zk, 3.0, 4.6, 0.2) * freezing_mix;
+  p.q_rain = (2.2e-3 * cell + 1.2e-4 * shield) * layer(zk, -1.0, 4.2, 0.6) * (warm ? 1.0 : 0.2);
+  p.q_graupel = 1.0e-3 * cell * layer(zk, 4.5, std::min(top_km, 9.0), 0.5);
+  p.q_ice = warm ? 0.0 : 4.0e-4 * core * smoothstep(6.0, 8.0, zk) + 8.0e-5 * shield * layer(zk, 6.0, shield_top_km, 0.05);
+  p.q_snow = warm ? 0.0 : 6.0e-4 * core * smoothstep(5.0, 7.0, zk) + 2.5e-4 * shield * layer(zk, 4.6, shield_top_km, 0.05);
+  // Updrafts in the cores (8 m/s at mid-levels), gentle ascent in the shield.
+  p.w_m_per_s = 8.0 * cell * std::sin(kPi * std::clamp((zk - 1.0) / std::max(top_km - 1.0, 1.0), 0.0, 1.0)) +
+                0.3 * shield * layer(zk, 4.6, shield_top_km, 0.5);
+  // TKE: a mixed boundary layer (0.4 m²/s², ~1.5 km deep) and turbulence in the cells and shield.
+  p.tke_m2_per_s2 = 0.4 * (1.0 - smoothstep(800.0, 1800.0, z_m - terrain_m)) + 4.0 * core +
+                    0.5 * shield * layer(zk, 4.6, shield_top_km, 0.5);
+  return p;
 }
 
 int Writer::defField(const std::string& name, const std::vector<int>& dims,
@@ -239,12 +312,20 @@ void Writer::defineFile() {
     }
   }
   defField("HGT", {d_time, d_sn, d_we}, "XY ", "Terrain Height", "m", "");
+  if (spec_.weather == WrfCase::CoarseStorm) {
+    // As WRF ARW v4 writes them (Registry.EM_COMMON; TKE_PBL with a TKE-carrying PBL scheme).
+    defField("W", {d_time, d_bts, d_sn, d_we}, "XYZ", "z-wind component", "m s-1", "Z");
+    defField("TKE_PBL", {d_time, d_bt, d_sn, d_we}, "XYZ", "TKE from PBL", "m2 s-2", "");
+    defField("CLDFRA", {d_time, d_bt, d_sn, d_we}, "XYZ", "CLOUD FRACTION", "", "");
+  }
 
   // ---- global attributes as WRF ARW v4 writes them -------------------------------------------
   const int G = NC_GLOBAL;
   nc_.attText(G, "TITLE", " OUTPUT FROM WRF V4.5.2 MODEL");
   nc_.attText(G, "NEPHELE_SYNTHETIC",
-              fmt::format("idealized hurricane written by nephele-gen, seed {}", spec_.seed));
+              fmt::format("{} written by nephele-gen, seed {}",
+                          spec_.weather == WrfCase::CoarseStorm ? "coarse convective storm" : "idealized hurricane",
+                          spec_.seed));
   const std::string start = start_.wrfTimeString();
   nc_.attText(G, "START_DATE", start);
   nc_.attText(G, "SIMULATION_START_DATE", start);
@@ -264,7 +345,7 @@ void Writer::defineFile() {
   nc_.attInt(G, "RA_SW_PHYSICS", 4);
   nc_.attInt(G, "SF_SFCLAY_PHYSICS", 1);
   nc_.attInt(G, "SF_SURFACE_PHYSICS", 2);
-  nc_.attInt(G, "BL_PBL_PHYSICS", 1);
+  nc_.attInt(G, "BL_PBL_PHYSICS", spec_.weather == WrfCase::CoarseStorm ? 5 : 1);  // 5 = MYNN (carries TKE)
   nc_.attInt(G, "CU_PHYSICS", 0);
   nc_.attInt(G, "HYBRID_OPT", 0);
   nc_.attFloat(G, "ETAC", 0.0f);
@@ -330,7 +411,8 @@ void Writer::writeTimestep(int t) {
     truth_.storm_centre_x_m = cx;
     truth_.storm_centre_y_m = cy;
   }
-  const double intensity = 0.85 + 0.05 * hours;  // intensifying storm
+  // Intensifying hurricane; the coarse storm keeps only a weak mesoscale vortex (a third).
+  const double intensity = (spec_.weather == WrfCase::CoarseStorm ? 0.3 : 1.0) * (0.85 + 0.05 * hours);
 
   const std::string time_string = start_.plusSeconds(3600.0 * double(spec_.first_hour + t)).wrfTimeString();
   truth_.times.push_back(time_string);
@@ -483,11 +565,38 @@ void Writer::writeTimestep(int t) {
   // so a storm wider than the domain ends softly instead of being cut by the box.
   const double lx_km = (nx - 1) * dx / 1000.0, ly_km = (ny - 1) * dx / 1000.0;
   const double boundary_km = std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
+  const bool storm = spec_.weather == WrfCase::CoarseStorm;
+  std::vector<float> w_stag, tke, cldfra;
+  std::vector<StormCell> cells;
+  if (storm) {
+    cells = stormCells(hours);
+    w_stag.assign(n2 * std::size_t(nz + 1), 0.0f);
+    tke.assign(n3, 0.0f);
+    cldfra.assign(n3, 0.0f);
+  }
   tbb::parallel_for(0, nz, [&](int k) {
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
         const std::size_t m = g_.at(i, j, k);
+        if (storm) {
+          const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
+          const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
+          const StormPoint sp = stormPoint(cells, i, j, x_km, y_km, z_mass[m], terrain_m_[c], t_mass[m], hours);
+          qc[m] = static_cast<float>(inside * sp.q_cloud);
+          qr[m] = static_cast<float>(inside * sp.q_rain);
+          qi[m] = static_cast<float>(inside * sp.q_ice);
+          qs[m] = static_cast<float>(inside * sp.q_snow);
+          qg[m] = static_cast<float>(inside * sp.q_graupel);
+          qh[m] = 0.0f;
+          tke[m] = static_cast<float>(sp.tke_m2_per_s2);
+          // Cloud fraction from the condensate (WRF's cloud-fraction schemes ramp it with the
+          // cloud water and ice content): 1 in resolved cloud, a ramp over 1e-6 .. 5e-5 kg/kg.
+          cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
+          // W on the staggered level below this mass point (and the model top above the last).
+          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * sp.w_m_per_s);
+          continue;
+        }
         const double r = r_km[c], phi = phi_rad[c];
         const double z = z_mass[m];  // m above MSL
         const double zk = z / 1000.0;
@@ -535,6 +644,11 @@ void Writer::writeTimestep(int t) {
       }
     }
   });
+  if (storm) {
+    put3d("W", t, w_stag, nz + 1, ny, nx);
+    put3d("TKE_PBL", t, tke, nz, ny, nx);
+    put3d("CLDFRA", t, cldfra, nz, ny, nx);
+  }
   if (spec_.scheme == WrfScheme::Wsm3Like) {
     // WSM3 (Hong et al. 2004) carries no separate ice: QCLOUD holds cloud ice and QRAIN holds
     // snow (and everything precipitating) below 0 °C.
@@ -635,6 +749,18 @@ WrfTruth Writer::run() {
 }
 
 }  // namespace
+
+WrfHurricaneSpec coarseStormSpec() {
+  WrfHurricaneSpec s;
+  s.nx = 72;
+  s.ny = 64;
+  s.nz = 30;
+  s.dx_m = 10000.0;
+  s.ntimes = 2;
+  s.weather = WrfCase::CoarseStorm;
+  s.format = NcFormat::Netcdf4Deflate;
+  return s;
+}
 
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path) {
   if (spec.nx < 1 || spec.ny < 1 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dx_m > 0.0)) {

@@ -21,6 +21,12 @@ enum class WrfProjection {
   Cartesian            ///< MAP_PROJ = 0: idealized run without XLAT/XLONG
 };
 
+/// What the hydrometeor fields show (the grid, thermodynamics and winds are shared).
+enum class WrfCase {
+  Hurricane,   ///< the idealized hurricane (smooth, for the demo and the goldens)
+  CoarseStorm  ///< issue 13: convective cells + stratiform shield on a coarse grid, with W, TKE_PBL, CLDFRA
+};
+
 enum class WrfScheme {
   ThompsonLike,  ///< MP_PHYSICS = 8: QCLOUD QRAIN QICE QSNOW QGRAUP + number concentrations
   Wsm3Like       ///< MP_PHYSICS = 3: QCLOUD/QRAIN only, frozen condensate inside them below 0 °C
@@ -37,6 +43,7 @@ struct WrfHurricaneSpec {
   std::uint64_t seed = 1;
   NcFormat format = NcFormat::Classic64;
   bool keep_truth = false;        ///< fill WrfTruth's 3-D fields (tests; costs memory)
+  WrfCase weather = WrfCase::Hurricane;
 };
 
 /// What the generator wrote, in double precision, to check loaders against.
@@ -57,6 +64,13 @@ struct WrfTruth {
 /// bilinearly between the mass points around storm_centre_{x,y}_m (grid spacing `dx_m`). NaN for
 /// Cartesian grids (no lon/lat).
 std::pair<double, double> stormCentreLonLat(const WrfTruth& truth, double dx_m);
+
+/// The coarse storm of issue 13 ("real model data that looks like clouds"): what operational
+/// 9–12 km, 30-level runs look like to nephele — 72×64 columns at 10 km, 30 eta levels, convective
+/// cells one to three columns wide under a stratiform ice shield whose top steps by whole model
+/// levels from column to column, with grid-scale (2Δx) noise, plus W, TKE_PBL and CLDFRA. Two
+/// hourly timesteps, NetCDF-4 with deflate (~2 MB).
+WrfHurricaneSpec coarseStormSpec();
 
 /// Writes the file; throws nph::IoError when NetCDF fails.
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path);
