@@ -78,7 +78,7 @@ void main() {
     vec3 p = start + s * u_ls_w;
     if (u_skip_empty && brickMaxAt(p + 0.5 * u_step_m * u_ls_w) == 0.0) {
       // Jump to the first lattice sample at or past the brick exit: every step in between has
-      // β = 0 (the brick max is dilated by one voxel), so Ic is unchanged.
+      // β = 0 (the brick max is dilated by the filter's reach), so Ic is unchanged.
       float exit = s + 0.5 * u_step_m + emptySkipDistance(p + 0.5 * u_step_m * u_ls_w, u_ls_w);
       int target = clamp(int(min(ceil(exit / u_step_m), float(u_steps))), n + 1, u_steps);
 #ifdef PERIPHERAL

@@ -1,13 +1,15 @@
-// Extinction volumes (Nes 2008 §5.2.1): ice and water β_ext [1/m] as 3-D textures, sampled
-// trilinearly between voxel centres with zero outside the grid (GL_LINEAR, GL_CLAMP_TO_BORDER,
-// border 0) — the same rule as volume/extinction_sampler.cpp on the CPU. β is continuous
-// everywhere: it fades to 0 over the half voxel outside the box instead of jumping at the face,
-// so a ray skimming a face cannot flip between "cloud" and "clear" on float rounding.
+// Extinction volumes (Nes 2008 §5.2.1): ice and water β_ext [1/m] as 3-D textures (GL_LINEAR,
+// GL_CLAMP_TO_BORDER, border 0), reconstructed by the filter u_reconstruction names
+// (volume/reconstruction.h): trilinear between voxel centres, or the tricubic B-spline from 8
+// trilinear fetches (Sigg & Hadwiger 2005, GPU Gems 2 ch. 20). The CPU twin is
+// volume/extinction_sampler.cpp. β is continuous everywhere: it fades to 0 outside the box (over
+// ½ voxel trilinear, 1½ voxels cubic) instead of jumping at the face, so a ray skimming a face
+// cannot flip between "cloud" and "clear" on float rounding.
 #include "common/math.glsl"
 #include "common/ray_box.glsl"
 layout(binding = UNIT_ICE_PER_M) uniform sampler3D u_ice_per_m;
 layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
-layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by one voxel)
+layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels)
 // One std140 block, declared in C++ as gl::VolumeBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocks.MatchTheLinkedPrograms checks every offset.
 layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
@@ -17,28 +19,63 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
   bool u_has_ice;        // absent phases are never fetched
   ivec3 u_voxels;
   bool u_has_water;
+  int u_reconstruction;  // 0 trilinear, 1 cubic B-spline
+  float u_reach_voxels;  // voxels a sample reads past its own cell: 1 trilinear, 2 cubic
 };
 
 vec3 volumeUvw(vec3 world_m) { return (world_m - u_box_min_m) / u_box_size_m; }
 
 bool insideVolume(vec3 uvw) { return all(greaterThanEqual(uvw, vec3(0.0))) && all(lessThanEqual(uvw, vec3(1.0))); }
 
-// The volume box grown by one voxel: β is exactly 0 beyond it.
+// How far the grown box reaches past the volume box on each side [world m]: the filter's reach.
+vec3 volumePad_m() { return u_reach_voxels * u_box_size_m / vec3(u_voxels); }
+
+// The volume box grown by the filter's reach: β is exactly 0 beyond it.
 bool insideGrownVolume(vec3 uvw) {
-  vec3 pad = 1.0 / vec3(u_voxels);
+  vec3 pad = u_reach_voxels / vec3(u_voxels);
   return all(greaterThanEqual(uvw, -pad)) && all(lessThanEqual(uvw, 1.0 + pad));
 }
 
+// Tricubic B-spline of one volume at uvw from 8 trilinear fetches (Sigg & Hadwiger 2005, §20.3):
+// per axis, the four B-spline weights w0..w3 of the voxels i−1 … i+2 around the sample are merged
+// pairwise into two linear fetches at i−1 + w1/(w0+w1) and i+1 + w3/(w2+w3) (voxel-centre index
+// units) weighted g0 = w0+w1 and g1 = w2+w3 — exact because GL_LINEAR's weights are then w0/g0,
+// w1/g0. With the zero border, voxels outside the grid read 0 as in the CPU sum.
+float cubicBSpline(sampler3D volume, vec3 uvw) {
+  vec3 n = vec3(u_voxels);
+  vec3 c = uvw * n - 0.5;  // continuous index, voxel centres at integers
+  vec3 i = floor(c);
+  vec3 f = c - i;
+  vec3 g = 1.0 - f;
+  vec3 w0 = g * g * g / 6.0;
+  vec3 w1 = 2.0 / 3.0 - 0.5 * f * f * (2.0 - f);
+  vec3 w2 = 2.0 / 3.0 - 0.5 * g * g * (1.0 + f);
+  vec3 w3 = f * f * f / 6.0;
+  vec3 g0 = w0 + w1, g1 = w2 + w3;
+  vec3 p0 = (i - 0.5 + w1 / g0) / n;  // (index + ½) / n is the texture coordinate of a voxel centre
+  vec3 p1 = (i + 1.5 + w3 / g1) / n;
+  float s000 = texture(volume, p0).r, s100 = texture(volume, vec3(p1.x, p0.y, p0.z)).r;
+  float s010 = texture(volume, vec3(p0.x, p1.y, p0.z)).r, s110 = texture(volume, vec3(p1.x, p1.y, p0.z)).r;
+  float s001 = texture(volume, vec3(p0.x, p0.y, p1.z)).r, s101 = texture(volume, vec3(p1.x, p0.y, p1.z)).r;
+  float s011 = texture(volume, vec3(p0.x, p1.y, p1.z)).r, s111 = texture(volume, p1).r;
+  float z0 = g0.y * (g0.x * s000 + g1.x * s100) + g1.y * (g0.x * s010 + g1.x * s110);
+  float z1 = g0.y * (g0.x * s001 + g1.x * s101) + g1.y * (g0.x * s011 + g1.x * s111);
+  return g0.z * z0 + g1.z * z1;
+}
+
+float reconstruct(sampler3D volume, vec3 uvw) {
+  return u_reconstruction == 1 ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;
+}
 
 // (β_ice, β_water) at a world position.
 vec2 extinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(0.0);
-  return vec2(u_has_ice ? texture(u_ice_per_m, uvw).r : 0.0, u_has_water ? texture(u_water_per_m, uvw).r : 0.0);
+  return vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0);
 }
 
-// Max β of the occupancy brick containing `world_m`; in the one-voxel shell around the box, that of
-// the nearest edge brick (whose dilated max bounds the fading shell); 0 beyond the shell.
+// Max β of the occupancy brick containing `world_m`; in the shell around the box (the filter's
+// reach), that of the nearest edge brick (whose dilated max bounds the fading shell); 0 beyond.
 float brickMaxAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return 0.0;
@@ -60,13 +97,14 @@ float brickExitDistance(vec3 world_m, vec3 dir) {
 }
 
 // Distance along `dir` over which a ray from `world_m` stays in empty space, given that the
-// occupancy at `world_m` is 0: to the exit of its brick inside the volume; 0 in the one-voxel
-// shell (no skipping there); beyond the shell, to the grown box's entry (kNeverExit_m when missed).
+// occupancy at `world_m` is 0: to the exit of its brick inside the volume; 0 in the shell of the
+// filter's reach (no skipping there); beyond the shell, to the grown box's entry (kNeverExit_m
+// when missed).
 float emptySkipDistance(vec3 world_m, vec3 dir) {
   vec3 uvw = volumeUvw(world_m);
   if (insideVolume(uvw)) return brickExitDistance(world_m, dir);
   if (insideGrownVolume(uvw)) return 0.0;
-  vec3 pad = u_box_size_m / vec3(u_voxels);
+  vec3 pad = volumePad_m();
   vec3 safeDir = safeDirection(dir);
   vec2 t = slabInterval((u_box_min_m - pad - world_m) / safeDir, (u_box_min_m + u_box_size_m + pad - world_m) / safeDir);
   if (t.y < max(t.x, 0.0)) return kNeverExit_m;

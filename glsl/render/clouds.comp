@@ -94,9 +94,9 @@ float pixelHash(uvec2 p) {
   return float((w >> 22u) ^ w) / 4294967296.0;
 }
 
-// Ray–box entry/exit distances of the volume box grown by one voxel (β fades to 0 across it).
+// Ray–box entry/exit distances of the volume box grown by the filter's reach (β fades to 0 across it).
 vec2 volumeInterval(vec3 o, vec3 d) {
-  vec3 pad = u_box_size_m / vec3(u_voxels);
+  vec3 pad = volumePad_m();
   vec3 inv = 1.0 / safeDirection(d);
   vec2 t = slabInterval((u_box_min_m - pad - o) * inv, (u_box_min_m + u_box_size_m + pad - o) * inv);
   return vec2(max(t.x, 0.0), t.y);

@@ -82,7 +82,7 @@ vec3 globeWorldFromEcef(vec3 p) {
 
 // ECEF distance a ray may jump from a sample whose occupancy brick is empty (world point w) and
 // stay in empty space, whatever its direction (globe.h): inside the box, to the brick's faces
-// (horizontal distance / L_h, vertical distance as is); in the one-voxel shell, 0; beyond it, the
+// (horizontal distance / L_h, vertical distance as is); in the shell of the filter's reach, 0; beyond it, the
 // largest per-axis gap to the grown box; outside the table, 0 (step normally).
 float globeEmptySkip(vec3 w) {
   if (w.x == kOutsideTable_m) return 0.0;
@@ -96,7 +96,7 @@ float globeEmptySkip(vec3 w) {
     return min(min(dist.x, dist.y) / u_lipschitz_h, dist.z);
   }
   if (insideGrownVolume(uvw)) return 0.0;
-  vec3 pad = u_box_size_m / vec3(u_voxels);
+  vec3 pad = volumePad_m();
   vec3 gap = max(max(u_box_min_m - pad - w, w - (u_box_min_m + u_box_size_m + pad)), vec3(0.0));
   return max(max(gap.x, gap.y) / u_lipschitz_h, gap.z);
 }

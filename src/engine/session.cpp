@@ -68,8 +68,11 @@ void Session::update() {
   const TimeBracket b = bracketTime(time_index_, dataset_->timestepCount());
   // The weight enters the key exactly (17 significant digits round-trip a double): two frames
   // share a volume only when they would blend the same one, so reuse never changes a frame.
-  const std::string key = b.weight == 0.0 ? dataset_->identity(b.first)
-                                          : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
+  // The filter is part of the key: the occupancy's dilation and the shaders' rule change with it.
+  const scene::Reconstruction reconstruction = lighting::reconstructionOf(scene_.quality);
+  const std::string content = b.weight == 0.0 ? dataset_->identity(b.first)
+                                              : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
+  const std::string key = content + (reconstruction == scene::Reconstruction::Cubic ? "|cubic" : "");
   std::vector<std::size_t> pinned{b.first};
   if (b.weight > 0.0) pinned.push_back(b.second);
   timesteps_->prefetch(pinned, direction_);  // the worker reads ahead while this frame is built
@@ -83,7 +86,8 @@ void Session::update() {
     stats_.blocked_ms = timesteps_->stats().blocked_ms - blocked0;
     t0 = std::chrono::steady_clock::now();
     textures_.reset();  // free the old volume before uploading the new one
-    textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), key));
+    textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), content,
+                                                     reconstruction));  // its identity() is `key`
     stats_.upload_ms = msSince(t0);
     volume_key_ = key;
     stats_.volume_changed = true;

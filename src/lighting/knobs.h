@@ -22,6 +22,7 @@
 
 #include "lighting/dlm_model.h"
 #include "lighting/render_settings.h"
+#include "volume/reconstruction.h"
 
 namespace nph::lighting {
 
@@ -45,6 +46,7 @@ struct QualitySettings {
   bool jitter{};                       ///< per-pixel start offset against banding
   bool shadows{};                      ///< cloud shadows on the basemap
   int samples_per_pixel{};         ///< parsed; the ray caster takes one jittered sample for now
+  int reconstruction{};                ///< scene::Reconstruction: 0 trilinear, 1 cubic B-spline
 
   bool operator==(const QualitySettings&) const = default;
 };
@@ -57,6 +59,10 @@ QualitySettings qualityPreset(Preset preset);
 scene::DlmSettings dlmSettingsFor(const QualitySettings& quality);
 /// The ray caster's settings: sampling from `quality`, appearance from `style`.
 RenderSettings renderSettingsFor(const QualitySettings& quality, const StyleSettings& style);
+/// The extinction filter of `quality` (volume/reconstruction.h).
+inline scene::Reconstruction reconstructionOf(const QualitySettings& quality) {
+  return quality.reconstruction == 1 ? scene::Reconstruction::Cubic : scene::Reconstruction::Trilinear;
+}
 
 /// One component of a vector field (ambient_r = component 0 of StyleSettings::ambient).
 struct Vec3Component {
@@ -65,12 +71,13 @@ struct Vec3Component {
 };
 
 /// The field a knob sets. Its type decides how the knob is read and written: double = a number,
-/// int = an integer, bool = 0/1 in the C API and true/false in scene files.
+/// int = an integer, bool = 0/1 in the C API and true/false in scene files. An int knob with
+/// `choices` is a choice: the index (0 … n − 1) in the C API, the name in scene files.
 using KnobField = std::variant<double QualitySettings::*, int QualitySettings::*, bool QualitySettings::*,
                                double StyleSettings::*, Vec3Component>;
 
 enum class KnobGroup { Quality, Style };
-enum class KnobType { Number, Integer, Boolean };
+enum class KnobType { Number, Integer, Boolean, Choice };
 
 struct Knob {
   std::string_view name;  ///< scene-file key (quality.overrides) and C API parameter name
@@ -80,10 +87,11 @@ struct Knob {
   KnobField field;
   std::array<double, 3> preset{};  ///< quality knobs: the value in draft, broadcast, reference
   std::string_view doc;            ///< one line for the docs tables
+  std::span<const std::string_view> choices{};  ///< names of the values 0 … n − 1 (choice knobs)
 
   KnobGroup group() const;
   KnobType type() const;
-  /// In [min, max], and a whole number for integers and booleans.
+  /// In [min, max], and a whole number for integers, booleans and choices.
   bool accepts(double value) const;
   /// The knob's value in `quality` / `style`; UsageError for a knob of the other group.
   double get(const QualitySettings& quality) const;
@@ -94,6 +102,10 @@ struct Knob {
   /// The default: the broadcast preset's value (quality) or StyleSettings{}'s (style).
   double defaultValue() const;
 };
+
+/// The names of a choice knob, quoted, comma separated, `last_separator` before the last
+/// ("\"trilinear\" or \"cubic\"").
+std::string choiceList(const Knob& knob, std::string_view last_separator);
 
 /// Every knob, quality knobs first, in the order of the docs.
 std::span<const Knob> knobs();

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "lighting/octave_series.h"
+#include "volume/reconstruction.h"
 
 namespace nph::lighting {
 
@@ -36,6 +37,9 @@ struct RenderSettings : StyleSettings {
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer
   /// (docs/accuracy.md, `nephele bench accuracy --fit-octaves`); {1, …} = single scattering only.
   OctaveSeries octaves{3, 0.65, 0.75, 0.0, {}};
+  /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
+  /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.
+  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
 };
 
 }  // namespace nph::lighting

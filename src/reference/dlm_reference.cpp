@@ -11,9 +11,9 @@ namespace nph::reference {
 
 DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
                            const scene::LightSpace& lightSpace, const scene::DlmSettings& settings,
-                           double step_m, int steps, int refine)
+                           double step_m, int steps, int refine, scene::Reconstruction reconstruction)
     : ls_(lightSpace), settings_(settings) {
-  const scene::ExtinctionSampler sampler(volumes, frame);
+  const scene::ExtinctionSampler sampler(volumes, frame, reconstruction);
   const scene::ForwardFractions cp = scene::forwardFractions(settings);
   // Height exaggeration keeps the data's optical depth along the light (VolumeFrame).
   const double f = frame.opticalDepthScale(ls_.w);

@@ -11,6 +11,7 @@
 #include "lighting/dlm_model.h"
 #include "lighting/light_space.h"
 #include "volume/extinction_volumes.h"
+#include "volume/reconstruction.h"
 #include "volume/volume_frame.h"
 
 namespace nph::reference {
@@ -21,7 +22,7 @@ class DlmReference {
   /// step `step_m` divided into `refine` sub-steps over `steps` GPU steps.
   DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
                const scene::LightSpace& lightSpace, const scene::DlmSettings& settings, double step_m,
-               int steps, int refine);
+               int steps, int refine, scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
 
   /// Final light (central + peripheral) of texel (a, b) at depth s [m] from the ray entry
   /// (linear between sub-samples, constant beyond the ends) — what the DLM stores for that texel.

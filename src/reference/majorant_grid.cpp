@@ -27,10 +27,13 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
   }
   const glm::ivec3 n{v.nx, v.ny, v.nz};
   bricks_ = (n + brick_ - 1) / brick_;
-  // Separable max: first the max over each brick's (extended) x range, then y, then z.
+  // Separable max: first the max over each brick's (extended) x range, then y, then z. The range
+  // grows by the filter's reach (volume/reconstruction.h): a point of the brick reads voxels
+  // bB − R … (b+1)B − 1 + R.
+  const int reach = scene::reachVoxels(field.reconstruction());
   auto range = [&](int brick, int axis, int& lo, int& hi) {
-    lo = std::max(0, brick * brick_ - 1);
-    hi = std::min(n[axis] - 1, (brick + 1) * brick_);
+    lo = std::max(0, brick * brick_ - reach);
+    hi = std::min(n[axis] - 1, (brick + 1) * brick_ - 1 + reach);
   };
   std::vector<double> mx(std::size_t(bricks_.x) * std::size_t(v.ny) * std::size_t(v.nz), 0.0);
   for (int k = 0; k < v.nz; ++k)
@@ -71,7 +74,8 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
 double MajorantGrid::majorantAt(const glm::dvec3& world_m) const {
   const glm::dvec3 g = field_.frame().gridFromWorld(world_m);
   const glm::dvec3 n(field_.frame().voxels);
-  if (!(g.x >= -0.5 && g.y >= -0.5 && g.z >= -0.5 && g.x <= n.x + 0.5 && g.y <= n.y + 0.5 && g.z <= n.z + 0.5)) {
+  const double s = scene::supportVoxels(field_.reconstruction());
+  if (!(g.x >= -s && g.y >= -s && g.z >= -s && g.x <= n.x + s && g.y <= n.y + s && g.z <= n.z + s)) {
     return 0.0;
   }
   const glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(g / double(brick_))), glm::ivec3(0), bricks_ - 1);

@@ -4,12 +4,14 @@
 //
 // The volume is split into bricks of `brick_voxels`³ voxels (default 8: an 8³ brick keeps the
 // majorant tight at cloud edges while a typical 200×200×60 volume has only 25×25×8 bricks to
-// walk). Each brick stores μ̄ ≥ β_ice + β_water at every point of its world-space box. Because
-// the field is trilinear between voxel centres, a point in brick [bB, (b+1)B) (grid units) reads
-// voxels bB − 1 … (b+1)B on that axis; μ̄ is the maximum of β_ice + β_water over that range,
-// clamped to the volume — an exact bound, not a heuristic. The outermost bricks also cover the
-// half-voxel rim outside the box where β fades to the zero border (path_tracer_field.h). Bricks with μ̄ = 0 are skipped by the
-// trackers without sampling (empty-space skipping).
+// walk). Each brick stores μ̄ ≥ β_ice + β_water at every point of its world-space box. A point in
+// brick [bB, (b+1)B) (grid units) reads voxels bB − R … (b+1)B − 1 + R on that axis, R the
+// filter's reach (1 trilinear, 2 cubic B-spline; volume/reconstruction.h); both filters have
+// non-negative weights summing to at most 1, so μ̄ = the maximum of β_ice + β_water over that
+// range, clamped to the volume, is an exact bound, not a heuristic. The outermost bricks also
+// cover the rim outside the box where β fades to the zero border (½ voxel trilinear, 1½ cubic;
+// path_tracer_field.h). Bricks with μ̄ = 0 are skipped by the trackers without sampling
+// (empty-space skipping).
 //
 // Traversal: a 3D DDA (Amanatides & Woo 1987) over the bricks along a ray yields the segments
 // [t_a, t_b) with a constant μ̄; free-flight sampling restarts at each segment boundary, which is
@@ -39,7 +41,8 @@ class MajorantGrid {
     return majorant_[(std::size_t(bz) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) +
                      std::size_t(bx)];
   }
-  /// μ̄ of the brick containing a world point (0 outside the support: the box grown by ½ voxel).
+  /// μ̄ of the brick containing a world point (0 outside the support: the box grown by
+  /// supportVoxels(reconstruction)).
   double majorantAt(const glm::dvec3& world_m) const;
 
   /// Calls visit(μ̄ [1/m], t_a, t_b) for consecutive segments covering [t0, t1] ∩ box along
@@ -63,9 +66,9 @@ void MajorantGrid::traverse(const glm::dvec3& origin_m, const glm::dvec3& dir, d
   const glm::dvec3 g0 = f.gridFromWorld(origin_m);
   const glm::dvec3 gd = dir / f.voxel_size_m;
   const double b = double(brick_);
-  // The outermost bricks reach on to the support's faces (half a voxel past the box, where β fades
-  // to 0; their μ̄ bounds that rim too, since it reads voxel −1 = 0 and voxel 0): no crossing
-  // leaves them in the outward direction.
+  // The outermost bricks reach on to the support's faces (past the box, where β fades to 0; their
+  // μ̄ bounds that rim too, since it reads only zero-border voxels and the edge voxels): no
+  // crossing leaves them in the outward direction.
   constexpr double kNever = std::numeric_limits<double>::infinity();
   glm::ivec3 idx{0}, step{0};
   glm::dvec3 tNext{0.0}, tDelta{0.0};

@@ -186,7 +186,8 @@ class PathTracer::Path {
 
 PathTracer::PathTracer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Sun& sun,
                        PathTracerSettings settings)
-    : field_(volumes, frame), majorants_(field_, settings.brick_voxels), sun_(sun), settings_(std::move(settings)) {
+    : field_(volumes, frame, settings.reconstruction), majorants_(field_, settings.brick_voxels), sun_(sun),
+      settings_(std::move(settings)) {
   if (settings_.samples_per_pixel < 1) throw UsageError("PathTracer: samples_per_pixel must be at least 1");
   if (settings_.max_events < 1) throw UsageError("PathTracer: max_events must be at least 1");
   if (settings_.roulette_after_events < 0 || settings_.roulette_after_events == 1) {

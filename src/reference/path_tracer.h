@@ -79,6 +79,9 @@ struct PathTracerSettings {
   bool include_background = false;  ///< add T·L_bg (uncollided primary paths) to RGB
   bool pixel_jitter = false;  ///< false: every sample through the pixel centre, like the GPU
   int brick_voxels = kDefaultBrickVoxels;
+  /// The extinction filter (volume/reconstruction.h), as in the GPU renderer; the majorants and
+  /// the exact optical depth follow it.
+  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
   int threads = 0;  ///< 0 = TBB's default
   bool progress = false;  ///< progress lines on stderr (through core/log)
 };

@@ -13,11 +13,12 @@ namespace nph::reference {
 
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit,
-                  const RayEndVisitor& end) {
-  const scene::ExtinctionSampler sampler(volumes, frame);
+                  const RayEndVisitor& end, scene::Reconstruction reconstruction) {
+  const scene::ExtinctionSampler sampler(volumes, frame, reconstruction);
   const glm::dvec3 voxel = frame.voxel_size_m;
   const double step = step_voxels * std::min({voxel.x, voxel.y, voxel.z});
-  const glm::dvec3 lo = frame.min_m() - voxel, hi = frame.max_m() + voxel;  // β is 0 beyond
+  const double reach = scene::reachVoxels(reconstruction);
+  const glm::dvec3 lo = frame.min_m() - reach * voxel, hi = frame.max_m() + reach * voxel;  // β is 0 beyond
   tbb::parallel_for(0, camera.height, [&](int y) {
     for (int x = 0; x < camera.width; ++x) {
       const glm::dvec3 dir = camera.rayDirection(x + 0.5, y + 0.5);
@@ -92,7 +93,8 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
         px[1] = float(C.y);
         px[2] = float(C.z);
         px[3] = float(1.0 - T);
-      });
+      },
+      s.reconstruction);
   return img;
 }
 

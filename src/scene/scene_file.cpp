@@ -49,6 +49,16 @@ void parseQualityOverrides(Object& o, lighting::QualitySettings& q) {
       case lighting::KnobType::Number: k.set(q, o.number(k.name, k.get(q), k.min, k.max)); break;
       case lighting::KnobType::Integer: k.set(q, o.integer(k.name, int(k.get(q)), int(k.min), int(k.max))); break;
       case lighting::KnobType::Boolean: k.set(q, o.boolean(k.name, k.get(q) != 0.0) ? 1.0 : 0.0); break;
+      case lighting::KnobType::Choice: {
+        const auto name = o.optString(k.name);
+        if (!name) break;
+        const auto it = std::find(k.choices.begin(), k.choices.end(), *name);
+        if (it == k.choices.end()) {
+          o.fail(o.at(k.name), fmt::format("expected {}, got \"{}\"", lighting::choiceList(k, " or "), *name));
+        }
+        k.set(q, double(it - k.choices.begin()));
+        break;
+      }
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "volume/extinction_sampler.h"
 
+#include <array>
 #include <cmath>
 
 namespace nph::scene {
@@ -12,14 +13,35 @@ double ExtinctionSampler::fetch(const std::vector<float>& a, int i, int j, int k
 ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
   const glm::dvec3 g = f_.gridFromWorld(world_m);
   ExtinctionSample s;
-  if (!(g.x >= -1.0 && g.y >= -1.0 && g.z >= -1.0 && g.x <= v_.nx + 1.0 && g.y <= v_.ny + 1.0 &&
-        g.z <= v_.nz + 1.0)) {
+  const double reach = reachVoxels(r_);
+  if (!(g.x >= -reach && g.y >= -reach && g.z >= -reach && g.x <= v_.nx + reach && g.y <= v_.ny + reach &&
+        g.z <= v_.nz + reach)) {
     return s;  // outside (β = 0 there) or NaN
   }
   const glm::dvec3 c = g - 0.5;  // continuous index relative to voxel centres
   const glm::dvec3 fl = glm::floor(c);
   const glm::dvec3 t = c - fl;
   const glm::ivec3 i0(fl);
+  if (r_ == Reconstruction::Cubic) {
+    // Voxels i0 − 1 … i0 + 2 per axis with the B-spline weights of the fractions t.
+    const std::array<double, 4> wx = cubicBSplineWeights(t.x), wy = cubicBSplineWeights(t.y),
+                                wz = cubicBSplineWeights(t.z);
+    auto tricubic = [&](const std::vector<float>& a) {
+      if (a.empty()) return 0.0;
+      double r = 0.0;
+      for (int dz = 0; dz < 4; ++dz)
+        for (int dy = 0; dy < 4; ++dy) {
+          const double wyz = wy[std::size_t(dy)] * wz[std::size_t(dz)];
+          for (int dx = 0; dx < 4; ++dx) {
+            r += wx[std::size_t(dx)] * wyz * fetch(a, i0.x - 1 + dx, i0.y - 1 + dy, i0.z - 1 + dz);
+          }
+        }
+      return r;
+    };
+    s.ice_per_m = tricubic(v_.ice_per_m);
+    s.water_per_m = tricubic(v_.water_per_m);
+    return s;
+  }
   auto trilinear = [&](const std::vector<float>& a) {
     if (a.empty()) return 0.0;
     double r = 0.0;

@@ -1,10 +1,16 @@
 #pragma once
-// CPU sampling of the extinction volumes with exactly the GPU's rule: trilinear between voxel
-// centres with zero outside the grid (GL: GL_LINEAR, GL_CLAMP_TO_BORDER with a zero border). β is
-// continuous: it fades to 0 over the half voxel outside the box (no jump at the faces).
+// CPU sampling of the extinction volumes with exactly the GPU's rule (glsl/dlm/volume.glsl
+// extinctionAt), for either reconstruction (volume/reconstruction.h), with zero outside the grid
+// (GL: GL_CLAMP_TO_BORDER with a zero border). β is continuous: it fades to 0 over the
+// supportVoxels(r) outside the box (no jump at the faces).
+//   - Trilinear: GL_LINEAR between voxel centres.
+//   - Cubic: the tricubic B-spline, here with its 4×4×4 weights; the shaders compute the same sum as
+//     8 trilinear fetches (Sigg & Hadwiger 2005), equal up to float rounding and the GPU's
+//     filtering precision (tests/render: GPU against this sampler).
 #include <glm/glm.hpp>
 
 #include "volume/extinction_volumes.h"
+#include "volume/reconstruction.h"
 #include "volume/volume_frame.h"
 
 namespace nph::scene {
@@ -17,14 +23,18 @@ struct ExtinctionSample {
 
 class ExtinctionSampler {
  public:
-  ExtinctionSampler(const ExtinctionVolumes& volumes, const VolumeFrame& frame) : v_(volumes), f_(frame) {}
+  ExtinctionSampler(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
+                    Reconstruction reconstruction = Reconstruction::Trilinear)
+      : v_(volumes), f_(frame), r_(reconstruction) {}
   ExtinctionSample at(const glm::dvec3& world_m) const;
   const VolumeFrame& frame() const { return f_; }
+  Reconstruction reconstruction() const { return r_; }
 
  private:
   double fetch(const std::vector<float>& a, int i, int j, int k) const;
   const ExtinctionVolumes& v_;
   VolumeFrame f_;
+  Reconstruction r_;
 };
 
 }  // namespace nph::scene

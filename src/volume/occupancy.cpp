@@ -4,9 +4,11 @@
 
 namespace nph::scene {
 
-OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick) {
+OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstruction reconstruction) {
   OccupancyGrid g;
   g.brick = brick;
+  const int d = reachVoxels(reconstruction);
+  g.dilation_voxels = d;
   g.bricks = {(v.nx + brick - 1) / brick, (v.ny + brick - 1) / brick, (v.nz + brick - 1) / brick};
   g.max_per_m.assign(std::size_t(g.bricks.x) * std::size_t(g.bricks.y) * std::size_t(g.bricks.z), 0.0f);
   g.nonEmptyMinVoxel = {v.nx, v.ny, v.nz};
@@ -20,9 +22,9 @@ OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick) {
         if (!(b > 0.0f)) continue;  // also skips NaN (the loaders never produce it)
         g.nonEmptyMinVoxel = glm::min(g.nonEmptyMinVoxel, glm::ivec3(i, j, k));
         g.nonEmptyMaxVoxel = glm::max(g.nonEmptyMaxVoxel, glm::ivec3(i, j, k));
-        // Dilate by one voxel: every brick whose voxels, grown by 1, contain (i, j, k).
-        const glm::ivec3 lo = glm::max(glm::ivec3(i - 1, j - 1, k - 1), glm::ivec3(0)) / brick;
-        const glm::ivec3 hi = glm::min(glm::ivec3(i + 1, j + 1, k + 1), glm::ivec3(v.nx, v.ny, v.nz) - 1) / brick;
+        // Dilate by the reach d: every brick whose voxels, grown by d, contain (i, j, k).
+        const glm::ivec3 lo = glm::max(glm::ivec3(i - d, j - d, k - d), glm::ivec3(0)) / brick;
+        const glm::ivec3 hi = glm::min(glm::ivec3(i + d, j + d, k + d), glm::ivec3(v.nx, v.ny, v.nz) - 1) / brick;
         for (int bk = lo.z; bk <= hi.z; ++bk)
           for (int bj = lo.y; bj <= hi.y; ++bj)
             for (int bi = lo.x; bi <= hi.x; ++bi) {

@@ -2,19 +2,22 @@
 // Coarse occupancy (max-extinction) grid for empty-space skipping (Nes 2008 §3.2.2; Muth 2026
 // §3.4: skip empty bricks, not just empty samples). Brick (bi, bj, bk) covers voxels
 // [b·B, (b+1)·B) per axis and stores the maximum of ice + water extinction over those voxels
-// DILATED by one voxel on every side: trilinear sampling between voxel centres reaches half a voxel
-// into the neighbour, so a brick whose stored max is 0 returns exactly 0 everywhere inside it.
-// The same grid is the majorant for delta tracking (it bounds every trilinear sample in the brick).
+// DILATED by the reconstruction's reach on every side (volume/reconstruction.h: 1 voxel for
+// trilinear, 2 for the cubic B-spline), so a brick whose stored max is 0 returns exactly 0
+// everywhere inside it. Both filters have non-negative weights summing to at most 1, so the same
+// grid bounds every sample in the brick (the majorant for delta tracking).
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "volume/extinction_volumes.h"
+#include "volume/reconstruction.h"
 
 namespace nph::scene {
 
 struct OccupancyGrid {
   int brick = 8;                 ///< voxels per brick side
+  int dilation_voxels = 1;       ///< the reach the bricks were dilated by
   glm::ivec3 bricks{0};          ///< brick counts
   std::vector<float> max_per_m;  ///< per brick, x fastest
   glm::ivec3 nonEmptyMinVoxel{0}, nonEmptyMaxVoxel{-1};  ///< inclusive voxel bounds of β > 0
@@ -24,6 +27,7 @@ struct OccupancyGrid {
   }
 };
 
-OccupancyGrid buildOccupancy(const ExtinctionVolumes& volumes, int brick = 8);
+OccupancyGrid buildOccupancy(const ExtinctionVolumes& volumes, int brick = 8,
+                             Reconstruction reconstruction = Reconstruction::Trilinear);
 
 }  // namespace nph::scene

@@ -123,17 +123,24 @@ TEST(Knobs, SceneFileOverridesAreTheQualityRows) {
     const double v = k.type() == KnobType::Boolean ? 0.0 : k.max;  // differs from every preset
     ASSERT_NE(v, k.preset[0]) << k.name;
     k.set(expected, v);
+    const bool choice = k.type() == KnobType::Choice;  // scene files name the choice
     overrides += fmt::format("{}\"{}\": {}", overrides.empty() ? "" : ", ", k.name,
-                             k.type() == KnobType::Boolean ? "false" : fmt::format("{}", v));
-    // out of range, named with the table's range
+                             k.type() == KnobType::Boolean ? "false"
+                             : choice                      ? fmt::format("\"{}\"", k.choices[std::size_t(v)])
+                                                           : fmt::format("{}", v));
+    // out of range, named with the table's range (a choice: not one of its names)
     const std::string bad = fmt::format(R"({{"quality": {{"overrides": {{"{}": {}}}}}}})", k.name,
-                                        k.type() == KnobType::Boolean ? "2" : fmt::format("{}", k.max * 2 + 1));
+                                        k.type() == KnobType::Boolean ? "2"
+                                        : choice                      ? "\"no-such-choice\""
+                                                                      : fmt::format("{}", k.max * 2 + 1));
     try {
       (void)scene::parseSceneText(bad, "q.json");
       ADD_FAILURE() << "no error for " << bad;
     } catch (const InputError& e) {
       const std::string want = k.type() == KnobType::Boolean
                                    ? fmt::format("q.json: quality.overrides.{}: expected true or false", k.name)
+                               : choice ? fmt::format("q.json: quality.overrides.{}: expected {}, got \"no-such-choice\"",
+                                                      k.name, choiceList(k, " or "))
                                    : fmt::format("q.json: quality.overrides.{}: expected {} in [{}, {}]", k.name,
                                                  k.type() == KnobType::Integer ? "an integer" : "a number", k.min, k.max);
       EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what() << "\nexpected: " << want;

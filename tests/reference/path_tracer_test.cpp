@@ -10,6 +10,8 @@
 #include <cstring>
 #include <numbers>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -194,8 +196,12 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
     v.water_per_m[i] = float(u(rng) < 0.5 ? 0.0 : 2e-3 * u(rng));
   }
   const scene::VolumeFrame frame = scene::frameOf(v);
-  for (int brick : {1, 4, 8}) {
-    const ExtinctionField field(v, frame);
+  // Both filters (volume/reconstruction.h): the cubic B-spline reads 2 voxels past a brick.
+  for (const auto& [brick, rec] : {std::pair{1, scene::Reconstruction::Trilinear}, {4, scene::Reconstruction::Trilinear},
+                                  {8, scene::Reconstruction::Trilinear}, {1, scene::Reconstruction::Cubic},
+                                  {4, scene::Reconstruction::Cubic}, {8, scene::Reconstruction::Cubic}}) {
+    SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
+    const ExtinctionField field(v, frame, rec);
     const MajorantGrid grid(field, brick);
     const glm::dvec3 lo = field.supportMin(), size = field.supportMax() - field.supportMin();
     for (int i = 0; i < 20000; ++i) {
@@ -225,9 +231,10 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
   EXPECT_THROW(MajorantGrid{bad}, InputError);
 }
 
-TEST(PathTracer, OpticalDepthIsExactForTheTrilinearField) {
-  // Random heterogeneous field: the piecewise Gauss–Legendre τ against a brute-force midpoint
-  // rule with 2·10⁵ points per ray (its error, from the kinks at voxel-centre planes, is ~1e-9).
+TEST(PathTracer, OpticalDepthIsExactForTheTrilinearAndCubicFields) {
+  // Random heterogeneous field: the piecewise Gauss–Legendre τ (2 nodes trilinear, 5 nodes cubic)
+  // against a brute-force midpoint rule with 2·10⁵ points per ray (its error, from the kinks at
+  // voxel-centre planes, is ~1e-9; the cubic field is C², smoother still).
   ExtinctionVolumes v = emptyVolume(11, 7, 5, 300.0, 150.0, 500.0);
   std::mt19937_64 rng(99);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -236,7 +243,9 @@ TEST(PathTracer, OpticalDepthIsExactForTheTrilinearField) {
     v.water_per_m[i] = float(u(rng) < 0.5 ? 0.0 : 3e-3 * u(rng));
   }
   const scene::VolumeFrame frame = scene::frameOf(v);
-  const ExtinctionField field(v, frame);
+  for (const scene::Reconstruction rec : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
+  SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
+  const ExtinctionField field(v, frame, rec);
   for (int r = 0; r < 40; ++r) {
     // Origins inside the box, in the half-voxel rim around it (β fading to the zero border) and
     // outside; the brute force spans the whole support.
@@ -253,6 +262,61 @@ TEST(PathTracer, OpticalDepthIsExactForTheTrilinearField) {
     for (int i = 0; i < n; ++i) brute += field.at(o + (t0 + (i + 0.5) * (t1 - t0) / n) * d).total();
     brute *= (t1 - t0) / n;
     EXPECT_NEAR(field.opticalDepth(o, d, 0.0, 1e9), brute, 1e-7 * brute + 1e-12) << "ray " << r;
+  }
+  }
+}
+
+// The cubic B-spline (volume/reconstruction.h) reproduces constant and linear fields away from the
+// border (its weights sum to 1 and have their centroid at the sample), never leaves the range of
+// the voxels it reads, is smoother than trilinear across a voxel-centre plane (no kink), and
+// reaches exactly 1½ voxels past the box.
+TEST(PathTracer, CubicBSplineReproducesLinearFieldsAndReachesOneAndAHalfVoxels) {
+  ExtinctionVolumes v = emptyVolume(12, 10, 8, 1000.0, 250.0, 0.0);
+  for (int k = 0; k < v.nz; ++k)
+    for (int j = 0; j < v.ny; ++j)
+      for (int i = 0; i < v.nx; ++i) {
+        v.water_per_m[v.index(i, j, k)] = float(1e-3 + 1e-4 * i + 2e-4 * j + 3e-4 * k);  // linear in the centres
+        v.ice_per_m[v.index(i, j, k)] = 2e-3f;
+      }
+  const scene::VolumeFrame frame = scene::frameOf(v);
+  const ExtinctionField cubic(v, frame, scene::Reconstruction::Cubic);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int n = 0; n < 2000; ++n) {
+    // ≥ 2 voxels from every face: no zero-border voxel takes part.
+    const glm::dvec3 g(2.0 + 8.0 * u(rng), 2.0 + 6.0 * u(rng), 2.0 + 4.0 * u(rng));
+    const Extinction e = cubic.at(frame.worldFromGrid(g));
+    // (up to the float rounding of the stored voxels, ~3e-10 here)
+    EXPECT_NEAR(e.ice_per_m, 2e-3, 1e-9);
+    EXPECT_NEAR(e.water_per_m, 1e-3 + 1e-4 * (g.x - 0.5) + 2e-4 * (g.y - 0.5) + 3e-4 * (g.z - 0.5), 1e-9);
+  }
+  // Support: β > 0 up to 1½ voxels outside a face, 0 beyond (and the support box says so).
+  const double yMid = 5.0, zMid = 4.0;
+  EXPECT_GT(cubic.at(frame.worldFromGrid({-1.49, yMid, zMid})).total(), 0.0);
+  EXPECT_EQ(cubic.at(frame.worldFromGrid({-1.51, yMid, zMid})).total(), 0.0);
+  EXPECT_NEAR(cubic.supportMin().x, -1.5 * frame.voxel_size_m.x, 1e-9);
+  // A single voxel: the B-spline's peak is (2/3)³ of the voxel at its centre, the trilinear's 1.
+  ExtinctionVolumes one = emptyVolume(5, 5, 5, 1000.0, 1000.0, 0.0);
+  one.water_per_m[one.index(2, 2, 2)] = 1e-3f;
+  const scene::VolumeFrame f1 = scene::frameOf(one);
+  const glm::dvec3 centre = f1.worldFromGrid({2.5, 2.5, 2.5});
+  const double stored = double(1e-3f);
+  EXPECT_NEAR(ExtinctionField(one, f1, scene::Reconstruction::Cubic).at(centre).total(), stored * 8.0 / 27.0, 1e-15);
+  EXPECT_NEAR(ExtinctionField(one, f1).at(centre).total(), stored, 1e-15);
+  // Its optical mass ∫β dV is the voxel's, as for trilinear: τ of vertical rays integrated over x, y
+  // by the midpoint rule on a fine grid of rays (exact up to the rule's ~1e-5 relative error).
+  for (const scene::Reconstruction rec : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
+    const ExtinctionField field(one, f1, rec);
+    const int n = 120;
+    const double lo = 0.0, hi = 5.0;  // grid units: the whole support (1.5 … 3.5 voxels for cubic)
+    double mass = 0.0;
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        const glm::dvec3 top = f1.worldFromGrid({lo + (a + 0.5) * (hi - lo) / n, lo + (b + 0.5) * (hi - lo) / n, 7.0});
+        mass += field.opticalDepth(top, {0.0, 0.0, -1.0}, 0.0, 1e9);
+      }
+    mass *= std::pow((hi - lo) / n * 1000.0, 2.0);
+    EXPECT_NEAR(mass, stored * 1e9, 1e-4 * 1e6) << scene::kReconstructionNames[std::size_t(rec)];
   }
 }
 

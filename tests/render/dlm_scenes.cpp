@@ -54,6 +54,14 @@ ExtinctionVolumes generatedHurricane(int) {
   return convert(path);
 }
 
+ExtinctionVolumes coarseStorm() {
+  const std::string path = tempPath("wrfout_coarse_storm.nc");
+  datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
+  spec.ntimes = 1;
+  datagen::writeWrfHurricane(spec, path);
+  return convert(path);
+}
+
 ExtinctionVolumes generatedIconScene() {
   const std::string path = tempPath("icon_tiny.nc");
   datagen::writeIconScene(datagen::iconPreset(datagen::SampleSize::Tiny, false), path);

@@ -14,5 +14,8 @@ ExtinctionVolumes noisyVolume(int nx, int ny, int nz, unsigned seed);
 /// written with the generator through NetCDF-C and converted by the real loaders and optics.
 ExtinctionVolumes generatedHurricane(int t = 3);
 ExtinctionVolumes generatedIconScene();
+/// Issue 13's coarse storm (datagen::coarseStormSpec: 72×64 columns at 10 km, 30 levels),
+/// timestep 0, through the real loader and optics (250 m output levels).
+ExtinctionVolumes coarseStorm();
 
 }  // namespace nph::test

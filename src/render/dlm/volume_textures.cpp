@@ -39,14 +39,17 @@ bool anyPositive(const std::vector<float>& a) {
 }  // namespace
 
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame,
-                                      std::string identity, int brickVoxels) {
+                                      std::string identity, scene::Reconstruction reconstruction,
+                                      int brickVoxels) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   checkVoxels(v.ice_per_m, "ice_per_m");
   checkVoxels(v.water_per_m, "water_per_m");
   VolumeTextures t;
   t.frame_ = frame;
   t.identity_ = std::move(identity);
-  t.occupancy_ = scene::buildOccupancy(v, brickVoxels);
+  if (reconstruction == scene::Reconstruction::Cubic) t.identity_ += "|cubic";
+  t.reconstruction_ = reconstruction;
+  t.occupancy_ = scene::buildOccupancy(v, brickVoxels, reconstruction);
   const glm::ivec3 n(v.nx, v.ny, v.nz);
   if (v.ice_per_m.size() == v.voxelCount() && anyPositive(v.ice_per_m)) {
     t.ice_ = upload3D(v.ice_per_m, n, "ice extinction [1/m]");
@@ -81,6 +84,8 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   block.brick_voxels = t.occupancy_.brick;
   block.has_ice = t.hasIce() ? 1u : 0u;
   block.has_water = t.hasWater() ? 1u : 0u;
+  block.reconstruction = static_cast<std::int32_t>(reconstruction);
+  block.reach_voxels = float(scene::reachVoxels(reconstruction));
   t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
   return t;
 }
@@ -91,10 +96,11 @@ void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
     hi = glm::dvec3(frame_.max_m().x, frame_.max_m().y, frame_.min_m().z);
     return;
   }
-  // Trilinear reach: β is non-zero up to one voxel centre-distance past a non-zero voxel,
+  // The filter's reach: β is non-zero up to `reach` voxel centre-distances past a non-zero voxel,
   // including the fading shell outside the box (glsl/dlm/volume.glsl).
-  const glm::dvec3 a = glm::dvec3(occupancy_.nonEmptyMinVoxel - 1);
-  const glm::dvec3 b = glm::dvec3(occupancy_.nonEmptyMaxVoxel + 2);
+  const int reach = occupancy_.dilation_voxels;
+  const glm::dvec3 a = glm::dvec3(occupancy_.nonEmptyMinVoxel - reach);
+  const glm::dvec3 b = glm::dvec3(occupancy_.nonEmptyMaxVoxel + 1 + reach);
   lo = frame_.worldFromGrid(a);
   hi = frame_.worldFromGrid(b);
 }

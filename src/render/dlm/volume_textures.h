@@ -16,17 +16,23 @@ class VolumeTextures {
  public:
   /// Uploads `volumes` placed by `frame`; `identity` names this content (file + timestep) for the
   /// DLM cache key — two uploads with the same identity must hold the same data. Throws
-  /// InputError for a NaN, infinite, negative or absurd (> 1e6 /m) voxel.
+  /// InputError for a NaN, infinite, negative or absurd (> 1e6 /m) voxel. `reconstruction` is the
+  /// filter every pass applies (volume/reconstruction.h): the occupancy is dilated by its reach,
+  /// and a cubic upload's identity gets "|cubic" appended (a DLM built with one filter is never
+  /// reused for the other).
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-                               std::string identity, int brickVoxels = 8);
+                               std::string identity,
+                               scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
+                               int brickVoxels = 8);
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
   const std::string& identity() const { return identity_; }
+  scene::Reconstruction reconstruction() const { return reconstruction_; }
   bool hasIce() const { return bool(ice_); }
   bool hasWater() const { return bool(water_); }
-  /// World AABB of the non-empty voxels grown by one voxel (trilinear reach); empty → the
-  /// volume's bottom face.
+  /// World AABB of the non-empty voxels grown by the filter's reach (1 voxel trilinear, 2 cubic);
+  /// empty → the volume's bottom face.
   void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
 
   /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
@@ -40,6 +46,7 @@ class VolumeTextures {
   scene::VolumeFrame frame_;
   scene::OccupancyGrid occupancy_;
   std::string identity_;
+  scene::Reconstruction reconstruction_ = scene::Reconstruction::Trilinear;
 };
 
 }  // namespace nph::render

@@ -69,15 +69,21 @@ struct VolumeBlock {
   std::uint32_t has_ice = 0;   ///< u_has_ice (bool): absent phases are never fetched
   glm::ivec3 voxels{0};        ///< u_voxels
   std::uint32_t has_water = 0; ///< u_has_water (bool)
+  std::int32_t reconstruction = 0;  ///< u_reconstruction: scene::Reconstruction (0 trilinear, 1 cubic)
+  float reach_voxels = 1.0f;        ///< u_reach_voxels: scene::reachVoxels(reconstruction)
+  std::uint32_t pad0_ = 0, pad1_ = 0;  ///< std140: the block's size is a multiple of 16
 };
 static_assert(offsetof(VolumeBlock, box_min_m) == 0 && offsetof(VolumeBlock, brick_voxels) == 12);
 static_assert(offsetof(VolumeBlock, box_size_m) == 16 && offsetof(VolumeBlock, has_ice) == 28);
 static_assert(offsetof(VolumeBlock, voxels) == 32 && offsetof(VolumeBlock, has_water) == 44);
-static_assert(sizeof(VolumeBlock) == 48, "std140 size of VolumeBlock");
+static_assert(offsetof(VolumeBlock, reconstruction) == 48 && offsetof(VolumeBlock, reach_voxels) == 52);
+static_assert(sizeof(VolumeBlock) == 64, "std140 size of VolumeBlock");
 inline constexpr BlockMember kVolumeMembers[] = {
     {"u_box_min_m", offsetof(VolumeBlock, box_min_m)}, {"u_brick_voxels", offsetof(VolumeBlock, brick_voxels)},
     {"u_box_size_m", offsetof(VolumeBlock, box_size_m)}, {"u_has_ice", offsetof(VolumeBlock, has_ice)},
-    {"u_voxels", offsetof(VolumeBlock, voxels)},         {"u_has_water", offsetof(VolumeBlock, has_water)}};
+    {"u_voxels", offsetof(VolumeBlock, voxels)},         {"u_has_water", offsetof(VolumeBlock, has_water)},
+    {"u_reconstruction", offsetof(VolumeBlock, reconstruction)},
+    {"u_reach_voxels", offsetof(VolumeBlock, reach_voxels)}};
 
 /// std140 mat3: three columns, each padded to a vec4 (GL 4.5 §7.6.2.2 rules 5 and 4).
 struct Std140Mat3 {

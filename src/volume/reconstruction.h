@@ -1,0 +1,46 @@
+#pragma once
+// How the renderer reconstructs a continuous extinction field β(x) from the voxels: the one
+// definition shared by the shaders (glsl/dlm/volume.glsl extinctionAt), the CPU sampler
+// (extinction_sampler.h), the occupancy grid (occupancy.h), the path tracer's field and majorant
+// grid (reference/) and the knob `reconstruction` (lighting/knobs.h).
+//
+// Both filters are centred on the voxel centres (grid coordinate i + ½) and see zero outside the
+// grid (GL_CLAMP_TO_BORDER, zero border):
+//   - Trilinear: the tensor product of the hat function, support ±1 voxel. Interpolates the voxels;
+//     its derivative jumps at every voxel-centre plane, and an optically thick cell's visible
+//     surface sits on the grid: on coarse model data (10 km, 30 levels) clouds show the columns and
+//     the levels as terraces and blocks (issue 13).
+//   - Cubic: the tensor product of the uniform cubic B-spline (Sigg & Hadwiger 2005, "Fast
+//     third-order texture filtering", GPU Gems 2 ch. 20; Muth 2026 §3.3.1 uses the same weights
+//     horizontally), support ±2 voxels. C² continuous, non-negative weights summing to 1 (so β
+//     stays within the range of the voxels it reads, and ∫β over all space — the optical mass — is
+//     unchanged), but it approximates rather than interpolates: peaks are lowered and spread.
+//     The shaders evaluate it with 8 trilinear fetches per phase, the CPU with the 64 weights.
+//
+// Reach: a point in voxel cell v (grid coordinates in [v, v + 1) per axis) reads the voxels
+// v − reach … v + reach on each axis (trilinear: v − 1 … v + 1, cubic: v − 2 … v + 2). β is 0
+// beyond `supportVoxels` = reach − ½ voxels outside the box. The occupancy bricks are dilated by
+// the reach and the grown boxes padded by it, so empty-space skipping stays exact for both.
+#include <array>
+#include <string_view>
+
+namespace nph::scene {
+
+enum class Reconstruction { Trilinear = 0, Cubic = 1 };
+
+/// Names in the order of the enum values (knob `reconstruction`, scene files, docs).
+inline constexpr std::array<std::string_view, 2> kReconstructionNames{"trilinear", "cubic"};
+
+/// Voxels a sample reads beyond its own cell, per side (see above).
+constexpr int reachVoxels(Reconstruction r) { return r == Reconstruction::Cubic ? 2 : 1; }
+/// How far β reaches outside the box [voxels]: reach − ½.
+constexpr double supportVoxels(Reconstruction r) { return double(reachVoxels(r)) - 0.5; }
+
+/// Uniform cubic B-spline weights of the four voxels around a sample at fraction f ∈ [0, 1) past
+/// voxel centre c₁: voxels c₁ − 1, c₁, c₁ + 1, c₁ + 2 (Sigg & Hadwiger 2005, eq. 20.3).
+inline std::array<double, 4> cubicBSplineWeights(double f) {
+  const double g = 1.0 - f;
+  return {g * g * g / 6.0, 2.0 / 3.0 - 0.5 * f * f * (2.0 - f), 2.0 / 3.0 - 0.5 * g * g * (1.0 + f), f * f * f / 6.0};
+}
+
+}  // namespace nph::scene
