@@ -52,6 +52,13 @@ struct ModelTimestep {
   std::vector<float> terrain_height_m;        ///< nx*ny surface height above MSL
   std::vector<float> cloud_cover_fraction;    ///< ICON clc / 100, may be empty
 
+  /// Fields for sub-grid detail (issue 13), on mass points, each empty when the file has none.
+  /// WRF: CLDFRA; TKE_PBL (else QKE / 2: MYNN's QKE is twice the TKE); W, U, V averaged from
+  /// their staggered points to the mass points. Not used by the optics.
+  std::vector<float> cloud_fraction;          ///< WRF CLDFRA [0, 1]
+  std::vector<float> tke_m2_per_s2;           ///< turbulent kinetic energy
+  std::vector<float> wind_u_m_per_s, wind_v_m_per_s, wind_w_m_per_s;  ///< grid-relative x, y and vertical wind
+
   /// WRF MP_PHYSICS option (e.g. 3 = WSM3: no separate ice, frozen condensate lives in
   /// QCLOUD/QRAIN below 0 °C). -1 when unknown or not WRF.
   int microphysics_scheme = -1;

@@ -298,12 +298,16 @@ std::string NcReader::readTextRow(const std::string& var, std::size_t index) con
   const int id = varId(var);
   nc_type type = NC_NAT;
   nc_inq_vartype(ncid_, id, &type);
-  const auto shape = varShape(var);
+  auto shape = varShape(var);
+  // (Time, DateStrLen), or (DateStrLen) in a single-timestep file without Time (index 0 only).
+  if (shape.size() == 1 && index == 0) shape.insert(shape.begin(), 1);
   if (type != NC_CHAR || shape.size() != 2) fail(fmt::format("{} is not a 2-D char variable, expected (Time, DateStrLen)", var));
   std::string s(shape[1], '\0');
   const std::size_t start[2] = {index, 0};
   const std::size_t count[2] = {1, shape[1]};
-  if (shape[1] > 0 && nc_get_vara_text(ncid_, id, start, count, s.data()) != NC_NOERR) {
+  const bool timed = varShape(var).size() == 2;
+  if (shape[1] > 0 && (timed ? nc_get_vara_text(ncid_, id, start, count, s.data())
+                             : nc_get_vara_text(ncid_, id, start + 1, count + 1, s.data())) != NC_NOERR) {
     fail(fmt::format("cannot read row {} of {}", index, var));
   }
   while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();

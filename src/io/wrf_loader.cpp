@@ -6,7 +6,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <vector>
+
+#include <glm/glm.hpp>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -19,6 +23,9 @@ namespace {
 constexpr double kRdOverCp = kWrfGasConstantDryAir_J_per_kgK / kWrfSpecificHeatDryAir_J_per_kgK;
 /// Largest disagreement [deg] between XLAT/XLONG and the attribute georeference before we warn.
 constexpr double kGeolocationWarnTolerance_deg = 0.05;
+/// Largest misfit [grid cells] of XLAT/XLONG against a shifted grid for the loader to place the grid
+/// by XLAT/XLONG (a cropped window); XLAT/XLONG are stored as float (~1e-5 deg ≈ 1 m).
+constexpr double kGeolocationFitTolerance_cells = 0.05;
 
 struct WrfClass {
   Hydrometeor kind;
@@ -71,6 +78,9 @@ Dims wrfDims(const NcReader& nc) {
   Dims d;
   for (const char* name : {"Time", "bottom_top", "bottom_top_stag", "south_north", "west_east"}) {
     const auto len = nc.dimLength(name);
+    // A file without a Time dimension holds one timestep (xarray's ds.isel(Time=0), NCO's
+    // ncwa -a Time): every variable is then read without it (timedDims below).
+    if (!len && std::string(name) == "Time") continue;
     if (!len) {
       throw InputError(fmt::format("{}: dimension {} is missing, expected a wrfout file with Time, bottom_top, "
                                    "bottom_top_stag, south_north, west_east",
@@ -83,7 +93,7 @@ Dims wrfDims(const NcReader& nc) {
       throw InputError(fmt::format("{}: dimension {} has length {}, larger than nephele supports", nc.path(), name, *len));
     }
   }
-  d.nt = *nc.dimLength("Time");
+  d.nt = nc.dimLength("Time").value_or(1);
   d.nx = static_cast<int>(*nc.dimLength("west_east"));
   d.ny = static_cast<int>(*nc.dimLength("south_north"));
   d.nz = static_cast<int>(*nc.dimLength("bottom_top"));
@@ -93,6 +103,19 @@ Dims wrfDims(const NcReader& nc) {
   }
   if (d.nt == 0) throw InputError(fmt::format("{}: dimension Time has length 0, expected at least one timestep", nc.path()));
   return d;
+}
+
+/// Whether `var` has the dimensions `spatial` with a leading Time (true) or without it (false):
+/// files written through xarray, salem or NCO carry static fields (HGT, XLAT, XLONG, ...) without
+/// Time, and single-timestep files may drop it everywhere. InputError names both accepted forms.
+bool timedDims(const NcReader& nc, const std::string& var, const std::vector<std::string>& spatial) {
+  std::vector<std::string> timed = {"Time"};
+  timed.insert(timed.end(), spatial.begin(), spatial.end());
+  const std::vector<std::string> dims = nc.varDimNames(var);
+  if (dims == timed) return true;
+  if (dims == spatial) return false;
+  nc.requireDims(var, timed);  // throws, naming the expected dimensions
+  return true;
 }
 
 }  // namespace
@@ -200,19 +223,35 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   ts.nz = d.nz;
   if (nc.hasVar("Times")) ts.time_utc = isoFromWrfTime(nc.readTextRow("Times", t));
 
-  const std::vector<std::string> mass_dims = {"Time", "bottom_top", "south_north", "west_east"};
-  const std::vector<std::string> stag_dims = {"Time", "bottom_top_stag", "south_north", "west_east"};
-  const std::vector<std::string> surface_dims = {"Time", "south_north", "west_east"};
+  const std::vector<std::string> mass_dims = {"bottom_top", "south_north", "west_east"};
+  const std::vector<std::string> stag_dims = {"bottom_top_stag", "south_north", "west_east"};
+  const std::vector<std::string> surface_dims = {"south_north", "west_east"};
+  const std::vector<std::string> u_dims = {"bottom_top", "south_north", "west_east_stag"};
+  const std::vector<std::string> v_dims = {"bottom_top", "south_north_stag", "west_east"};
+  // Each variable with or without the Time dimension (timedDims); its start/count accordingly.
+  std::map<std::string, bool> timed;
+  auto require = [&](const std::string& var, const std::vector<std::string>& spatial) {
+    timed[var] = timedDims(nc, var, spatial);
+  };
+  auto slab = [&](const std::string& var, std::vector<std::size_t> spatial_count,
+                  std::vector<std::size_t>& start_out, std::vector<std::size_t>& count_out) {
+    start_out.assign(spatial_count.size(), 0);
+    count_out = std::move(spatial_count);
+    if (timed.at(var)) {
+      start_out.insert(start_out.begin(), t);
+      count_out.insert(count_out.begin(), 1);
+    }
+  };
 
   // Which hydrometeors and number concentrations exist: check their shapes before reading.
   std::vector<const WrfClass*> present_q, present_n;
   for (const WrfClass& c : kWrfClasses) {
     if (nc.hasVar(c.q_name)) {
-      nc.requireDims(c.q_name, mass_dims);
+      require(c.q_name, mass_dims);
       present_q.push_back(&c);
     }
     if (nc.hasVar(c.n_name)) {
-      nc.requireDims(c.n_name, mass_dims);
+      require(c.n_name, mass_dims);
       present_n.push_back(&c);
     }
   }
@@ -221,10 +260,10 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
                                  "QGRAUP, QHAIL (Time, bottom_top, south_north, west_east)",
                                  path));
   }
-  for (const char* v : {"P", "PB", "T"}) nc.requireDims(v, mass_dims);
-  for (const char* v : {"PH", "PHB"}) nc.requireDims(v, stag_dims);
+  for (const char* v : {"P", "PB", "T"}) require(v, mass_dims);
+  for (const char* v : {"PH", "PHB"}) require(v, stag_dims);
   const bool has_qv = nc.hasVar("QVAPOR");
-  if (has_qv) nc.requireDims("QVAPOR", mass_dims);
+  if (has_qv) require("QVAPOR", mass_dims);
 
   // Memory: q + N + qv, p, T, height (+ 2 staggered temporaries), before allocating any of it.
   const double points = double(d.nx) * double(d.ny) * double(d.nz + 1);
@@ -232,14 +271,15 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   requireWithinBudget(path, "one timestep", points, fields, memoryBudgetBytes(options));
 
   const std::size_t nx = std::size_t(d.nx), ny = std::size_t(d.ny), nz = std::size_t(d.nz);
-  const std::vector<std::size_t> start = {t, 0, 0, 0};
-  const std::vector<std::size_t> count = {1, nz, ny, nx};
-  const std::vector<std::size_t> count_stag = {1, nz + 1, ny, nx};
+  const std::vector<std::size_t> count = {nz, ny, nx};
+  const std::vector<std::size_t> count_stag = {nz + 1, ny, nx};
   ReadStats stats;
 
   auto read_state = [&](const char* var, const std::vector<std::size_t>& cnt) {
     ReadStats s;
-    auto data = nc.readFloats(var, start, cnt, std::numeric_limits<float>::quiet_NaN(), s);
+    std::vector<std::size_t> st, ct;
+    slab(var, cnt, st, ct);
+    auto data = nc.readFloats(var, st, ct, std::numeric_limits<float>::quiet_NaN(), s);
     if (s.fill_values > 0) {
       throw InputError(fmt::format("{}: {} has {} missing values (_FillValue/missing_value), expected a complete field",
                                    path, var, s.fill_values));
@@ -249,7 +289,9 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   };
   auto read_mixing = [&](const char* var, double max_value, const char* what) {
     nc.requireFloatingOrPacked(var);
-    auto data = nc.readFloats(var, start, count, 0.0f, stats);
+    std::vector<std::size_t> st, ct;
+    slab(var, count, st, ct);
+    auto data = nc.readFloats(var, st, ct, 0.0f, stats);
     requireFinite(path, var, data);
     requireAtMost(path, var, data, max_value, what);
     const std::int64_t negative = clampNegative(data);
@@ -317,8 +359,8 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     }
     // Terrain: HGT when present, else the lowest staggered level (PHB + PH at the surface / g).
     if (nc.hasVar("HGT")) {
-      nc.requireDims("HGT", surface_dims);
-      ts.terrain_height_m = read_state("HGT", {1, ny, nx});
+      require("HGT", surface_dims);
+      ts.terrain_height_m = read_state("HGT", {ny, nx});
       requireRange(path, "HGT", ts.terrain_height_m, kLowestHeight_m, kHighestTerrain_m, "a terrain height [m]");
     } else {
       ts.terrain_height_m.assign(phi.begin(), phi.begin() + std::ptrdiff_t(n2));
@@ -353,19 +395,13 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   }
   ts.georef = wrfGeoreference(a, d.nx, d.ny, path);
   if (has_geo && a.map_proj != 0) {
-    for (const char* v : {"XLAT", "XLONG"}) {
-      const auto dims = nc.varDimNames(v);
-      if (dims.size() == 3) {
-        nc.requireDims(v, surface_dims);
-      } else {
-        nc.requireDims(v, {"south_north", "west_east"});
-      }
-    }
-    const bool timed = nc.varDimNames("XLAT").size() == 3;
-    const std::vector<std::size_t> s2 = timed ? std::vector<std::size_t>{t, 0, 0} : std::vector<std::size_t>{0, 0};
-    const std::vector<std::size_t> c2 = timed ? std::vector<std::size_t>{1, ny, nx} : std::vector<std::size_t>{ny, nx};
+    require("XLAT", surface_dims);
+    require("XLONG", surface_dims);
     ReadStats s;
+    std::vector<std::size_t> s2, c2;
+    slab("XLAT", {ny, nx}, s2, c2);
     ts.georef.lat_deg = nc.readFloats("XLAT", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
+    slab("XLONG", {ny, nx}, s2, c2);
     ts.georef.lon_deg = nc.readFloats("XLONG", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
     requireFinite(path, "XLAT", ts.georef.lat_deg);
     requireFinite(path, "XLONG", ts.georef.lon_deg);
@@ -380,8 +416,77 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
       worst = std::max({worst, std::abs(lat - double(ts.georef.lat_deg[c])), dlon});
     }
     if (worst > kGeolocationWarnTolerance_deg) {
-      log::warn("{}: projection from MAP_PROJ={} disagrees with XLAT/XLONG by {:.3f} deg at a corner", path, a.map_proj, worst);
+      // A window cut out of a larger domain (ncks -d, xarray isel, salem subset) keeps the
+      // parent's CEN_LAT/CEN_LON, so the grid is not centred there. Trust XLAT/XLONG: place the
+      // grid origin where the mass points' projected positions put it (the mean offset over all
+      // points), and keep it when that fit agrees with XLAT/XLONG everywhere.
+      glm::dvec2 offset{0.0};
+      std::vector<glm::dvec2> xy(nx * ny);
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+          const std::size_t c = j * nx + i;
+          xy[c] = projection.forward({double(ts.georef.lon_deg[c]), double(ts.georef.lat_deg[c])});
+          offset += xy[c] - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
+        }
+      offset /= double(nx * ny);
+      double misfit_cells = 0.0;
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+          const glm::dvec2 e = xy[j * nx + i] - offset - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
+          misfit_cells = std::max({misfit_cells, std::abs(e.x) / ts.georef.dx_m, std::abs(e.y) / ts.georef.dy_m});
+        }
+      if (misfit_cells < kGeolocationFitTolerance_cells) {
+        log::info("{}: CEN_LAT/CEN_LON ({}, {}) are not the centre of this grid (off by {:.3f} deg at a corner: a "
+                  "window cropped from a larger domain?); placing the grid by XLAT/XLONG instead (fit within {:.3f} "
+                  "grid cells)",
+                  path, a.cen_lat, a.cen_lon, worst, misfit_cells);
+        ts.georef.x0 = offset.x;
+        ts.georef.y0 = offset.y;
+      } else {
+        log::warn("{}: projection from MAP_PROJ={} disagrees with XLAT/XLONG by {:.3f} deg at a corner, and no shift "
+                  "of the grid fixes it (misfit {:.2f} grid cells); keeping the attributes' placement",
+                  path, a.map_proj, worst, misfit_cells);
+      }
     }
+  }
+
+  // Fields for sub-grid detail (issue 13), where the file has them; destaggered to mass points.
+  auto read_optional = [&](const char* var, const std::vector<std::string>& spatial, std::vector<std::size_t> cnt) {
+    require(var, spatial);
+    return read_state(var, cnt);
+  };
+  if (nc.hasVar("CLDFRA")) {
+    ts.cloud_fraction = read_optional("CLDFRA", mass_dims, count);
+    requireRange(path, "CLDFRA", ts.cloud_fraction, 0.0, 1.0 + 1e-6, "a cloud fraction [0, 1]");
+  }
+  if (nc.hasVar("TKE_PBL")) {
+    ts.tke_m2_per_s2 = read_optional("TKE_PBL", mass_dims, count);
+  } else if (nc.hasVar("QKE")) {
+    ts.tke_m2_per_s2 = read_optional("QKE", mass_dims, count);  // MYNN: QKE = 2 TKE
+    for (float& q : ts.tke_m2_per_s2) q *= 0.5f;
+  }
+  if (!ts.tke_m2_per_s2.empty()) requireRange(path, "TKE_PBL/QKE", ts.tke_m2_per_s2, 0.0, 1e4, "a TKE [m2/s2]");
+  const std::size_t n2 = nx * ny;
+  if (nc.hasVar("W")) {
+    const auto w = read_optional("W", stag_dims, count_stag);
+    ts.wind_w_m_per_s.resize(nx * ny * nz);
+    for (std::size_t m = 0; m < ts.wind_w_m_per_s.size(); ++m) ts.wind_w_m_per_s[m] = 0.5f * (w[m] + w[m + n2]);
+  }
+  if (nc.hasVar("U")) {
+    const auto u = read_optional("U", u_dims, {nz, ny, nx + 1});
+    ts.wind_u_m_per_s.resize(nx * ny * nz);
+    for (std::size_t r = 0; r < nz * ny; ++r)
+      for (std::size_t i = 0; i < nx; ++i) ts.wind_u_m_per_s[r * nx + i] = 0.5f * (u[r * (nx + 1) + i] + u[r * (nx + 1) + i + 1]);
+  }
+  if (nc.hasVar("V")) {
+    const auto v = read_optional("V", v_dims, {nz, ny + 1, nx});
+    ts.wind_v_m_per_s.resize(nx * ny * nz);
+    for (std::size_t k = 0; k < nz; ++k)
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+          const std::size_t a0 = (k * (ny + 1) + j) * nx + i;
+          ts.wind_v_m_per_s[(k * ny + j) * nx + i] = 0.5f * (v[a0] + v[a0 + nx]);
+        }
   }
   return ts;
 }
