@@ -1,5 +1,7 @@
 #include "dlm_scenes.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <random>
 
@@ -60,6 +62,19 @@ ExtinctionVolumes coarseStorm() {
   spec.ntimes = 1;
   datagen::writeWrfHurricane(spec, path);
   return convert(path);
+}
+
+LayerDifference layerDifference(const scene::RgbaImage& a, const scene::RgbaImage& b) {
+  LayerDifference d;
+  for (std::size_t i = 0; i < b.rgba.size(); ++i) {
+    const double e = std::abs(double(a.rgba[i]) - double(b.rgba[i]));
+    d.max = std::max(d.max, e);
+    d.mean += e;
+    if (i % 4 == 3) d.coverage += double(b.rgba[i]);
+  }
+  d.mean /= double(b.rgba.size());
+  d.coverage /= double(b.rgba.size() / 4);
+  return d;
 }
 
 ExtinctionVolumes generatedIconScene() {

@@ -2,6 +2,7 @@
 // Volumes for the deep light map tests: analytic ones and the generated sample scenes.
 #include <string>
 
+#include "scene/output_image.h"
 #include "volume/extinction_volumes.h"
 
 namespace nph::test {
@@ -17,5 +18,12 @@ ExtinctionVolumes generatedIconScene();
 /// Issue 13's coarse storm (datagen::coarseStormSpec: 72×64 columns at 10 km, 30 levels),
 /// timestep 0, through the real loader and optics (250 m output levels).
 ExtinctionVolumes coarseStorm();
+
+/// Per-component |a − b| of two cloud layers of the same size (max and mean over every RGBA
+/// value) and b's mean alpha (how much of the frame is cloud).
+struct LayerDifference {
+  double max = 0.0, mean = 0.0, coverage = 0.0;
+};
+LayerDifference layerDifference(const scene::RgbaImage& a, const scene::RgbaImage& b);
 
 }  // namespace nph::test
