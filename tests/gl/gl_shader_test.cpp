@@ -124,6 +124,10 @@ TEST_F(GlShaderTest, UniformBlocksMatchTheLinkedPrograms) {
        {{"render/clouds.comp", {}}}},
       {gl::GlobeBlock::kGlslName, gl::GlobeBlock::kBinding, sizeof(gl::GlobeBlock), gl::kGlobeMembers,
        {{"render/clouds.comp", {}}}},
+      {gl::AtmosphereBlock::kGlslName, gl::AtmosphereBlock::kBinding, sizeof(gl::AtmosphereBlock),
+       gl::kAtmosphereMembers,
+       {{"atmosphere/transmittance.comp", {}}, {"atmosphere/multiscattering.comp", {}},
+        {"atmosphere/sky_view.comp", {}}, {"atmosphere/sky_irradiance.comp", {}}, {"test/atmosphere_probe.comp", {}}}},
   };
   for (const Case& c : cases) {
     for (const auto& [name, defines] : c.programs) {

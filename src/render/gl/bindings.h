@@ -46,6 +46,13 @@
   X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
   X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \
   X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \
+  /* Atmosphere, glsl/atmosphere/ (render/atmosphere/atmosphere_luts.cpp) */                   \
+  X(UBO_ATMOSPHERE, 4)          /* AtmosphereBlock (render/gl/uniform_blocks.h) */             \
+  X(UNIT_TRANSMITTANCE_LUT, 10) /* sampler2D: transmittance to the top (r, mu) */              \
+  X(UNIT_MULTISCATTERING_LUT, 11) /* sampler2D: Hillaire's Psi_ms (mu_s, r) */                  \
+  X(UNIT_SKY_VIEW_LUT, 12)      /* sampler2D: sky radiance seen from the observer */           \
+  X(UNIT_SKY_IRRADIANCE_LUT, 13) /* sampler2D: sky irradiance of a level surface (mu_s, h) */  \
+  X(IMAGE_ATMOSPHERE_LUT, 0)    /* image2D rgba32f: the LUT a pass writes */                   \
   /* Display passes: glsl/api/composite.frag (api/compositor.cpp), glsl/render/present.frag */  \
   X(UNIT_COMPOSITE_LAYER, 0)    /* sampler2D: the cloud layer composited into the host */       \
   X(UNIT_PRESENT_FRAME, 0)      /* sampler2D: the frame the viewer shows (cli/view.cpp) */      \

@@ -201,6 +201,52 @@ inline constexpr BlockMember kGlobeMembers[] = {
     {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
     {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)}};
 
+/// glsl/atmosphere/model.glsl `AtmosphereBlock`: the atmosphere's constants (atmosphere/atmosphere.h
+/// Parameters) and the sky-view table's observer and sun (render/atmosphere/atmosphere_luts.h).
+struct AtmosphereBlock {
+  static constexpr unsigned kBinding = binding::UBO_ATMOSPHERE;
+  static constexpr const char* kGlslName = "AtmosphereBlock";
+  glm::vec3 rayleigh_scattering_per_m{0.0f};  ///< u_rayleigh_scattering_per_m
+  float bottom_radius_m = 0.0f;               ///< u_bottom_radius_m
+  glm::vec3 mie_scattering_per_m{0.0f};       ///< u_mie_scattering_per_m
+  float top_radius_m = 0.0f;                  ///< u_top_radius_m
+  glm::vec3 mie_extinction_per_m{0.0f};       ///< u_mie_extinction_per_m
+  float rayleigh_scale_height_m = 0.0f;       ///< u_rayleigh_scale_height_m
+  glm::vec3 ozone_absorption_per_m{0.0f};     ///< u_ozone_absorption_per_m
+  float mie_scale_height_m = 0.0f;            ///< u_mie_scale_height_m
+  glm::vec3 ground_albedo{0.0f};              ///< u_ground_albedo
+  float mie_g = 0.0f;                         ///< u_mie_g
+  glm::vec3 sky_view_to_sun{0.0f, 0.0f, 1.0f};  ///< u_sky_view_to_sun
+  float ozone_center_m = 0.0f;                ///< u_ozone_center_m
+  float ozone_half_width_m = 0.0f;            ///< u_ozone_half_width_m
+  float sun_angular_radius_rad = 0.0f;        ///< u_sun_angular_radius_rad
+  float sky_view_radius_m = 0.0f;             ///< u_sky_view_radius_m
+  std::uint32_t multiple_scattering = 0;      ///< u_multiple_scattering (bool)
+};
+static_assert(offsetof(AtmosphereBlock, bottom_radius_m) == 12 && offsetof(AtmosphereBlock, mie_scattering_per_m) == 16 &&
+              offsetof(AtmosphereBlock, top_radius_m) == 28 && offsetof(AtmosphereBlock, mie_extinction_per_m) == 32);
+static_assert(offsetof(AtmosphereBlock, ozone_absorption_per_m) == 48 && offsetof(AtmosphereBlock, ground_albedo) == 64 &&
+              offsetof(AtmosphereBlock, sky_view_to_sun) == 80 && offsetof(AtmosphereBlock, ozone_half_width_m) == 96 &&
+              offsetof(AtmosphereBlock, multiple_scattering) == 108);
+static_assert(sizeof(AtmosphereBlock) == 112, "std140 size of AtmosphereBlock");
+inline constexpr BlockMember kAtmosphereMembers[] = {
+    {"u_rayleigh_scattering_per_m", offsetof(AtmosphereBlock, rayleigh_scattering_per_m)},
+    {"u_bottom_radius_m", offsetof(AtmosphereBlock, bottom_radius_m)},
+    {"u_mie_scattering_per_m", offsetof(AtmosphereBlock, mie_scattering_per_m)},
+    {"u_top_radius_m", offsetof(AtmosphereBlock, top_radius_m)},
+    {"u_mie_extinction_per_m", offsetof(AtmosphereBlock, mie_extinction_per_m)},
+    {"u_rayleigh_scale_height_m", offsetof(AtmosphereBlock, rayleigh_scale_height_m)},
+    {"u_ozone_absorption_per_m", offsetof(AtmosphereBlock, ozone_absorption_per_m)},
+    {"u_mie_scale_height_m", offsetof(AtmosphereBlock, mie_scale_height_m)},
+    {"u_ground_albedo", offsetof(AtmosphereBlock, ground_albedo)},
+    {"u_mie_g", offsetof(AtmosphereBlock, mie_g)},
+    {"u_sky_view_to_sun", offsetof(AtmosphereBlock, sky_view_to_sun)},
+    {"u_ozone_center_m", offsetof(AtmosphereBlock, ozone_center_m)},
+    {"u_ozone_half_width_m", offsetof(AtmosphereBlock, ozone_half_width_m)},
+    {"u_sun_angular_radius_rad", offsetof(AtmosphereBlock, sun_angular_radius_rad)},
+    {"u_sky_view_radius_m", offsetof(AtmosphereBlock, sky_view_radius_m)},
+    {"u_multiple_scattering", offsetof(AtmosphereBlock, multiple_scattering)}};
+
 /// A uniform buffer holding one `Block`, bound to the block's binding point (bindings.h).
 template <class Block>
 class UniformBuffer {
