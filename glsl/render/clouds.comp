@@ -26,6 +26,15 @@
 // world point; the ground is the sphere R with the whole equirectangular basemap, lit by the true
 // sun direction at each point (day/night), shadowed by the DLM inside the footprint; rays that
 // miss the Earth see black space with a glow at the limb.
+// Atmosphere (u_atmosphere, issue 14; glsl/atmosphere/, Hillaire 2020): the sunlight reaching the
+// clouds and the ground is the sun's irradiance times the air's transmittance at that altitude
+// (sunlightAt: golden hour, the Earth's shadow); the ground's sky light is the sky irradiance
+// table's instead of the uniform ambient; a flat-view ray above the horizon sees the sky-view
+// table's radiance, a globe ray into space the atmosphere along it (the limb); the ground and
+// the cloud layer are seen through the air in front of them (aerial perspective,
+// L = L0·T + L_in). With the atmosphere the clouds' upper-hemisphere sky light is the sky
+// irradiance table's at the ray's first cloudy sample, E·E_sky(h, μ_s)/π (a uniform sky of that
+// irradiance), instead of the analytic clear sky of issue 12.
 #include "common/math.glsl"
 #include "common/ray_box.glsl"
 #include "dlm/volume.glsl"
@@ -71,9 +80,12 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   float u_ms_anisotropy_scale;  // octave series c
   int u_octaves;                // octave series N (1 = single scattering)
   float u_height_exaggeration;  // e: β is scaled by |(d_x, d_y, d_z/e)| along a ray
+  bool u_atmosphere;          // the physically based atmosphere (AtmosphereBlock and its tables)
 };
 
 #include "render/globe.glsl"
+#include "atmosphere/model.glsl"
+#include "atmosphere/sky.glsl"
 
 // (τ_up, τ_down) at a world point: the column depths trilinear between voxel centres, clamped to
 // the edge (the CPU twin: volume/column_depth.h columnDepthAt).
@@ -81,9 +93,9 @@ vec2 columnDepthAt(vec3 world_m) { return texture(u_column_depth, volumeUvw(worl
 
 // Sky light reaching a point through the cloud around it, scattered isotropically (the two
 // hemispheres, each attenuated by the diffuse transmittance of its column; cloud_light.glsl).
-vec3 skyLightAt(vec3 world_m, float g) {
+vec3 skyLightAt(vec3 world_m, float g, vec3 skyAbove) {
   vec2 tau = columnDepthAt(world_m);
-  return 0.5 * (u_sky_radiance * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
+  return 0.5 * (skyAbove * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
 }
 
 // Deterministic per-pixel jitter in [0, 1) (integer hash, Jarzynski & Olano 2020 "PCG").
@@ -132,6 +144,13 @@ void main() {
   float tGround = u_globe ? globeGroundDistance(origin, dir) : kNoHit_m;
   vec2 span = u_globe ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
+  // The sun's irradiance where this ray meets the clouds: E·T_atm(h, μ_s) at its first cloudy
+  // sample (one table look-up per ray; a deck's depth is small next to the 8 km Rayleigh scale
+  // height, so the reddening is taken once).
+  vec3 sunAtClouds = u_sun_radiance;
+  vec3 skyAtClouds = u_sky_radiance;  // the upper hemisphere's radiance there (issue 12's clear sky without the atmosphere)
+  bool sunAtCloudsSet = !u_atmosphere;
+  float depthSum = 0.0;  // Σ t·(opacity added): the cloud layer's mean depth for aerial perspective
   if (span.x < span.y) {
     float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
     while (t < span.y && Tacc > u_min_transmittance) {
@@ -148,24 +167,41 @@ void main() {
       ++samples;
       float b = beta.x + beta.y;
       if (b > 0.0) {
+        if (!sunAtCloudsSet) {
+          float muS = u_globe ? dot(normalize(p), u_to_sun) : u_to_sun.z;
+          sunAtClouds = u_sun_radiance * sunlightAt(w.z, muS);
+          skyAtClouds = u_sun_radiance * skyIrradiance(w.z, muS) / kPi;
+          sunAtCloudsSet = true;
+        }
         float T = exp(-b * u_step_m);
         float iceWeight = beta.x / b;  // Nes eq. 5.12
         float sun = octaveSeries(dlmIntensity(w), cosPsi, iceWeight, u_g_ice, u_g_water, u_octaves,
                                  u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale);
-        vec3 L = u_sun_radiance * sun + skyLightAt(w, mix(u_g_water, u_g_ice, iceWeight));
+        vec3 L = sunAtClouds * sun + skyLightAt(w, mix(u_g_water, u_g_ice, iceWeight), skyAtClouds);
         C += Tacc * (1.0 - T) * L;
+        depthSum += Tacc * (1.0 - T) * t;
         Tacc *= T;
       }
       t += u_step_m;
     }
   }
+  // Aerial perspective of the cloud layer, taken at its opacity-weighted mean depth d̄ (before the
+  // renormalisation below, which rescales C and α but not where the cloud is):
+  // C·T(0, d̄) + α·E·L_in(0, d̄) (Hillaire 2020 §5.4 samples his froxels the same way per pixel).
+  float meanDepth = Tacc < 1.0 ? depthSum / (1.0 - Tacc) : 0.0;
   // Renormalised early termination: the medium left behind is assumed to send the mean radiance of
   // what was gathered, C/(1 − T_acc), and to be opaque (docs/rendering.md "Conventions" 4).
   if (Tacc <= u_min_transmittance && Tacc < 1.0) {
     C /= 1.0 - Tacc;
     Tacc = 0.0;
   }
-  imageStore(u_cloud_layer, px, vec4(C, 1.0 - Tacc));
+  float alpha = 1.0 - Tacc;
+  if (u_atmosphere && alpha > 0.0) {
+    AtmosphereSegment ap = u_globe ? aerialPerspectiveGlobe(origin, dir, meanDepth, u_to_sun)
+                                   : aerialPerspectiveFlat(origin.z, dir, meanDepth, u_to_sun);
+    C = C * ap.transmittance + alpha * u_sun_radiance * ap.inscattered;
+  }
+  imageStore(u_cloud_layer, px, vec4(C, alpha));
   if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples));
 
   // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe).
@@ -176,10 +212,19 @@ void main() {
       float sunCos = dot(normalize(g), u_to_sun);
       vec3 gw = globeWorldFromEcef(g);
       float shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
-      background = globeAlbedo(g, u_ocean_albedo) / kPi *
-                   (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
+      if (u_atmosphere) {
+        background = globeAlbedo(g, u_ocean_albedo) / kPi * u_sun_radiance *
+                     (sunlightAt(0.0, sunCos) * max(sunCos, 0.0) * shadow + skyIrradiance(0.0, sunCos));
+      } else {
+        background = globeAlbedo(g, u_ocean_albedo) / kPi *
+                     (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
+      }
     } else {
-      background = globeSpace(origin, dir, u_to_sun);
+      background = u_atmosphere ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);
+    }
+    if (u_atmosphere) {  // the air between the eye and the ground, or along the ray into space (the limb)
+      AtmosphereSegment ap = aerialPerspectiveGlobe(origin, dir, tGround, u_to_sun);
+      background = background * ap.transmittance + u_sun_radiance * ap.inscattered;
     }
   } else if (dir.z < 0.0) {
     vec3 g = origin + (-origin.z / dir.z) * dir;
@@ -193,7 +238,16 @@ void main() {
     float sunCos = max(u_to_sun.z, 0.0);
     float shadow = u_shadows ? dlmIntensity(g) : 1.0;
     float skyShadow = u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0;
-    background = albedo / kPi * (u_sun_radiance * sunCos * shadow + kPi * u_sky_radiance * skyShadow);
+    if (u_atmosphere) {
+      background = albedo / kPi * u_sun_radiance *
+                   (sunlightAt(0.0, u_to_sun.z) * sunCos * shadow + skyIrradiance(0.0, u_to_sun.z) * skyShadow);
+      AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, -origin.z / dir.z, u_to_sun);
+      background = background * ap.transmittance + u_sun_radiance * ap.inscattered;
+    } else {
+      background = albedo / kPi * (u_sun_radiance * sunCos * shadow + kPi * u_sky_radiance * skyShadow);
+    }
+  } else if (u_atmosphere) {  // the sky above the flat view's horizon
+    background = u_sun_radiance * skyViewRadiance(dir, u_to_sun);
   }
   imageStore(u_frame, px, vec4(C + Tacc * background, 1.0));
 }

@@ -77,6 +77,8 @@ constexpr std::array kKnobs{
          .doc = "sky light scale, green (1 = the analytic clear sky at the sun's elevation)"},
     Knob{.name = "ambient_b", .unit = "clear sky = 1", .min = 0.0, .max = 10.0, .field = Vec3Component{&S::ambient, 2},
          .doc = "sky light scale, blue (1 = the analytic clear sky at the sun's elevation)"},
+    Knob{.name = "atmosphere", .unit = "", .min = 0, .max = 1, .field = &S::atmosphere,
+         .doc = "physically based sky, sunlight and aerial perspective (0: uniform ambient sky)"},
 };
 // clang-format on
 
@@ -156,13 +158,15 @@ RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& 
 }
 
 KnobGroup Knob::group() const {
-  return std::holds_alternative<double S::*>(field) || std::holds_alternative<Vec3Component>(field) ? KnobGroup::Style
-                                                                                                   : KnobGroup::Quality;
+  return std::holds_alternative<double S::*>(field) || std::holds_alternative<Vec3Component>(field) ||
+                 std::holds_alternative<bool S::*>(field)
+             ? KnobGroup::Style
+             : KnobGroup::Quality;
 }
 
 KnobType Knob::type() const {
   if (std::holds_alternative<int Q::*>(field)) return choices.empty() ? KnobType::Integer : KnobType::Choice;
-  if (std::holds_alternative<bool Q::*>(field)) return KnobType::Boolean;
+  if (std::holds_alternative<bool Q::*>(field) || std::holds_alternative<bool S::*>(field)) return KnobType::Boolean;
   return KnobType::Number;
 }
 
@@ -181,6 +185,7 @@ double Knob::get(const QualitySettings& q) const {
 double Knob::get(const StyleSettings& s) const {
   return std::visit(Overloaded{[&](double S::* m) { return s.*m; },
                                [&](Vec3Component c) { return (s.*c.vector)[c.component]; },
+                               [&](bool S::* m) { return s.*m ? 1.0 : 0.0; },
                                [&](auto) -> double { wrongGroup(*this, "style"); }},
                     field);
 }
@@ -193,7 +198,7 @@ void Knob::set(QualitySettings& q, double v) const {
 
 void Knob::set(StyleSettings& s, double v) const {
   std::visit(Overloaded{[&](double S::* m) { s.*m = v; }, [&](Vec3Component c) { (s.*c.vector)[c.component] = v; },
-                        [&](auto) { wrongGroup(*this, "style"); }},
+                        [&](bool S::* m) { s.*m = v != 0.0; }, [&](auto) { wrongGroup(*this, "style"); }},
              field);
 }
 

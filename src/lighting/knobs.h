@@ -74,7 +74,7 @@ struct Vec3Component {
 /// int = an integer, bool = 0/1 in the C API and true/false in scene files. An int knob with
 /// `choices` is a choice: the index (0 … n − 1) in the C API, the name in scene files.
 using KnobField = std::variant<double QualitySettings::*, int QualitySettings::*, bool QualitySettings::*,
-                               double StyleSettings::*, Vec3Component>;
+                               double StyleSettings::*, Vec3Component, bool StyleSettings::*>;
 
 enum class KnobGroup { Quality, Style };
 enum class KnobType { Number, Integer, Boolean, Choice };

@@ -24,6 +24,10 @@ struct StyleSettings {
   bool sky_below = false;
   glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};   ///< ground outside the basemap
   glm::dvec3 limb_radiance{0.053, 0.080, 0.141};  ///< globe: sky glow at the limb (cosmetic; × sun intensity; the pre-issue-12 look at +2.5 EV)
+  /// The physically based atmosphere (issue 14; atmosphere/atmosphere.h): sky radiance, sunlight
+  /// through the air, sky irradiance of the ground, aerial perspective. Off: the uniform ambient
+  /// sky, the navy flat-view background and the cosmetic limb of before.
+  bool atmosphere = true;
 };
 
 /// The ray caster's settings: sampling (from QualitySettings, lighting::renderSettingsFor) and

@@ -127,7 +127,8 @@ TEST_F(GlShaderTest, UniformBlocksMatchTheLinkedPrograms) {
       {gl::AtmosphereBlock::kGlslName, gl::AtmosphereBlock::kBinding, sizeof(gl::AtmosphereBlock),
        gl::kAtmosphereMembers,
        {{"atmosphere/transmittance.comp", {}}, {"atmosphere/multiscattering.comp", {}},
-        {"atmosphere/sky_view.comp", {}}, {"atmosphere/sky_irradiance.comp", {}}, {"test/atmosphere_probe.comp", {}}}},
+        {"atmosphere/sky_view.comp", {}}, {"atmosphere/sky_irradiance.comp", {}}, {"test/atmosphere_probe.comp", {}},
+        {"render/clouds.comp", {}}}},
   };
   for (const Case& c : cases) {
     for (const auto& [name, defines] : c.programs) {

@@ -77,8 +77,13 @@ struct GoldenScenes {
       "height_exaggeration": 8,
       "view": ")" + view + R"("})";
   }
-  Image render(const std::string& view, bool shadows) const {
+  // `atmosphere` off pins the look from before the atmosphere (issue 14) for the four frames that
+  // guard the clouds, shadows and placement; flat-atmosphere.exr guards the atmosphere's look.
+  Image render(const std::string& view, bool shadows, bool atmosphere = false) const {
     auto session = openSession(json(view, shadows), data);
+    lighting::StyleSettings style = session->style();
+    style.atmosphere = atmosphere;
+    session->setStyle(style);
     return frameRgb(session->render(session->prepared().camera).frame);
   }
 };
@@ -101,6 +106,22 @@ TEST_P(GoldenTest, MatchesTheCheckedInFrame) {
   }
   const CompareResult r = compareToFile(actual, goldenPath(name), kGoldenTolerance, "golden-" + name);
   std::printf("[ golden   ] %s 160x90: max |diff| %.2e, mean %.2e\n", name.c_str(), r.max_abs, r.mean_abs);
+  EXPECT_TRUE(r.pass) << r.message;
+}
+
+// The flat scene with shadows and the atmosphere (the default look): sky above the horizon,
+// sunlight and sky irradiance through the air, aerial perspective on the ground and the clouds.
+using GoldenAtmosphereTest = GlTest;
+
+TEST_F(GoldenAtmosphereTest, FlatMatchesTheCheckedInFrame) {
+  const Image actual = scenes().render("flat", true, true);
+  if (const char* u = std::getenv("NEPHELE_UPDATE_GOLDEN"); u && std::string(u) == "1") {
+    writeHalfExr(actual, goldenPath("flat-atmosphere"));
+    std::printf("[ golden   ] updated %s\n", goldenPath("flat-atmosphere").c_str());
+    return;
+  }
+  const CompareResult r = compareToFile(actual, goldenPath("flat-atmosphere"), kGoldenTolerance, "golden-flat-atmosphere");
+  std::printf("[ golden   ] flat-atmosphere 160x90: max |diff| %.2e, mean %.2e\n", r.max_abs, r.mean_abs);
   EXPECT_TRUE(r.pass) << r.message;
 }
 

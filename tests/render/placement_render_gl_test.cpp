@@ -51,6 +51,10 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
     "quality": {"preset": "broadcast", "overrides": {"shadows": false}},
     "output": {"width": 320, "height": 240}, "height_exaggeration": 1, "view": "flat"})";
   auto session = openSession(json, data);
+  // The frame's colour decodes the coded basemap: no aerial perspective or sky light over it.
+  lighting::StyleSettings style = session->style();
+  style.atmosphere = false;
+  session->setStyle(style);
   const auto& prep = session->prepared();
   const scene::Camera& cam = prep.camera;
 

@@ -7,6 +7,7 @@
 #include "dlm_scenes.h"
 #include "lighting/cloud_light.h"
 #include "render/dlm/deep_light_map.h"
+#include "atmosphere/atmosphere.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/sun.h"
 #include "support/gl_fixture.h"
@@ -44,18 +45,25 @@ Rendered renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, co
   return r;
 }
 
-// An empty volume leaves the basemap unchanged: alpha 0, no cloud light, and the frame is the
-// Lambertian ground ρ/π·(E·cos θ_sun + π·L_sky) exactly (no shadow anywhere; issue 12's units).
-TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
-  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
+// A 4×4 basemap of albedo (0.2, 0.4, 0.6) everywhere.
+scene::LinearRgbImage uniformBasemap() {
   scene::LinearRgbImage map{4, 4, std::vector<float>(48, 0.0f)};
   for (std::size_t i = 0; i < map.rgb.size(); i += 3) {
     map.rgb[i] = 0.2f;
     map.rgb[i + 1] = 0.4f;
     map.rgb[i + 2] = 0.6f;
   }
+  return map;
+}
+
+// An empty volume leaves the basemap unchanged: alpha 0, no cloud light, and the frame is the
+// Lambertian ground ρ/π·(E·cos θ_sun + π·L_sky) exactly (no shadow anywhere; issue 12's units).
+TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
+  const scene::LinearRgbImage map = uniformBasemap();
   const scene::Sun sun{120.0, 30.0};
   render::RenderSettings rs;
+  rs.atmosphere = false;  // the uniform ambient sky of this closed form (the atmosphere: below)
   const auto r = renderLookingDown(v, sun, rs, &map);
   const double cosSun = std::sin(glm::radians(30.0));
   const glm::dvec3 albedo(0.2, 0.4, 0.6);
@@ -71,6 +79,36 @@ TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
   }
   EXPECT_EQ(maxAlpha, 0.0);
   EXPECT_LE(maxDiff, 1e-5);  // float arithmetic only
+}
+
+// The same empty scene with the atmosphere (issue 14): the frame's ground pixel at the image
+// centre, 50 km straight below the camera, is what the CPU double model says —
+// albedo/π·E·(T_sun(0, μ_s)·μ_s + E_sky(0, μ_s))·T + E·L_in (Lambertian, issue 12's units), the segment's T and L_in from the
+// plane-parallel march of atmosphere::integrateSegment. Tolerance 5 %: the sky-irradiance table
+// is within 3 % of the CPU's hemisphere integral (tests/atmosphere), the rest is bilinear look-ups.
+TEST_F(RaycastTest, EmptyVolumeGroundSeenThroughTheAtmosphereMatchesTheCpuModel) {
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
+  const scene::LinearRgbImage map = uniformBasemap();
+  const scene::Sun sun{120.0, 30.0};
+  render::RenderSettings rs;
+  ASSERT_TRUE(rs.atmosphere);  // the default
+  const auto r = renderLookingDown(v, sun, rs, &map);
+  const atmosphere::Parameters p = atmosphere::Parameters::earth();
+  atmosphere::Quadrature q;
+  q.view_steps = 32;
+  const glm::dvec3 toSun = sun.toSun();
+  const double muS = toSun.z;
+  const glm::dvec3 sunlight = atmosphere::sunTransmittance(p, p.bottom_radius_m, muS, 512);
+  const glm::dvec3 sky = atmosphere::skyIrradiance(p, 0.0, std::asin(muS), q);
+  const atmosphere::Segment ap = atmosphere::integrateSegment(p, atmosphere::observerAt(p, 50000.0), {0.0, 0.0, -1.0},
+                                                              50000.0, toSun, atmosphere::Quadrature{}, true);
+  const glm::dvec3 albedo(0.2, 0.4, 0.6);
+  const glm::dvec3 expected = albedo / std::numbers::pi * (sunlight * muS + sky) * ap.transmittance + ap.inscattered;
+  const std::size_t centre = (std::size_t(16) * 33 + 16) * 4;
+  for (int c = 0; c < 3; ++c) {
+    const double got = r.out.frame.rgba[centre + std::size_t(c)];
+    EXPECT_NEAR(got, expected[c], 0.05 * expected[c]) << "channel " << c;
+  }
 }
 
 // A homogeneous slab seen head-on: alpha = 1 − exp(−τ) with τ = β·(nz·dz) — the zero-padded
@@ -128,6 +166,7 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   render::RenderSettings rs;
   rs.jitter = false;
   rs.empty_space_skipping = true;
+  rs.atmosphere = false;  // the CPU reference ray marcher has no atmosphere
   render::CloudRenderer renderer;
   const auto gpu = renderer.render(tex, dlm, cam, sun, rs);
   const auto map = dlm.readBack();

@@ -138,6 +138,15 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.ocean_albedo = glm::vec3(s.ocean_albedo);
   b.count_samples = count_samples_ ? 1u : 0u;
   b.globe = globe_ ? 1u : 0u;
+  b.atmosphere = s.atmosphere ? 1u : 0u;
+  if (s.atmosphere) {
+    if (!atmosphere_) atmosphere_ = std::make_unique<AtmosphereLuts>();
+    // The sky-view table serves the flat view (its observer at the camera's altitude above the
+    // plane z = 0); the globe marches every ray instead (glsl/atmosphere/sky.glsl).
+    if (!globe_) atmosphere_->updateSkyView(view.position_m.z, sun.toSun());
+    atmosphere_->bind();
+    p.use();
+  }
   raycast_block_.update(b);
   raycast_block_.bind();
   updateGlobeBlock(view, s, sun.intensity);

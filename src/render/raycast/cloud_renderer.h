@@ -9,11 +9,13 @@
 // stopping each ray at the host's depth buffer) and leaves the result in GL textures for the
 // caller to composite (the plugin API, the viewer).
 #include <cstdint>
+#include <memory>
 #include <optional>
 
 #include <glm/glm.hpp>
 
 #include "lighting/render_settings.h"
+#include "render/atmosphere/atmosphere_luts.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/volume_textures.h"
 #include "render/gl/objects.h"
@@ -84,6 +86,8 @@ class CloudRenderer {
   /// (extinction look-ups) of every ray; sampleCount() sums the last dispatch's (a read-back).
   void countSamples(bool on) { count_samples_ = on; }
   std::uint64_t sampleCount() const;
+  /// The atmosphere's tables (nullptr until a frame with RenderSettings::atmosphere ran).
+  const AtmosphereLuts* atmosphere() const { return atmosphere_.get(); }
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
   const gl::Texture& frame() const { return frame_tex_; }
 
@@ -99,6 +103,7 @@ class CloudRenderer {
   bool count_samples_ = false;
   gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
   gl::UniformBuffer<gl::GlobeBlock> globe_block_;      // globe.glsl's mapping
+  std::unique_ptr<AtmosphereLuts> atmosphere_;          // built on the first frame that wants it
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
 };
 
