@@ -119,7 +119,7 @@ TEST_F(AtmosphereGlTest, MultipleScatteringTableMatchesTheCpuModel) {
     const double e = relativeError(gpu[i].a, cpu, 1e-5);
     std::printf("MS h %6.0f mu_s %5.2f gpu %.4e %.4e %.4e cpu %.4e %.4e %.4e rel %.3f\n", rm[i].x - p.bottom_radius_m,
                 rm[i].y, gpu[i].a.x, gpu[i].a.y, gpu[i].a.z, cpu.x, cpu.y, cpu.z, e);
-    EXPECT_LT(e, rm[i].y > 0.0 ? 0.05 : 0.3) << fmt::format("h {} m, mu_s {}", rm[i].x - p.bottom_radius_m, rm[i].y);
+    EXPECT_LT(e, rm[i].y > 0.0 ? 0.01 : 0.1) << fmt::format("h {} m, mu_s {}", rm[i].x - p.bottom_radius_m, rm[i].y);
   }
 }
 
@@ -155,11 +155,11 @@ TEST_F(AtmosphereGlTest, SkyViewMatchesTheCpuModel) {
     }
     for (std::size_t i = 0; i < views.size(); ++i) {
       // Tolerances (measured maxima in docs/atmosphere.md): a sunlit sky within 2 % per channel;
-      // at sunset (0°) 25 %, twilight (−4°) 25 % of that sun's brightest sky: there Ψ_ms and the
-      // sunlight change by orders of magnitude across one row of the tables (3.6° of μ_s).
+      // at sunset (0°) 8 %, twilight (−4°) 3 % of that sun's brightest sky: there Ψ_ms and the
+      // sunlight change by orders of magnitude across a few rows of the tables (1.8° of μ_s each).
       const bool lit = sun_elevation >= 5.0;
       const double e = relativeError(gpu[i].a, cpu[i], lit ? 0.02 * brightest : (sun_elevation < 0.0 ? brightest : 0.02 * brightest));
-      const double tolerance = lit ? 0.02 : 0.25;
+      const double tolerance = lit ? 0.02 : (sun_elevation < 0.0 ? 0.03 : 0.08);
       if (lit) worst = std::max(worst, e);
       std::printf("sun %5.1f view (%5.1f, %5.1f) gpu %.4e %.4e %.4e cpu %.4e %.4e %.4e rel %.3f\n", sun_elevation,
                   views[i].x, views[i].y, gpu[i].a.x, gpu[i].a.y, gpu[i].a.z, cpu[i].x, cpu[i].y, cpu[i].z, e);

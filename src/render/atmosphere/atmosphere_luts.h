@@ -1,9 +1,10 @@
 #pragma once
 // The atmosphere's look-up tables on the GPU (issue 14 item 1; Hillaire 2020 §5, Bruneton 2017):
 // built by the compute shaders of glsl/atmosphere/ — at construction the transmittance (256×64),
-// multiple-scattering Ψ_ms (32×32) and sky-irradiance (64×16) tables, which depend on the
+// multiple-scattering Ψ_ms (64×32) and sky-irradiance (64×16) tables, which depend on the
 // atmosphere only; per frame, when the observer's altitude or the sun moved, the sky-view table
-// (192×108). The CPU oracle of every table is atmosphere/atmosphere.h (tests/atmosphere).
+// (192×108). Ψ_ms has 64 columns of μ_s, not Hillaire's 32, for twilight (docs/atmosphere.md).
+// The CPU oracle of every table is atmosphere/atmosphere.h (tests/atmosphere).
 #include <glm/glm.hpp>
 
 #include "atmosphere/atmosphere.h"
@@ -16,7 +17,7 @@ namespace nph::render {
 class AtmosphereLuts {
  public:
   static constexpr glm::ivec2 kTransmittanceSize{256, 64};
-  static constexpr glm::ivec2 kMultiScatteringSize{32, 32};
+  static constexpr glm::ivec2 kMultiScatteringSize{64, 32};
   static constexpr glm::ivec2 kSkyIrradianceSize{64, 16};
   static constexpr glm::ivec2 kSkyViewSize{192, 108};
 
