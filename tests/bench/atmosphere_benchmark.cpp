@@ -10,13 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <vector>
 
-#include "io/model_file.h"
-#include "physics/volume_builder.h"
-#include "presets.h"
+#include "bench_hurricane.h"
 #include "render/atmosphere/atmosphere_luts.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/context.h"
@@ -49,18 +46,8 @@ struct Fixture {
 Fixture& fixture() {
   static std::unique_ptr<Fixture> f = [] {
     auto fx = std::make_unique<Fixture>();
-    gl::ContextOptions o;
-    o.backend = gl::backendFromEnvironment();
-    o.visible = false;
-    fx->ctx = gl::createContext(o);
-    datagen::WrfHurricaneSpec spec = datagen::wrfPreset(datagen::SampleSize::Realistic);
-    spec.ntimes = 1;
-    spec.format = datagen::NcFormat::Classic64;
-    const auto path = (std::filesystem::temp_directory_path() / "nephele-atmosphere-bench.nc").string();
-    datagen::writeWrfHurricane(spec, path);
-    const auto file = io::openModelFile(path);
-    fx->volumes = physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
-    std::filesystem::remove(path);
+    fx->ctx = bench::hiddenContext();
+    fx->volumes = bench::realisticHurricane("nephele-atmosphere-bench.nc");
     fx->frame = scene::frameOf(fx->volumes, 8.0);
     fx->textures = std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, fx->frame, "bench"));
     fx->dlm = std::make_unique<render::DeepLightMap>();
