@@ -18,12 +18,15 @@ if [ ! -f "$out/hurricane-$size.nph" ]; then
   "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$out/hurricane-$size.nph" --progress
   rm -f "$out/wrfout-hurricane-$size.nc"
 fi
-for view in demo demo-globe; do
+for view in demo demo-globe demo-golden-hour; do
   sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
 done
 echo "demo: rendering the flat map view"
 "$nephele" render "$out/demo.json" --layer "$out/hurricane-cloud-layer.exr"
 echo "demo: rendering the globe view"
 "$nephele" render "$out/demo-globe.json"
+echo "demo: rendering the golden-hour oblique view (sun 5° high)"
+"$nephele" render "$out/demo-golden-hour.json"
 echo "demo: wrote $out/hurricane.png, $out/hurricane.exr, $out/hurricane-cloud-layer.exr (flat map)"
 echo "demo: wrote $out/hurricane-globe.png and $out/hurricane-globe.exr (globe)"
+echo "demo: wrote $out/hurricane-golden-hour.png and $out/hurricane-golden-hour.exr (golden hour)"
