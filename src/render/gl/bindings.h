@@ -42,7 +42,7 @@
   X(UNIT_HOST_DEPTH, 7)         /* sampler2D: the host's depth buffer [0, 1] */                 \
   X(UNIT_GLOBE_WORLD_XY, 8)     /* sampler2D: RG32F world x, y per rotated lon/lat */           \
   X(UNIT_GLOBE_BASEMAP, 9)      /* sampler2D: equirectangular basemap, linear RGB */            \
-  X(UNIT_COLUMN_DEPTH, 10)      /* sampler3D: RG16F vertical τ above, below (volume/column_depth.h) */ \
+  X(UNIT_COLUMN_DEPTH, 14)      /* sampler3D: RG16F vertical τ above, below (volume/column_depth.h) */ \
   X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
   X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \
   X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \
