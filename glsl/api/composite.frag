@@ -14,11 +14,16 @@
 // exposure, ACES fitted tone curve (Narkowicz 2016), sRGB encode (IEC 61966-2-1), re-premultiply —
 // glsl/common/display.glsl, the very source the PNG writer compiles as C++; the frei0r test
 // compares both paths code for code.
+//
+// Pass copies (plugin API v2 pass_to_texture; scene/passes.h): blending off, u_select picks what
+// the packed pass texture holds: 0 = RGBA as is, 1 = RGB with α = 1 (ground, sky: the packed
+// textures keep the shadow matte / depth in α), 2 = α broadcast to RGB with α = 1 (shadow, depth).
 #include "common/display.glsl"
 layout(binding = UNIT_COMPOSITE_LAYER) uniform sampler2D u_layer;
 uniform vec4 u_viewport;  // x, y, width, height of the host viewport [pixels]
 uniform float u_exposure_scale;  // 2^exposure_ev
 uniform int u_display;
+uniform int u_select;
 
 in vec2 v_uv;
 layout(location = 0) out vec4 o_colour;
@@ -32,6 +37,8 @@ void main() {
   } else {
     c = texture(u_layer, vec2(v_uv.x, 1.0 - v_uv.y));
   }
+  if (u_select == 1) c.a = 1.0;
+  if (u_select == 2) c = vec4(c.aaa, 1.0);
   c.rgb *= u_exposure_scale;
   if (u_display == 1) {
     float alpha = clamp(c.a, 0.0, 1.0);

@@ -46,6 +46,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform writeonly image2D u_cloud_layer;
 layout(rgba32f, binding = IMAGE_FRAME) uniform writeonly image2D u_frame;
 layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
+// Compositing passes (issue 15; scene/passes.h), written when u_write_passes: the frame is
+// C + T_acc·(ground + sky), so a compositor can rebuild it or lay the clouds over its own map.
+layout(rgba32f, binding = IMAGE_PASS_GROUND) uniform writeonly image2D u_pass_ground;  // ground radiance, shadow matte
+layout(rgba32f, binding = IMAGE_PASS_SKY) uniform writeonly image2D u_pass_sky;        // sky radiance, cloud depth Z [m]
 layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
 layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;  // (τ_up, τ_down) per voxel centre
@@ -81,6 +85,7 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   int u_octaves;                // octave series N (1 = single scattering)
   float u_height_exaggeration;  // e: β is scaled by |(d_x, d_y, d_z/e)| along a ray
   bool u_atmosphere;          // the physically based atmosphere (AtmosphereBlock and its tables)
+  bool u_write_passes;        // fill u_pass_ground and u_pass_sky
 };
 
 #include "render/globe.glsl"
@@ -97,6 +102,10 @@ vec3 skyLightAt(vec3 world_m, float g, vec3 skyAbove) {
   vec2 tau = columnDepthAt(world_m);
   return 0.5 * (skyAbove * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
 }
+
+// The Z pass where no cloud is seen: 10^10 m, the value Blender Cycles writes for its background,
+// finite so that compositors' depth operations (defocus, depth merge) stay defined.
+const float kNoCloudDepth_m = 1.0e10;
 
 // Deterministic per-pixel jitter in [0, 1) (integer hash, Jarzynski & Olano 2020 "PCG").
 float pixelHash(uvec2 p) {
@@ -204,27 +213,33 @@ void main() {
   imageStore(u_cloud_layer, px, vec4(C, alpha));
   if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples));
 
-  // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe).
-  vec3 background = u_sky_radiance;
+  // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe), as two
+  // passes: `ground` (the lit ground after the air's transmittance) and `sky` (the sky's radiance,
+  // or the air's in-scattering in front of the ground); background = ground + sky. `shadow` is the
+  // cloud shadow matte at the ground point: the DLM's transmittance of sunlight, 1 = no shadow.
+  vec3 ground = vec3(0.0), sky = u_sky_radiance;
+  float shadow = 1.0;
   if (u_globe) {
     if (tGround < kNoHit_m) {
       vec3 g = origin + tGround * dir;
       float sunCos = dot(normalize(g), u_to_sun);
       vec3 gw = globeWorldFromEcef(g);
-      float shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
+      shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
+      sky = vec3(0.0);
       if (u_atmosphere) {
-        background = globeAlbedo(g, u_ocean_albedo) / kPi * u_sun_radiance *
-                     (sunlightAt(0.0, sunCos) * max(sunCos, 0.0) * shadow + skyIrradiance(0.0, sunCos));
+        ground = globeAlbedo(g, u_ocean_albedo) / kPi * u_sun_radiance *
+                 (sunlightAt(0.0, sunCos) * max(sunCos, 0.0) * shadow + skyIrradiance(0.0, sunCos));
       } else {
-        background = globeAlbedo(g, u_ocean_albedo) / kPi *
-                     (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
+        ground = globeAlbedo(g, u_ocean_albedo) / kPi *
+                 (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
       }
     } else {
-      background = u_atmosphere ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);
+      sky = u_atmosphere ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);
     }
     if (u_atmosphere) {  // the air between the eye and the ground, or along the ray into space (the limb)
       AtmosphereSegment ap = aerialPerspectiveGlobe(origin, dir, tGround, u_to_sun);
-      background = background * ap.transmittance + u_sun_radiance * ap.inscattered;
+      ground *= ap.transmittance;
+      sky = sky * ap.transmittance + u_sun_radiance * ap.inscattered;
     }
   } else if (dir.z < 0.0) {
     vec3 g = origin + (-origin.z / dir.z) * dir;
@@ -236,18 +251,28 @@ void main() {
       }
     }
     float sunCos = max(u_to_sun.z, 0.0);
-    float shadow = u_shadows ? dlmIntensity(g) : 1.0;
+    shadow = u_shadows ? dlmIntensity(g) : 1.0;
     float skyShadow = u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0;
+    sky = vec3(0.0);
     if (u_atmosphere) {
-      background = albedo / kPi * u_sun_radiance *
-                   (sunlightAt(0.0, u_to_sun.z) * sunCos * shadow + skyIrradiance(0.0, u_to_sun.z) * skyShadow);
+      ground = albedo / kPi * u_sun_radiance *
+               (sunlightAt(0.0, u_to_sun.z) * sunCos * shadow + skyIrradiance(0.0, u_to_sun.z) * skyShadow);
       AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, -origin.z / dir.z, u_to_sun);
-      background = background * ap.transmittance + u_sun_radiance * ap.inscattered;
+      ground *= ap.transmittance;
+      sky = u_sun_radiance * ap.inscattered;
     } else {
-      background = albedo / kPi * (u_sun_radiance * sunCos * shadow + kPi * u_sky_radiance * skyShadow);
+      ground = albedo / kPi * (u_sun_radiance * sunCos * shadow + kPi * u_sky_radiance * skyShadow);
     }
   } else if (u_atmosphere) {  // the sky above the flat view's horizon
-    background = u_sun_radiance * skyViewRadiance(dir, u_to_sun);
+    sky = u_sun_radiance * skyViewRadiance(dir, u_to_sun);
   }
-  imageStore(u_frame, px, vec4(C + Tacc * background, 1.0));
+  imageStore(u_frame, px, vec4(C + Tacc * (ground + sky), 1.0));
+  if (u_write_passes) {
+    // Z: the cloud's transmittance-weighted mean depth along the camera's view axis (planar depth,
+    // as Nuke and Cycles read a Z channel); kNoCloudDepth_m where no cloud is seen.
+    vec3 forward = u_world_from_view * vec3(0.0, 0.0, -1.0);
+    float z = alpha > 0.0 ? meanDepth * dot(dir, forward) : kNoCloudDepth_m;
+    imageStore(u_pass_ground, px, vec4(ground, shadow));
+    imageStore(u_pass_sky, px, vec4(sky, z));
+  }
 }

@@ -32,8 +32,9 @@
 extern "C" {
 #endif
 
-/** The newest table version this header describes. */
-#define NPH_API_VERSION 1u
+/** The newest table version this header describes. nph_api_v2 begins with every member of
+ * nph_api_v1 in the same order, so a host written for version 1 may keep its nph_api_v1 pointer. */
+#define NPH_API_VERSION 2u
 
 #if defined(__GNUC__)
 #define NPH_EXPORT __attribute__((visibility("default")))
@@ -158,6 +159,52 @@ typedef struct nph_api_v1 {
   /* Figures of the last render. NPH_ERROR_WRONG_ORDER before the first. */
   nph_status (*get_stats)(const nph_renderer* renderer, nph_stats* stats);
 } nph_api_v1;
+
+/**
+ * Version 2 (issue 15): version 1's members unchanged and in the same order, then the compositing
+ * passes (docs/passes.md) as extra host textures. nph_get_api(2) returns it; nph_get_api(1) keeps
+ * returning the version-1 table.
+ */
+typedef struct nph_api_v2 {
+  uint32_t version;     /* 2 */
+  uint32_t struct_size; /* sizeof(nph_api_v2) */
+  const char* (*library_version)(void);
+  const char* (*status_name)(nph_status status);
+  const char* (*last_error)(const void* handle);
+  nph_status (*dataset_open)(const char* path, nph_dataset** out);
+  nph_status (*dataset_close)(nph_dataset* dataset);
+  nph_status (*dataset_timestep_count)(const nph_dataset* dataset, int32_t* count);
+  nph_status (*dataset_timestep_utc)(const nph_dataset* dataset, int32_t index, const char** time_utc);
+  nph_status (*renderer_create)(nph_dataset* dataset, const nph_renderer_desc* desc, nph_renderer** out);
+  nph_status (*renderer_destroy)(nph_renderer* renderer);
+  nph_status (*world_bounds)(const nph_renderer* renderer, double min_m[3], double max_m[3]);
+  nph_status (*set_time)(nph_renderer* renderer, double time_index);
+  nph_status (*set_camera)(nph_renderer* renderer, const float view_from_world[16],
+                           const float clip_from_view[16], int32_t width, int32_t height);
+  nph_status (*set_camera_preset)(nph_renderer* renderer, const char* preset, int32_t width, int32_t height);
+  nph_status (*get_camera)(const nph_renderer* renderer, float view_from_world[16], float clip_from_view[16]);
+  nph_status (*set_sun)(nph_renderer* renderer, double azimuth_deg, double elevation_deg);
+  nph_status (*set_quality_preset)(nph_renderer* renderer, const char* preset);
+  nph_status (*set_parameter)(nph_renderer* renderer, const char* name, double value);
+  nph_status (*get_parameter)(const nph_renderer* renderer, const char* name, double* value);
+  nph_status (*set_host_depth)(nph_renderer* renderer, uint32_t gl_texture);
+  nph_status (*render)(nph_renderer* renderer);
+  nph_status (*render_to_texture)(nph_renderer* renderer, uint32_t gl_texture, int32_t level);
+  nph_status (*get_stats)(const nph_renderer* renderer, nph_stats* stats);
+
+  /* ---- version 2: compositing passes ---- */
+  /* Whether the next renders also produce the compositing passes (off by default: they cost two
+   * image stores per pixel and two RGBA32F textures of the camera's size). */
+  nph_status (*set_passes)(nph_renderer* renderer, int32_t enabled);
+  /* [GL] Copies one pass of the last render into level `level` of a host GL_TEXTURE_2D (use
+   * RGBA16F or RGBA32F: the values are linear and "depth" is in metres), replacing its content,
+   * stretched over the level as render_to_texture does. `pass`: "beauty" (the clouds over
+   * nephele's own ground), "cloud" (premultiplied RGBA), "ground", "sky" (RGB, alpha 1),
+   * "shadow" (the cloud-shadow matte m in RGB, 1 = no shadow, alpha 1), "depth" (Z in RGB, alpha
+   * 1). Radiance passes carry the renderer's exposure (parameter exposure_ev); shadow and depth
+   * do not. NPH_ERROR_WRONG_ORDER when the last render had no passes. Restores the GL state. */
+  nph_status (*pass_to_texture)(nph_renderer* renderer, const char* pass, uint32_t gl_texture, int32_t level);
+} nph_api_v2;
 
 /**
  * The only exported symbol. Returns the function table of `version` (cast it to nph_api_v<N>*),

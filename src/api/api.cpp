@@ -2,6 +2,7 @@
 // C++ objects (Renderer, engine::Dataset). Every entry point is noexcept and goes through
 // guarded(), which turns exceptions into status codes and per-handle messages.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <mutex>
 #include <thread>
@@ -12,6 +13,7 @@
 #include "api/renderer.h"
 #include "engine/dataset.h"
 #include "render/gl/gl.h"
+#include "scene/passes.h"
 
 namespace nph::api {
 namespace {
@@ -300,6 +302,22 @@ nph_status getStats(const nph_renderer* renderer, nph_stats* stats) {
   });
 }
 
+nph_status setPasses(nph_renderer* renderer, int32_t enabled) {
+  return onRenderer(renderer, "set_passes", false, [&](Renderer& r) {
+    if (enabled != 0 && enabled != 1) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("enabled {}: expected 0 or 1", enabled));
+    r.setPasses(enabled == 1);
+  });
+}
+
+nph_status passToTexture(nph_renderer* renderer, const char* pass, uint32_t texture, int32_t level) {
+  return onRenderer(renderer, "pass_to_texture", true, [&](Renderer& r) {
+    const std::string name = stringArg(pass, "pass");
+    const auto p = scene::passFromName(name);
+    if (!p) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("pass '{}': expected one of {}", name, scene::passNames()));
+    r.passToTexture(*p, texture, level);
+  });
+}
+
 // Version 1: frozen. Append-only is not allowed either: a v2 is a new struct and a new table.
 const nph_api_v1 kApiV1 = {
     1u, sizeof(nph_api_v1),
@@ -310,9 +328,26 @@ const nph_api_v1 kApiV1 = {
     &setHostDepth, &render, &renderToTexture, &getStats,
 };
 
+// Version 2: version 1's members in the same order (a v1 pointer to it stays valid), then the
+// compositing passes. Frozen from its release on, as version 1.
+const nph_api_v2 kApiV2 = {
+    2u, sizeof(nph_api_v2),
+    &libraryVersion, &statusName, &lastErrorOf,
+    &datasetOpen, &datasetClose, &datasetTimestepCount, &datasetTimestepUtc,
+    &rendererCreate, &rendererDestroy, &worldBounds,
+    &setTime, &setCamera, &setCameraPreset, &getCamera, &setSun, &setQualityPreset, &setParameter, &getParameter,
+    &setHostDepth, &render, &renderToTexture, &getStats,
+    &setPasses, &passToTexture,
+};
+// The prefix a version-1 host reads through its nph_api_v1 pointer.
+static_assert(offsetof(nph_api_v2, get_stats) == offsetof(nph_api_v1, get_stats) &&
+              offsetof(nph_api_v2, set_passes) == sizeof(nph_api_v1));
+
 }  // namespace
 }  // namespace nph::api
 
 extern "C" NPH_EXPORT const void* nph_get_api(uint32_t version) {
-  return version == 1u ? &nph::api::kApiV1 : nullptr;
+  if (version == 1u) return &nph::api::kApiV1;
+  if (version == 2u) return &nph::api::kApiV2;
+  return nullptr;
 }

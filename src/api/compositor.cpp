@@ -14,19 +14,37 @@ Compositor::Compositor()
 
 void Compositor::draw(const gl::Texture& layer, const CompositeSettings& s) const {
   gl::DebugGroup group("nephele composite");
+  program_.set("u_exposure_scale", float(std::exp2(s.exposure_ev)));
+  program_.set("u_display", s.display ? 1 : 0);
+  program_.set("u_select", int(Select::Rgba));
+  drawTriangle(layer, /*blend=*/true);
+}
+
+void Compositor::copy(const gl::Texture& source, Select select, double scale) const {
+  gl::DebugGroup group("nephele pass copy");
+  program_.set("u_exposure_scale", float(scale));
+  program_.set("u_display", 0);
+  program_.set("u_select", int(select));
+  drawTriangle(source, /*blend=*/false);
+}
+
+void Compositor::drawTriangle(const gl::Texture& source, bool blend) const {
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   program_.set("u_viewport", glm::vec4(float(viewport[0]), float(viewport[1]), float(viewport[2]), float(viewport[3])));
-  program_.set("u_exposure_scale", float(std::exp2(s.exposure_ev)));
-  program_.set("u_display", s.display ? 1 : 0);
   program_.use();
   glBindVertexArray(vertex_array_.id());
-  glBindTextureUnit(gl::binding::UNIT_COMPOSITE_LAYER, layer.id());
+  glBindTextureUnit(gl::binding::UNIT_COMPOSITE_LAYER, source.id());
   glBindSampler(gl::binding::UNIT_COMPOSITE_LAYER, sampler_.id());
-  // Premultiplied "over" into draw buffer 0; nothing else may reject or alter the fragments.
-  glEnablei(GL_BLEND, 0);
-  glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
-  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  // Premultiplied "over" into draw buffer 0 (or a plain copy); nothing else may reject or alter
+  // the fragments.
+  if (blend) {
+    glEnablei(GL_BLEND, 0);
+    glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  } else {
+    glDisablei(GL_BLEND, 0);
+  }
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   for (GLenum cap : {GL_DEPTH_TEST, GL_STENCIL_TEST, GL_CULL_FACE, GL_DITHER, GL_RASTERIZER_DISCARD,
                      GL_SAMPLE_ALPHA_TO_COVERAGE, GL_COLOR_LOGIC_OP}) {

@@ -19,11 +19,17 @@ class Compositor {
   /// Draws `layer` (row 0 = top) into the bound draw framebuffer over the current viewport.
   /// Sets the blend, depth, cull, ... state it needs; the caller's GlStateGuard restores it.
   void draw(const gl::Texture& layer, const CompositeSettings& settings) const;
+  /// What a packed pass texture's channels are (glsl/api/composite.frag u_select).
+  enum class Select { Rgba = 0, RgbOpaque = 1, AlphaAsGrey = 2 };
+  /// Copies `source` (row 0 = top) into the bound draw framebuffer over the current viewport,
+  /// replacing it (no blending), RGB times `scale`, linear (no display transform).
+  void copy(const gl::Texture& source, Select select, double scale) const;
   /// A GL object that exists only in the context the compositor was created in: glIsVertexArray
   /// on it tells whether that context is current (vertex arrays are never shared).
   GLuint contextProbe() const { return vertex_array_.id(); }
 
  private:
+  void drawTriangle(const gl::Texture& source, bool blend) const;
   gl::Program program_;
   gl::VertexArray vertex_array_;
   gl::Sampler sampler_;

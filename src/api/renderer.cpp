@@ -123,6 +123,22 @@ void Renderer::setQualityPreset(std::string_view preset) {
   }
 }
 
+template <typename Draw>
+void Renderer::intoHostTarget(unsigned texture, int level, const char* what, Draw&& draw) {
+  gl::Framebuffer target;
+  if (texture != 0) {
+    if (level < 0) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("texture level {}", level));
+    const glm::ivec2 size = hostTextureSize(texture, level, what);
+    target = gl::Framebuffer::create();
+    target.attach(GL_COLOR_ATTACHMENT0, gl::Texture::wrap(texture, GL_TEXTURE_2D), level);
+    target.checkComplete(what);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.id());
+    glViewport(0, 0, size.x, size.y);
+    glDisable(GL_SCISSOR_TEST);
+  }
+  draw();
+}
+
 void Renderer::render(unsigned texture, int level) {
   if (!camera_) throw ApiError(NPH_ERROR_WRONG_ORDER, "no camera yet: call set_camera or set_camera_preset first");
   const auto t0 = std::chrono::steady_clock::now();
@@ -135,41 +151,55 @@ void Renderer::render(unsigned texture, int level) {
                                                                camera_->width, camera_->height));
       }
     }
-    gl::Framebuffer target;
-    if (texture != 0) {
-      if (level < 0) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("texture level {}", level));
-      const glm::ivec2 size = hostTextureSize(texture, level, "target texture");
-      target = gl::Framebuffer::create();
-      target.attach(GL_COLOR_ATTACHMENT0, gl::Texture::wrap(texture, GL_TEXTURE_2D), level);
-      target.checkComplete("render_to_texture target");
-      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.id());
-      glViewport(0, 0, size.x, size.y);
-      glDisable(GL_SCISSOR_TEST);
-    }
-    const HostCamera& c = *camera_;
-    session_->dispatch(render::ViewRays::fromMatrices(c.view_from_world, c.clip_from_view, c.width, c.height),
-                       render::HostDepth{host_depth_});
-    const auto t1 = std::chrono::steady_clock::now();
-    const auto& r = session_->renderer();
-    compositor_.draw(ground_ ? r.frame() : r.cloudLayer(), composite_);
-    nph_stats st{};
-    st.composite_ms = msSince(t1);
-    const engine::FrameStats& f = session_->stats();
-    st.struct_size = sizeof(nph_stats);
-    st.volume_changed = f.volume_changed ? 1 : 0;
-    st.dlm_rebuilt = f.dlm_rebuilt ? 1 : 0;
-    st.time_index = f.time_index;
-    st.load_ms = f.load_ms;
-    st.upload_ms = f.upload_ms;
-    st.dlm_ms = f.dlm_ms;
-    st.raycast_ms = f.raycast_ms;
-    st.frames = ++frames_;
-    st.dlm_builds = f.dlm_builds;
-    st.dlm_reuses = f.dlm_reuses;
-    st.volume_uploads = f.volume_uploads;
-    stats_ = st;
+    intoHostTarget(texture, level, "render_to_texture target", [&] {
+      const HostCamera& c = *camera_;
+      last_render_had_passes_ = false;
+      session_->dispatch(render::ViewRays::fromMatrices(c.view_from_world, c.clip_from_view, c.width, c.height),
+                         render::HostDepth{host_depth_});
+      last_render_had_passes_ = session_->renderer().passes();
+      const auto t1 = std::chrono::steady_clock::now();
+      const auto& r = session_->renderer();
+      compositor_.draw(ground_ ? r.frame() : r.cloudLayer(), composite_);
+      nph_stats st{};
+      st.composite_ms = msSince(t1);
+      const engine::FrameStats& f = session_->stats();
+      st.struct_size = sizeof(nph_stats);
+      st.volume_changed = f.volume_changed ? 1 : 0;
+      st.dlm_rebuilt = f.dlm_rebuilt ? 1 : 0;
+      st.time_index = f.time_index;
+      st.load_ms = f.load_ms;
+      st.upload_ms = f.upload_ms;
+      st.dlm_ms = f.dlm_ms;
+      st.raycast_ms = f.raycast_ms;
+      st.frames = ++frames_;
+      st.dlm_builds = f.dlm_builds;
+      st.dlm_reuses = f.dlm_reuses;
+      st.volume_uploads = f.volume_uploads;
+      stats_ = st;
+    });
   }
   stats_->total_ms = msSince(t0);
+}
+
+void Renderer::passToTexture(scene::Pass pass, unsigned texture, int level) {
+  if (!last_render_had_passes_) {
+    throw ApiError(NPH_ERROR_WRONG_ORDER, "the last render made no passes: call set_passes(renderer, 1) and render first");
+  }
+  if (texture == 0) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, "texture 0: name a host GL_TEXTURE_2D");
+  GlStateGuard guard;
+  intoHostTarget(texture, level, "pass_to_texture target", [&] {
+    const auto& r = session_->renderer();
+    const double exposure = std::exp2(composite_.exposure_ev);
+    using Select = Compositor::Select;
+    switch (pass) {
+      case scene::Pass::Beauty: return compositor_.copy(r.frame(), Select::Rgba, exposure);
+      case scene::Pass::Cloud: return compositor_.copy(r.cloudLayer(), Select::Rgba, exposure);
+      case scene::Pass::Ground: return compositor_.copy(r.groundPass(), Select::RgbOpaque, exposure);
+      case scene::Pass::Sky: return compositor_.copy(r.skyPass(), Select::RgbOpaque, exposure);
+      case scene::Pass::Shadow: return compositor_.copy(r.groundPass(), Select::AlphaAsGrey, 1.0);
+      case scene::Pass::Depth: return compositor_.copy(r.skyPass(), Select::AlphaAsGrey, 1.0);
+    }
+  });
 }
 
 }  // namespace nph::api

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "api/compositor.h"
+#include "scene/passes.h"
 #include "engine/dataset.h"
 #include "engine/session.h"
 #include "nephele/nephele.h"
@@ -49,6 +50,11 @@ class Renderer {
   /// Ray casts and composites into the bound draw framebuffer (0 = as bound) or into level
   /// `level` of the host texture `texture`. WRONG_ORDER without a camera.
   void render(unsigned texture = 0, int level = 0);
+  /// Compositing passes for the next renders (scene/passes.h; API v2 set_passes).
+  void setPasses(bool on) { session_->setPasses(on); }
+  /// Copies `pass` of the last render into level `level` of the host texture (API v2
+  /// pass_to_texture). WRONG_ORDER when the last render had no passes.
+  void passToTexture(scene::Pass pass, unsigned texture, int level);
   /// nullopt before the first render.
   const std::optional<nph_stats>& stats() const { return stats_; }
   GLuint contextProbe() const { return compositor_.contextProbe(); }
@@ -67,8 +73,14 @@ class Renderer {
   unsigned host_depth_ = 0;
   CompositeSettings composite_;
   bool ground_ = false;  ///< composite the frame (clouds over the lit ground) instead of the layer
+  /// Runs `draw` with the host texture's level bound as the draw framebuffer (the bound one when
+  /// `texture` is 0) and its whole level as the viewport.
+  template <typename Draw>
+  void intoHostTarget(unsigned texture, int level, const char* what, Draw&& draw);
+
   std::optional<nph_stats> stats_;
   std::uint64_t frames_ = 0;
+  bool last_render_had_passes_ = false;
 };
 
 }  // namespace nph::api

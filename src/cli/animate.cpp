@@ -19,6 +19,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -37,6 +38,7 @@
 #include "render/gl/context.h"
 #include "scene/animation_spec.h"
 #include "scene/output_image.h"
+#include "scene/passes.h"
 #include "scene/scene_file.h"
 
 namespace nph::cli {
@@ -50,6 +52,7 @@ struct AnimateOptions {
   std::string output_dir;
   std::string formats = "png";
   bool layer = false;
+  bool passes = false;
   std::string frames;
   std::string chunk;
   bool print_scene = false;
@@ -216,19 +219,27 @@ int runAnimate(const AnimateOptions& o) {
 
   auto ctx = createHeadlessContext(o.gl);
 
+  if (o.passes) s.output.passes = true;
   engine::Session session(dataset, s);
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
   const auto [first, last] = frameRangeFor(o.frames, o.chunk, plan.frameCount());
 
   fs::create_directories(o.output_dir);
-  const auto pathOf = [&](const char* kind, std::int64_t k, const std::string& ext) {
+  const auto pathOf = [&](std::string_view kind, std::int64_t k, const std::string& ext) {
     return (fs::path(o.output_dir) / fmt::format("{}_{:06d}{}", kind, k, ext)).string();
   };
+  // What each frame writes: the frame (an .exr with --passes carries every pass as a layer and Z);
+  // the cloud layer alone with --layer; with --passes, PNG sequences get one file per pass.
   const auto outputsOf = [&](std::int64_t k) {
-    std::vector<std::pair<bool, std::string>> paths;  // (is layer, path)
+    std::vector<std::pair<scene::Pass, std::string>> paths;
     for (const auto& ext : exts) {
-      paths.emplace_back(false, pathOf("frame", k, ext));
-      if (o.layer) paths.emplace_back(true, pathOf("layer", k, ext));
+      paths.emplace_back(scene::Pass::Beauty, pathOf("frame", k, ext));
+      if (o.layer || (o.passes && ext == ".png")) paths.emplace_back(scene::Pass::Cloud, pathOf("layer", k, ext));
+      if (o.passes && ext == ".png") {
+        for (scene::Pass p : {scene::Pass::Ground, scene::Pass::Sky, scene::Pass::Shadow}) {
+          paths.emplace_back(p, pathOf(scene::passName(p), k, ext));
+        }
+      }
     }
     return paths;
   };
@@ -299,7 +310,13 @@ int runAnimate(const AnimateOptions& o) {
     }
     scene::ImageOutputOptions image = s.output.image;
     image.date_time = exrDateTime(f);
-    for (const auto& [is_layer, path] : outputsOf(k)) scene::writeImage(is_layer ? out.cloud_layer : out.frame, path, image);
+    const scene::FramePasses* passes = out.passes ? &*out.passes : nullptr;
+    for (const auto& [pass, path] : outputsOf(k)) {
+      scene::writeImage(pass == scene::Pass::Beauty ? scene::outputFrame(s.output, out.frame, out.cloud_layer, passes)
+                        : pass == scene::Pass::Cloud ? out.cloud_layer
+                                                     : scene::passImage(pass, out.frame, out.cloud_layer, *passes),
+                        path, image);
+    }
     ++rendered;
     const engine::FrameStats& st = session.stats();
     dlm_reused_frames += st.dlm_rebuilt ? 0 : 1;
@@ -362,6 +379,9 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_option("-o,--output-dir", opts->output_dir, "folder of the image sequence")->required();
   cmd->add_option("--format", opts->formats, "png, exr or png,exr")->capture_default_str();
   cmd->add_flag("--layer", opts->layer, "also write the premultiplied cloud layer alone (layer_NNNNNN)");
+  cmd->add_flag("--passes", opts->passes,
+                "compositing passes (docs/passes.md): .exr frames carry cloud, ground, sky, shadow layers and the "
+                "cloud depth Z; PNG sequences get layer_, ground_, sky_ and shadow_NNNNNN.png");
   cmd->add_option("--frames", opts->frames, "sub-range A:B or A-B of frame numbers, inclusive (render farms)");
   cmd->add_option("--chunk", opts->chunk,
                   "I/N: chunk I (0-based) of the frames split into N contiguous chunks, e.g. "

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "engine/dataset.h"
 #include "engine/session.h"
 #include "render/gl/context.h"
+#include "scene/passes.h"
 #include "scene/scene_file.h"
 
 namespace nph::cli {
@@ -24,6 +26,9 @@ struct RenderOptions {
   std::string scene;
   std::vector<std::string> outputs;
   std::string layer;
+  std::vector<std::string> pass_files;  // NAME=FILE
+  bool passes = false;
+  bool depth = false;
   std::string gl = "auto";
   int width = 0, height = 0;
   int timestep = -1;
@@ -51,8 +56,20 @@ int runRender(const RenderOptions& o) {
     s.data->timestep = o.timestep;
     s.data->time_utc.reset();
   }
+  if (o.passes) s.output.passes = true;
+  if (o.depth) s.output.image.write_depth = true;
+  for (const std::string& spec : o.pass_files) {
+    const auto eq = spec.find('=');
+    const auto pass = eq == std::string::npos ? std::nullopt : scene::passFromName(spec.substr(0, eq));
+    if (!pass || eq + 1 >= spec.size()) {
+      throw UsageError(fmt::format("--pass {}: expected NAME=FILE with NAME one of {}", spec, scene::passNames()));
+    }
+    s.output.pass_files.emplace_back(*pass, spec.substr(eq + 1));
+  }
   if (!s.data) throw InputError(o.scene + ": no \"data\" section: which .nph or model file to render?");
-  if (s.output.paths.empty() && o.layer.empty()) throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
+  if (s.output.paths.empty() && o.layer.empty() && s.output.pass_files.empty()) {
+    throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
+  }
   if (!dataset) dataset = engine::Dataset::open(s.data->path);
 
   auto ctx = createHeadlessContext(o.gl);
@@ -68,10 +85,20 @@ int runRender(const RenderOptions& o) {
             st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6, st.compression_ratio, st.pass1_ms,
             st.pass2_ms, st.pass3_ms, st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
   log::info("ray cast {}x{} in {:.0f} ms", out.frame.width, out.frame.height, out.milliseconds);
-  for (const auto& path : s.output.paths) {
+  const auto prepare = [](const std::string& path) {
     if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
-    scene::writeImage(out.frame, path, s.output.image);
-    log::info("wrote {}", path);
+  };
+  const scene::FramePasses* passes = out.passes ? &*out.passes : nullptr;
+  const scene::RgbaImage frame = scene::outputFrame(s.output, out.frame, out.cloud_layer, passes);
+  for (const auto& path : s.output.paths) {
+    prepare(path);
+    scene::writeImage(frame, path, s.output.image);
+    log::info("wrote {}{}", path, frame.layers.empty() ? "" : " (with the compositing passes)");
+  }
+  for (const auto& [pass, path] : s.output.pass_files) {
+    prepare(path);
+    scene::writeImage(scene::passImage(pass, out.frame, out.cloud_layer, *passes), path, s.output.image);
+    log::info("wrote {} ({} pass)", path, scene::passName(pass));
   }
   if (!o.layer.empty()) {
     scene::writeImage(out.cloud_layer, o.layer, s.output.image);
@@ -89,7 +116,8 @@ void addRenderCommand(CLI::App& app, Action& run) {
       "Render one frame of a scene file (JSON: data, camera, sun, basemap, quality, output; see "
       "docs/scene-file.md) headless through EGL or OSMesa. Writes the clouds composited over the "
       "basemap to every output path (.png: sRGB 8-bit; .exr: linear half) and, with --layer, the "
-      "premultiplied cloud layer alone for a compositor.\n\nQuick look: give a wrfout, ICON or .nph "
+      "premultiplied cloud layer alone for a compositor; with --passes / --pass the compositing passes "
+      "(cloud, ground, sky, shadow matte, depth).\n\nQuick look: give a wrfout, ICON or .nph "
       "file instead of a scene (`nephele render wrfout_d01.nc -o look.png`): the data is framed "
       "automatically (oblique camera, sun from the data's time, Blue Marble); --print-scene prints "
       "that scene as JSON to start editing from.");
@@ -100,6 +128,13 @@ void addRenderCommand(CLI::App& app, Action& run) {
                 "quick look: print the generated scene (JSON) to stdout; renders too when -o/--layer is given");
   cmd->add_option("-o,--output", opts->outputs, "output image(s) (.png/.exr); replaces output.paths");
   cmd->add_option("--layer", opts->layer, "also write the premultiplied cloud layer (.exr or .png)");
+  cmd->add_flag("--passes", opts->passes,
+                "write the compositing passes into every .exr output as layers: cloud.RGBA, ground.RGB, sky.RGB, "
+                "shadow.Y and the cloud depth as Z (beauty = cloud + (1 - cloud.A)(ground + sky); docs/passes.md)");
+  cmd->add_flag("--depth", opts->depth, "add the cloud depth Z (metres along the view axis) to .exr outputs");
+  cmd->add_option("--pass", opts->pass_files,
+                  "write one pass to a file of its own, NAME=FILE (repeatable); NAME: beauty, cloud, ground, sky, "
+                  "shadow (a matte, 1 = no shadow; stored without tone curve), depth (.exr only)");
   cmd->add_option("--gl", opts->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->add_option("--width", opts->width, "image width (default: the scene's, 1920)");
   cmd->add_option("--height", opts->height, "image height (default: the scene's, 1080)");

@@ -28,6 +28,7 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
   sun_ = prepared_.sun;
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
   if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
+  renderer_.setPasses(scene_.output.wantsPasses());
   if (prepared_.to_sun_ecef) {  // globe view (scene_setup.h): rays in ECEF
     renderer_.setGlobe(render::buildGlobeMapping(*prepared_.geo), prepared_.basemap_equirect, *prepared_.to_sun_ecef);
   }

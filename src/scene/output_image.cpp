@@ -25,10 +25,17 @@ static_assert(display::kToneCurveClamp == int(ToneCurve::Clamp) &&
 
 void checkImage(const RgbaImage& img, const std::string& path) {
   const std::size_t n = std::size_t(std::max(img.width, 0)) * std::size_t(std::max(img.height, 0));
-  if (img.width <= 0 || img.height <= 0 || img.rgba.size() != 4 * n ||
+  const bool depthOnly = img.rgba.empty() && img.depth_m.size() == n;
+  if (img.width <= 0 || img.height <= 0 || (img.rgba.size() != 4 * n && !depthOnly) ||
       !(img.depth_m.empty() || img.depth_m.size() == n)) {
     throw UsageError(fmt::format("{}: inconsistent image {}x{} with {} RGBA floats and {} depths",
                                  path, img.width, img.height, img.rgba.size(), img.depth_m.size()));
+  }
+  for (const ImageLayer& l : img.layers) {
+    if (l.name.empty() || l.channels.empty() || l.values.size() != n * l.channels.size()) {
+      throw UsageError(fmt::format("{}: inconsistent layer '{}' with {} channels and {} values", path, l.name,
+                                   l.channels.size(), l.values.size()));
+    }
   }
 }
 
@@ -99,6 +106,7 @@ float linearToSrgb(float l) { return display::f32::linearToSrgb(l); }
 
 std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOptions& o) {
   checkImage(img, "<image>");
+  if (img.rgba.empty()) throw InputError("a depth-only image has no colour to encode: write it as .exr");
   const auto scale = static_cast<float>(std::exp2(o.exposure_ev));
   const std::size_t n = std::size_t(img.width) * std::size_t(img.height);
   std::vector<std::uint8_t> out(4 * n);
@@ -114,7 +122,11 @@ std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOpt
       // Straight colour is undefined where nothing is covered (α = 0, or α below half a code):
       // write black there, so the PNG carries no colour that no compositor can see.
       float v = 0.0f;
-      if (alphaCode > 0) v = linearToSrgb(applyToneCurve(scale * src[c] / alpha, o.tone_curve));
+      if (img.content == ImageContent::Data) {
+        v = std::isfinite(src[c]) ? src[c] : 0.0f;  // a matte: stored as it is
+      } else if (alphaCode > 0) {
+        v = linearToSrgb(applyToneCurve(scale * src[c] / alpha, o.tone_curve));
+      }
       out[4 * p + std::size_t(c)] = code(v);
     }
   }
@@ -123,37 +135,64 @@ std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOpt
 
 void writePng(const RgbaImage& img, const std::string& path, const ImageOutputOptions& o) {
   checkImage(img, path);
+  if (img.rgba.empty()) throw InputError(path + ": a depth pass holds distances, not colours: write it as .exr");
   const std::vector<std::uint8_t> codes = encodeSrgb8(img, o);
   OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
   spec.alpha_channel = 3;
   // Our data is straight already: tell OIIO not to divide by alpha again.
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  spec.attribute("oiio:ColorSpace", "sRGB");
+  spec.attribute("oiio:ColorSpace", img.content == ImageContent::Data ? "Linear" : "sRGB");
   spec.attribute("Software", "nephele");
   writeAtomically(path, spec, codes.data(), OIIO::TypeDesc::UINT8);
 }
 
 void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOptions& o) {
   checkImage(img, path);
-  const bool depth = o.write_depth && !img.depth_m.empty();
-  const int nc = depth ? 5 : 4;
+  // Channels in order: R G B A (unless depth-only), Z (float: depths need > 65504 m), then each
+  // layer's `name.C` (half). One part: Nuke, Fusion, Resolve and OIIO split it by the prefixes.
+  struct Channel {
+    std::string name;
+    OIIO::TypeDesc type;
+    const float* src;  // first value
+    std::size_t stride;
+    float scale;
+  };
+  // Z when asked for, and always with the passes (scene/passes.h) or alone (a depth pass).
+  const bool depth = !img.depth_m.empty() && (o.write_depth || img.rgba.empty() || !img.layers.empty());
+  const auto exposure = static_cast<float>(std::exp2(o.exposure_ev));
+  const float colourScale = img.content == ImageContent::Data ? 1.0f : exposure;
+  std::vector<Channel> channels;
+  if (!img.rgba.empty()) {
+    for (int c = 0; c < 4; ++c) {
+      channels.push_back({std::string(1, "RGBA"[c]), OIIO::TypeDesc::HALF, img.rgba.data() + c, 4, c < 3 ? colourScale : 1.0f});
+    }
+  }
+  if (depth) channels.push_back({"Z", OIIO::TypeDesc::FLOAT, img.depth_m.data(), 1, 1.0f});
+  for (const ImageLayer& l : img.layers) {
+    for (std::size_t c = 0; c < l.channels.size(); ++c) {
+      const bool alpha = l.channels[c] == "A";
+      channels.push_back({l.name + "." + l.channels[c], OIIO::TypeDesc::HALF, l.values.data() + c, l.channels.size(),
+                          l.radiance && !alpha ? exposure : 1.0f});
+    }
+  }
   const std::size_t n = std::size_t(img.width) * std::size_t(img.height);
-  const auto scale = static_cast<float>(std::exp2(o.exposure_ev));
-  std::vector<float> px(n * std::size_t(nc));
+  const std::size_t nc = channels.size();
+  std::vector<float> px(n * nc);
   for (std::size_t p = 0; p < n; ++p) {
-    for (int c = 0; c < 3; ++c) px[p * std::size_t(nc) + std::size_t(c)] = scale * img.rgba[4 * p + std::size_t(c)];
-    px[p * std::size_t(nc) + 3] = img.rgba[4 * p + 3];
-    if (depth) px[p * std::size_t(nc) + 4] = img.depth_m[p];
+    for (std::size_t c = 0; c < nc; ++c) px[p * nc + c] = channels[c].scale * channels[c].src[p * channels[c].stride];
   }
-  OIIO::ImageSpec spec(img.width, img.height, nc, OIIO::TypeDesc::HALF);
-  spec.channelnames = {"R", "G", "B", "A"};
-  spec.alpha_channel = 3;
-  if (depth) {
-    spec.channelnames.push_back("Z");
-    spec.channelformats = {OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF,
-                           OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT};  // depth needs > 65504 m
-    spec.z_channel = 4;
+  OIIO::ImageSpec spec(img.width, img.height, int(nc), OIIO::TypeDesc::HALF);
+  spec.channelnames.clear();
+  spec.channelformats.clear();
+  bool mixed = false;
+  for (const Channel& c : channels) {
+    spec.channelnames.push_back(c.name);
+    spec.channelformats.push_back(c.type);
+    mixed = mixed || c.type != OIIO::TypeDesc::HALF;
   }
+  if (!mixed) spec.channelformats.clear();
+  spec.alpha_channel = img.rgba.empty() ? -1 : 3;
+  spec.z_channel = depth ? (img.rgba.empty() ? 0 : 4) : -1;
   spec.attribute("compression", "zip");
   spec.attribute("oiio:ColorSpace", "Linear");
   spec.attribute("Software", "nephele");

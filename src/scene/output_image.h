@@ -26,12 +26,27 @@
 
 namespace nph::scene {
 
+/// An extra layer of a multi-layer OpenEXR (scene/passes.h): channels `name.C` for each C.
+struct ImageLayer {
+  std::string name;                   ///< e.g. "cloud"
+  std::vector<std::string> channels;  ///< e.g. {"R", "G", "B", "A"} or {"Y"}
+  std::vector<float> values;          ///< width·height·channels.size(), interleaved
+  bool radiance = true;               ///< scaled by the exposure (a matte is not)
+};
+
+/// What the pixels are: light (exposure, tone curve and sRGB apply to PNG; exposure to EXR) or
+/// data such as a matte (stored as it is: PNG codes round(255·v), EXR values).
+enum class ImageContent { Radiance, Data };
+
 /// Premultiplied linear RGBA, row 0 at the top, RGBA interleaved; depth (optional) per pixel [m].
+/// A depth-only image (rgba empty, depth_m filled) writes an OpenEXR with just Z.
 struct RgbaImage {
   int width = 0;
   int height = 0;
-  std::vector<float> rgba;     ///< width·height·4
+  std::vector<float> rgba;     ///< width·height·4, or empty for a depth-only image
   std::vector<float> depth_m;  ///< empty or width·height (e.g. transmittance-weighted depth)
+  ImageContent content = ImageContent::Radiance;
+  std::vector<ImageLayer> layers{};  ///< OpenEXR only: extra layers after R G B A (Z)
 };
 
 enum class ToneCurve { Clamp, Reinhard, AcesFitted };
@@ -65,7 +80,8 @@ struct ImageOutputOptions {
 /// The 8-bit straight-alpha sRGB codes of `image` (RGBA interleaved), as writePng stores them.
 std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& image, const ImageOutputOptions& options);
 
-/// Throws UsageError for an inconsistent image, IoError when the file cannot be written.
+/// Throws UsageError for an inconsistent image, IoError when the file cannot be written; writePng
+/// throws InputError for a depth-only image (a depth pass needs OpenEXR).
 void writeExr(const RgbaImage& image, const std::string& path, const ImageOutputOptions& options = {});
 void writePng(const RgbaImage& image, const std::string& path, const ImageOutputOptions& options = {});
 /// By extension: .exr or .png (case-insensitive); InputError for anything else.

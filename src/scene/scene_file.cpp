@@ -220,18 +220,31 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
 
   if (auto o = top.optObject("output")) {
     OutputSpec& out = s.output;
+    // An image path: a string ending in .png or .exr, relative to the scene file's folder.
+    const auto imagePath = [&](const std::string& where, const json& e) {
+      if (!e.is_string()) o->fail(where, "expected a string, got " + typeName(e));
+      std::string ext = fs::path(e.get<std::string>()).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      if (ext != ".png" && ext != ".exr") o->fail(where, "expected a .png or .exr file, got \"" + e.get<std::string>() + "\"");
+      const fs::path path(e.get<std::string>());
+      return path.is_absolute() || base_dir.empty() ? path.string() : (fs::path(base_dir) / path).lexically_normal().string();
+    };
     if (const json* p = o->get("paths")) {
       if (!p->is_array()) o->fail(o->at("paths"), "expected an array of file paths, got " + typeName(*p));
-      for (std::size_t i = 0; i < p->size(); ++i) {
-        const json& e = (*p)[i];
-        const std::string where = fmt::format("{}[{}]", o->at("paths"), i);
-        if (!e.is_string()) o->fail(where, "expected a string, got " + typeName(e));
-        std::string ext = fs::path(e.get<std::string>()).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-        if (ext != ".png" && ext != ".exr") o->fail(where, "expected a .png or .exr file, got \"" + e.get<std::string>() + "\"");
-        const fs::path path(e.get<std::string>());
-        out.paths.push_back(path.is_absolute() || base_dir.empty() ? path.string()
-                                                                    : (fs::path(base_dir) / path).lexically_normal().string());
+      for (std::size_t i = 0; i < p->size(); ++i) out.paths.push_back(imagePath(fmt::format("{}[{}]", o->at("paths"), i), (*p)[i]));
+    }
+    out.passes = o->boolean("passes", false);
+    if (const json* p = o->get("pass_files")) {
+      if (!p->is_object()) o->fail(o->at("pass_files"), "expected an object {\"pass\": \"file\"}, got " + typeName(*p));
+      for (const auto& [pass_name, file] : p->items()) {
+        const std::string where = fmt::format("{}.{}", o->at("pass_files"), pass_name);
+        const auto pass = passFromName(pass_name);
+        if (!pass) o->fail(where, fmt::format("unknown pass '{}': expected one of {}", pass_name, passNames()));
+        const std::string path = imagePath(where, file);
+        if (*pass == Pass::Depth && fs::path(path).extension() != ".exr") {
+          o->fail(where, "the depth pass holds distances, not colours: expected an .exr file");
+        }
+        out.pass_files.emplace_back(*pass, path);
       }
     }
     out.width = o->integer("width", out.width, 1, kMaxImageSide);
@@ -269,6 +282,14 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
   }
   top.finish();
   return s;
+}
+
+RgbaImage outputFrame(const OutputSpec& spec, const RgbaImage& frame, const RgbaImage& cloud,
+                      const FramePasses* passes) {
+  if (!spec.wantsPasses()) return frame;
+  if (!passes) throw UsageError("the scene asks for compositing passes but the renderer made none");
+  if (spec.passes) return withPassLayers(frame, cloud, *passes);
+  return spec.image.write_depth ? withDepth(frame, *passes) : frame;
 }
 
 SceneDescription loadSceneFile(const std::string& path) {

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -19,6 +20,7 @@
 #include "scene/camera.h"
 #include "scene/georeference.h"
 #include "scene/output_image.h"
+#include "scene/passes.h"
 #include "scene/sun.h"
 #include "volume/volume_frame.h"
 
@@ -65,7 +67,16 @@ struct OutputSpec {
   int width = 1920;
   int height = 1080;
   ImageOutputOptions image{kDefaultExposureEv, ToneCurve::AcesFitted, /*write_depth=*/false, /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
+  bool passes = false;  ///< "passes": .exr outputs carry the compositing passes as layers (scene/passes.h)
+  std::vector<std::pair<Pass, std::string>> pass_files;  ///< "pass_files": {"shadow": "matte.png", ...}
+  /// Whether the renderer must produce the passes (Z, layers or pass files).
+  bool wantsPasses() const { return image.write_depth || passes || !pass_files.empty(); }
 };
+
+/// The image written to output.paths: the frame, with Z (output.depth) or with every pass as a
+/// layer (output.passes; Z included). `passes` may be null only when !spec.wantsPasses().
+RgbaImage outputFrame(const OutputSpec& spec, const RgbaImage& frame, const RgbaImage& cloud,
+                      const FramePasses* passes);
 
 enum class ViewMode { Flat, Globe };
 

@@ -24,7 +24,8 @@
   X(PFNGLCREATETEXTURESPROC, glCreateTextures) X(PFNGLCREATEVERTEXARRAYSPROC, glCreateVertexArrays) \
   X(PFNGLNAMEDBUFFERDATAPROC, glNamedBufferData)                                                 \
   X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, glNamedFramebufferTexture)                                 \
-  X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D)
+  X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D)   \
+  X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage)
 #define DECLARE(type, name) static type p_##name;
 GL45_FUNCTIONS(DECLARE)
 #undef DECLARE
@@ -38,6 +39,7 @@ GL45_FUNCTIONS(DECLARE)
 #define glNamedFramebufferTexture p_glNamedFramebufferTexture
 #define glTextureStorage2D p_glTextureStorage2D
 #define glTextureStorage3D p_glTextureStorage3D
+#define glGetTextureImage p_glGetTextureImage
 
 static void load_gl45(void) {
 #define LOAD(type, name)                                                \
@@ -54,6 +56,7 @@ static void load_gl45(void) {
 #define H 64
 
 static const nph_api_v1* api;
+static const nph_api_v2* api2; /* version 2: the same calls, plus the compositing passes */
 static int failures = 0;
 
 #define CHECK(cond)                                                  \
@@ -219,12 +222,16 @@ int main(int argc, char** argv) {
   /* ---- the table ---- */
   CHECK(nph_get_api(0) == NULL);
   CHECK(nph_get_api(NPH_API_VERSION + 1) == NULL);
-  api = (const nph_api_v1*)nph_get_api(NPH_API_VERSION);
-  if (api == NULL) {
-    fprintf(stderr, "nph_get_api(%u) returned NULL\n", NPH_API_VERSION);
+  api = (const nph_api_v1*)nph_get_api(1);
+  api2 = (const nph_api_v2*)nph_get_api(NPH_API_VERSION);
+  if (api == NULL || api2 == NULL) {
+    fprintf(stderr, "nph_get_api(1 or %u) returned NULL\n", NPH_API_VERSION);
     return 1;
   }
   CHECK(api->version == 1u && api->struct_size == sizeof(nph_api_v1));
+  CHECK(api2->version == 2u && api2->struct_size == sizeof(nph_api_v2));
+  /* version 2 begins with version 1: a host holding a v1 pointer to the v2 table calls the same code */
+  CHECK(((const nph_api_v1*)api2)->render == api->render && api2->get_stats == api->get_stats);
   CHECK(strlen(api->library_version()) > 0);
   CHECK(strcmp(api->status_name(NPH_OK), "NPH_OK") == 0);
   CHECK(strcmp(api->status_name(NPH_ERROR_WRONG_THREAD), "NPH_ERROR_WRONG_THREAD") == 0);
@@ -392,6 +399,53 @@ int main(int argc, char** argv) {
   CHECK(pixels_differing(target_fb, clear) > W * H / 20);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
 
+  /* ---- compositing passes into host textures (version 2; docs/passes.md) ---- */
+  {
+    static float px[6][W * H * 4];
+    const char* names[6] = {"beauty", "cloud", "ground", "sky", "shadow", "depth"};
+    GLuint pass_tex = make_texture(GL_RGBA32F, W, H);
+    EXPECT(NPH_ERROR_WRONG_ORDER, r, api2->pass_to_texture(r, "cloud", pass_tex, 0)); /* no passes yet */
+    EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api2->set_passes(r, 7));
+    EXPECT(NPH_OK, r, api2->set_passes(r, 1));
+    EXPECT(NPH_OK, r, api2->render(r));
+    EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api2->pass_to_texture(r, "albedo", pass_tex, 0));
+    CHECK(strstr(api->last_error(r), "shadow") != NULL); /* the message lists the pass names */
+    EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api2->pass_to_texture(r, NULL, pass_tex, 0));
+    EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api2->pass_to_texture(r, "sky", 0, 0));
+    for (int k = 0; k < 6; ++k) {
+      EXPECT(NPH_OK, r, api2->pass_to_texture(r, names[k], pass_tex, 0));
+      glGetTextureImage(pass_tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)sizeof(px[k]), px[k]);
+    }
+    /* beauty = cloud + (1 - cloud.a)(ground + sky), exactly up to float rounding; the matte in
+     * [0, 1] with some shadow in view; Z finite under clouds, 1e10 m where there is none */
+    double max_err = 0.0;
+    int shadowed = 0, clouds = 0, bad_depth = 0;
+    for (int i = 0; i < W * H; ++i) {
+      const float a = px[1][4 * i + 3];
+      for (int c = 0; c < 3; ++c) {
+        const float rebuilt = px[1][4 * i + c] + (1.0f - a) * (px[2][4 * i + c] + px[3][4 * i + c]);
+        const double err = fabs((double)rebuilt - (double)px[0][4 * i + c]) / (1e-3 + fabs((double)px[0][4 * i + c]));
+        if (err > max_err) max_err = err;
+      }
+      if (px[4][4 * i] < 0.9f) ++shadowed;
+      if (px[4][4 * i] < 0.0f || px[4][4 * i] > 1.0f || px[4][4 * i + 3] != 1.0f) ++bad_depth;
+      if (a > 0.0f) {
+        ++clouds;
+        if (!(px[5][4 * i] > 0.0f && px[5][4 * i] < 1e9f)) ++bad_depth;
+      } else if (px[5][4 * i] != 1e10f) {
+        ++bad_depth;
+      }
+    }
+    CHECK(max_err < 1e-5);
+    CHECK(clouds > W * H / 20);
+    CHECK(shadowed > 0);
+    CHECK(bad_depth == 0);
+    EXPECT(NPH_OK, r, api2->set_passes(r, 0));
+    EXPECT(NPH_OK, r, api2->render(r));
+    EXPECT(NPH_ERROR_WRONG_ORDER, r, api2->pass_to_texture(r, "cloud", pass_tex, 0));
+    glDeleteTextures(1, &pass_tex);
+  }
+
   /* ---- wrong thread ---- */
   pthread_t thread;
   void* result = NULL;
@@ -450,6 +504,10 @@ int main(int argc, char** argv) {
   STATE_KEPT(NPH_OK, r2, api->set_parameter(r2, "display_transform", 1));
   STATE_KEPT(NPH_OK, r2, api->render(r2));
   STATE_KEPT(NPH_OK, r2, api->render_to_texture(r2, target, 0));
+  STATE_KEPT(NPH_OK, r2, api2->set_passes(r2, 1));
+  STATE_KEPT(NPH_OK, r2, api2->render_to_texture(r2, target, 0));
+  STATE_KEPT(NPH_OK, r2, api2->pass_to_texture(r2, "shadow", target, 0));
+  STATE_KEPT(NPH_ERROR_INVALID_ARGUMENT, r2, api2->pass_to_texture(r2, "nope", target, 0));
   GLuint depth2 = make_texture(GL_DEPTH_COMPONENT32F, W - 5, H - 4);
   gl_state_take(&before); /* make_texture created a name; bindings are unchanged */
   STATE_KEPT(NPH_OK, r2, api->set_host_depth(r2, depth2));

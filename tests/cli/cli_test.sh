@@ -200,6 +200,32 @@ case $case in
     expect_rc 2
     expect_err "already a scene file"
     ;;
+  passes)  # compositing passes: a multi-layer EXR as iinfo lists it, pass files, bad pass names, animate --passes
+    animate_cache
+    run "$nephele" render "$out/scene.json" -o "$out/p.exr" -o "$out/p.png" --passes \
+      --pass shadow="$out/shadow.png" --pass depth="$out/depth.exr" --pass sky="$out/sky.exr"
+    expect_rc 0
+    iinfo -v "$out/p.exr" >"$out/iinfo" 2>&1 || fail "iinfo cannot read p.exr: $(cat "$out/iinfo")"
+    for c in "R (half)" "A (half)" "Z (float)" "cloud.A (half)" "ground.B (half)" "sky.R (half)" "shadow.Y (half)"; do
+      grep -q "$c" "$out/iinfo" || fail "p.exr lacks channel $c: $(grep 'channel list' "$out/iinfo")"
+    done
+    grep -q '16 channel' "$out/iinfo" || fail "p.exr: expected 16 channels: $(head -1 "$out/iinfo")"
+    iinfo -v "$out/depth.exr" | grep -q 'channel list: Z$' || fail "depth.exr is not a Z-only image: $(iinfo -v "$out/depth.exr")"
+    iinfo "$out/p.png" | grep -q '4 channel' || fail "p.png should hold the beauty only: $(iinfo "$out/p.png")"
+    [ -s "$out/shadow.png" ] && [ -s "$out/sky.exr" ] || fail "pass files missing: $(ls "$out")"
+    run "$nephele" render "$out/scene.json" --pass depth="$out/depth.png"
+    expect_rc 1; expect_err "depth.png: a depth pass holds distances"
+    run "$nephele" render "$out/scene.json" --pass albedo="$out/a.png"
+    expect_rc 2; expect_err "NAME one of beauty, cloud, ground, sky, shadow, depth"
+    run "$nephele" animate "$out/scene.json" -o "$out/seq" --format png,exr --passes --frames 0:1 --no-progress
+    expect_rc 0
+    for k in 000000 000001; do
+      for f in frame_$k.png frame_$k.exr layer_$k.png ground_$k.png sky_$k.png shadow_$k.png; do
+        [ -s "$out/seq/$f" ] || fail "animate --passes wrote no $f: $(ls "$out/seq")"
+      done
+      iinfo -v "$out/seq/frame_$k.exr" | grep -q 'shadow.Y' || fail "frame_$k.exr has no passes"
+    done
+    ;;
   animate-resume)  # a second run skips complete frames without rewriting them
     animate_cache
     run "$nephele" animate "$out/scene.json" -o "$out/seq" --frames 0:4

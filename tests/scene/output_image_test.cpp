@@ -20,7 +20,12 @@ namespace fs = std::filesystem;
 double srgbDecode(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
 
 RgbaImage image(int w, int h, std::vector<float> rgba, std::vector<float> depth = {}) {
-  return RgbaImage{w, h, std::move(rgba), std::move(depth)};
+  RgbaImage img;
+  img.width = w;
+  img.height = h;
+  img.rgba = std::move(rgba);
+  img.depth_m = std::move(depth);
+  return img;
 }
 
 std::vector<float> readFloat(const std::string& path, OIIO::ImageSpec& spec) {

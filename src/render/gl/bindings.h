@@ -46,6 +46,8 @@
   X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
   X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \
   X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \
+  X(IMAGE_PASS_GROUND, 3)       /* image2D rgba32f: passes: ground radiance, shadow matte */    \
+  X(IMAGE_PASS_SKY, 4)          /* image2D rgba32f: passes: sky radiance, cloud depth Z [m] */   \
   /* Atmosphere, glsl/atmosphere/ (render/atmosphere/atmosphere_luts.cpp) */                   \
   X(UBO_ATMOSPHERE, 4)          /* AtmosphereBlock (render/gl/uniform_blocks.h) */             \
   X(UNIT_TRANSMITTANCE_LUT, 10) /* sampler2D: transmittance to the top (r, mu) */              \

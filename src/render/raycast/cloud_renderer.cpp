@@ -100,7 +100,13 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     cloud_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("cloud layer");
     frame_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("frame");
     sample_count_tex_ = gl::Texture::create2D(GL_R32UI, w, h).label("samples per ray");
+    ground_pass_tex_ = gl::Texture();
+    sky_pass_tex_ = gl::Texture();
     target_size_ = {w, h};
+  }
+  if (passes_ && !ground_pass_tex_) {
+    ground_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("ground pass, shadow matte");
+    sky_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("sky pass, cloud depth");
   }
   const gl::Program& p = program_;
   p.use();
@@ -139,6 +145,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.count_samples = count_samples_ ? 1u : 0u;
   b.globe = globe_ ? 1u : 0u;
   b.atmosphere = s.atmosphere ? 1u : 0u;
+  b.write_passes = passes_ ? 1u : 0u;
   if (s.atmosphere) {
     if (!atmosphere_) atmosphere_ = std::make_unique<AtmosphereLuts>();
     // The sky-view table serves the flat view (its observer at the camera's altitude above the
@@ -153,6 +160,11 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  // Without passes the units stay bound to the frame (valid, never written: u_write_passes is 0).
+  const GLuint groundImage = passes_ ? ground_pass_tex_.id() : frame_tex_.id();
+  const GLuint skyImage = passes_ ? sky_pass_tex_.id() : frame_tex_.id();
+  glBindImageTexture(gl::binding::IMAGE_PASS_GROUND, groundImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   p.dispatchCovering({w, h, 1});
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (finish) glFinish();
@@ -185,6 +197,28 @@ RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLight
   const auto bytes = static_cast<GLsizei>(out.frame.rgba.size() * sizeof(float));
   glGetTextureImage(cloud_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.cloud_layer.rgba.data());
   glGetTextureImage(frame_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.frame.rgba.data());
+  if (passes_) {
+    // Two RGBA textures hold four passes: (ground.rgb, shadow) and (sky.rgb, Z).
+    std::vector<float> ground(out.frame.rgba.size()), sky(out.frame.rgba.size());
+    glGetTextureImage(ground_pass_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, ground.data());
+    glGetTextureImage(sky_pass_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, sky.data());
+    scene::FramePasses& p = out.passes.emplace();
+    p.width = w;
+    p.height = h;
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    p.ground_rgb.resize(3 * n);
+    p.sky_rgb.resize(3 * n);
+    p.shadow.resize(n);
+    p.depth_m.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        p.ground_rgb[3 * i + c] = ground[4 * i + c];
+        p.sky_rgb[3 * i + c] = sky[4 * i + c];
+      }
+      p.shadow[i] = ground[4 * i + 3];
+      p.depth_m[i] = sky[4 * i + 3];
+    }
+  }
   gl::checkErrors("cloud ray caster read-back");
   out.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;

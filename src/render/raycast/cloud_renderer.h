@@ -24,6 +24,7 @@
 #include "scene/basemap.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
+#include "scene/passes.h"
 #include "scene/sun.h"
 
 namespace nph::render {
@@ -58,6 +59,7 @@ struct HostDepth {
 struct RenderOutput {
   scene::RgbaImage cloud_layer;  ///< premultiplied linear RGBA: the clouds alone
   scene::RgbaImage frame;        ///< clouds composited over the lit ground, alpha 1
+  std::optional<scene::FramePasses> passes;  ///< ground, sky, shadow matte, depth (setPasses(true))
   double milliseconds = 0.0;
 };
 
@@ -85,17 +87,25 @@ class CloudRenderer {
   /// Statistics for benchmarks: when on, dispatch() also records the number of volume samples
   /// (extinction look-ups) of every ray; sampleCount() sums the last dispatch's (a read-back).
   void countSamples(bool on) { count_samples_ = on; }
+  /// Compositing passes (scene/passes.h): when on, dispatch() also fills groundPass() (ground
+  /// radiance, shadow matte in α) and skyPass() (sky radiance, cloud depth Z in α), and render()
+  /// reads them back into RenderOutput::passes. Off by default: two image stores per pixel less.
+  void setPasses(bool on) { passes_ = on; }
+  bool passes() const { return passes_; }
   std::uint64_t sampleCount() const;
   /// The atmosphere's tables (nullptr until a frame with RenderSettings::atmosphere ran).
   const AtmosphereLuts* atmosphere() const { return atmosphere_.get(); }
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
   const gl::Texture& frame() const { return frame_tex_; }
+  const gl::Texture& groundPass() const { return ground_pass_tex_; }
+  const gl::Texture& skyPass() const { return sky_pass_tex_; }
 
  private:
   void updateGlobeBlock(const ViewRays& view, const RenderSettings& settings, double sun_intensity);
 
   gl::Program program_;
-  gl::Texture basemap_, blank_, cloud_tex_, frame_tex_;
+  gl::Texture basemap_, blank_, cloud_tex_, frame_tex_, ground_pass_tex_, sky_pass_tex_;
+  bool passes_ = false;
   glm::ivec2 target_size_{0};
   scene::WorldRect basemap_rect_;
   std::optional<GlobeMapping> globe_;
