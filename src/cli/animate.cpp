@@ -26,6 +26,7 @@
 
 #include "cli/commands.h"
 #include "cli/headless.h"
+#include "cli/output_options.h"
 #include "cli/quick_look.h"
 #include "cli/progress.h"
 #include "core/temp_files.h"
@@ -37,6 +38,7 @@
 #include "engine/session.h"
 #include "render/gl/context.h"
 #include "scene/animation_spec.h"
+#include "scene/colour_output.h"
 #include "scene/output_image.h"
 #include "scene/passes.h"
 #include "scene/scene_file.h"
@@ -53,6 +55,7 @@ struct AnimateOptions {
   std::string formats = "png";
   bool layer = false;
   bool passes = false;
+  std::string display, view;
   std::string frames;
   std::string chunk;
   bool print_scene = false;
@@ -140,9 +143,10 @@ double peakResidentMb() {
 
 /// Encodes the PNG sequence `pattern` (printf-style) of frames first..last into `video` with
 /// alpha: ProRes 4444 (prores_ks, yuva444p10le) or QuickTime Animation (qtrle, argb), through
-/// Debian's ffmpeg. Written under a temporary name and renamed.
+/// Debian's ffmpeg, tagged with the display's colour (primaries, transfer, matrix: what players and
+/// broadcast chains read). Written under a temporary name and renamed.
 void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t last, const scene::FrameRate& fps,
-                 const std::string& codec, const std::string& video) {
+                 const std::string& codec, const scene::VideoColourTags& tags, const std::string& video) {
   std::vector<std::string> args{process::toolPath("NEPHELE_FFMPEG", "ffmpeg"), "-nostdin", "-y", "-loglevel", "error", "-framerate", fps.text(),
                                 "-start_number", std::to_string(first), "-i", pattern,
                                 "-frames:v", std::to_string(last - first + 1)};
@@ -150,6 +154,18 @@ void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t la
     args.insert(args.end(), {"-c:v", "prores_ks", "-profile:v", "4444", "-pix_fmt", "yuva444p10le", "-vendor", "apl0"});
   } else {
     args.insert(args.end(), {"-c:v", "qtrle", "-pix_fmt", "argb"});
+  }
+  if (!tags.empty()) {
+    // The stream's tags (the mov 'colr' atom) and, for ProRes, its frame headers, which the
+    // encoder fills from the input frames (PNG: unknown) unless the metadata filter sets them.
+    args.insert(args.end(), {"-color_primaries", tags.primaries, "-color_trc", tags.transfer, "-colorspace",
+                             tags.colorspace, "-movflags", "+write_colr"});
+    if (codec == "prores4444") {  // a ProRes frame header knows no sRGB transfer: "unknown" there
+      const bool proresTrc = tags.transfer == "bt709" || tags.transfer == "smpte2084" || tags.transfer == "arib-std-b67";
+      args.insert(args.end(), {"-bsf:v", fmt::format("prores_metadata=color_primaries={}:color_trc={}:colorspace={}",
+                                                     tags.primaries, proresTrc ? tags.transfer : "unknown",
+                                                     tags.colorspace)});
+    }
   }
   const fs::path final(video);
   temp_files::removeStale(final.has_parent_path() ? final.parent_path() : fs::path("."), ".partial-");
@@ -220,6 +236,7 @@ int runAnimate(const AnimateOptions& o) {
   auto ctx = createHeadlessContext(o.gl);
 
   if (o.passes) s.output.passes = true;
+  applyColourOptions(o.display, o.view, s.output.image);
   engine::Session session(dataset, s);
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
   const auto [first, last] = frameRangeFor(o.frames, o.chunk, plan.frameCount());
@@ -353,8 +370,13 @@ int runAnimate(const AnimateOptions& o) {
                 static_cast<long long>(rendered_elsewhere));
   } else if (!o.video.empty() && first <= last) {
     const char* kind = o.layer ? "layer" : "frame";
+    // The PNGs' colour: the OCIO display's, else nephele's sRGB encoding.
+    const scene::VideoColourTags tags =
+        s.output.image.display.empty()
+            ? scene::VideoColourTags{"bt709", "iec61966-2-1", "bt709"}
+            : scene::DisplayOutput::open(s.output.image.ocio_config, s.output.image.display, s.output.image.view)->videoTags();
     encodeVideo((fs::path(o.output_dir) / fmt::format("{}_%06d.png", kind)).string(), first, last, spec.fps,
-                o.video_codec, o.video);
+                o.video_codec, tags, o.video);
     std::printf("animate: wrote %s (%s, %s frames with alpha)\n", o.video.c_str(), o.video_codec.c_str(), kind);
   }
   return kExitOk;
@@ -382,6 +404,7 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_flag("--passes", opts->passes,
                 "compositing passes (docs/passes.md): .exr frames carry cloud, ground, sky, shadow layers and the "
                 "cloud depth Z; PNG sequences get layer_, ground_, sky_ and shadow_NNNNNN.png");
+  addColourOptions(*cmd, opts->display, opts->view);
   cmd->add_option("--frames", opts->frames, "sub-range A:B or A-B of frame numbers, inclusive (render farms)");
   cmd->add_option("--chunk", opts->chunk,
                   "I/N: chunk I (0-based) of the frames split into N contiguous chunks, e.g. "

@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "cli/headless.h"
+#include "cli/output_options.h"
 #include "cli/quick_look.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -29,6 +30,7 @@ struct RenderOptions {
   std::vector<std::string> pass_files;  // NAME=FILE
   bool passes = false;
   bool depth = false;
+  std::string display, view;
   std::string gl = "auto";
   int width = 0, height = 0;
   int timestep = -1;
@@ -57,6 +59,7 @@ int runRender(const RenderOptions& o) {
     s.data->time_utc.reset();
   }
   if (o.passes) s.output.passes = true;
+  applyColourOptions(o.display, o.view, s.output.image);
   if (o.depth) s.output.image.write_depth = true;
   for (const std::string& spec : o.pass_files) {
     const auto eq = spec.find('=');
@@ -131,6 +134,7 @@ void addRenderCommand(CLI::App& app, Action& run) {
   cmd->add_flag("--passes", opts->passes,
                 "write the compositing passes into every .exr output as layers: cloud.RGBA, ground.RGB, sky.RGB, "
                 "shadow.Y and the cloud depth as Z (beauty = cloud + (1 - cloud.A)(ground + sky); docs/passes.md)");
+  addColourOptions(*cmd, opts->display, opts->view);
   cmd->add_flag("--depth", opts->depth, "add the cloud depth Z (metres along the view axis) to .exr outputs");
   cmd->add_option("--pass", opts->pass_files,
                   "write one pass to a file of its own, NAME=FILE (repeatable); NAME: beauty, cloud, ground, sky, "

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/temp_files.h"
+#include "scene/colour_output.h"
 #include "scene/display_transform.h"
 
 namespace nph::scene {
@@ -133,9 +134,49 @@ std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOpt
   return out;
 }
 
+std::vector<float> encodeDisplay(const RgbaImage& img, const ImageOutputOptions& o) {
+  checkImage(img, "<image>");
+  if (img.rgba.empty()) throw InputError("a depth-only image has no colour to encode: write it as .exr");
+  const auto display = DisplayOutput::open(o.ocio_config, o.display, o.view);
+  const auto scale = static_cast<float>(std::exp2(o.exposure_ev));
+  const std::size_t n = std::size_t(img.width) * std::size_t(img.height);
+  std::vector<float> rgb(3 * n), out(4 * n);
+  for (std::size_t p = 0; p < n; ++p) {
+    const float* src = &img.rgba[4 * p];
+    const float alpha = std::isfinite(src[3]) ? std::clamp(src[3], 0.0f, 1.0f) : 0.0f;
+    out[4 * p + 3] = alpha;
+    // Straight colour, as the legacy path (α = 0: black, never seen)
+    for (std::size_t c = 0; c < 3; ++c) rgb[3 * p + c] = alpha > 0.0f ? scale * src[c] / alpha : 0.0f;
+  }
+  display->apply(rgb.data(), n);
+  for (std::size_t p = 0; p < n; ++p) {
+    for (std::size_t c = 0; c < 3; ++c) out[4 * p + c] = out[4 * p + 3] > 0.0f ? rgb[3 * p + c] : 0.0f;
+  }
+  return out;
+}
+
 void writePng(const RgbaImage& img, const std::string& path, const ImageOutputOptions& o) {
   checkImage(img, path);
   if (img.rgba.empty()) throw InputError(path + ": a depth pass holds distances, not colours: write it as .exr");
+  if (!o.display.empty() && img.content == ImageContent::Radiance) {
+    const auto display = DisplayOutput::open(o.ocio_config, o.display, o.view);
+    const std::vector<float> v = encodeDisplay(img, o);
+    const bool wide = display->hdr();  // PQ / HLG: 8 bits would band; PNG has 16
+    OIIO::ImageSpec spec(img.width, img.height, 4, wide ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
+    spec.alpha_channel = 3;
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    spec.attribute("oiio:ColorSpace", display->display() + " / " + display->view());
+    spec.attribute("Software", "nephele");
+    const float maxCode = wide ? 65535.0f : 255.0f;
+    if (wide) {
+      std::vector<std::uint16_t> codes(v.size());
+      for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint16_t>(std::lround(v[i] * maxCode));
+      return writeAtomically(path, spec, codes.data(), OIIO::TypeDesc::UINT16);
+    }
+    std::vector<std::uint8_t> codes(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint8_t>(std::lround(v[i] * maxCode));
+    return writeAtomically(path, spec, codes.data(), OIIO::TypeDesc::UINT8);
+  }
   const std::vector<std::uint8_t> codes = encodeSrgb8(img, o);
   OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
   spec.alpha_channel = 3;

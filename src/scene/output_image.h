@@ -75,10 +75,21 @@ struct ImageOutputOptions {
   /// EXR capDate ("YYYY:MM:DD hh:mm:ss"). Empty: OpenImageIO writes the wall-clock time, so two
   /// writes of one image differ; animations give the model time shown, for identical bytes.
   std::string date_time;
+  /// Output colour through OpenColorIO (scene/colour_output.h, docs/colour.md): PNG codes for
+  /// this display of the config (empty: the tone curve + sRGB above, bit for bit as before) and
+  /// view (empty: the display's default). HDR displays (PQ, HLG) give 16-bit PNGs. EXR stays
+  /// scene-linear.
+  std::string display{};
+  std::string view{};
+  std::string ocio_config{};  ///< empty: scene::defaultOcioConfig()
 };
 
-/// The 8-bit straight-alpha sRGB codes of `image` (RGBA interleaved), as writePng stores them.
+/// The 8-bit straight-alpha sRGB codes of `image` (RGBA interleaved), as writePng stores them
+/// when options.display is empty.
 std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& image, const ImageOutputOptions& options);
+/// The straight-alpha code values in [0, 1] (RGBA interleaved) of `image` on options.display
+/// through OpenColorIO, before quantisation (writePng: 8 bits, 16 for HDR displays).
+std::vector<float> encodeDisplay(const RgbaImage& image, const ImageOutputOptions& options);
 
 /// Throws UsageError for an inconsistent image, IoError when the file cannot be written; writePng
 /// throws InputError for a depth-only image (a depth pass needs OpenEXR).

@@ -15,6 +15,7 @@
 #include "core/limits.h"
 #include "core/json_limits.h"
 #include "core/log.h"
+#include "scene/colour_output.h"
 #include "scene/json_object.h"
 #include "scene/solar_position.h"
 
@@ -263,6 +264,23 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
       }
     }
     out.image.write_depth = o->boolean("depth", false);
+    // Output colour through OpenColorIO (docs/colour.md); checked now, so a typo fails before rendering.
+    if (const auto config = o->optString("ocio_config")) {
+      const fs::path p(*config);
+      out.image.ocio_config = p.is_absolute() || base_dir.empty() ? p.string() : (fs::path(base_dir) / p).lexically_normal().string();
+    }
+    if (const auto display = o->optString("display")) out.image.display = *display;
+    if (const auto view = o->optString("view")) out.image.view = *view;
+    if (out.image.display.empty() && (!out.image.view.empty() || !out.image.ocio_config.empty())) {
+      o->fail(o->at(out.image.view.empty() ? "ocio_config" : "view"), "needs output.display (e.g. \"sRGB\", \"Rec.2100-PQ\")");
+    }
+    if (!out.image.display.empty()) {
+      try {
+        (void)DisplayOutput::open(out.image.ocio_config, out.image.display, out.image.view);
+      } catch (const InputError& e) {
+        o->fail(o->at("display"), e.what());
+      }
+    }
     o->finish();
   }
 

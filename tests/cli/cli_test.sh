@@ -226,6 +226,36 @@ case $case in
       iinfo -v "$out/seq/frame_$k.exr" | grep -q 'shadow.Y' || fail "frame_$k.exr has no passes"
     done
     ;;
+  colour)  # OpenColorIO outputs: ociocheck on the built config, PNGs vs oiiotool --ociodisplay, video colour tags
+    cfg=$(dirname "$nephele")/../../share/nephele/ocio/config.ocio
+    ociocheck --iconfig "$cfg" >"$out/ociocheck" 2>&1 || fail "ociocheck: $(tail -5 "$out/ociocheck")"
+    grep -q -A1 'Validation' "$out/ociocheck" && grep -A1 'Validation' "$out/ociocheck" | grep -q passed ||
+      fail "ociocheck did not pass: $(tail -5 "$out/ociocheck")"
+    animate_cache
+    # 1 code value: 1/255 for 8-bit SDR, 1/1023 for 10-bit HDR video (16-bit PNG). The reference
+    # reads the half-float EXR, nephele encodes its float frame: half rounding moves a few near-black
+    # pixels by a second 8-bit code (Rec.1886's slope is infinite at 0), hence 0.5 % of pixels may
+    # differ by up to 3 codes (exact float agreement: scene.ColourOutput.EveryDisplayView...).
+    for dv in "sRGB|nephele|uint8|0.00393|0.0118" "Rec.1886 Rec.709|ACES SDR video|uint8|0.00393|0.0118" \
+              "Rec.2100-PQ|ACES HDR video|uint16|0.000978|0.000978" "Rec.2100-HLG|ACES HDR video|uint16|0.000978|0.000978"; do
+      IFS='|' read -r d v bits tol hard <<<"$dv"
+      run "$nephele" render "$out/scene.json" -o "$out/c.exr" -o "$out/c.png" --display "$d" --view "$v"
+      expect_rc 0
+      oiiotool --colorconfig "$cfg" "$out/c.exr" --ociodisplay "$d" "$v" -d "$bits" -o "$out/ref.png" ||
+        fail "oiiotool --ociodisplay $d / $v failed"
+      iinfo "$out/c.png" | grep -q "$bits png" || fail "$d: expected a $bits PNG: $(iinfo "$out/c.png")"
+      oiiotool "$out/c.png" "$out/ref.png" --fail "$tol" --failpercent 0.5 --hardfail "$hard" --diff >"$out/diff" 2>&1 ||
+        fail "$d / $v differs from oiiotool's conversion: $(cat "$out/diff")"
+    done
+    run "$nephele" render "$out/scene.json" -o "$out/c.png" --display "Rec.2020"
+    expect_rc 1; expect_err '"Rec.2100-PQ"'
+    run "$nephele" animate "$out/scene.json" -o "$out/hdr" --frames 0:2 --display Rec.2100-PQ --video "$out/hdr.mov" --no-progress
+    expect_rc 0
+    ffprobe -v error -show_streams "$out/hdr.mov" >"$out/probe" 2>&1 || fail "ffprobe: $(cat "$out/probe")"
+    for tag in color_transfer=smpte2084 color_primaries=bt2020 color_space=bt2020nc; do
+      grep -q "^$tag" "$out/probe" || fail "hdr.mov lacks $tag: $(grep color "$out/probe")"
+    done
+    ;;
   animate-resume)  # a second run skips complete frames without rewriting them
     animate_cache
     run "$nephele" animate "$out/scene.json" -o "$out/seq" --frames 0:4
