@@ -26,6 +26,7 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
   time_index_ = double(t);
   prepared_ = scene::prepareScene(scene_, *timesteps_->get(t));
   sun_ = prepared_.sun;
+  style_ = scene_.style;
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
   if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
   renderer_.setPasses(scene_.output.wantsPasses());

@@ -231,6 +231,21 @@ std::string sceneFileQualityMarkdown() {
   return md;
 }
 
+std::string sceneFileStyleMarkdown() {
+  std::string md = "| field | type | unit | default | meaning |\n|---|---|---|---|---|\n";
+  for (const Knob& k : kKnobs) {
+    if (k.group() != KnobGroup::Style) continue;
+    std::string type = k.type() == KnobType::Boolean
+                           ? "boolean"
+                           : fmt::format("{} in [{}, {}]", k.type() == KnobType::Integer ? "integer" : "number",
+                                         number(k.min), number(k.max));
+    if (k.type() == KnobType::Choice) type = "string: " + choiceList(k, " or ");
+    md += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, type, k.unit.empty() ? "—" : k.unit,
+                      valueText(k, k.defaultValue(), true), k.doc);
+  }
+  return md;
+}
+
 std::string apiParametersMarkdown() {
   std::string md = "| name | range | default | unit | what |\n| --- | --- | --- | --- | --- |\n";
   for (const Knob& k : kKnobs) {

@@ -115,6 +115,8 @@ const Knob* findKnob(std::string_view name);
 /// The docs tables generated from the knob table (Markdown): the quality presets of scene files
 /// (docs/scene-file.md) and the knob parameters of the C API (docs/plugin-api.md).
 std::string sceneFileQualityMarkdown();
+/// The style keys of scene files (the "style" object; docs/scene-file.md).
+std::string sceneFileStyleMarkdown();
 std::string apiParametersMarkdown();
 
 }  // namespace nph::lighting

@@ -43,9 +43,12 @@ using json_detail::typeName;
 
 // The keys of quality.overrides are the quality rows of the knob table (lighting/knobs.h), with
 // their ranges; booleans are JSON true/false.
-void parseQualityOverrides(Object& o, lighting::QualitySettings& q) {
+/// The keys of `o` that are knobs of `group` (lighting/knobs.h) into `q` (QualitySettings for
+/// quality.overrides, StyleSettings for style), with the table's ranges and choices.
+template <typename Settings>
+void parseKnobs(Object& o, lighting::KnobGroup group, Settings& q) {
   for (const lighting::Knob& k : lighting::knobs()) {
-    if (k.group() != lighting::KnobGroup::Quality) continue;
+    if (k.group() != group) continue;
     switch (k.type()) {
       case lighting::KnobType::Number: k.set(q, o.number(k.name, k.get(q), k.min, k.max)); break;
       case lighting::KnobType::Integer: k.set(q, o.integer(k.name, int(k.get(q)), int(k.min), int(k.max))); break;
@@ -207,11 +210,18 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
         o.fail("quality.preset", e.what());
       }
       if (auto ov = o.optObject("overrides")) {
-        parseQualityOverrides(*ov, s.quality);
+        parseKnobs(*ov, lighting::KnobGroup::Quality, s.quality);
         ov->finish();
       }
       o.finish();
     }
+  }
+
+  // Style: how the scene looks rather than how accurately it is computed (phase asymmetries, sky
+  // light, ground albedo, the atmosphere); the knob table's style rows, e.g. "style": {"atmosphere": false}.
+  if (auto o = top.optObject("style")) {
+    parseKnobs(*o, lighting::KnobGroup::Style, s.style);
+    o->finish();
   }
 
   if (const json* a = top.get("animation")) {

@@ -87,6 +87,7 @@ struct SceneDescription {
   SunSpec sun;
   std::optional<BasemapSpec> basemap;
   lighting::QualitySettings quality;  ///< "quality": a preset and overrides (lighting/knobs.h)
+  lighting::StyleSettings style;      ///< "style": the look (the knob table's style rows)
   OutputSpec output;
   double height_exaggeration = 1.0;  ///< Nes 2008 §5.5.2
   ViewMode view = ViewMode::Flat;

@@ -154,15 +154,17 @@ TEST(Knobs, SceneFileOverridesAreTheQualityRows) {
 }
 
 // The docs tables are generated from the table; NEPHELE_UPDATE_DOCS=1 rewrites them in place.
-void checkGeneratedSection(const std::string& relativePath, const std::string& generated) {
+// `table` names a second generated table of a file ("style": markers "generated style table").
+void checkGeneratedSection(const std::string& relativePath, const std::string& generated, const std::string& table = "") {
   const std::string path = std::string(NEPHELE_SOURCE_DIR) + "/" + relativePath;
   std::ifstream in(path, std::ios::binary);
   ASSERT_TRUE(in) << "cannot read " << path;
   std::stringstream text;
   text << in.rdbuf();
   std::string doc = text.str();
-  const std::string begin = "<!-- generated from src/lighting/knobs.cpp: do not edit -->\n";
-  const std::string end = "<!-- end of generated table -->";
+  const std::string kind = table.empty() ? "" : " " + table + " table";
+  const std::string begin = "<!-- generated" + kind + " from src/lighting/knobs.cpp: do not edit -->\n";
+  const std::string end = "<!-- end of generated " + (table.empty() ? std::string() : table + " ") + "table -->";
   const std::size_t a = doc.find(begin);
   const std::size_t b = doc.find(end, a == std::string::npos ? 0 : a);
   ASSERT_NE(a, std::string::npos) << path << ": no line \"" << begin << "\"";
@@ -180,12 +182,13 @@ void checkGeneratedSection(const std::string& relativePath, const std::string& g
 
 TEST(Knobs, DocsTablesAreGeneratedFromTheTable) {
   checkGeneratedSection("docs/scene-file.md", sceneFileQualityMarkdown());
+  checkGeneratedSection("docs/scene-file.md", sceneFileStyleMarkdown(), "style");
   checkGeneratedSection("docs/plugin-api.md", apiParametersMarkdown());
   for (const Knob& k : knobs()) {
     const std::string row = fmt::format("| `{}` |", k.name);
-    if (k.group() == KnobGroup::Quality) {
-      EXPECT_NE(sceneFileQualityMarkdown().find(row), std::string::npos) << k.name;
-    }
+    EXPECT_NE((k.group() == KnobGroup::Quality ? sceneFileQualityMarkdown() : sceneFileStyleMarkdown()).find(row),
+              std::string::npos)
+        << k.name;
     EXPECT_NE(apiParametersMarkdown().find(row), std::string::npos) << k.name;
   }
 }

@@ -115,6 +115,13 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
       {R"({"quality": "ultra"})", "scene.json: quality: quality preset 'ultra'"},
       {R"({"quality": {"preset": "draft", "overrides": {"step_voxel": 1}}})", "quality.overrides.step_voxel: unknown key"},
       {R"({"quality": 3})", "quality: expected an object, got a number"},
+      {R"({"style": {"atmosfere": false}})", "scene.json: style.atmosfere: unknown key"},
+      {R"({"style": {"g_ice": 2}})", "style.g_ice: expected a number in"},
+      {R"({"style": {"step_voxels": 1}})", "style.step_voxels: unknown key"},
+      {R"({"output": {"display": "Rec.2020"}})", "output.display: "},
+      {R"({"output": {"view": "nephele"}})", "output.view: needs output.display"},
+      {R"({"output": {"pass_files": {"albedo": "a.png"}}})", "output.pass_files.albedo: unknown pass 'albedo'"},
+      {R"({"output": {"pass_files": {"depth": "z.png"}}})", "output.pass_files.depth: the depth pass holds distances"},
       {R"({"sun": {"from_time": true, "azimuth_deg": 10}})", "sun.azimuth_deg: not allowed with \"from_time\": true"},
       {R"({"sun": {"from_time": true, "time_utc": "noon"}})", "sun.time_utc: time 'noon'"},
       {R"({"sun": {"time_utc": "2026-09-01T12:00:00Z"}})", "sun.time_utc: only used with"},
@@ -139,6 +146,25 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
           << "input: " << text << "\nmessage: " << e.what() << "\nexpected: " << expected;
     }
   }
+}
+
+// The "style" object sets style knobs (lighting/knobs.h); absent, the style is StyleSettings{}.
+// Output colour and passes keys land in OutputSpec.
+TEST(SceneFile, StyleAndOutputPassesAndColour) {
+  const SceneDescription s = parseSceneText(R"({"style": {"atmosphere": false, "g_ice": 0.7, "ambient_b": 1.2},
+      "output": {"display": "Rec.2100-PQ", "passes": true, "pass_files": {"shadow": "m.png"}}})", "style.json");
+  EXPECT_FALSE(s.style.atmosphere);
+  EXPECT_EQ(s.style.g_ice, 0.7);
+  EXPECT_EQ(s.style.ambient.z, 1.2);
+  EXPECT_EQ(s.style.g_water, lighting::StyleSettings{}.g_water);
+  EXPECT_EQ(s.output.image.display, "Rec.2100-PQ");
+  EXPECT_TRUE(s.output.passes);
+  ASSERT_EQ(s.output.pass_files.size(), 1u);
+  EXPECT_EQ(s.output.pass_files[0].first, Pass::Shadow);
+  EXPECT_TRUE(s.output.wantsPasses());
+  const SceneDescription d = parseSceneText("{}", "empty.json");
+  EXPECT_TRUE(d.style.atmosphere);
+  EXPECT_FALSE(d.output.wantsPasses());
 }
 
 TEST(SceneFile, MissingFileIsAnInputErrorNamingIt) {
