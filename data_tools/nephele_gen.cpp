@@ -72,6 +72,11 @@ int main(int argc, char** argv) {
   wrf->add_option("--times", times, "hourly timesteps in the file (>= 1)")->check(CLI::PositiveNumber);
   wrf->add_option("--start-hour", start_hour, "hours after 2026-09-01_12:00:00 of the first timestep (for file series)");
   wrf->add_flag("--hail", hail, "add QHAIL/QNHAIL");
+  std::vector<double> mountain;
+  wrf->add_option("--mountain", mountain,
+                  "LON,LAT,HEIGHT_M,SIGMA_M: add a Gaussian mountain to HGT (terrain; issue 14), e.g. -76,25.3,2500,40000")
+      ->expected(4)
+      ->delimiter(',');
 
   CLI::App* icon = app.add_subcommand("icon", "ICON cloud scene");
   std::string icon_out = "icon_scene.nc";
@@ -104,6 +109,7 @@ int main(int argc, char** argv) {
       if (!storm || wrf->count("--times") > 0) spec.ntimes = times;
       spec.first_hour = start_hour;
       spec.include_hail = hail;
+      if (!mountain.empty()) spec.mountain = {mountain[0], mountain[1], mountain[2], mountain[3]};
       spec.format = format(spec.format);
       const auto t0 = std::chrono::steady_clock::now();
       const auto truth = nph::datagen::writeWrfHurricane(spec, path);

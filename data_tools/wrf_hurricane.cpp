@@ -740,6 +740,25 @@ WrfTruth Writer::run() {
         lon_[c] = static_cast<float>(lon);
       }
     }
+    // The Gaussian mountain at its lon/lat: forward through the same projection to grid metres.
+    const GaussianMountain& mt = spec_.mountain;
+    if (mt.height_m != 0.0) {
+      const glm::dvec2 at = projection.forward({mt.lon_deg, mt.lat_deg});
+      const double mx = ((at.x - xc) / step + 0.5 * (g_.nx - 1)) * spec_.dx_m;
+      const double my = ((at.y - yc) / step + 0.5 * (g_.ny - 1)) * spec_.dx_m;
+      for (int j = 0; j < g_.ny; ++j) {
+        for (int i = 0; i < g_.nx; ++i) {
+          const double r2 = (i * spec_.dx_m - mx) * (i * spec_.dx_m - mx) + (j * spec_.dx_m - my) * (j * spec_.dx_m - my);
+          terrain_m_[std::size_t(j) * std::size_t(g_.nx) + std::size_t(i)] +=
+              mt.height_m * std::exp(-r2 / (2.0 * mt.sigma_m * mt.sigma_m));
+        }
+      }
+      truth_.terrain_m = terrain_m_;
+      truth_.mountain_x_m = mx;
+      truth_.mountain_y_m = my;
+    }
+  } else if (spec_.mountain.height_m != 0.0) {
+    throw UsageError("a mountain at a lon/lat needs a map projection; the Cartesian grid has none");
   }
 
   defineFile();
@@ -763,8 +782,9 @@ WrfHurricaneSpec coarseStormSpec() {
 }
 
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path) {
-  if (spec.nx < 1 || spec.ny < 1 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dx_m > 0.0)) {
-    throw UsageError(fmt::format("{}: hurricane grid must have nx, ny, nz, ntimes >= 1 and dx > 0", path));
+  if (spec.nx < 1 || spec.ny < 1 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dx_m > 0.0) ||
+      !(spec.mountain.sigma_m > 0.0) || !std::isfinite(spec.mountain.height_m)) {
+    throw UsageError(fmt::format("{}: hurricane grid must have nx, ny, nz, ntimes >= 1 and dx > 0; a mountain sigma > 0", path));
   }
   Writer writer(spec, path);
   return writer.run();

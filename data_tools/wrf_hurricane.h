@@ -4,6 +4,7 @@
 // anvil of ice outflow aloft, drifting north-west and intensifying over hourly timesteps, on
 // terrain-following dry-hydrostatic eta levels over a small island, in the standard atmosphere.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,15 @@ enum class WrfScheme {
   Wsm3Like       ///< MP_PHYSICS = 3: QCLOUD/QRAIN only, frozen condensate inside them below 0 °C
 };
 
+/// A Gaussian mountain added to the terrain (issue 14's placement test: "a generated storm over a
+/// generated Gaussian mountain at a known lon/lat"): HGT += height·exp(−r²/(2σ²)), r the grid-metric
+/// distance [m] from the mass-point position of (lon, lat) (through the file's own projection).
+struct GaussianMountain {
+  double lon_deg = 0.0, lat_deg = 0.0;
+  double height_m = 0.0;  ///< 0: no mountain
+  double sigma_m = 30000.0;
+};
+
 struct WrfHurricaneSpec {
   int nx = 40, ny = 36, nz = 20;  ///< mass points (west_east, south_north, bottom_top)
   int ntimes = 6;                 ///< hourly timesteps in this file
@@ -44,6 +54,7 @@ struct WrfHurricaneSpec {
   NcFormat format = NcFormat::Classic64;
   bool keep_truth = false;        ///< fill WrfTruth's 3-D fields (tests; costs memory)
   WrfCase weather = WrfCase::Hurricane;
+  GaussianMountain mountain;      ///< none by default (height 0); needs a projection (not Cartesian)
 };
 
 /// What the generator wrote, in double precision, to check loaders against.
@@ -58,6 +69,8 @@ struct WrfTruth {
   std::vector<double> terrain_m;           ///< nx*ny
   std::vector<double> lat_deg, lon_deg;    ///< nx*ny; empty for Cartesian
   double storm_centre_x_m = 0.0, storm_centre_y_m = 0.0;  ///< first timestep, from grid point 0
+  /// The mountain's summit in grid metres from mass point (0, 0) (NaN without a mountain).
+  double mountain_x_m = std::numeric_limits<double>::quiet_NaN(), mountain_y_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The storm centre's (lon, lat) [deg] at the first timestep: the truth's XLONG/XLAT interpolated

@@ -13,10 +13,13 @@
 //              48  u64      reserved (0)        56  u64  XXH64 of header bytes [0, 56)
 //   chunks    one zstd frame per timestep: uint16 ice codes (nx*ny*nz_t), then uint16 water
 //             codes, x fastest (quantize.h); optionally one zstd frame of float32 lat then lon
-//             (the geolocation of mass points)
+//             (the geolocation of mass points); optionally one zstd frame of float32 terrain
+//             height above MSL [m] at the mass points (x fastest; issue 14), static in time
 //   index     UTF-8 JSON: grid, georeference, optics settings used, inputs, quantisation, and
 //             per timestep: time, provenance, nz_t, maxima (the decoding scales) and the chunk's
 //             offset, sizes and XXH64 (checksum.h) of the compressed bytes.
+// Files written before issue 14 have no "terrain" key in the index's grid: they read as sea level
+// (an empty ExtinctionVolumes::terrain_height_m), as does a file whose model had no terrain.
 // Each timestep is cropped to its own nz_t (just above its highest condensate); the reader pads
 // every timestep to the file's nz (the largest nz_t) with zeros, so all volumes share one grid.
 //
@@ -42,6 +45,7 @@ struct NphMetadata {
   double dz_m = 0.0;
   double z_bottom_m = 0.0;
   geo::GridGeoreference georef;
+  std::vector<float> terrain_height_m;  ///< nx*ny surface heights [m]; empty = sea level (no chunk)
   std::string optics_json = "{}";  ///< optics settings used (a JSON object, written by physics/)
   std::vector<std::string> inputs;  ///< input files
   std::string created_by;           ///< e.g. "nephele 0.1.0"

@@ -43,7 +43,7 @@ ChunkRef chunkFromJson(const json& j) {
 }  // namespace
 
 json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timesteps,
-                 const ChunkRef& geolocation) {
+                 const ChunkRef& geolocation, const ChunkRef& terrain) {
   int nz = 0;
   for (const auto& t : timesteps) nz = std::max(nz, t.nz);
   json optics = json::parse(m.optics_json, nullptr, /*allow_exceptions=*/false);
@@ -54,6 +54,7 @@ json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timestep
   j["created_by"] = m.created_by;
   j["grid"] = {{"nx", m.nx}, {"ny", m.ny}, {"nz", nz}, {"dz_m", m.dz_m},
                {"z_bottom_m", m.z_bottom_m},
+               {"terrain", terrain.present() ? chunkJson(terrain) : json()},
                {"layout", "x fastest, then y, then z; voxel k centred at z_bottom_m+(k+0.5)*dz_m"}};
   j["georeference"] = {{"proj_definition", m.georef.proj_definition},
                        {"dx", m.georef.dx_m},
@@ -93,6 +94,8 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
     d.nz = g.at("nz").get<int>();
     m.dz_m = g.at("dz_m").get<double>();
     m.z_bottom_m = g.at("z_bottom_m").get<double>();
+    // Optional: files before issue 14 have no terrain (sea level).
+    if (g.contains("terrain") && !g.at("terrain").is_null()) d.terrain = chunkFromJson(g.at("terrain"));
     const json& geo = j.at("georeference");
     m.georef.proj_definition = geo.at("proj_definition").get<std::string>();
     m.georef.dx_m = geo.at("dx").get<double>();

@@ -19,12 +19,13 @@ struct ChunkRef {
 };
 
 nlohmann::json encodeIndex(const NphMetadata& metadata, const std::vector<TimestepInfo>& timesteps,
-                           const ChunkRef& geolocation);
+                           const ChunkRef& geolocation, const ChunkRef& terrain = {});
 
 struct DecodedIndex {
   NphMetadata metadata;
   std::vector<TimestepInfo> timesteps;
   ChunkRef geolocation;
+  ChunkRef terrain;  ///< absent in files before issue 14
   int nz = 0;
 };
 /// Throws InputError naming `file` when a field is missing or has the wrong type.

@@ -173,6 +173,17 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
     std::memcpy(g.lat_deg.data(), latlon.data(), columns * sizeof(float));
     std::memcpy(g.lon_deg.data(), latlon.data() + columns * sizeof(float), columns * sizeof(float));
   }
+  if (s.index.terrain.present()) {
+    const std::size_t columns = std::size_t(s.index.metadata.nx) * std::size_t(s.index.metadata.ny);
+    if (s.index.terrain.raw_bytes != columns * sizeof(float)) {
+      throw InputError(fmt::format("{}: terrain chunk has {} bytes, expected {} ({} columns of float32)", s.name(),
+                                   s.index.terrain.raw_bytes, columns * sizeof(float), columns));
+    }
+    const std::vector<std::byte> heights = s.readBlock(s.index.terrain, "terrain chunk");
+    std::vector<float>& terrain = s.index.metadata.terrain_height_m;
+    terrain.resize(columns);
+    std::memcpy(terrain.data(), heights.data(), columns * sizeof(float));
+  }
 }
 
 NphReader::~NphReader() = default;
@@ -236,6 +247,7 @@ ExtinctionVolumes NphReader::read(std::size_t t) const {
   v.dz_m = m.dz_m;
   v.z_bottom_m = m.z_bottom_m;
   v.georef = m.georef;
+  v.terrain_height_m = m.terrain_height_m;
   v.time_utc = info.time_utc;
   v.source_file = info.source_file;
   v.source_time_index = info.source_time_index;

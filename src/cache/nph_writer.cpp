@@ -36,6 +36,7 @@ struct NphWriter::State {
   std::uint64_t offset = 0;  ///< bytes written so far = offset of the next block
   std::vector<TimestepInfo> timesteps;
   ChunkRef geolocation;
+  ChunkRef terrain;
   bool committed = false;
   int cleanup_slot = -1;  ///< temp_files::registerForCleanup (unlinked on SIGINT/SIGTERM)
   ZSTD_CCtx* cctx = nullptr;
@@ -126,6 +127,20 @@ NphWriter::NphWriter(std::filesystem::path path, NphMetadata metadata, WriterOpt
     latlon.insert(latlon.end(), g.lon_deg.begin(), g.lon_deg.end());
     s.geolocation = s.writeChunk(latlon.data(), latlon.size() * sizeof(float));
   }
+  const std::vector<float>& terrain = s.metadata.terrain_height_m;
+  if (!terrain.empty()) {
+    if (terrain.size() != columns) {
+      throw UsageError(fmt::format("{}: terrain has {} values, expected {} ({}x{})", s.path.string(), terrain.size(),
+                                   columns, s.metadata.nx, s.metadata.ny));
+    }
+    for (std::size_t q = 0; q < columns; ++q) {
+      if (!std::isfinite(terrain[q])) {
+        throw InputError(fmt::format("{}: terrain height at column {} is {}; expected a finite height [m]",
+                                     s.path.string(), q, terrain[q]));
+      }
+    }
+    s.terrain = s.writeChunk(terrain.data(), terrain.size() * sizeof(float));
+  }
 }
 
 NphWriter::~NphWriter() = default;
@@ -183,7 +198,7 @@ void NphWriter::commit() {
   if (s.committed) return;
   // Provenance strings (input paths) need not be UTF-8 on Linux; dump() threw an error naming no
   // file at the very end of a conversion. Such bytes are stored as U+FFFD instead.
-  const std::string index = encodeIndex(s.metadata, s.timesteps, s.geolocation)
+  const std::string index = encodeIndex(s.metadata, s.timesteps, s.geolocation, s.terrain)
                                 .dump(1, ' ', false, nlohmann::json::error_handler_t::replace);
   detail::Header h;
   h.version = kFormatVersion;

@@ -155,6 +155,7 @@ int runConvert(const ConvertOptions& o) {
       meta.dz_m = o.dz_m;
       meta.z_bottom_m = *vertical.z_bottom_m;
       meta.georef = ts.georef;
+      meta.terrain_height_m = ts.terrain_height_m;  // static: the first timestep's
       meta.optics_json = optics.toJson();
       meta.inputs = o.inputs;
       meta.created_by = "nephele " NEPHELE_VERSION;

@@ -117,6 +117,7 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
   out.dz_m = a.dz_m;
   out.z_bottom_m = std::min(a.z_bottom_m, b.z_bottom_m);
   out.georef = a.georef;
+  out.terrain_height_m = a.terrain_height_m;  // static in time
   out.time_utc = w < 0.5 ? a.time_utc : b.time_utc;
   out.source_file = a.source_file;
   out.source_time_index = a.source_time_index;

@@ -37,7 +37,7 @@ TimestepCache::~TimestepCache() {
 }
 
 std::size_t TimestepCache::bytesOf(const ExtinctionVolumes& v) {
-  return (v.ice_per_m.size() + v.water_per_m.size()) * sizeof(float);
+  return (v.ice_per_m.size() + v.water_per_m.size() + v.terrain_height_m.size()) * sizeof(float);
 }
 
 bool TimestepCache::keptLocked(std::size_t t) const { return contains(pinned_, t) || contains(ahead_, t); }

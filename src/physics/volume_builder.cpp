@@ -12,6 +12,7 @@ ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts,
   ExtinctionVolumes v;
   resampleVertically(ts, beta, grid, v);
   v.georef = ts.georef;
+  v.terrain_height_m = ts.terrain_height_m;  // checked against nx×ny by planVerticalGrid
   v.time_utc = ts.time_utc;
   v.source_file = ts.source_file;
   v.source_time_index = ts.time_index;

@@ -28,6 +28,11 @@ struct ExtinctionVolumes {
   std::string source_file;  ///< model file this timestep came from (provenance)
   std::int64_t source_time_index = 0;
 
+  /// Ground elevation above mean sea level [m] at the nx×ny mass points (x fastest, as a layer of
+  /// the volumes): the model's own field (WRF HGT, ICON HSURF / the lowest z_ifc; io/model_fields.h).
+  /// Static in time, so the .nph file stores it once (cache/nph_cache.h). Empty: the ground is at
+  /// sea level everywhere (generated scenes, files without terrain, .nph files before issue 14).
+  std::vector<float> terrain_height_m;
   std::vector<float> ice_per_m;    ///< β_ext of ice + snow + graupel + hail [1/m]
   std::vector<float> water_per_m;  ///< β_ext of cloud + rain [1/m]
   float max_ice_per_m = 0.0f;

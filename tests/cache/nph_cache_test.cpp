@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -162,6 +163,26 @@ TEST_F(NphCacheTest, FileWithoutGeolocation) {
   NphReader r(file);
   EXPECT_TRUE(r.metadata().georef.lat_deg.empty());
   EXPECT_EQ(r.read(0).nz, 3);
+}
+
+// Terrain (issue 14): stored once, read back bit-exact with every timestep; a file without it
+// (all files before issue 14) reads as sea level, an empty field.
+TEST_F(NphCacheTest, TerrainIsStoredOnceAndReadExactlyWithEveryTimestep) {
+  NphMetadata m = smallMetadata();
+  for (int n = 0; n < m.nx * m.ny; ++n) m.terrain_height_m.push_back(-12.5f + 317.25f * float(n % 11));
+  const fs::path file = writeFile(dir_ / "hills.nph", m, {randomVolumes(m, 3, 5, 0.1f), randomVolumes(m, 2, 6, 0.1f)});
+  NphReader r(file);
+  EXPECT_EQ(r.metadata().terrain_height_m, m.terrain_height_m);
+  EXPECT_EQ(r.read(0).terrain_height_m, m.terrain_height_m);
+  EXPECT_EQ(r.read(1).terrain_height_m, m.terrain_height_m);
+
+  const fs::path flat = writeFile(dir_ / "sea.nph", smallMetadata(), {randomVolumes(m, 3, 5, 0.1f)});
+  EXPECT_TRUE(NphReader(flat).read(0).terrain_height_m.empty());
+
+  m.terrain_height_m.pop_back();
+  EXPECT_THROW(NphWriter(dir_ / "short.nph", m), UsageError);
+  m.terrain_height_m.push_back(std::numeric_limits<float>::quiet_NaN());
+  EXPECT_THROW(NphWriter(dir_ / "nan.nph", m), InputError);
 }
 
 // --- corrupt and truncated files: InputError naming the file (and the chunk) ---------------
