@@ -92,6 +92,63 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
 #include "atmosphere/model.glsl"
 #include "atmosphere/sky.glsl"
 
+// The ground's height field (issue 14; glsl/common/terrain.glsl) and the far basemap (item 4). One
+// std140 block, declared in C++ as gl::TerrainBlock (render/gl/uniform_blocks.h).
+layout(binding = UNIT_TERRAIN) uniform sampler2D u_terrain;  // R32F height [m] per mass point
+layout(binding = UNIT_FAR_BASEMAP) uniform sampler2D u_far_basemap;  // linear RGB over u_far_basemap_min..max
+layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
+  ivec2 u_terrain_size;          // mass points nx, ny
+  vec2 u_terrain_cell_m;         // world dx, dy
+  float u_terrain_exaggeration;  // the clouds' height exaggeration e
+  float u_terrain_fade_m;        // beyond the footprint, heights fall to 0 over this distance
+  float u_terrain_max_m;         // highest world height (≥ 0)
+  float u_terrain_min_m;         // lowest world height (≤ 0)
+  float u_terrain_lipschitz;     // slope bound of the surface
+  bool u_has_terrain;            // displaced ground; else the plane z = 0
+  vec2 u_far_basemap_min_m;      // the far basemap's world rectangle (item 4: no void)
+  vec2 u_far_basemap_max_m;
+  bool u_has_far_basemap;
+};
+#define Vec2 vec2
+struct TerrainGrid {
+  ivec2 size;
+  vec2 cell_m;
+  float exaggeration, fade_m, max_m, min_m, lipschitz;
+};
+#define TERRAIN_TEXEL(g, i, j) texelFetch(u_terrain, ivec2(i, j), 0).r
+#include "common/terrain.glsl"
+
+TerrainGrid terrainGrid() {
+  return TerrainGrid(u_terrain_size, u_terrain_cell_m, u_terrain_exaggeration, u_terrain_fade_m, u_terrain_max_m,
+                     u_terrain_min_m, u_terrain_lipschitz);
+}
+
+// Flat view: distance along the ray to the ground — the displaced terrain, or the plane z = 0
+// without terrain (then exactly the division of before, so images without terrain keep their bits).
+float flatGroundDistance(vec3 o, vec3 d) {
+  if (u_has_terrain) return terrainHitDistance(terrainGrid(), o, d, 0.0, kTerrainMiss_m);
+  return d.z < 0.0 ? -o.z / d.z : kTerrainMiss_m;
+}
+
+// Ground albedo at a world point of the flat view: the near basemap (the data's footprint plus a
+// margin, fine), else the far basemap (item 4: the ground continues beyond, Blue Marble being
+// global), else the ocean albedo.
+vec3 flatGroundAlbedo(vec2 xy) {
+  if (u_has_basemap) {
+    vec2 uv = (xy - u_basemap_min_m) / (u_basemap_max_m - u_basemap_min_m);
+    if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
+      return texture(u_basemap, vec2(uv.x, 1.0 - uv.y)).rgb;  // image row 0 = north edge
+    }
+  }
+  if (u_has_far_basemap) {
+    vec2 uv = (xy - u_far_basemap_min_m) / (u_far_basemap_max_m - u_far_basemap_min_m);
+    if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
+      return texture(u_far_basemap, vec2(uv.x, 1.0 - uv.y)).rgb;
+    }
+  }
+  return u_ocean_albedo;
+}
+
 // (τ_up, τ_down) at a world point: the column depths trilinear between voxel centres, clamped to
 // the edge (the CPU twin: volume/column_depth.h columnDepthAt).
 vec2 columnDepthAt(vec3 world_m) { return texture(u_column_depth, volumeUvw(world_m)).rg; }
@@ -153,6 +210,10 @@ void main() {
   float tGround = u_globe ? globeGroundDistance(origin, dir) : kNoHit_m;
   vec2 span = u_globe ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
+  // Flat view: the ground along this ray (issue 14). The displaced terrain also ends the cloud
+  // march — clouds behind a mountain are hidden by it (without terrain the march is as before).
+  float tFlatGround = u_globe ? kTerrainMiss_m : flatGroundDistance(origin, dir);
+  if (u_has_terrain && !u_globe) span.y = min(span.y, tFlatGround);
   // The sun's irradiance where this ray meets the clouds: E·T_atm(h, μ_s) at its first cloudy
   // sample (one table look-up per ray; a deck's depth is small next to the 8 km Rayleigh scale
   // height, so the reddening is taken once).
@@ -241,27 +302,41 @@ void main() {
       ground *= ap.transmittance;
       sky = sky * ap.transmittance + u_sun_radiance * ap.inscattered;
     }
-  } else if (dir.z < 0.0) {
-    vec3 g = origin + (-origin.z / dir.z) * dir;
-    vec3 albedo = u_ocean_albedo;
-    if (u_has_basemap) {
-      vec2 uv = (g.xy - u_basemap_min_m) / (u_basemap_max_m - u_basemap_min_m);
-      if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
-        albedo = texture(u_basemap, vec2(uv.x, 1.0 - uv.y)).rgb;  // image row 0 = north edge
-      }
-    }
-    float sunCos = max(u_to_sun.z, 0.0);
+  } else if (tFlatGround < kTerrainMiss_m) {
+    // The ground (Nes 2008 §5.5: the basemap under the clouds; Thomann 2021 §5.3: the terrain):
+    // a Lambertian surface of albedo ρ with normal n (terrain.glsl; (0, 0, 1) on the plane),
+    //   L_ground = ρ/π · (E·cos θ_sun·shadow·V + E_sky·T_d(τ_up)·(1 + n_z)/2),
+    // cos θ_sun = max(n·ω_sun, 0); `shadow` the cloud shadow matte: the DLM's transmittance
+    // through the clouds at the (3-D) ground point (Nes §5.4.1); V the terrain's own shadow (0
+    // where the sun's ray from the point meets a mountain); the sky light through the column
+    // above (two-stream T_d) over the part of the sky a tilted surface sees, (1 + n_z)/2.
+    vec3 g = origin + tFlatGround * dir;
+    vec3 n = u_has_terrain ? terrainNormal(terrainGrid(), g.xy) : vec3(0.0, 0.0, 1.0);
+    vec3 albedo = flatGroundAlbedo(g.xy);
+    float sunCos = max(dot(n, u_to_sun), 0.0);
     shadow = u_shadows ? dlmIntensity(g) : 1.0;
-    float skyShadow = u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0;
+    float sunVisible = 1.0;  // V
+    if (u_has_terrain && sunCos > 0.0) {
+      // Lift the shadow ray's start off the surface by a hundredth of a cell along the normal.
+      vec3 start = g + n * (0.01 * min(u_terrain_cell_m.x, u_terrain_cell_m.y));
+      if (terrainHitDistance(terrainGrid(), start, u_to_sun, 0.0, kTerrainMiss_m) < kTerrainMiss_m) sunVisible = 0.0;
+    }
+    float skyView = u_has_terrain ? 0.5 * (1.0 + n.z) : 1.0;
+    float skyShadow = (u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0) * skyView;
     sky = vec3(0.0);
     if (u_atmosphere) {
+      // The atmosphere's altitude of a ground point is its world z, as for the clouds' samples;
+      // not below the model's ground (the tables are NaN under r = R: the bisection leaves g.z a
+      // hair below a sea-level surface, and land may lie below sea level).
+      float altitude = u_has_terrain ? max(g.z, 0.0) : 0.0;
       ground = albedo / kPi * u_sun_radiance *
-               (sunlightAt(0.0, u_to_sun.z) * sunCos * shadow + skyIrradiance(0.0, u_to_sun.z) * skyShadow);
-      AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, -origin.z / dir.z, u_to_sun);
+               (sunlightAt(altitude, u_to_sun.z) * sunCos * shadow * sunVisible +
+                skyIrradiance(altitude, u_to_sun.z) * skyShadow);
+      AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, tFlatGround, u_to_sun);
       ground *= ap.transmittance;
       sky = u_sun_radiance * ap.inscattered;
     } else {
-      ground = albedo / kPi * (u_sun_radiance * sunCos * shadow + kPi * u_sky_radiance * skyShadow);
+      ground = albedo / kPi * (u_sun_radiance * sunCos * shadow * sunVisible + kPi * u_sky_radiance * skyShadow);
     }
   } else if (u_atmosphere) {  // the sky above the flat view's horizon
     sky = u_sun_radiance * skyViewRadiance(dir, u_to_sun);

@@ -86,6 +86,8 @@ void describeNph(const std::string& path, const InfoOptions& o) {
   out(fmt::format("  spacing       dx {} dy {}, origin ({}, {})\n", m.georef.dx_m, m.georef.dy_m,
                   m.georef.x0, m.georef.y0));
   out(fmt::format("  geolocation   {}\n", m.georef.lat_deg.empty() ? "absent" : "lat/lon per column"));
+  out(fmt::format("  terrain [m]   {}\n", m.terrain_height_m.empty() ? std::string("absent (sea level)")
+                                                                     : rangeText(m.terrain_height_m)));
   out(fmt::format("  variables     ice_per_m, water_per_m [1/m] (16-bit, linear per timestep)\n"));
   out(fmt::format("  optics        {}\n", opticsText(m.optics_json)));
   out(fmt::format("  inputs        {}\n", fmt::join(m.inputs, ", ")));

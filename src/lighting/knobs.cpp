@@ -79,6 +79,8 @@ constexpr std::array kKnobs{
          .doc = "sky light scale, blue (1 = the analytic clear sky at the sun's elevation)"},
     Knob{.name = "atmosphere", .unit = "", .min = 0, .max = 1, .field = &S::atmosphere,
          .doc = "physically based sky, sunlight and aerial perspective (0: uniform ambient sky)"},
+    Knob{.name = "terrain", .unit = "", .min = 0, .max = 1, .field = &S::terrain,
+         .doc = "ground displaced by the model's terrain height (WRF HGT, ICON HSURF), exaggerated as the clouds"},
 };
 // clang-format on
 

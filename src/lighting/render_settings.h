@@ -28,6 +28,10 @@ struct StyleSettings {
   /// through the air, sky irradiance of the ground, aerial perspective. Off: the uniform ambient
   /// sky, the navy flat-view background and the cosmetic limb of before.
   bool atmosphere = true;
+  /// The ground displaced by the model's terrain (issue 14; volume/terrain_field.h), with the
+  /// height exaggeration of the clouds. Off: the plane z = 0 of before (the clouds then reach down
+  /// to the data's lowest layer wherever the terrain is).
+  bool terrain = true;
 };
 
 /// The ray caster's settings: sampling (from QualitySettings, lighting::renderSettingsFor) and

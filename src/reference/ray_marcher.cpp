@@ -13,7 +13,8 @@ namespace nph::reference {
 
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit,
-                  const RayEndVisitor& end, scene::Reconstruction reconstruction) {
+                  const RayEndVisitor& end, scene::Reconstruction reconstruction,
+                  const scene::TerrainField* terrain) {
   const scene::ExtinctionSampler sampler(volumes, frame, reconstruction);
   const glm::dvec3 voxel = frame.voxel_size_m;
   const double step = step_voxels * std::min({voxel.x, voxel.y, voxel.z});
@@ -34,6 +35,10 @@ void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& fr
         if (ta > tb) std::swap(ta, tb);
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);
+      }
+      if (terrain != nullptr && terrain->present() && t0 < t1) {  // the ground ends the ray (clouds.comp)
+        const double ground = terrain->hitDistance(o, dir, 0.0, 3.0e38);
+        if (ground >= 0.0) t1 = std::min(t1, ground);
       }
       double T = 1.0;
       const double depthScale = frame.opticalDepthScale(dir);  // the data's τ (VolumeFrame)
@@ -71,6 +76,7 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
   const glm::dvec3 sunRadiance = sun.colour * sun.intensity;
   const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
   const ColumnDepths depths = columnDepths(volumes);
+  const scene::TerrainField terrain = scene::terrainOf(volumes, frame);
   const auto pixel = [&](int x, int y) { return std::size_t(y) * std::size_t(img.width) + std::size_t(x); };
   marchSamples(
       volumes, frame, camera, s.step_voxels, s.min_transmittance,
@@ -94,7 +100,7 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
         px[2] = float(C.z);
         px[3] = float(1.0 - T);
       },
-      s.reconstruction);
+      s.reconstruction, s.terrain ? &terrain : nullptr);
   return img;
 }
 

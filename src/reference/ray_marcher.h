@@ -14,6 +14,7 @@
 #include "scene/sun.h"
 #include "volume/column_depth.h"
 #include "volume/extinction_volumes.h"
+#include "volume/terrain_field.h"
 #include "volume/volume_frame.h"
 
 namespace nph::reference {
@@ -36,11 +37,13 @@ using RayEndVisitor = std::function<void(int x, int y, double transmittance)>;
 /// The eye pass's march (pixel-centre rays, step × the smallest voxel side, midpoint samples,
 /// stop below `min_transmittance`, β by `reconstruction`): `visit` for every sample front to back, `end` once per ray
 /// with its final transmittance. Rows run in parallel (TBB): the visitors must only touch their
-/// own pixel's data.
+/// own pixel's data. With `terrain` (present) a ray ends where it meets the displaced ground, as
+/// the GPU's does (glsl/common/terrain.glsl, the same code compiled as C++).
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit,
                   const RayEndVisitor& end,
-                  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
+                  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
+                  const scene::TerrainField* terrain = nullptr);
 
 /// The sky light a sample scatters towards the eye (glsl/render/clouds.comp skyLightAt):
 /// ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) with g the sample's β-weighted asymmetry.
@@ -48,6 +51,7 @@ glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& dep
                           const RaySample& sample, const RayMarchSettings& settings);
 
 /// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
+/// With settings.terrain, rays end at the volumes' terrain (the GPU's rule).
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
                                  const scene::Camera& camera, const scene::Sun& sun,
                                  const std::function<double(const glm::dvec3&)>& sunlightAt,

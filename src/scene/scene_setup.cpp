@@ -30,6 +30,13 @@ std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string
                                *data.time_utc, times.size(), times.front(), times.back()));
 }
 
+WorldRect farBasemapRectangle(const VolumeFrame& frame) {
+  const glm::dvec3 size = frame.size_m();
+  const double half = std::max(2.0e6, 3.0 * std::max(size.x, size.y));
+  const glm::dvec2 centre{0.5 * size.x, 0.5 * size.y};
+  return {centre - glm::dvec2(half), centre + glm::dvec2(half)};
+}
+
 PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v) {
   PreparedScene p;
   p.frame = frameOf(v, s.height_exaggeration);
@@ -65,7 +72,12 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
     const int h = std::max(1, static_cast<int>(std::lround(n * extent.y / longSide)));
     const EquirectangularImage source = EquirectangularImage::load(s.basemap->path);
     p.basemap = reprojectBasemap(source, *geo, rect, w, h);
-    if (s.view == ViewMode::Globe) p.basemap_equirect = source.image();
+    if (s.view == ViewMode::Globe) {
+      p.basemap_equirect = source.image();
+    } else {
+      p.far_basemap_rect = farBasemapRectangle(p.frame);
+      p.far_basemap = reprojectBasemap(source, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
+    }
     p.basemap_rect = rect;
     log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h,
               extent.x / 1000.0, extent.y / 1000.0);

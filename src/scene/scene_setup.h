@@ -33,7 +33,19 @@ struct PreparedScene {
   std::optional<WorldRect> basemap_rect; ///< world rectangle the basemap covers
   LinearRgbImage basemap;                ///< reprojected linear RGB (empty without a basemap)
   LinearRgbImage basemap_equirect;       ///< globe: the whole source image by lon/lat (else empty)
+  /// Flat view (issue 14 item 4, no void): the same source reprojected, coarser, over a square of
+  /// farBasemapRectangle() around the footprint, so the ground goes on to the horizon (where the
+  /// atmosphere's aerial perspective fades it into the sky) instead of ending at the near one.
+  std::optional<WorldRect> far_basemap_rect;
+  LinearRgbImage far_basemap;
 };
+
+/// The far basemap's rectangle: the footprint's centre ± max(2000 km, 3 × its longer side). At
+/// 2000 km the sea-level air's transmittance is below e^{−10} even in the red (Rayleigh + aerosol,
+/// atmosphere/atmosphere.h), so ground further out is never seen through the atmosphere.
+WorldRect farBasemapRectangle(const VolumeFrame& frame);
+/// Pixels on each side of the far basemap: 1024 (≈ 4 km each at 2000 km; Blue Marble has 15 km).
+inline constexpr int kFarBasemapPixels = 1024;
 
 /// Builds the scene. Throws InputError for what the scene asks but the data cannot give (a
 /// basemap or a timed sun for a volume without a place on Earth, a missing basemap file, ...).

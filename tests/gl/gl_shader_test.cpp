@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <map>
 #include <regex>
 #include <span>
 #include <string>
@@ -124,6 +125,8 @@ TEST_F(GlShaderTest, UniformBlocksMatchTheLinkedPrograms) {
        {{"render/clouds.comp", {}}}},
       {gl::GlobeBlock::kGlslName, gl::GlobeBlock::kBinding, sizeof(gl::GlobeBlock), gl::kGlobeMembers,
        {{"render/clouds.comp", {}}}},
+      {gl::TerrainBlock::kGlslName, gl::TerrainBlock::kBinding, sizeof(gl::TerrainBlock), gl::kTerrainMembers,
+       {{"render/clouds.comp", {}}}},
       {gl::AtmosphereBlock::kGlslName, gl::AtmosphereBlock::kBinding, sizeof(gl::AtmosphereBlock),
        gl::kAtmosphereMembers,
        {{"atmosphere/transmittance.comp", {}}, {"atmosphere/multiscattering.comp", {}},
@@ -154,6 +157,54 @@ TEST_F(GlShaderTest, UniformBlocksMatchTheLinkedPrograms) {
       }
     }
   }
+}
+
+// Texture and image units only have to be distinct among the samplers (images) one program uses
+// (render/gl/bindings.h) — and there they must be: two samplers on one unit read the same texture,
+// which compiles and links without a word (issue 14: the column depths and the transmittance table
+// shared unit 10 and the ground came out 10x too dark). Every compute program, each variant the
+// passes build, is asked for its active samplers and images and their units (GL 4.5 §7.3.1).
+TEST_F(GlShaderTest, EveryProgramGivesEachSamplerAndImageItsOwnUnit) {
+  std::vector<std::pair<std::string, gl::Defines>> programs;
+  for (const auto& s : gl::embeddedShaders()) {
+    if (stageOf(s.name) == GL_COMPUTE_SHADER) programs.push_back({s.name, {}});
+  }
+  programs.push_back({"dlm/march.comp", {{"PERIPHERAL", "1"}}});
+  programs.push_back({"dlm/march.comp", {{"UNCOMPRESSED", "1"}}});
+  ASSERT_GE(programs.size(), 8u);
+  int samplers_seen = 0;
+  for (const auto& [name, defines] : programs) {
+    SCOPED_TRACE(name);
+    const gl::Program p = gl::Program::compute(name, defines);
+    GLint count = 0;
+    glGetProgramInterfaceiv(p.id(), GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
+    std::map<GLint, std::string> texture_units, image_units;
+    for (GLint u = 0; u < count; ++u) {
+      const GLenum props[] = {GL_TYPE, GL_LOCATION, GL_BLOCK_INDEX};
+      GLint v[3] = {0, -1, -1};
+      glGetProgramResourceiv(p.id(), GL_UNIFORM, GLuint(u), 3, props, 3, nullptr, v);
+      if (v[2] != -1 || v[1] < 0) continue;  // block members have no unit
+      char uniform_name[256] = {};
+      glGetProgramResourceName(p.id(), GL_UNIFORM, GLuint(u), sizeof(uniform_name), nullptr, uniform_name);
+      const GLenum type = GLenum(v[0]);
+      const bool is_image = (type >= GL_IMAGE_1D && type <= GL_IMAGE_2D_MULTISAMPLE_ARRAY) ||
+                            (type >= GL_INT_IMAGE_1D && type <= GL_UNSIGNED_INT_IMAGE_2D_MULTISAMPLE_ARRAY);
+      const bool is_sampler = (type >= GL_SAMPLER_1D && type <= GL_SAMPLER_2D_SHADOW) ||
+                              (type >= GL_SAMPLER_1D_ARRAY && type <= GL_SAMPLER_CUBE_SHADOW) ||
+                              (type >= GL_INT_SAMPLER_1D && type <= GL_UNSIGNED_INT_SAMPLER_2D_ARRAY) ||
+                              type == GL_SAMPLER_2D_RECT || type == GL_SAMPLER_BUFFER ||
+                              type == GL_INT_SAMPLER_BUFFER || type == GL_UNSIGNED_INT_SAMPLER_BUFFER;
+      if (!is_image && !is_sampler) continue;
+      GLint unit = -1;
+      glGetUniformiv(p.id(), v[1], &unit);
+      auto& units = is_image ? image_units : texture_units;
+      const auto [it, fresh] = units.emplace(unit, uniform_name);
+      EXPECT_TRUE(fresh) << uniform_name << " and " << it->second << " share " << (is_image ? "image" : "texture")
+                         << " unit " << unit;
+      if (is_sampler) ++samplers_seen;
+    }
+  }
+  EXPECT_GE(samplers_seen, 20);  // the query found the samplers (clouds.comp alone has 15+)
 }
 
 TEST(ShaderLibrary, DefinesGoAfterTheVersionLine) {

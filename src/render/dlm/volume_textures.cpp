@@ -75,6 +75,18 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_FLOAT, rg.data());
     t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
+  // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
+  // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
+  t.terrain_ = scene::terrainOf(v, frame);
+  {
+    const bool present = t.terrain_.present();
+    const int w = present ? v.nx : 1, h = present ? v.ny : 1;
+    t.terrain_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("terrain height [m]");
+    const float zero = 0.0f;
+    glTextureSubImage2D(t.terrain_tex_.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT,
+                        present ? t.terrain_.height_m.data() : &zero);
+    t.terrain_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+  }
   // Units of absent phases get a 1-voxel zero texture so that no unit is left unbound.
   t.zero_ = upload3D(std::vector<float>{0.0f}, {1, 1, 1}, "zero");
   gl::VolumeBlock block;
@@ -110,6 +122,7 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_WATER_PER_M, water_ ? water_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_OCCUPANCY_PER_M, occupancy_tex_.id());
   glBindTextureUnit(gl::binding::UNIT_COLUMN_DEPTH, column_depth_.id());
+  glBindTextureUnit(gl::binding::UNIT_TERRAIN, terrain_tex_.id());
   block_.bind();
 }
 

@@ -8,6 +8,7 @@
 #include "render/gl/uniform_blocks.h"
 #include "volume/extinction_volumes.h"
 #include "volume/occupancy.h"
+#include "volume/terrain_field.h"
 #include "volume/volume_frame.h"
 
 namespace nph::render {
@@ -34,14 +35,20 @@ class VolumeTextures {
   /// World AABB of the non-empty voxels grown by the filter's reach (1 voxel trilinear, 2 cubic);
   /// empty → the volume's bottom face.
   void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
+  /// The ground's height field of this timestep (issue 14), placed by frame(); not present()
+  /// when the volumes carry no terrain or only sea level.
+  const scene::TerrainField& terrain() const { return terrain_; }
 
   /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
   /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h) and the
-  /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program.
+  /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program,
+  /// and the terrain heights (R32F, one texel per mass point, 1×1 zero without terrain) to
+  /// UNIT_TERRAIN.
   void bind() const;
 
  private:
-  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_;
+  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_;
+  scene::TerrainField terrain_;
   gl::UniformBuffer<gl::VolumeBlock> block_;
   scene::VolumeFrame frame_;
   scene::OccupancyGrid occupancy_;

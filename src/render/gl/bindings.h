@@ -43,6 +43,9 @@
   X(UNIT_GLOBE_WORLD_XY, 8)     /* sampler2D: RG32F world x, y per rotated lon/lat */           \
   X(UNIT_GLOBE_BASEMAP, 9)      /* sampler2D: equirectangular basemap, linear RGB */            \
   X(UNIT_COLUMN_DEPTH, 14)      /* sampler3D: RG16F vertical τ above, below (volume/column_depth.h) */ \
+  X(UBO_TERRAIN, 5)             /* TerrainBlock (render/gl/uniform_blocks.h) */                 \
+  X(UNIT_TERRAIN, 15)           /* sampler2D: R32F terrain height [m] per mass point (issue 14) */ \
+  X(UNIT_FAR_BASEMAP, 3)        /* sampler2D: basemap beyond the near one (UNIT_SCATTER_MAP is not in clouds.comp) */ \
   X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
   X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \
   X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \

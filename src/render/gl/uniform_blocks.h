@@ -207,6 +207,43 @@ inline constexpr BlockMember kGlobeMembers[] = {
     {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
     {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)}};
 
+/// glsl/render/clouds.comp `TerrainBlock` (issue 14): the ground's height field
+/// (volume/terrain_field.h; the march of glsl/common/terrain.glsl) and the far basemap that
+/// carries the ground beyond the near one (item 4, no void). Flat view only.
+struct TerrainBlock {
+  static constexpr unsigned kBinding = binding::UBO_TERRAIN;
+  static constexpr const char* kGlslName = "TerrainBlock";
+  glm::ivec2 size{1};                   ///< u_terrain_size: mass points nx, ny
+  glm::vec2 cell_m{1.0f};               ///< u_terrain_cell_m: world dx, dy
+  float exaggeration = 1.0f;            ///< u_terrain_exaggeration
+  float fade_m = 1.0f;                  ///< u_terrain_fade_m
+  float max_m = 0.0f;                   ///< u_terrain_max_m: highest world height (≥ 0)
+  float min_m = 0.0f;                   ///< u_terrain_min_m: lowest world height (≤ 0)
+  float lipschitz = 0.0f;               ///< u_terrain_lipschitz: slope bound
+  std::uint32_t has_terrain = 0;        ///< u_has_terrain (bool): displaced ground
+  glm::vec2 far_basemap_min_m{0.0f};    ///< u_far_basemap_min_m
+  glm::vec2 far_basemap_max_m{0.0f};    ///< u_far_basemap_max_m
+  std::uint32_t has_far_basemap = 0;    ///< u_has_far_basemap (bool)
+  std::uint32_t pad[1] = {0};           ///< to a multiple of 16 bytes (std140 block rounding)
+};
+static_assert(offsetof(TerrainBlock, cell_m) == 8 && offsetof(TerrainBlock, exaggeration) == 16 &&
+              offsetof(TerrainBlock, lipschitz) == 32 && offsetof(TerrainBlock, has_terrain) == 36);
+static_assert(offsetof(TerrainBlock, far_basemap_min_m) == 40 && offsetof(TerrainBlock, far_basemap_max_m) == 48 &&
+              offsetof(TerrainBlock, has_far_basemap) == 56);
+static_assert(sizeof(TerrainBlock) == 64, "std140 size of TerrainBlock, rounded to 16");
+inline constexpr BlockMember kTerrainMembers[] = {
+    {"u_terrain_size", offsetof(TerrainBlock, size)},
+    {"u_terrain_cell_m", offsetof(TerrainBlock, cell_m)},
+    {"u_terrain_exaggeration", offsetof(TerrainBlock, exaggeration)},
+    {"u_terrain_fade_m", offsetof(TerrainBlock, fade_m)},
+    {"u_terrain_max_m", offsetof(TerrainBlock, max_m)},
+    {"u_terrain_min_m", offsetof(TerrainBlock, min_m)},
+    {"u_terrain_lipschitz", offsetof(TerrainBlock, lipschitz)},
+    {"u_has_terrain", offsetof(TerrainBlock, has_terrain)},
+    {"u_far_basemap_min_m", offsetof(TerrainBlock, far_basemap_min_m)},
+    {"u_far_basemap_max_m", offsetof(TerrainBlock, far_basemap_max_m)},
+    {"u_has_far_basemap", offsetof(TerrainBlock, has_far_basemap)}};
+
 /// glsl/atmosphere/model.glsl `AtmosphereBlock`: the atmosphere's constants (atmosphere/atmosphere.h
 /// Parameters) and the sky-view table's observer and sun (render/atmosphere/atmosphere_luts.h).
 struct AtmosphereBlock {

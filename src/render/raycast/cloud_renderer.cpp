@@ -17,7 +17,8 @@ namespace nph::render {
 CloudRenderer::CloudRenderer()
     : program_(gl::Program::compute("render/clouds.comp")),
       raycast_block_(gl::UniformBuffer<gl::RaycastBlock>::create({}, "raycast block")),
-      globe_block_(gl::UniformBuffer<gl::GlobeBlock>::create({}, "globe block")) {
+      globe_block_(gl::UniformBuffer<gl::GlobeBlock>::create({}, "globe block")),
+      terrain_block_(gl::UniformBuffer<gl::TerrainBlock>::create({}, "terrain block")) {
   blank_ = gl::Texture::create2D(GL_RGBA32F, 1, 1).label("no basemap");
   const float zero[4] = {0, 0, 0, 0};
   glTextureSubImage2D(blank_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
@@ -32,6 +33,15 @@ void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::
   glTextureSubImage2D(basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
   basemap_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   basemap_rect_ = rect;
+}
+
+void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect) {
+  far_basemap_ = gl::Texture();
+  if (image.width <= 0 || image.height <= 0) return;
+  far_basemap_ = gl::Texture::create2D(GL_RGB32F, image.width, image.height).label("far basemap (linear RGB)");
+  glTextureSubImage2D(far_basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
+  far_basemap_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  far_basemap_rect_ = rect;
 }
 
 void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage& equirect,
@@ -86,6 +96,26 @@ void CloudRenderer::updateGlobeBlock(const ViewRays& view, const RenderSettings&
   b.has_globe_basemap = globe_basemap_ ? 1u : 0u;
   b.limb_radiance = glm::vec3(s.limb_radiance * sun_intensity);
   globe_block_.update(b);
+}
+
+void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& s) {
+  glBindTextureUnit(gl::binding::UNIT_FAR_BASEMAP, far_basemap_ ? far_basemap_.id() : blank_.id());
+  const scene::TerrainField& t = volume.terrain();
+  gl::TerrainBlock b;
+  b.size = t.size;
+  b.cell_m = glm::vec2(t.cell_m);
+  b.exaggeration = float(t.exaggeration);
+  b.fade_m = float(t.fade_m);
+  b.max_m = float(t.max_m);
+  b.min_m = float(t.min_m);
+  b.lipschitz = float(t.lipschitz);
+  // The globe keeps the sphere R as its ground (terrain on the globe is not drawn; docs/terrain.md).
+  b.has_terrain = s.terrain && t.present() && !globe_ ? 1u : 0u;
+  b.has_far_basemap = far_basemap_ && !globe_ ? 1u : 0u;
+  b.far_basemap_min_m = glm::vec2(far_basemap_rect_.min_m);
+  b.far_basemap_max_m = glm::vec2(far_basemap_rect_.max_m);
+  terrain_block_.update(b);
+  terrain_block_.bind();
 }
 
 double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view,
@@ -157,6 +187,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   raycast_block_.update(b);
   raycast_block_.bind();
   updateGlobeBlock(view, s, sun.intensity);
+  updateTerrainBlock(volume, s);
   glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);

@@ -68,6 +68,9 @@ class CloudRenderer {
   CloudRenderer();
   /// Sets (uploads) the basemap: linear RGB covering `rect` of the world (row 0 = north).
   void setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect);
+  /// Sets the far basemap (issue 14 item 4): drawn on the flat view's ground outside the near
+  /// basemap's rectangle, inside `rect` (scene::farBasemapRectangle). Empty image: none.
+  void setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect);
   RenderOutput render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
                       const scene::Sun& sun, const RenderSettings& settings);
 
@@ -102,10 +105,12 @@ class CloudRenderer {
 
  private:
   void updateGlobeBlock(const ViewRays& view, const RenderSettings& settings, double sun_intensity);
+  void updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& settings);
 
   gl::Program program_;
-  gl::Texture basemap_, blank_, cloud_tex_, frame_tex_, ground_pass_tex_, sky_pass_tex_;
+  gl::Texture basemap_, far_basemap_, blank_, cloud_tex_, frame_tex_, ground_pass_tex_, sky_pass_tex_;
   bool passes_ = false;
+  scene::WorldRect far_basemap_rect_;
   glm::ivec2 target_size_{0};
   scene::WorldRect basemap_rect_;
   std::optional<GlobeMapping> globe_;
@@ -113,6 +118,7 @@ class CloudRenderer {
   bool count_samples_ = false;
   gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
   gl::UniformBuffer<gl::GlobeBlock> globe_block_;      // globe.glsl's mapping
+  gl::UniformBuffer<gl::TerrainBlock> terrain_block_;  // the ground's height field, the far basemap
   std::unique_ptr<AtmosphereLuts> atmosphere_;          // built on the first frame that wants it
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
 };

@@ -1,0 +1,143 @@
+// The ground's height field (issue 14 item 2): the model's own terrain (WRF HGT, ICON HSURF) as a
+// displaced surface in the flat view's world frame (volume/volume_frame.h), and the eye ray's first
+// intersection with it. One source for the eye pass (glsl/render/clouds.comp) and the CPU reference
+// ray marcher (volume/terrain_field.h compiles this file as C++, core/glsl_cpp.h, after Bruneton
+// 2017's shared definitions).
+//
+// The surface (Thomann 2021 §5.3 draws WRF's HGT as a displaced mesh; Muth 2026 §3.4.10 and
+// weBIGeo show clouds over real terrain): z = e·h(x, y), h the heights bilinear between the mass
+// points (i + ½)·dx, (j + ½)·dy — the same lattice as the voxel centres — and e the height
+// exaggeration, applied exactly as to the clouds (Nes 2008 §5.5.2). Outside the data's footprint
+// the edge heights are held (clamp to edge) and fade linearly to sea level over `fade_m`, so the
+// ground beyond the domain is the plane z = 0 of the flat view (item 4, no void) with no cliff at
+// the domain's edge.
+//
+// Intersection: a conservative march (Lipschitz bound, as sphere tracing, Hart 1996): along the
+// ray f(t) = z(t) − e·h(xy(t)) changes at most at rate |d_z| + L·|d_xy| with L ≥ |∇(e·h)| an upper
+// bound of the slope (TerrainGrid::lipschitz, from the data), so a step f/(|d_z| + L·|d_xy|) cannot
+// cross the surface. Close to the surface the step is floored at a quarter of a cell horizontally
+// (the data has no feature below its grid spacing; a ray grazing flat ground would otherwise creep),
+// and the first step that lands below the surface is refined by bisection. The march is limited to
+// the slab of heights the terrain has (z ∈ [min, max]) and to the rectangle outside which it is the
+// plane z = 0, so a flat field costs nothing.
+//
+// Written in the GLSL subset that also compiles as C++ (core/glsl_cpp.h). Each side supplies
+// TerrainGrid and TERRAIN_TEXEL(grid, i, j) (the height [m] at mass point (i, j), not exaggerated)
+// before including this file: the shader fetches the R32F texture UNIT_TERRAIN, the CPU twin reads
+// its vector.
+#ifndef NPH_GLSL_AS_CPP
+#ifndef Number
+#define Number float
+#endif
+#endif
+
+const Number kTerrainMiss_m = Number(3.0e38);  // "no hit" distance
+const int kTerrainMaxSteps = 4096;              // 4096 quarter cells: a 1000-cell domain end to end
+const int kTerrainBisections = 14;              // hit to 2^-14 of the last step
+
+// Terrain height in world metres (exaggerated) at world (x, y): bilinear between mass points,
+// clamped to the edge, faded to 0 over fade_m outside the footprint of the mass points.
+Number terrainHeight_m(TerrainGrid g, Vec2 xy) {
+  Vec2 q = xy / g.cell_m - Vec2(Number(0.5));  // continuous mass-point index
+  Vec2 hi = Vec2(g.size - ivec2(1));
+  Vec2 qc = clamp(q, Vec2(Number(0.0)), hi);
+  ivec2 i0 = ivec2(floor(qc));
+  ivec2 i1 = min(i0 + ivec2(1), g.size - ivec2(1));
+  Vec2 f = qc - Vec2(i0);
+  Number h = mix(mix(TERRAIN_TEXEL(g, i0.x, i0.y), TERRAIN_TEXEL(g, i1.x, i0.y), f.x),
+                 mix(TERRAIN_TEXEL(g, i0.x, i1.y), TERRAIN_TEXEL(g, i1.x, i1.y), f.x), f.y);
+  Number outside_m = length((q - qc) * g.cell_m);
+  Number fade = clamp(Number(1.0) - outside_m / g.fade_m, Number(0.0), Number(1.0));
+  return h * g.exaggeration * fade;
+}
+
+// Unit surface normal of the displaced (exaggerated) terrain: central differences half a cell
+// either way, the normal (−∂z/∂x, −∂z/∂y, 1) normalised. The exaggerated slope is what the picture
+// shows, so it is what is shaded (the "z-factor" of hill shading).
+Vec3 terrainNormal(TerrainGrid g, Vec2 xy) {
+  Vec2 d = Number(0.5) * g.cell_m;
+  Number dzdx = (terrainHeight_m(g, xy + Vec2(d.x, Number(0.0))) - terrainHeight_m(g, xy - Vec2(d.x, Number(0.0)))) /
+                (Number(2.0) * d.x);
+  Number dzdy = (terrainHeight_m(g, xy + Vec2(Number(0.0), d.y)) - terrainHeight_m(g, xy - Vec2(Number(0.0), d.y))) /
+                (Number(2.0) * d.y);
+  return normalize(Vec3(-dzdx, -dzdy, Number(1.0)));
+}
+
+// Ray parameter interval [t.x, t.y] inside the rectangle [lo, hi] of the xy plane (t.x > t.y: none).
+Vec2 terrainRectInterval(Vec2 o, Vec2 d, Vec2 lo, Vec2 hi) {
+  Number t0 = Number(-kTerrainMiss_m), t1 = kTerrainMiss_m;
+  for (int a = 0; a < 2; ++a) {
+    if (abs(d[a]) > Number(1e-12)) {
+      Number ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+      t0 = max(t0, min(ta, tb));
+      t1 = min(t1, max(ta, tb));
+    } else if (o[a] < lo[a] || o[a] > hi[a]) {
+      return Vec2(kTerrainMiss_m, Number(-kTerrainMiss_m));
+    }
+  }
+  return Vec2(t0, t1);
+}
+
+// f(t) = z(t) − terrain height: positive above the ground.
+Number terrainClearance_m(TerrainGrid g, Vec3 o, Vec3 d, Number t) {
+  Vec3 p = o + t * d;
+  return p.z - terrainHeight_m(g, Vec2(p.x, p.y));
+}
+
+// Distance along the ray o + t·d (d unit) to its first point on or under the terrain with t in
+// [tMin, tMax]; kTerrainMiss_m when there is none.
+Number terrainHitDistance(TerrainGrid g, Vec3 o, Vec3 d, Number tMin, Number tMax) {
+  // Outside the rectangle the terrain reaches, the ground is the plane z = 0.
+  Vec2 rect = terrainRectInterval(Vec2(o.x, o.y), Vec2(d.x, d.y), Vec2(-g.fade_m),
+                                  Vec2(g.size) * g.cell_m + Vec2(g.fade_m));
+  Number tPlane = d.z < Number(0.0) ? -o.z / d.z : kTerrainMiss_m;
+  if (o.z <= Number(0.0) && (rect.x > rect.y || Number(0.0) < rect.x || Number(0.0) > rect.y)) tPlane = Number(0.0);
+  // The slab of heights the terrain has.
+  Number tLo = max(tMin, Number(0.0)), tHi = tMax;
+  if (d.z < Number(0.0)) {
+    // The end a metre under the lowest ground, where the ray is surely under the surface: ending
+    // exactly at z = min left f = +rounding there, and the ray slipped through flat ground.
+    tLo = max(tLo, (g.max_m - o.z) / d.z);
+    tHi = min(tHi, (g.min_m - Number(1.0) - o.z) / d.z);
+  } else if (d.z > Number(0.0)) {
+    tHi = min(tHi, (g.max_m - o.z) / d.z);
+  } else if (o.z > g.max_m) {
+    tHi = Number(-1.0);
+  }
+  Number t0 = max(tLo, rect.x), t1 = min(tHi, rect.y);
+  Number hit = kTerrainMiss_m;
+  if (t0 <= t1) {
+    Number dxy = length(Vec2(d.x, d.y));
+    Number rate = abs(d.z) + g.lipschitz * dxy;
+    Number minStep = dxy > Number(1e-6) ? Number(0.25) * min(g.cell_m.x, g.cell_m.y) / dxy : t1 - t0;
+    Number t = t0;
+    Number f = terrainClearance_m(g, o, d, t);
+    if (f <= Number(0.0)) {
+      hit = t;
+    } else {
+      for (int n = 0; n < kTerrainMaxSteps; ++n) {
+        if (t >= t1) break;
+        Number tn = min(t + max(f / rate, minStep), t1);
+        Number fn = terrainClearance_m(g, o, d, tn);
+        if (fn <= Number(0.0)) {  // crossed in (t, tn]: bisection keeps f(a) > 0 ≥ f(b)
+          Number a = t, b = tn;
+          for (int k = 0; k < kTerrainBisections; ++k) {
+            Number m = Number(0.5) * (a + b);
+            if (terrainClearance_m(g, o, d, m) > Number(0.0)) {
+              a = m;
+            } else {
+              b = m;
+            }
+          }
+          hit = b;
+          break;
+        }
+        t = tn;
+        f = fn;
+      }
+    }
+  }
+  // No terrain hit in the rectangle: the plane z = 0 outside it (before or after).
+  if (hit == kTerrainMiss_m && tPlane >= tMin && tPlane <= tMax && (tPlane < rect.x || tPlane > rect.y)) hit = tPlane;
+  return hit;
+}
