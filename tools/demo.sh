@@ -18,6 +18,14 @@ if [ ! -f "$out/hurricane-$size.nph" ]; then
   "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$out/hurricane-$size.nph" --progress
   rm -f "$out/wrfout-hurricane-$size.nc"
 fi
+# The terrain demo (issue 14): issue 13's coarse storm over a generated Gaussian mountain.
+if [ ! -f "$out/storm-mountain.nph" ]; then
+  echo "demo: generating the coarse storm over a 3000 m mountain (wrfout with HGT)"
+  "$gen" wrf --case storm --times 1 --mountain=-77.9,24.4,3000,35000 -o "$out/wrfout-storm-mountain.nc"
+  "$nephele" convert "$out/wrfout-storm-mountain.nc" -o "$out/storm-mountain.nph" --progress
+  rm -f "$out/wrfout-storm-mountain.nc"
+fi
+sed "s|@DATA@|$out/storm-mountain.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
 for view in demo demo-globe demo-golden-hour; do
   sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
 done
@@ -27,6 +35,9 @@ echo "demo: rendering the globe view"
 "$nephele" render "$out/demo-globe.json"
 echo "demo: rendering the golden-hour oblique view (sun 5° high)"
 "$nephele" render "$out/demo-golden-hour.json"
+echo "demo: rendering the storm over the mountain (terrain, golden hour)"
+"$nephele" render "$out/demo-terrain.json"
 echo "demo: wrote $out/hurricane.png, $out/hurricane.exr, $out/hurricane-cloud-layer.exr (flat map)"
 echo "demo: wrote $out/hurricane-globe.png and $out/hurricane-globe.exr (globe)"
 echo "demo: wrote $out/hurricane-golden-hour.png and $out/hurricane-golden-hour.exr (golden hour)"
+echo "demo: wrote $out/storm-terrain.png and $out/storm-terrain.exr (terrain)"

@@ -20,10 +20,9 @@ inline std::unique_ptr<gl::Context> hiddenContext() {
   return gl::createContext(o);
 }
 
-inline ExtinctionVolumes realisticHurricane(const std::string& scratch_name) {
-  datagen::WrfHurricaneSpec spec = datagen::wrfPreset(datagen::SampleSize::Realistic);
-  spec.ntimes = 1;
-  spec.format = datagen::NcFormat::Classic64;
+/// The volumes of timestep 0 of the generator's file for `spec`, written to a temporary NetCDF
+/// file named `scratch_name` and removed after loading.
+inline ExtinctionVolumes generatedVolumes(const datagen::WrfHurricaneSpec& spec, const std::string& scratch_name) {
   const auto path = (std::filesystem::temp_directory_path() / scratch_name).string();
   datagen::writeWrfHurricane(spec, path);
   const auto file = io::openModelFile(path);
@@ -31,6 +30,13 @@ inline ExtinctionVolumes realisticHurricane(const std::string& scratch_name) {
                                                         physics::VerticalGridOptions{});
   std::filesystem::remove(path);
   return v;
+}
+
+inline ExtinctionVolumes realisticHurricane(const std::string& scratch_name) {
+  datagen::WrfHurricaneSpec spec = datagen::wrfPreset(datagen::SampleSize::Realistic);
+  spec.ntimes = 1;
+  spec.format = datagen::NcFormat::Classic64;
+  return generatedVolumes(spec, scratch_name);
 }
 
 }  // namespace nph::bench

@@ -15,6 +15,7 @@
 #include <memory>
 #include <vector>
 
+#include "bench_hurricane.h"
 #include "io/model_file.h"
 #include "physics/volume_builder.h"
 #include "presets.h"
@@ -41,12 +42,7 @@ void BM_ReconstructionCost(benchmark::State& state) {
   const auto ctx = gl::createContext(o);
   datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
   spec.ntimes = 1;
-  const auto path = (std::filesystem::temp_directory_path() / "nephele-reconstruction-bench.nc").string();
-  datagen::writeWrfHurricane(spec, path);
-  const auto file = io::openModelFile(path);
-  const ExtinctionVolumes v =
-      physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
-  std::filesystem::remove(path);
+  const ExtinctionVolumes v = bench::generatedVolumes(spec, "nephele-reconstruction-bench.nc");
   const auto frame = scene::frameOf(v, 8.0);
   const scene::Sun sun{140.0, 35.0};
   scene::CameraSpec cs;
