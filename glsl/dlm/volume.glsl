@@ -5,11 +5,22 @@
 // volume/extinction_sampler.cpp. β is continuous everywhere: it fades to 0 outside the box (over
 // ½ voxel trilinear, 1½ voxels cubic) instead of jumping at the face, so a ray skimming a face
 // cannot flip between "cloud" and "clear" on float rounding.
+//
+// Sub-grid detail (issue 13; volume/detail.h, glsl/common/detail.glsl): with u_detail ≠ 0,
+// extinctionAt returns the detailed field β(x + d)·ρ(x + d), d and ρ from the noise tile (generated
+// once by glsl/render/noise.comp) addressed in world metres and the RGBA8 controls at data
+// resolution, times the per-column mass correction (bilinear between column centres). u_reach_voxels
+// then includes the displacement's reach and the occupancy maxima are × 2·max c (ρ ≤ 2), so
+// empty-space skipping stays conservative.
 #include "common/math.glsl"
 #include "common/ray_box.glsl"
+#include "common/detail.glsl"
 layout(binding = UNIT_ICE_PER_M) uniform sampler3D u_ice_per_m;
 layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
 layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels)
+layout(binding = UNIT_DETAIL_CONTROLS) uniform sampler3D u_detail_controls;  // RGBA8 (turbulence, convective, fraction, core)
+layout(binding = UNIT_DETAIL_NOISE) uniform sampler3D u_detail_noise;        // RGBA8 periodic noise tile, GL_REPEAT
+layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction
 // One std140 block, declared in C++ as gl::VolumeBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocks.MatchTheLinkedPrograms checks every offset.
 layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
@@ -20,7 +31,14 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
   ivec3 u_voxels;
   bool u_has_water;
   int u_reconstruction;  // 0 trilinear, 1 cubic B-spline
-  float u_reach_voxels;  // voxels a sample reads past its own cell: 1 trilinear, 2 cubic
+  float u_reach_voxels;  // voxels a sample reads past its own cell: 1 trilinear, 2 cubic (+ the detail's reach)
+  int u_detail;          // 0 none, 1 subtle, 2 full (volume/detail.h)
+  float u_detail_amplitude;
+  vec3 u_noise_period_m;  // world metres per noise tile
+  vec3 u_displacement_m;  // displacement cap per axis [world m]
+  vec4 u_noise_stats_ra;  // (mean, half range) of noise channels r and a
+  vec4 u_noise_stats_gs;  // of channel g and of the stratiform term
+  vec4 u_noise_stats_c;   // of the convective term
 };
 
 vec3 volumeUvw(vec3 world_m) { return (world_m - u_box_min_m) / u_box_size_m; }
@@ -67,11 +85,28 @@ float reconstruct(sampler3D volume, vec3 uvw) {
   return u_reconstruction == 1 ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;
 }
 
-// (β_ice, β_water) at a world position.
-vec2 extinctionAt(vec3 world_m) {
+// (β_ice, β_water) at a world position, without the sub-grid detail.
+vec2 plainExtinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(0.0);
   return vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0);
+}
+
+// (β_ice, β_water) at a world position: the field every pass integrates. The CPU twin is
+// ExtinctionSampler::at (same order of operations, same detail.glsl).
+vec2 extinctionAt(vec3 world_m) {
+  if (u_detail == 0) return plainExtinctionAt(world_m);
+  vec3 uvw = volumeUvw(world_m);
+  if (!insideGrownVolume(uvw)) return vec2(0.0);
+  vec4 c = texture(u_detail_controls, uvw);
+  vec4 nd = texture(u_detail_noise, world_m / (2.0 * u_noise_period_m));
+  vec3 q = world_m + detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, u_noise_stats_gs.xy);
+  vec2 beta = plainExtinctionAt(q);
+  if (!(beta.x + beta.y > 0.0)) return beta;
+  vec3 qn = q / u_noise_period_m;
+  float rho = detailDensity(texture(u_detail_noise, qn), texture(u_detail_noise, detailSecondFrame(qn)), c,
+                            u_detail_amplitude, u_noise_stats_gs.zw, u_noise_stats_c.xy);
+  return beta * (rho * texture(u_detail_correction, uvw.xy).r);
 }
 
 // Max β of the occupancy brick containing `world_m`; in the shell around the box (the filter's

@@ -23,7 +23,7 @@ namespace nph::api {
 
 class GlStateGuard {
  public:
-  static constexpr int kTextureUnits = 16;  ///< headroom over the passes' units; the test checks 32
+  static constexpr int kTextureUnits = 24;  ///< headroom over the passes' units (0 … 17); the test checks 32
   static constexpr int kImageUnits = int(gl::binding::highest("IMAGE_")) + 1;
   static constexpr int kStorageBindings = int(gl::binding::highest("SSBO_")) + 1;
   static constexpr int kUniformBindings = int(gl::binding::highest("UBO_")) + 1;

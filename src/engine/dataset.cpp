@@ -133,6 +133,15 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
   };
   mix(a.ice_per_m, a.nz, b.ice_per_m, b.nz, out.ice_per_m);
   mix(a.water_per_m, a.nz, b.water_per_m, b.nz, out.water_per_m);
+  // The detail fields (volume/detail.h) blend like β where both timesteps have them; a field only
+  // one timestep has is dropped (the detail then uses its proxy, the same for every w in (0, 1)).
+  const auto mixDetail = [&](const std::vector<float>& va, const std::vector<float>& vb, std::vector<float>& dst) {
+    if (va.empty() || vb.empty()) return;
+    mix(va, a.nz, vb, b.nz, dst);
+  };
+  mixDetail(a.tke_m2_per_s2, b.tke_m2_per_s2, out.tke_m2_per_s2);
+  mixDetail(a.cloud_fraction, b.cloud_fraction, out.cloud_fraction);
+  mixDetail(a.wind_w_m_per_s, b.wind_w_m_per_s, out.wind_w_m_per_s);
   out.updateMaxima();
   return out;
 }

@@ -75,7 +75,9 @@ void Session::update() {
   const scene::Reconstruction reconstruction = lighting::reconstructionOf(scene_.quality);
   const std::string content = b.weight == 0.0 ? dataset_->identity(b.first)
                                               : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
-  const std::string key = content + (reconstruction == scene::Reconstruction::Cubic ? "|cubic" : "");
+  const scene::Detail detail = lighting::detailOf(scene_.quality);
+  const std::string key = content + (reconstruction == scene::Reconstruction::Cubic ? "|cubic" : "") +
+                          (detail == scene::Detail::None ? "" : fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]));
   std::vector<std::size_t> pinned{b.first};
   if (b.weight > 0.0) pinned.push_back(b.second);
   timesteps_->prefetch(pinned, direction_);  // the worker reads ahead while this frame is built
@@ -88,9 +90,11 @@ void Session::update() {
     stats_.load_ms = msSince(t0);
     stats_.blocked_ms = timesteps_->stats().blocked_ms - blocked0;
     t0 = std::chrono::steady_clock::now();
+    if (textures_ && textures_->noise()) noise_ = textures_->noise();  // the noise tile is generated once
     textures_.reset();  // free the old volume before uploading the new one
     textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), content,
-                                                     reconstruction));  // its identity() is `key`
+                                                     reconstruction, 8, detail, noise_));  // its identity() is `key`
+    if (textures_->noise()) noise_ = textures_->noise();
     stats_.upload_ms = msSince(t0);
     volume_key_ = key;
     stats_.volume_changed = true;

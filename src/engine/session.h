@@ -105,6 +105,7 @@ class Session {
   int direction_ = 0;
   std::string volume_key_;  // identity of the uploaded volume
   std::optional<render::VolumeTextures> textures_;
+  std::shared_ptr<const render::NoiseTexture> noise_;  ///< the detail noise tile, generated on first use
   render::DeepLightMap dlm_;
   render::CloudRenderer renderer_;
   std::unique_ptr<TimestepCache> timesteps_;  // declared last: its worker is joined first

@@ -67,6 +67,12 @@ constexpr std::array kKnobs{
     Knob{.name = "reconstruction", .unit = "", .min = 0, .max = 1, .field = &Q::reconstruction,
          .preset = {0, 0, 0}, .doc = "extinction filter: trilinear (data-true) or cubic B-spline (no grid artefacts)",
          .choices = scene::kReconstructionNames},
+    // Procedural sub-grid detail (volume/detail.h; issue 13, Muth 2026 §3.3.1): none is the
+    // data-true field; subtle and full add turbulent displacement and regime-adaptive density that
+    // redistributes (never adds) extinction inside each model cell (docs/detail.md).
+    Knob{.name = "detail", .unit = "", .min = 0, .max = 2, .field = &Q::detail,
+         .preset = {0, 0, 0}, .doc = "sub-grid detail: none (data-true), subtle or full (procedural, mass-preserving)",
+         .choices = scene::kDetailNames},
     Knob{.name = "g_ice", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_ice,
          .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},
     Knob{.name = "g_water", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_water,
@@ -150,6 +156,7 @@ scene::DlmSettings dlmSettingsFor(const QualitySettings& q) {
 RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& style) {
   RenderSettings r;
   r.reconstruction = reconstructionOf(q);
+  r.detail = detailOf(q);
   static_cast<StyleSettings&>(r) = style;
   r.step_voxels = q.step_voxels;
   r.min_transmittance = q.early_termination_transmittance;

@@ -22,6 +22,7 @@
 
 #include "lighting/dlm_model.h"
 #include "lighting/render_settings.h"
+#include "volume/detail.h"
 #include "volume/reconstruction.h"
 
 namespace nph::lighting {
@@ -47,6 +48,7 @@ struct QualitySettings {
   bool shadows{};                      ///< cloud shadows on the basemap
   int samples_per_pixel{};         ///< parsed; the ray caster takes one jittered sample for now
   int reconstruction{};                ///< scene::Reconstruction: 0 trilinear, 1 cubic B-spline
+  int detail{};                        ///< scene::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
 
   bool operator==(const QualitySettings&) const = default;
 };
@@ -62,6 +64,11 @@ RenderSettings renderSettingsFor(const QualitySettings& quality, const StyleSett
 /// The extinction filter of `quality` (volume/reconstruction.h).
 inline scene::Reconstruction reconstructionOf(const QualitySettings& quality) {
   return quality.reconstruction == 1 ? scene::Reconstruction::Cubic : scene::Reconstruction::Trilinear;
+}
+
+/// The sub-grid detail of `quality` (volume/detail.h).
+inline scene::Detail detailOf(const QualitySettings& quality) {
+  return quality.detail == 2 ? scene::Detail::Full : quality.detail == 1 ? scene::Detail::Subtle : scene::Detail::None;
 }
 
 /// One component of a vector field (ambient_r = component 0 of StyleSettings::ambient).

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "lighting/octave_series.h"
+#include "volume/detail.h"
 #include "volume/reconstruction.h"
 
 namespace nph::lighting {
@@ -48,6 +49,9 @@ struct RenderSettings : StyleSettings {
   /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
   /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.
   scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
+  /// The sub-grid detail of the CPU references (volume/detail.h); the GPU passes take it from the
+  /// uploaded volume, as the reconstruction.
+  scene::Detail detail = scene::Detail::None;
 };
 
 }  // namespace nph::lighting

@@ -190,4 +190,39 @@ void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction&
   });
 }
 
+std::vector<float> resampleFieldVertically(const io::ModelTimestep& ts, const std::vector<float>& field,
+                                           const char* name, const VerticalGrid& grid) {
+  if (field.empty()) return {};
+  requireHeights(ts);
+  if (field.size() != ts.voxelCount()) {
+    throw InputError(fmt::format("{}: timestep {}: {} has {} values, expected nx*ny*nz = {}", ts.source_file,
+                                 ts.time_index, name, field.size(), ts.voxelCount()));
+  }
+  std::vector<float> out(std::size_t(ts.nx) * std::size_t(ts.ny) * std::size_t(grid.nz), 0.0f);
+  const int n = ts.nz;
+  tbb::parallel_for(tbb::blocked_range<int>(0, ts.ny), [&](const tbb::blocked_range<int>& rows) {
+    for (int j = rows.begin(); j != rows.end(); ++j) {
+      for (int i = 0; i < ts.nx; ++i) {
+        int k = 0;  // interval [h_k, h_{k+1}] containing z
+        for (int layer = 0; layer < grid.nz; ++layer) {
+          const double z = grid.z_bottom_m + (double(layer) + 0.5) * grid.dz_m;
+          while (k + 2 < n && z >= double(ts.height_m[ts.index(i, j, k + 1)])) ++k;
+          double v;
+          const double h0 = double(ts.height_m[ts.index(i, j, k)]);
+          if (n < 2 || z <= h0) {
+            v = double(field[ts.index(i, j, k)]);
+          } else {
+            const double h1 = double(ts.height_m[ts.index(i, j, k + 1)]);
+            const double t = std::clamp((z - h0) / (h1 - h0), 0.0, 1.0);
+            v = (1.0 - t) * double(field[ts.index(i, j, k)]) + t * double(field[ts.index(i, j, k + 1)]);
+          }
+          out[(std::size_t(layer) * std::size_t(ts.ny) + std::size_t(j)) * std::size_t(ts.nx) + std::size_t(i)] =
+              static_cast<float>(v);
+        }
+      }
+    }
+  });
+  return out;
+}
+
 }  // namespace nph::physics

@@ -54,4 +54,11 @@ VerticalGrid planVerticalGrid(const io::ModelTimestep& ts, const ModelLevelExtin
 void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction& beta,
                         const VerticalGrid& grid, ExtinctionVolumes& out);
 
+/// A model-level field other than β (the sub-grid detail's TKE, cloud fraction, W; issue 13) on
+/// `grid`: linear in height between mass levels (these fields only steer the procedural detail,
+/// PCHIP's shape preservation buys nothing there), the end values below the lowest and above the
+/// highest mass level. Empty when `field` is empty; InputError when its size is not nx·ny·nz.
+std::vector<float> resampleFieldVertically(const io::ModelTimestep& ts, const std::vector<float>& field,
+                                           const char* name, const VerticalGrid& grid);
+
 }  // namespace nph::physics

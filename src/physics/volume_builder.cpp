@@ -16,6 +16,11 @@ ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts,
   v.time_utc = ts.time_utc;
   v.source_file = ts.source_file;
   v.source_time_index = ts.time_index;
+  // The fields that steer the sub-grid detail (issue 13; volume/detail.h), where the file has them.
+  v.tke_m2_per_s2 = resampleFieldVertically(ts, ts.tke_m2_per_s2, "TKE", grid);
+  v.cloud_fraction = resampleFieldVertically(
+      ts, ts.cloud_fraction.empty() ? ts.cloud_cover_fraction : ts.cloud_fraction, "cloud fraction", grid);
+  v.wind_w_m_per_s = resampleFieldVertically(ts, ts.wind_w_m_per_s, "W", grid);
   v.updateMaxima();
   return v;
 }

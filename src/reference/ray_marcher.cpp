@@ -14,11 +14,11 @@ namespace nph::reference {
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit,
                   const RayEndVisitor& end, scene::Reconstruction reconstruction,
-                  const scene::TerrainField* terrain) {
-  const scene::ExtinctionSampler sampler(volumes, frame, reconstruction);
+                  const scene::TerrainField* terrain, scene::Detail detail) {
+  const scene::ExtinctionSampler sampler(volumes, frame, reconstruction, detail);
   const glm::dvec3 voxel = frame.voxel_size_m;
   const double step = step_voxels * std::min({voxel.x, voxel.y, voxel.z});
-  const double reach = scene::reachVoxels(reconstruction);
+  const double reach = scene::reachVoxels(reconstruction) + sampler.detail().reach_voxels;
   const glm::dvec3 lo = frame.min_m() - reach * voxel, hi = frame.max_m() + reach * voxel;  // β is 0 beyond
   tbb::parallel_for(0, camera.height, [&](int y) {
     for (int x = 0; x < camera.width; ++x) {
@@ -100,7 +100,7 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
         px[2] = float(C.z);
         px[3] = float(1.0 - T);
       },
-      s.reconstruction, s.terrain ? &terrain : nullptr);
+      s.reconstruction, s.terrain ? &terrain : nullptr, s.detail);
   return img;
 }
 

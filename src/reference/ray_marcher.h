@@ -35,7 +35,7 @@ using SampleVisitor = std::function<void(int x, int y, const glm::dvec3& dir, co
 using RayEndVisitor = std::function<void(int x, int y, double transmittance)>;
 
 /// The eye pass's march (pixel-centre rays, step × the smallest voxel side, midpoint samples,
-/// stop below `min_transmittance`, β by `reconstruction`): `visit` for every sample front to back, `end` once per ray
+/// stop below `min_transmittance`, β by `reconstruction` and `detail`): `visit` for every sample front to back, `end` once per ray
 /// with its final transmittance. Rows run in parallel (TBB): the visitors must only touch their
 /// own pixel's data. With `terrain` (present) a ray ends where it meets the displaced ground, as
 /// the GPU's does (glsl/common/terrain.glsl, the same code compiled as C++).
@@ -43,7 +43,7 @@ void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& fr
                   double step_voxels, double min_transmittance, const SampleVisitor& visit,
                   const RayEndVisitor& end,
                   scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
-                  const scene::TerrainField* terrain = nullptr);
+                  const scene::TerrainField* terrain = nullptr, scene::Detail detail = scene::Detail::None);
 
 /// The sky light a sample scatters towards the eye (glsl/render/clouds.comp skyLightAt):
 /// ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) with g the sample's β-weighted asymmetry.

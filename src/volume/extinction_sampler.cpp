@@ -1,7 +1,10 @@
 #include "volume/extinction_sampler.h"
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+
+#include <tbb/parallel_for.h>
 
 namespace nph::scene {
 
@@ -10,7 +13,79 @@ double ExtinctionSampler::fetch(const std::vector<float>& a, int i, int j, int k
   return double(a[v_.index(i, j, k)]);
 }
 
+ExtinctionSampler::ExtinctionSampler(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
+                                     Reconstruction reconstruction, Detail detail)
+    : v_(volumes), f_(frame), r_(reconstruction), detail_(detailParameters(detail, frame)) {
+  if (!detail_.on()) return;
+  controls_ = std::make_shared<const DetailControls>(buildDetailControls(volumes));
+  correction_ = solveDetailCorrection(measureHalfColumnMasses());
+}
+
 ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
+  return detail_.on() ? detailedAt(world_m, true) : plainAt(world_m);
+}
+
+// The order of glsl/dlm/volume.glsl extinctionAt: controls at x, displacement from the noise at
+// x / 2P, β at the displaced point, density factor from the noise there (glsl/common/detail.glsl),
+// the column's mass correction at x (bilinear between column centres, clamped at the edges).
+ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool corrected) const {
+  const NoiseVolume& noise = noiseVolume();
+  const glm::dvec3 g = f_.gridFromWorld(world_m);
+  const glm::dvec4 c = controls_->at(g);
+  const glm::dvec3 q = world_m + detailDisplacement(noise.sample(world_m / (2.0 * detail_.period_m)), c.x,
+                                                     detail_.reach_m, noise.stats);
+  ExtinctionSample s = plainAt(q);
+  if (!(s.total() > 0.0)) return s;
+  const glm::dvec3 qn = q / detail_.period_m;
+  double rho = detailDensity(noise.sample(qn), noise.sample(detailSecondFrame(qn)), c, detail_.amplitude, noise.stats);
+  if (corrected) {
+    const glm::dvec2 cc = glm::dvec2(g) - 0.5;
+    const glm::dvec2 fl = glm::floor(cc), t = cc - fl;
+    const auto col = [&](int i, int j) {
+      return double(correction_[std::size_t(std::clamp(j, 0, f_.voxels.y - 1)) * std::size_t(f_.voxels.x) +
+                                std::size_t(std::clamp(i, 0, f_.voxels.x - 1))]);
+    };
+    const int i0 = int(fl.x), j0 = int(fl.y);
+    rho *= (1.0 - t.y) * ((1.0 - t.x) * col(i0, j0) + t.x * col(i0 + 1, j0)) +
+           t.y * ((1.0 - t.x) * col(i0, j0 + 1) + t.x * col(i0 + 1, j0 + 1));
+  }
+  s.ice_per_m *= rho;
+  s.water_per_m *= rho;
+  return s;
+}
+
+// The measurement of glsl/render/detail_mass.comp: per half-column, kMassRaysPerAxis² vertical rays
+// at the centres of a regular sub-grid, midpoint rule with kMassStepLayers over the grown box.
+HalfColumnMasses ExtinctionSampler::measureHalfColumnMasses() const {
+  HalfColumnMasses m;
+  m.nx = f_.voxels.x;
+  m.ny = f_.voxels.y;
+  const int hx = 2 * m.nx, hy = 2 * m.ny, rays = kMassRaysPerAxis;
+  m.plain.assign(std::size_t(hx) * std::size_t(hy), 0.0);
+  m.detailed.assign(m.plain.size(), 0.0);
+  const double reach = double(reachVoxels(r_) + detail_.reach_voxels);
+  const double g0 = -reach, g1 = double(f_.voxels.z) + reach;
+  const int steps = int(std::ceil((g1 - g0) / kMassStepLayers));
+  tbb::parallel_for(0, hy, [&](int l) {
+    for (int h = 0; h < hx; ++h) {
+      double p = 0.0, d = 0.0;
+      for (int b = 0; b < rays; ++b)
+        for (int a = 0; a < rays; ++a) {
+          const double gx = 0.5 * (double(h) + (a + 0.5) / rays), gy = 0.5 * (double(l) + (b + 0.5) / rays);
+          for (int k = 0; k < steps; ++k) {
+            const glm::dvec3 w = f_.worldFromGrid({gx, gy, g0 + (k + 0.5) * kMassStepLayers});
+            p += plainAt(w).total();
+            d += detailedAt(w, false).total();
+          }
+        }
+      m.plain[std::size_t(l) * std::size_t(hx) + std::size_t(h)] = p;
+      m.detailed[std::size_t(l) * std::size_t(hx) + std::size_t(h)] = d;
+    }
+  });
+  return m;
+}
+
+ExtinctionSample ExtinctionSampler::plainAt(const glm::dvec3& world_m) const {
   const glm::dvec3 g = f_.gridFromWorld(world_m);
   ExtinctionSample s;
   const double reach = reachVoxels(r_);

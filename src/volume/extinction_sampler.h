@@ -7,8 +7,11 @@
 //   - Cubic: the tricubic B-spline, here with its 4×4×4 weights; the shaders compute the same sum as
 //     8 trilinear fetches (Sigg & Hadwiger 2005), equal up to float rounding and the GPU's
 //     filtering precision (tests/render: GPU against this sampler).
+#include <memory>
+
 #include <glm/glm.hpp>
 
+#include "volume/detail.h"
 #include "volume/extinction_volumes.h"
 #include "volume/reconstruction.h"
 #include "volume/volume_frame.h"
@@ -23,18 +26,30 @@ struct ExtinctionSample {
 
 class ExtinctionSampler {
  public:
+  /// With `detail` other than None, β is the detailed field of glsl/common/detail.glsl (volume/detail.h):
+  /// the controls are built from `volumes` here (O(voxels)), the noise is volume/noise.h's.
   ExtinctionSampler(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
-                    Reconstruction reconstruction = Reconstruction::Trilinear)
-      : v_(volumes), f_(frame), r_(reconstruction) {}
+                    Reconstruction reconstruction = Reconstruction::Trilinear, Detail detail = Detail::None);
   ExtinctionSample at(const glm::dvec3& world_m) const;
+  /// β without the sub-grid detail (the reconstruction alone).
+  ExtinctionSample plainAt(const glm::dvec3& world_m) const;
   const VolumeFrame& frame() const { return f_; }
   Reconstruction reconstruction() const { return r_; }
+  const DetailParameters& detail() const { return detail_; }
+  /// The per-column mass correction in use (volume/detail.h; empty without detail).
+  const std::vector<float>& detailCorrection() const { return correction_; }
+  /// The plain and the uncorrected detailed masses on half-columns (volume/detail.h's pattern).
+  HalfColumnMasses measureHalfColumnMasses() const;
 
  private:
   double fetch(const std::vector<float>& a, int i, int j, int k) const;
+  ExtinctionSample detailedAt(const glm::dvec3& world_m, bool corrected) const;
   const ExtinctionVolumes& v_;
   VolumeFrame f_;
   Reconstruction r_;
+  DetailParameters detail_;
+  std::shared_ptr<const DetailControls> controls_;  ///< when the detail is on
+  std::vector<float> correction_;                   ///< c per model column, when the detail is on
 };
 
 }  // namespace nph::scene

@@ -38,6 +38,15 @@ struct ExtinctionVolumes {
   float max_ice_per_m = 0.0f;
   float max_water_per_m = 0.0f;
 
+  /// Model fields that steer the procedural sub-grid detail (issue 13; volume/detail.h), resampled
+  /// to this grid (same layout as the extinctions), each EMPTY when the source has none: then the
+  /// detail uses the documented proxies of volume/detail.h. Carried from model files
+  /// (physics/volume_builder.h) and blended between timesteps; a .nph cache does not store them
+  /// (its format has no optional variable), so cached data always uses the proxies.
+  std::vector<float> tke_m2_per_s2;     ///< turbulent kinetic energy (WRF TKE_PBL or QKE/2)
+  std::vector<float> cloud_fraction;    ///< WRF CLDFRA, ICON clc/100, in [0, 1]
+  std::vector<float> wind_w_m_per_s;    ///< vertical wind
+
   std::size_t voxelCount() const {
     return std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
   }

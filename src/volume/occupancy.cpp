@@ -4,10 +4,11 @@
 
 namespace nph::scene {
 
-OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstruction reconstruction) {
+OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstruction reconstruction,
+                             int extra_reach_voxels, float max_scale) {
   OccupancyGrid g;
   g.brick = brick;
-  const int d = reachVoxels(reconstruction);
+  const int d = reachVoxels(reconstruction) + extra_reach_voxels;
   g.dilation_voxels = d;
   g.bricks = {(v.nx + brick - 1) / brick, (v.ny + brick - 1) / brick, (v.nz + brick - 1) / brick};
   g.max_per_m.assign(std::size_t(g.bricks.x) * std::size_t(g.bricks.y) * std::size_t(g.bricks.z), 0.0f);
@@ -18,7 +19,7 @@ OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstructi
     for (int j = 0; j < v.ny; ++j)
       for (int i = 0; i < v.nx; ++i) {
         const std::size_t idx = v.index(i, j, k);
-        const float b = (hasIce ? v.ice_per_m[idx] : 0.0f) + (hasWater ? v.water_per_m[idx] : 0.0f);
+        const float b = ((hasIce ? v.ice_per_m[idx] : 0.0f) + (hasWater ? v.water_per_m[idx] : 0.0f)) * max_scale;
         if (!(b > 0.0f)) continue;  // also skips NaN (the loaders never produce it)
         g.nonEmptyMinVoxel = glm::min(g.nonEmptyMinVoxel, glm::ivec3(i, j, k));
         g.nonEmptyMaxVoxel = glm::max(g.nonEmptyMaxVoxel, glm::ivec3(i, j, k));

@@ -27,7 +27,11 @@ struct OccupancyGrid {
   }
 };
 
+/// `extra_reach_voxels` grows the dilation beyond the filter's reach and `max_scale` multiplies the
+/// stored maxima: the sub-grid detail (volume/detail.h) displaces samples by up to its reach and
+/// multiplies β by at most kMaxDetailDensity, so a brick stays a bound of the detailed field.
 OccupancyGrid buildOccupancy(const ExtinctionVolumes& volumes, int brick = 8,
-                             Reconstruction reconstruction = Reconstruction::Trilinear);
+                             Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
+                             float max_scale = 1.0f);
 
 }  // namespace nph::scene

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <regex>
 #include <span>
@@ -101,6 +102,32 @@ TEST(ShaderLibrary, BindingsAreInjectedAndNeverLiteral) {
       EXPECT_NE(src.find("#define " + std::string(e.name) + " "), std::string::npos) << e.name;
     }
     EXPECT_FALSE(std::regex_search(src, literalBinding));
+  }
+}
+
+// Within one stage, every binding NAME it declares has its own number in that GL namespace (texture
+// units, image units, SSBOs, uniform blocks): two samplers on one unit compile and link silently and
+// read the same texture (issue 14's merge put the column depths and the transmittance table on unit
+// 10: only a rendering test noticed). The stages' resolved sources include everything they use.
+TEST(ShaderLibrary, BindingNumbersOfEachStageAreDistinct) {
+  const std::regex use(R"(binding\s*=\s*([A-Z][A-Z0-9_]*))");
+  for (const auto& s : gl::embeddedShaders()) {
+    SCOPED_TRACE(s.name);
+    const std::string src = s.source;
+    std::vector<std::pair<std::string, unsigned>> seen;  // (name, value) of each binding used
+    for (auto it = std::sregex_iterator(src.begin(), src.end(), use); it != std::sregex_iterator(); ++it) {
+      const std::string name = (*it)[1];
+      const auto entry = std::find_if(std::begin(gl::binding::kAll), std::end(gl::binding::kAll),
+                                      [&](const gl::binding::Entry& e) { return e.name == name; });
+      ASSERT_NE(entry, std::end(gl::binding::kAll)) << name << " is not in render/gl/bindings.h";
+      const std::string prefix = name.substr(0, name.find('_') + 1);
+      for (const auto& [other, value] : seen) {
+        if (other != name && value == entry->value && other.starts_with(prefix)) {
+          ADD_FAILURE() << s.name << ": " << name << " and " << other << " share " << prefix << " number " << value;
+        }
+      }
+      seen.emplace_back(name, entry->value);
+    }
   }
 }
 

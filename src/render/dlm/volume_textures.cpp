@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "render/gl/bindings.h"
+#include "render/gl/program.h"
 #include "volume/column_depth.h"
 
 namespace nph::render {
@@ -40,7 +42,8 @@ bool anyPositive(const std::vector<float>& a) {
 
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame,
                                       std::string identity, scene::Reconstruction reconstruction,
-                                      int brickVoxels) {
+                                      int brickVoxels, scene::Detail detail,
+                                      std::shared_ptr<const NoiseTexture> noise) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   checkVoxels(v.ice_per_m, "ice_per_m");
   checkVoxels(v.water_per_m, "water_per_m");
@@ -49,7 +52,8 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   t.identity_ = std::move(identity);
   if (reconstruction == scene::Reconstruction::Cubic) t.identity_ += "|cubic";
   t.reconstruction_ = reconstruction;
-  t.occupancy_ = scene::buildOccupancy(v, brickVoxels, reconstruction);
+  t.detail_ = scene::detailParameters(detail, frame);
+  if (t.detail_.on()) t.identity_ += fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]);
   const glm::ivec3 n(v.nx, v.ny, v.nz);
   if (v.ice_per_m.size() == v.voxelCount() && anyPositive(v.ice_per_m)) {
     t.ice_ = upload3D(v.ice_per_m, n, "ice extinction [1/m]");
@@ -59,8 +63,6 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     t.water_ = upload3D(v.water_per_m, n, "water extinction [1/m]");
     t.water_.sampling(GL_LINEAR, GL_CLAMP_TO_BORDER);
   }
-  t.occupancy_tex_ = upload3D(t.occupancy_.max_per_m, t.occupancy_.bricks, "occupancy max [1/m]");
-  t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   // Vertical optical depths above and below each voxel for the sky light (volume/column_depth.h),
   // interleaved (τ_up, τ_down) as RG16F: 0.1 % precision is far below the two-stream model's own
   // error, and the 65504 ceiling of a half float is a column no sky light crosses anyway.
@@ -89,6 +91,21 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   }
   // Units of absent phases get a 1-voxel zero texture so that no unit is left unbound.
   t.zero_ = upload3D(std::vector<float>{0.0f}, {1, 1, 1}, "zero");
+  t.zero_rgba_ = gl::Texture::create3D(GL_RGBA8, 1, 1, 1).label("zero rgba8");
+  {
+    const std::uint8_t zero[4] = {0, 0, 0, 0};
+    glTextureSubImage3D(t.zero_rgba_.id(), 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  }
+  if (t.detail_.on()) {
+    // Sub-grid detail (volume/detail.h): the controls at data resolution and the noise tile.
+    const scene::DetailControls controls = scene::buildDetailControls(v);
+    t.controls_ = gl::Texture::create3D(GL_RGBA8, n.x, n.y, n.z).label("detail controls");
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(t.controls_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RGBA, GL_UNSIGNED_BYTE, controls.rgba.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    t.controls_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    t.noise_ = noise ? std::move(noise) : NoiseTexture::generate();
+  }
   gl::VolumeBlock block;
   block.box_min_m = glm::vec3(t.frame_.min_m());
   block.box_size_m = glm::vec3(t.frame_.size_m());
@@ -97,9 +114,66 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   block.has_ice = t.hasIce() ? 1u : 0u;
   block.has_water = t.hasWater() ? 1u : 0u;
   block.reconstruction = static_cast<std::int32_t>(reconstruction);
-  block.reach_voxels = float(scene::reachVoxels(reconstruction));
+  block.reach_voxels = float(scene::reachVoxels(reconstruction) + t.detail_.reach_voxels);
+  if (t.detail_.on()) {
+    const scene::NoiseStats& st = scene::noiseVolume().stats;
+    block.detail = static_cast<std::int32_t>(detail);
+    block.detail_amplitude = float(t.detail_.amplitude);
+    block.noise_period_m = glm::vec3(t.detail_.period_m);
+    block.displacement_m = glm::vec3(t.detail_.reach_m);
+    block.noise_stats_ra = glm::vec4(st.r.mean, st.r.half_range, st.a.mean, st.a.half_range);
+    block.noise_stats_gs = glm::vec4(st.g.mean, st.g.half_range, st.stratiform.mean, st.stratiform.half_range);
+    block.noise_stats_c = glm::vec4(st.convective.mean, st.convective.half_range, 0.0f, 0.0f);
+  }
   t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
+  // The per-column mass correction of the detail (volume/detail.h): measured with the correction
+  // at 1, solved on the CPU; the occupancy maxima then bound ρ·c ≤ 2·max c.
+  float maxScale = 1.0f;
+  {
+    const float one = 1.0f;
+    t.correction_ = gl::Texture::create2D(GL_R32F, 1, 1).label("detail correction (none)");
+    glTextureSubImage2D(t.correction_.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &one);
+    t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  }
+  if (t.detail_.on()) {
+    const scene::HalfColumnMasses masses = t.measureHalfColumnMasses();
+    const std::vector<float> c = scene::solveDetailCorrection(masses);
+    maxScale = float(scene::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
+    t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
+    glTextureSubImage2D(t.correction_.id(), 0, 0, 0, n.x, n.y, GL_RED, GL_FLOAT, c.data());
+    t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  }
+  t.occupancy_ = t.detail_.on()
+                     ? scene::buildOccupancy(v, brickVoxels, reconstruction, t.detail_.reach_voxels, maxScale)
+                     : scene::buildOccupancy(v, brickVoxels, reconstruction);
+  t.occupancy_tex_ = upload3D(t.occupancy_.max_per_m, t.occupancy_.bricks, "occupancy max [1/m]");
+  t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   return t;
+}
+
+scene::HalfColumnMasses VolumeTextures::measureHalfColumnMasses() const {
+  scene::HalfColumnMasses m;
+  m.nx = frame_.voxels.x;
+  m.ny = frame_.voxels.y;
+  const glm::ivec2 h(2 * m.nx, 2 * m.ny);
+  auto image = gl::Texture::create2D(GL_RG32F, h.x, h.y).label("detail half-column masses");
+  const gl::Program program = gl::Program::compute("render/detail_mass.comp");
+  program.use();
+  program.set("u_rays_per_axis", scene::kMassRaysPerAxis);
+  program.set("u_step_layers", float(scene::kMassStepLayers));
+  bind();
+  glBindImageTexture(gl::binding::IMAGE_DETAIL_MASS, image.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+  program.dispatchCovering({h.x, h.y, 1});
+  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+  std::vector<float> rg(2 * std::size_t(h.x) * std::size_t(h.y));
+  glGetTextureImage(image.id(), 0, GL_RG, GL_FLOAT, GLsizei(rg.size() * sizeof(float)), rg.data());
+  m.plain.resize(rg.size() / 2);
+  m.detailed.resize(rg.size() / 2);
+  for (std::size_t i = 0; i < m.plain.size(); ++i) {
+    m.plain[i] = double(rg[2 * i]);
+    m.detailed[i] = double(rg[2 * i + 1]);
+  }
+  return m;
 }
 
 void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
@@ -123,6 +197,9 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_OCCUPANCY_PER_M, occupancy_tex_.id());
   glBindTextureUnit(gl::binding::UNIT_COLUMN_DEPTH, column_depth_.id());
   glBindTextureUnit(gl::binding::UNIT_TERRAIN, terrain_tex_.id());
+  glBindTextureUnit(gl::binding::UNIT_DETAIL_CONTROLS, controls_ ? controls_.id() : zero_rgba_.id());
+  glBindTextureUnit(gl::binding::UNIT_DETAIL_NOISE, noise_ ? noise_->texture().id() : zero_rgba_.id());
+  glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, correction_.id());
   block_.bind();
 }
 

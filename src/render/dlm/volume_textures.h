@@ -1,11 +1,14 @@
 #pragma once
 // GPU copy of one timestep's ice and water extinction volumes plus its occupancy grid.
 // An absent phase (all zero) gets no texture and is never fetched.
+#include <memory>
 #include <string>
 
+#include "render/dlm/noise_texture.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
 #include "render/gl/uniform_blocks.h"
+#include "volume/detail.h"
 #include "volume/extinction_volumes.h"
 #include "volume/occupancy.h"
 #include "volume/terrain_field.h"
@@ -21,15 +24,23 @@ class VolumeTextures {
   /// filter every pass applies (volume/reconstruction.h): the occupancy is dilated by its reach,
   /// and a cubic upload's identity gets "|cubic" appended (a DLM built with one filter is never
   /// reused for the other).
+  /// `detail` (volume/detail.h): other than None, the per-voxel controls are built and uploaded, the
+  /// noise tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by
+  /// the displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
+  /// measured on the GPU and solved (volume/detail.h), and the identity gets "|detail=<name>".
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
                                std::string identity,
                                scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
-                               int brickVoxels = 8);
+                               int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
+                               std::shared_ptr<const NoiseTexture> noise = {});
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
   const std::string& identity() const { return identity_; }
   scene::Reconstruction reconstruction() const { return reconstruction_; }
+  const scene::DetailParameters& detail() const { return detail_; }
+  /// The noise tile in use (null without detail): pass it to the next upload to reuse it.
+  const std::shared_ptr<const NoiseTexture>& noise() const { return noise_; }
   bool hasIce() const { return bool(ice_); }
   bool hasWater() const { return bool(water_); }
   /// World AABB of the non-empty voxels grown by the filter's reach (1 voxel trilinear, 2 cubic);
@@ -40,15 +51,20 @@ class VolumeTextures {
   const scene::TerrainField& terrain() const { return terrain_; }
 
   /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
-  /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h) and the
+  /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h),
+  /// UNIT_DETAIL_CONTROLS, UNIT_DETAIL_NOISE (1-texel zeros without detail), UNIT_DETAIL_CORRECTION
+  /// (the per-column mass correction, 1 texel of 1 without detail) and the
   /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program,
   /// and the terrain heights (R32F, one texel per mass point, 1×1 zero without terrain) to
   /// UNIT_TERRAIN.
   void bind() const;
 
  private:
-  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_;
+  scene::HalfColumnMasses measureHalfColumnMasses() const;  ///< glsl/render/detail_mass.comp
+  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, controls_, zero_rgba_, correction_;
   scene::TerrainField terrain_;
+  std::shared_ptr<const NoiseTexture> noise_;
+  scene::DetailParameters detail_;
   gl::UniformBuffer<gl::VolumeBlock> block_;
   scene::VolumeFrame frame_;
   scene::OccupancyGrid occupancy_;

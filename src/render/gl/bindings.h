@@ -25,6 +25,11 @@
   X(UNIT_ICE_PER_M, 0)          /* sampler3D: ice β_ext [1/m] */                                \
   X(UNIT_WATER_PER_M, 1)        /* sampler3D: water β_ext [1/m] */                              \
   X(UNIT_OCCUPANCY_PER_M, 2)    /* sampler3D: max β per occupancy brick [1/m] */                \
+  X(UNIT_DETAIL_CONTROLS, 16)   /* sampler3D: RGBA8 sub-grid detail controls (volume/detail.h) */ \
+  X(UNIT_DETAIL_NOISE, 17)      /* sampler3D: RGBA8 periodic noise tile (volume/noise.h) */     \
+  X(UNIT_DETAIL_CORRECTION, 18) /* sampler2D: R32F per-column mass correction (volume/detail.h) */ \
+  X(IMAGE_DETAIL_NOISE, 0)      /* image3D rgba8, written once by glsl/render/noise.comp */     \
+  X(IMAGE_DETAIL_MASS, 0)       /* image2D rg32f: half-column masses (detail_mass.comp) */      \
   /* Deep light map, glsl/dlm/{march,scatter,lookup}.glsl (render/dlm/deep_light_map.cpp) */     \
   X(UBO_LIGHT_SPACE, 0)         /* LightSpaceBlock (render/gl/uniform_blocks.h) */              \
   X(UNIT_SCATTER_MAP, 3)        /* sampler3D: peripheral light P per scatter cell (pass 3) */   \

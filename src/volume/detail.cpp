@@ -1,0 +1,180 @@
+#include "volume/detail.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/glsl_cpp.h"
+
+namespace nph::scene {
+
+namespace detail_f32 {
+using namespace nph::glsl;
+using Number = float;
+#include "../glsl/common/detail.glsl"
+}  // namespace detail_f32
+
+DetailParameters detailParameters(Detail detail, const VolumeFrame& frame) {
+  DetailParameters p;
+  p.detail = detail;
+  p.amplitude = detail == Detail::Full ? 1.0 : detail == Detail::Subtle ? 0.5 : 0.0;
+  const glm::dvec3 voxel = frame.voxel_size_m;
+  const double column_m = std::max(voxel.x, voxel.y);
+  p.period_m = glm::dvec3(2.0 * column_m);
+  p.reach_m = p.amplitude * glm::dvec3(0.25 * voxel.x, 0.25 * voxel.y, std::min(0.25 * column_m, voxel.z));
+  const glm::dvec3 r = p.reach_m / voxel;
+  p.reach_voxels = int(std::ceil(std::max({r.x, r.y, r.z}) - 1e-9));
+  return p;
+}
+
+glm::dvec4 DetailControls::at(const glm::dvec3& g) const {
+  const glm::dvec3 c = g - 0.5;
+  const glm::dvec3 fl = glm::floor(c);
+  const glm::dvec3 t = c - fl;
+  const glm::ivec3 i0(fl);
+  glm::dvec4 r(0.0);
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const double w = (dx ? t.x : 1.0 - t.x) * (dy ? t.y : 1.0 - t.y) * (dz ? t.z : 1.0 - t.z);
+        if (w == 0.0) continue;
+        const int i = std::clamp(i0.x + dx, 0, nx - 1), j = std::clamp(i0.y + dy, 0, ny - 1),
+                  k = std::clamp(i0.z + dz, 0, nz - 1);
+        const std::size_t q = 4 * ((std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i));
+        r += w * glm::dvec4(rgba[q], rgba[q + 1], rgba[q + 2], rgba[q + 3]);
+      }
+  return r / 255.0;
+}
+
+namespace {
+double smoothstep(double a, double b, double x) {
+  const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+}  // namespace
+
+DetailControls buildDetailControls(const ExtinctionVolumes& v) {
+  DetailControls c;
+  c.nx = v.nx;
+  c.ny = v.ny;
+  c.nz = v.nz;
+  const std::size_t n = v.voxelCount();
+  c.rgba.assign(4 * n, 0);
+  std::vector<float> beta(n, 0.0f);
+  for (std::size_t q = 0; q < n; ++q) {
+    beta[q] = (v.ice_per_m.size() == n ? v.ice_per_m[q] : 0.0f) + (v.water_per_m.size() == n ? v.water_per_m[q] : 0.0f);
+  }
+  const bool hasTke = v.tke_m2_per_s2.size() == n, hasW = v.wind_w_m_per_s.size() == n,
+             hasFraction = v.cloud_fraction.size() == n;
+  const auto b = [&](int i, int j, int k) -> double {
+    if (i < 0 || j < 0 || k < 0 || i >= v.nx || j >= v.ny || k >= v.nz) return 0.0;
+    return double(beta[v.index(i, j, k)]);
+  };
+  constexpr double kCondensate_per_m = 1e-5;  // optical depth 0.01 per km
+  // Per column: max β, condensate depth, max |W|, vertical optical depth (for the contrast proxy).
+  const std::size_t columns = std::size_t(v.nx) * std::size_t(v.ny);
+  std::vector<double> colMax(columns, 0.0), depth_m(columns, 0.0), maxW(columns, 0.0), tau(columns, 0.0);
+  for (int j = 0; j < v.ny; ++j)
+    for (int i = 0; i < v.nx; ++i) {
+      const std::size_t col = std::size_t(j) * std::size_t(v.nx) + std::size_t(i);
+      for (int k = 0; k < v.nz; ++k) {
+        const std::size_t q = v.index(i, j, k);
+        colMax[col] = std::max(colMax[col], double(beta[q]));
+        if (double(beta[q]) > kCondensate_per_m) depth_m[col] += v.dz_m;
+        tau[col] += double(beta[q]) * v.dz_m;
+        if (hasW) maxW[col] = std::max(maxW[col], std::abs(double(v.wind_w_m_per_s[q])));
+      }
+    }
+  for (int j = 0; j < v.ny; ++j)
+    for (int i = 0; i < v.nx; ++i) {
+      const std::size_t col = std::size_t(j) * std::size_t(v.nx) + std::size_t(i);
+      double convective;
+      if (hasW) {
+        convective = smoothstep(0.5, 3.0, maxW[col]);
+      } else {
+        // Proxy: a deep column that stands out from the 5×5 columns around it (a convective cell
+        // in a shield or in clear air); a uniform deck, however deep, is stratiform.
+        double around = 0.0;
+        int count = 0;
+        for (int jj = std::max(j - 2, 0); jj <= std::min(j + 2, v.ny - 1); ++jj)
+          for (int ii = std::max(i - 2, 0); ii <= std::min(i + 2, v.nx - 1); ++ii) {
+            around += tau[std::size_t(jj) * std::size_t(v.nx) + std::size_t(ii)];
+            ++count;
+          }
+        around /= double(count);
+        const double contrast = around > 0.0 ? tau[col] / around : 0.0;
+        convective = smoothstep(3000.0, 7000.0, depth_m[col]) * smoothstep(1.2, 2.0, contrast);
+      }
+      for (int k = 0; k < v.nz; ++k) {
+        const std::size_t q = v.index(i, j, k);
+        double s = 0.0;
+        if (hasTke) s = std::max(s, std::sqrt(std::max(double(v.tke_m2_per_s2[q]), 0.0) / 5.0));
+        if (hasW) s = std::max(s, std::abs(double(v.wind_w_m_per_s[q])) / 2.0);
+        if (!hasTke && !hasW) {
+          const double centre = b(i, j, k);
+          const double x0 = b(i - 1, j, k), x1 = b(i + 1, j, k), y0 = b(i, j - 1, k), y1 = b(i, j + 1, k),
+                       z0 = b(i, j, k - 1), z1 = b(i, j, k + 1);
+          const double m = std::max({centre, x0, x1, y0, y1, z0, z1});
+          s = m > 0.0 ? (std::abs(x1 - x0) + std::abs(y1 - y0) + std::abs(z1 - z0)) / (2.0 * m) : 0.0;
+        }
+        const double turbulence = 0.25 + 0.75 * std::clamp(s, 0.0, 1.0);
+        const double fraction = hasFraction ? std::clamp(double(v.cloud_fraction[q]), 0.0, 1.0) : 1.0;
+        const double core = colMax[col] > 0.0 ? double(beta[q]) / colMax[col] : 0.0;
+        const std::array<double, 4> ch{turbulence, convective, fraction, core};
+        for (std::size_t k4 = 0; k4 < 4; ++k4) c.rgba[4 * q + k4] = unormCode(float(ch[k4]));
+      }
+    }
+  return c;
+}
+
+std::vector<float> solveDetailCorrection(const HalfColumnMasses& m) {
+  const int nx = m.nx, ny = m.ny, hx = 2 * nx;
+  std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0);
+  double maxPlain = 0.0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      double p = 0.0;
+      for (int q = 0; q < 4; ++q) p += m.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
+      plain[std::size_t(j) * std::size_t(nx) + std::size_t(i)] = p;
+      maxPlain = std::max(maxPlain, p);
+    }
+  std::vector<double> c(plain.size(), 1.0), next(plain.size(), 1.0);
+  const auto at = [&](int i, int j) {
+    return c[std::size_t(std::clamp(j, 0, ny - 1)) * std::size_t(nx) + std::size_t(std::clamp(i, 0, nx - 1))];
+  };
+  for (int iteration = 0; iteration < 16; ++iteration) {
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t J = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+        next[J] = c[J];
+        if (!(plain[J] > 1e-3 * maxPlain)) continue;  // no cloud of its own: left at 1
+        double d = 0.0;
+        for (int q = 0; q < 4; ++q) {
+          const int sx = q % 2 ? 1 : -1, sy = q / 2 ? 1 : -1;  // the quadrant's side
+          const double w = 9.0 / 16.0 * at(i, j) + 3.0 / 16.0 * (at(i + sx, j) + at(i, j + sy)) +
+                           1.0 / 16.0 * at(i + sx, j + sy);
+          d += m.detailed[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)] * w;
+        }
+        if (d > 0.0) next[J] = std::clamp(c[J] * plain[J] / d, 0.5, 2.0);
+      }
+    c.swap(next);
+  }
+  return std::vector<float>(c.begin(), c.end());
+}
+
+glm::dvec3 detailDisplacement(const glm::dvec4& nd, double turbulence, const glm::dvec3& reach_m, const NoiseStats& s) {
+  return glm::dvec3(detail_f32::detailDisplacement(
+      glm::vec4(nd), float(turbulence), glm::vec3(reach_m),
+      glm::vec4(float(s.r.mean), float(s.r.half_range), float(s.a.mean), float(s.a.half_range)),
+      glm::vec2(float(s.g.mean), float(s.g.half_range))));
+}
+
+double detailDensity(const glm::dvec4& n1, const glm::dvec4& n2, const glm::dvec4& controls, double amplitude,
+                     const NoiseStats& s) {
+  return double(detail_f32::detailDensity(glm::vec4(n1), glm::vec4(n2), glm::vec4(controls), float(amplitude),
+                                          glm::vec2(float(s.stratiform.mean), float(s.stratiform.half_range)),
+                                          glm::vec2(float(s.convective.mean), float(s.convective.half_range))));
+}
+
+glm::dvec3 detailSecondFrame(const glm::dvec3& q) { return glm::dvec3(detail_f32::detailSecondFrame(glm::vec3(q))); }
+
+}  // namespace nph::scene

@@ -1,0 +1,105 @@
+#pragma once
+// Procedural sub-grid detail (issue 13 item 2; Muth 2026 §3.3.1 "Sub-Grid Detail Synthesis";
+// Thomann 2021 §4 for the noise volume): what the coarse model grid cannot resolve, synthesised at
+// render time from a periodic noise volume (volume/noise.h) and per-voxel controls derived here.
+// The rule itself — displacement and density factor — is glsl/common/detail.glsl, run by the
+// shaders (glsl/dlm/volume.glsl extinctionAt) and, compiled as C++, by ExtinctionSampler: the DLM,
+// the eye pass, the CPU reference ray marcher and the path tracer all see one detailed field.
+//
+// Knob `detail` (lighting/knobs.h): none = the data-true field, bit for bit as before; subtle =
+// half amplitude and half displacement; full.
+//
+// Controls (RGBA8 at data resolution, GL_LINEAR; the CPU reads the same codes):
+//   r  turbulence amplitude a_t = 0.25 + 0.75·s, s ∈ [0, 1] the largest available of
+//        √(TKE / 5 m²s⁻²)   (Muth: σ_h = √(2/3·TKE), normalised against TKE = 5 m²s⁻²),
+//        |W| / 2 m s⁻¹       (resolved vertical motion; WRF's TKE_PBL is zero above the boundary
+//                             layer, where convective clouds still churn),
+//      and where the source has neither (a .nph cache, a host's volume) the hydrometeor-gradient
+//      proxy Σ_axes |β(+1) − β(−1)| / (2·max β of the 7-point stencil): large at cloud edges and
+//      in sheared cells, 0 in uniform layers. The floor 0.25 stands for the sub-grid variability of
+//      any cloud (without it, a stratiform deck under zero TKE would get no displacement at all).
+//   g  convective weight, per column: where W is present, smoothstep(0.5, 3 m/s, the column's max
+//      |W|) — convective cells are where the model resolves updrafts (this replaces Muth's TKE-based
+//      weight and cumulonimbus bypass: WRF's TKE_PBL does not see deep convection, and a storm's
+//      stratiform shield is as deep as its cells, 9 km in the coarse storm, so depth alone cannot
+//      tell them apart). Without W, the proxy smoothstep(3, 7 km, condensate depth) ×
+//      smoothstep(1.2, 2, τ_column / mean τ of the 5×5 columns around): a deep column that stands
+//      out from its surroundings (condensate: β > 1e-5 /m, an optical depth of 0.01 per km).
+//   b  cloud fraction (WRF CLDFRA, ICON clc) where present, else 1 (no acceptance).
+//   a  core = β / the column's max β: 1 in the densest part (left dense), 0 at the edges (eroded).
+//
+// Scale: the noise is addressed in WORLD metres (fixed in space: a still scene is bit-identical
+// frame to frame and an animation does not swim), one tile per P = 2·max(dx, dy) metres on every
+// axis (dx, dy the model's column spacing in world metres): the coarsest lattice cell of the
+// noise is half a column, the finest 1/16 — detail the grid cannot hold, and a column averages
+// enough cells to keep its optical mass (docs/detail.md). The displacement noise has the period
+// 2P. Displacement cap: ¼ column horizontally, min(¼ column, 1 layer) vertically, × the strength.
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "volume/extinction_volumes.h"
+#include "volume/noise.h"
+#include "volume/volume_frame.h"
+
+namespace nph::scene {
+
+enum class Detail { None = 0, Subtle = 1, Full = 2 };
+
+/// Names in the order of the enum values (knob `detail`, scene files, docs).
+inline constexpr std::array<std::string_view, 3> kDetailNames{"none", "subtle", "full"};
+
+/// What the shaders and the CPU twin need besides the controls and the noise.
+struct DetailParameters {
+  Detail detail = Detail::None;
+  double amplitude = 0.0;         ///< density modulation strength: 0, ½, 1
+  glm::dvec3 period_m{1.0};       ///< world metres per noise tile (density noise)
+  glm::dvec3 reach_m{0.0};        ///< displacement cap per axis [world m]
+  int reach_voxels = 0;           ///< ceil of the cap in voxels: the occupancy's extra dilation
+  bool on() const { return detail != Detail::None; }
+};
+DetailParameters detailParameters(Detail detail, const VolumeFrame& frame);
+
+/// The largest density factor ρ (detail.glsl): occupancy maxima and majorants scale by it.
+inline constexpr double kMaxDetailDensity = 2.0;
+
+/// Per-voxel controls, RGBA8 codes as uploaded (see above), x fastest as ExtinctionVolumes.
+struct DetailControls {
+  int nx = 0, ny = 0, nz = 0;
+  std::vector<std::uint8_t> rgba;
+  /// GL_LINEAR with GL_CLAMP_TO_EDGE at continuous grid coordinates g (voxel centres at i + ½).
+  glm::dvec4 at(const glm::dvec3& g) const;
+};
+DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
+
+/// Mass correction (issue 13 "mass preserving"). E[ρ] = 1 over the noise, but one model column holds
+/// only a few noise cells and β varies inside its voxels, so a column's optical depth would change
+/// by up to ~15 % (95 % of the storm's columns within 3 %). The detailed field is therefore
+/// multiplied by a per-column factor c(x, y), interpolated bilinearly between column centres (a
+/// smooth factor: no steps at the column faces) and solved so that every column keeps its mean
+/// optical depth: measured masses of the plain and the uncorrected detailed field on half-columns
+/// (2×2 per column: the quadrants, whose bilinear weights on the column and its neighbours are
+/// 9/16, 3/16, 3/16, 1/16 on average), then a multiplicative Jacobi iteration
+///   c_J ← c_J · P_J / Σ_quadrants D_q · Σ_I w_q,I · c_I,
+/// c ∈ [½, 2], columns without plain mass fixed at 1. Measured by the GPU (glsl/render/
+/// detail_mass.comp) for rendering and by ExtinctionSampler for the CPU twin, same pattern.
+struct HalfColumnMasses {
+  int nx = 0, ny = 0;                 ///< model columns (the arrays hold 2nx × 2ny, x fastest)
+  std::vector<double> plain, detailed;  ///< Σ β·Δz over the half-column's rays (any common unit)
+};
+/// Rays per half-column and axis, and the vertical step in layers, of the measurement.
+inline constexpr int kMassRaysPerAxis = 2;
+inline constexpr double kMassStepLayers = 0.5;
+/// c per model column (nx × ny, x fastest).
+std::vector<float> solveDetailCorrection(const HalfColumnMasses& masses);
+
+/// detail.glsl's functions (compiled as C++ in float, as the GPU runs them).
+glm::dvec3 detailDisplacement(const glm::dvec4& nd, double turbulence, const glm::dvec3& reach_m, const NoiseStats& s);
+double detailDensity(const glm::dvec4& n1, const glm::dvec4& n2, const glm::dvec4& controls, double amplitude,
+                     const NoiseStats& s);
+glm::dvec3 detailSecondFrame(const glm::dvec3& q);
+
+}  // namespace nph::scene
