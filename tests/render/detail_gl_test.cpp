@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dlm_scenes.h"
+#include "render_scenes.h"
 #include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/noise_texture.h"
@@ -27,30 +28,9 @@ using scene::Detail;
 
 /// The demo's view (examples/scenes/demo.json.in): oblique preset, 40° field of view, sun from
 /// azimuth 140° at 35°, heights × 8.
-struct DemoView {
-  scene::VolumeFrame frame;
-  scene::Camera camera;
-  scene::Sun sun{140.0, 35.0};
-};
-
-DemoView demoView(const ExtinctionVolumes& v, int width, int height) {
-  DemoView d;
-  d.frame = scene::frameOf(v, 8.0);
-  scene::CameraSpec spec;
-  spec.preset = scene::CameraPreset::Oblique;
-  spec.fov_deg = 40.0;
-  d.camera = scene::cameraFor(spec, d.frame, width, height);
-  return d;
-}
-
-render::RenderOutput renderWith(const ExtinctionVolumes& v, const DemoView& d, Detail detail, render::RenderSettings rs) {
-  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", rs.reconstruction, 8, detail);
-  render::DeepLightMap dlm;
-  scene::DlmSettings ds;
-  ds.empty_space_skipping = rs.empty_space_skipping;
-  dlm.build(tex, -d.sun.toSun(), ds);
-  render::CloudRenderer renderer;
-  return renderer.render(tex, dlm, d.camera, d.sun, rs);
+render::RenderOutput renderWith(const ExtinctionVolumes& v, const DemoView& d, Detail detail,
+                                const render::RenderSettings& rs) {
+  return renderDemoView(v, d, rs, rs.reconstruction, detail);
 }
 
 // The compute shader's tile against the CPU twin's (volume/noise.cpp: the same noise.glsl compiled

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dlm_scenes.h"
+#include "render_scenes.h"
 #include "grid_artefacts.h"
 #include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
@@ -25,33 +26,9 @@ using scene::Reconstruction;
 
 /// The demo's view (examples/scenes/demo.json.in): oblique preset, 40° field of view, sun from
 /// azimuth 140° at 35°, heights × 8.
-struct DemoView {
-  scene::VolumeFrame frame;
-  scene::Camera camera;
-  scene::Sun sun{140.0, 35.0};
-};
-
-DemoView demoView(const ExtinctionVolumes& v, int width, int height, double distance_scale = 1.0) {
-  DemoView d;
-  d.frame = scene::frameOf(v, 8.0);
-  scene::CameraSpec spec;
-  spec.preset = scene::CameraPreset::Oblique;
-  spec.fov_deg = 40.0;
-  spec.distance_scale = distance_scale;
-  d.camera = scene::cameraFor(spec, d.frame, width, height);
-  return d;
-}
-
 render::RenderOutput renderWith(const ExtinctionVolumes& v, const DemoView& d, Reconstruction r,
-                                render::RenderSettings rs, double dlm_texel_voxels = 1.0) {
-  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", r);
-  render::DeepLightMap dlm;
-  scene::DlmSettings ds;
-  ds.empty_space_skipping = rs.empty_space_skipping;
-  ds.texel_voxels = dlm_texel_voxels;
-  dlm.build(tex, -d.sun.toSun(), ds);
-  render::CloudRenderer renderer;
-  return renderer.render(tex, dlm, d.camera, d.sun, rs);
+                                const render::RenderSettings& rs, double dlm_texel_voxels = 1.0) {
+  return renderDemoView(v, d, rs, r, scene::Detail::None, dlm_texel_voxels);
 }
 
 // The GPU's tricubic B-spline from 8 trilinear fetches against the CPU reference ray marcher with

@@ -58,4 +58,28 @@ std::unique_ptr<engine::Session> openSession(const std::string& scene_json, cons
   return std::make_unique<engine::Session>(engine::Dataset::open(data_path), s);
 }
 
+DemoView demoView(const ExtinctionVolumes& v, int width, int height, double distance_scale) {
+  DemoView d;
+  d.frame = scene::frameOf(v, 8.0);
+  scene::CameraSpec spec;
+  spec.preset = scene::CameraPreset::Oblique;
+  spec.fov_deg = 40.0;
+  spec.distance_scale = distance_scale;
+  d.camera = scene::cameraFor(spec, d.frame, width, height);
+  return d;
+}
+
+render::RenderOutput renderDemoView(const ExtinctionVolumes& v, const DemoView& d, const render::RenderSettings& rs,
+                                    scene::Reconstruction reconstruction, scene::Detail detail,
+                                    double dlm_texel_voxels) {
+  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", reconstruction, 8, detail);
+  render::DeepLightMap dlm;
+  scene::DlmSettings ds;
+  ds.empty_space_skipping = rs.empty_space_skipping;
+  ds.texel_voxels = dlm_texel_voxels;
+  dlm.build(tex, -d.sun.toSun(), ds);
+  render::CloudRenderer renderer;
+  return renderer.render(tex, dlm, d.camera, d.sun, rs);
+}
+
 }  // namespace nph::test

@@ -5,6 +5,10 @@
 #include <string>
 
 #include "engine/session.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/camera.h"
+#include "scene/sun.h"
+#include "volume/extinction_volumes.h"
 #include "scene/output_image.h"
 #include "support/scratch_dir.h"
 #include "wrf_hurricane.h"
@@ -26,5 +30,20 @@ scene::LonLat stormCentreLonLat(const datagen::WrfTruth& truth, const datagen::W
 /// A session of `scene_json` (a scene file's text; its data.path is replaced by `data_path`) with a
 /// current GL context.
 std::unique_ptr<engine::Session> openSession(const std::string& scene_json, const std::string& data_path);
+
+/// The demo's oblique view of a volume (issue 13's coarse storm): height exaggeration 8, 40°
+/// field of view, the sun of the demo (azimuth 140°, elevation 35°).
+struct DemoView {
+  scene::VolumeFrame frame;
+  scene::Camera camera;
+  scene::Sun sun{140.0, 35.0};
+};
+DemoView demoView(const ExtinctionVolumes& v, int width, int height, double distance_scale = 1.0);
+
+/// Uploads `v` with the filter and sub-grid detail given, builds the DLM (empty-space skipping as
+/// `rs`, texels of `dlm_texel_voxels`) and ray casts the demo view with `rs`.
+render::RenderOutput renderDemoView(const ExtinctionVolumes& v, const DemoView& d, const render::RenderSettings& rs,
+                                    scene::Reconstruction reconstruction, scene::Detail detail = scene::Detail::None,
+                                    double dlm_texel_voxels = 1.0);
 
 }  // namespace nph::test
