@@ -12,9 +12,8 @@ namespace {
 struct Layer {
   double base_m, base_k, lapse_k_per_m, base_pa;
 };
-constexpr std::array<Layer, 3> kLayers = {{{0.0, 288.15, -0.0065, 101325.0},
-                                          {11000.0, 216.65, 0.0, 22632.06},
-                                          {20000.0, 216.65, 0.001, 5474.889}}};
+constexpr std::array<Layer, 3> kLayers = {
+    {{0.0, 288.15, -0.0065, 101325.0}, {11000.0, 216.65, 0.0, 22632.06}, {20000.0, 216.65, 0.001, 5474.889}}};
 constexpr double kTopOfTable_m = 32000.0;
 
 const Layer& layerForHeight(double z) {
@@ -78,8 +77,7 @@ double ValueNoise::hash(std::int64_t a, std::int64_t b, std::int64_t c) const {
 
 double ValueNoise::at(double x, double y, double z) const {
   const double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
-  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy),
-             iz = static_cast<std::int64_t>(fz);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy), iz = static_cast<std::int64_t>(fz);
   const double tx = smooth(x - fx), ty = smooth(y - fy), tz = smooth(z - fz);
   double result = 0.0;
   for (int c = 0; c < 8; ++c) {

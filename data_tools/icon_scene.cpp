@@ -50,18 +50,19 @@ class Scene {
     lat_span_ = (spec.nlat - 1) * spec.dlat_deg;
     // Scattered cumulus: one cell per ~900 km^2 of the south-eastern half, positions from the seed.
     const double km_per_deg = kIconEarthRadius_m / 1000.0 / kDegPerRad;
-    const double area_km2 = lon_span_ * km_per_deg * std::cos((lat_min_ + 0.5 * lat_span_) / kDegPerRad) *
-                            lat_span_ * km_per_deg;
+    const double area_km2 =
+        lon_span_ * km_per_deg * std::cos((lat_min_ + 0.5 * lat_span_) / kDegPerRad) * lat_span_ * km_per_deg;
     // Candidates anywhere, kept with a probability that is high in the south-east and fades out
     // along a noisy boundary, so the convective field has no straight edges.
     const int count = std::clamp(static_cast<int>(area_km2 / 2.0 / 900.0), 6, 4000);
     for (int c = 0, kept = 0; kept < count && c < 20 * count; ++c) {
       const double u = noise_.hash(c, 1, 0), v = noise_.hash(c, 2, 0);
-      const double potential = smoothstep(0.35, 0.65, u - 0.6 * v + 0.35 + 0.5 * (noise_.fbm(3.0 * u, 3.0 * v, 9.0, 3) - 0.5));
+      const double potential =
+          smoothstep(0.35, 0.65, u - 0.6 * v + 0.35 + 0.5 * (noise_.fbm(3.0 * u, 3.0 * v, 9.0, 3) - 0.5));
       if (noise_.hash(c, 5, 0) >= potential) continue;
       ++kept;
-      cumuli_.push_back({lon_min_ + u * lon_span_, lat_min_ + v * lat_span_,
-                         4.0 + 8.0 * noise_.hash(c, 3, 0), 3000.0 + 4500.0 * noise_.hash(c, 4, 0)});
+      cumuli_.push_back({lon_min_ + u * lon_span_, lat_min_ + v * lat_span_, 4.0 + 8.0 * noise_.hash(c, 3, 0),
+                         3000.0 + 4500.0 * noise_.hash(c, 4, 0)});
     }
   }
 
@@ -121,7 +122,8 @@ class Scene {
       const double pres = standardPressurePa(z);
       col.temp[kk] = temp;
       col.pres[kk] = pres;
-      const double rh = 0.7 * (1.0 - 0.7 * smoothstep(6000.0, 12000.0, z)) + 0.25 * deck * layer(agl, 500.0, 1600.0, 200.0);
+      const double rh =
+          0.7 * (1.0 - 0.7 * smoothstep(6000.0, 12000.0, z)) + 0.25 * deck * layer(agl, 500.0, 1600.0, 200.0);
       const double e = std::min(rh, 1.0) * saturationVapourPressurePa(temp);
       // Specific humidity (per kg of moist air): q = eps e / (p - (1 - eps) e).
       col.qv[kk] = kEpsilonRdOverRv * e / (pres - (1.0 - kEpsilonRdOverRv) * e);
@@ -134,7 +136,8 @@ class Scene {
       const double depleted_layer = depleted_patch ? layer(agl, 800.0, 1400.0, 100.0) : 0.0;
       clc = std::max(clc, 70.0 * depleted_layer);
       // Cirrus 9-11 km, thin.
-      const double ci = cirrus * layer(z, 9000.0, 11000.0, 400.0) * (0.4 + 0.6 * noise_.fbm(x * 10.0, y * 10.0, 3.0 + 0.1 * hours, 3));
+      const double ci = cirrus * layer(z, 9000.0, 11000.0, 400.0) *
+                        (0.4 + 0.6 * noise_.fbm(x * 10.0, y * 10.0, 3.0 + 0.1 * hours, 3));
       qi += 2.5e-5 * ci;
       if (!cirrus_without_clc) clc = std::max(clc, 80.0 * ci);
       // Cumulus towers (only those near this column, found once per column below).
@@ -195,10 +198,10 @@ constexpr std::array<FieldDef, 10> kFields = {{
     {"z_ifc", "geometric_height_at_half_level_center", "geometric height at half level center", "m", "6.3.0"},
 }};
 
-std::vector<double> Column::* memberFor(const std::string& name) {
+std::vector<double> Column::*memberFor(const std::string& name) {
   static const std::map<std::string, std::vector<double> Column::*> m = {
-      {"temp", &Column::temp}, {"pres", &Column::pres}, {"qv", &Column::qv}, {"qc", &Column::qc},
-      {"qi", &Column::qi},     {"qr", &Column::qr},     {"qs", &Column::qs}, {"qg", &Column::qg},
+      {"temp", &Column::temp}, {"pres", &Column::pres},  {"qv", &Column::qv}, {"qc", &Column::qc},
+      {"qi", &Column::qi},     {"qr", &Column::qr},      {"qs", &Column::qs}, {"qg", &Column::qg},
       {"clc", &Column::clc},   {"z_ifc", &Column::z_ifc}};
   return m.at(name);
 }
@@ -206,8 +209,8 @@ std::vector<double> Column::* memberFor(const std::string& name) {
 /// Native grid cells: centres and vertices (radians), from a subdivided icosahedron, restricted to
 /// the cells whose centre lies in the scene's lon/lat box.
 struct NativeGrid {
-  std::vector<double> clon, clat;                  // ncells
-  std::vector<std::array<double, 3>> vlon, vlat;   // ncells x 3
+  std::vector<double> clon, clat;                 // ncells
+  std::vector<std::array<double, 3>> vlon, vlat;  // ncells x 3
 };
 
 using Vec3 = std::array<double, 3>;
@@ -225,8 +228,8 @@ Vec3 fromLonLat(double lon, double lat) {
 
 NativeGrid buildNativeGrid(const IconSceneSpec& spec) {
   const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3> v = {{0, 1, phi}, {0, -1, phi}, {0, 1, -phi}, {0, -1, -phi}, {1, phi, 0}, {-1, phi, 0},
-                         {1, -phi, 0}, {-1, -phi, 0}, {phi, 0, 1}, {-phi, 0, 1}, {phi, 0, -1}, {-phi, 0, -1}};
+  std::vector<Vec3> v = {{0, 1, phi},  {0, -1, phi},  {0, 1, -phi}, {0, -1, -phi}, {1, phi, 0},  {-1, phi, 0},
+                         {1, -phi, 0}, {-1, -phi, 0}, {phi, 0, 1},  {-phi, 0, 1},  {phi, 0, -1}, {-phi, 0, -1}};
   // Faces: every triple of mutually adjacent vertices (edge length 2 before normalisation).
   auto adjacent = [&](std::size_t a, std::size_t b) {
     const double dx = v[a][0] - v[b][0], dy = v[a][1] - v[b][1], dz = v[a][2] - v[b][2];
@@ -248,7 +251,8 @@ NativeGrid buildNativeGrid(const IconSceneSpec& spec) {
     {
       {
         const std::size_t a = face[0], b = face[1], c = face[2];
-        const Vec3 fc = normalize({v[a][0] + v[b][0] + v[c][0], v[a][1] + v[b][1] + v[c][1], v[a][2] + v[b][2] + v[c][2]});
+        const Vec3 fc =
+            normalize({v[a][0] + v[b][0] + v[c][0], v[a][1] + v[b][1] + v[c][1], v[a][2] + v[b][2] + v[c][2]});
         const double cos_angle = fc[0] * centre[0] + fc[1] * centre[1] + fc[2] * centre[2];
         if (cos_angle < std::cos(50.0 / kDegPerRad)) continue;  // face circumradius is ~37°
         auto point = [&](int i, int j) {
@@ -298,7 +302,8 @@ void countInconsistencies(const Column& col, IconTruth& truth) {
 }  // namespace
 
 IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
-  if (spec.nlon < 2 || spec.nlat < 2 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dlon_deg > 0) || !(spec.dlat_deg > 0)) {
+  if (spec.nlon < 2 || spec.nlat < 2 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dlon_deg > 0) ||
+      !(spec.dlat_deg > 0)) {
     throw UsageError(fmt::format("{}: ICON scene needs nlon, nlat >= 2, nz, ntimes >= 1, positive spacing", path));
   }
   const Scene scene(spec);
@@ -444,7 +449,8 @@ IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
   // Horizontal points in file order.
   std::vector<std::pair<double, double>> points;  // (lon, lat) degrees
   if (native) {
-    for (std::size_t c = 0; c < grid.clon.size(); ++c) points.emplace_back(grid.clon[c] * kDegPerRad, grid.clat[c] * kDegPerRad);
+    for (std::size_t c = 0; c < grid.clon.size(); ++c)
+      points.emplace_back(grid.clon[c] * kDegPerRad, grid.clat[c] * kDegPerRad);
   } else {
     for (int j = 0; j < spec.nlat; ++j)
       for (int i = 0; i < spec.nlon; ++i) points.emplace_back(lons[std::size_t(i)], lats[std::size_t(j)]);

@@ -13,11 +13,11 @@
 namespace nph::datagen {
 
 struct IconSceneSpec {
-  int nlon = 40, nlat = 36, nz = 20;  ///< regular grid points and full levels
-  int ntimes = 2;                     ///< hourly timesteps
+  int nlon = 40, nlat = 36, nz = 20;       ///< regular grid points and full levels
+  int ntimes = 2;                          ///< hourly timesteps
   double lon0_deg = 9.0, lat0_deg = 46.0;  ///< first grid point (south-west corner)
   double dlon_deg = 0.1, dlat_deg = 0.1;
-  bool lat_descending = false;        ///< write lat north to south (as some GRIB scans do)
+  bool lat_descending = false;  ///< write lat north to south (as some GRIB scans do)
   double model_top_m = 20000.0;
   std::uint64_t seed = 1;
   NcFormat format = NcFormat::Classic64;

@@ -37,12 +37,11 @@ class NcWriter {
 
   void putFloat(int varid, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
                 const float* data);
-  void putDouble(int varid, const std::vector<std::size_t>& start,
-                 const std::vector<std::size_t>& count, const double* data);
-  void putText(int varid, const std::vector<std::size_t>& start,
-               const std::vector<std::size_t>& count, const char* data);
-  void putInt(int varid, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
-              const int* data);
+  void putDouble(int varid, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
+                 const double* data);
+  void putText(int varid, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count,
+               const char* data);
+  void putInt(int varid, const std::vector<std::size_t>& start, const std::vector<std::size_t>& count, const int* data);
 
   int id() const { return ncid_; }
   const std::string& path() const { return path_; }

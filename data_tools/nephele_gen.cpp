@@ -1,7 +1,7 @@
 // nephele-gen: writes the synthetic sample data sets (WRF hurricane, ICON scene) deterministically
 // from a seed. Run `nephele-gen --help` or `nephele-gen <command> --help`.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <filesystem>
@@ -17,14 +17,11 @@ using nph::datagen::SampleSize;
 
 const std::map<std::string, SampleSize> kSizes = {{"tiny", SampleSize::Tiny}, {"realistic", SampleSize::Realistic}};
 const std::map<std::string, nph::datagen::WrfProjection> kProjections = {
-    {"lambert", nph::datagen::WrfProjection::Lambert},
-    {"polar", nph::datagen::WrfProjection::PolarStereographic},
-    {"mercator", nph::datagen::WrfProjection::Mercator},
-    {"latlon", nph::datagen::WrfProjection::LatLon},
-    {"rotated", nph::datagen::WrfProjection::RotatedLatLon},
-    {"cartesian", nph::datagen::WrfProjection::Cartesian}};
-const std::map<std::string, nph::datagen::WrfScheme> kSchemes = {
-    {"thompson", nph::datagen::WrfScheme::ThompsonLike}, {"wsm3", nph::datagen::WrfScheme::Wsm3Like}};
+    {"lambert", nph::datagen::WrfProjection::Lambert},       {"polar", nph::datagen::WrfProjection::PolarStereographic},
+    {"mercator", nph::datagen::WrfProjection::Mercator},     {"latlon", nph::datagen::WrfProjection::LatLon},
+    {"rotated", nph::datagen::WrfProjection::RotatedLatLon}, {"cartesian", nph::datagen::WrfProjection::Cartesian}};
+const std::map<std::string, nph::datagen::WrfScheme> kSchemes = {{"thompson", nph::datagen::WrfScheme::ThompsonLike},
+                                                                 {"wsm3", nph::datagen::WrfScheme::Wsm3Like}};
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -65,16 +62,22 @@ int main(int argc, char** argv) {
                   "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored)")
       ->check(CLI::IsMember({"hurricane", "storm"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
-  wrf->add_option("--proj", proj_name, "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | cartesian (0, no XLAT/XLONG)")
+  wrf->add_option("--proj", proj_name,
+                  "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | "
+                  "cartesian (0, no XLAT/XLONG)")
       ->check(CLI::IsMember({"lambert", "polar", "mercator", "latlon", "rotated", "cartesian"}));
-  wrf->add_option("--scheme", scheme_name, "thompson (MP_PHYSICS=8, separate ice, number concentrations) | wsm3 (MP_PHYSICS=3, only QCLOUD/QRAIN)")
+  wrf->add_option(
+         "--scheme", scheme_name,
+         "thompson (MP_PHYSICS=8, separate ice, number concentrations) | wsm3 (MP_PHYSICS=3, only QCLOUD/QRAIN)")
       ->check(CLI::IsMember({"thompson", "wsm3"}));
   wrf->add_option("--times", times, "hourly timesteps in the file (>= 1)")->check(CLI::PositiveNumber);
-  wrf->add_option("--start-hour", start_hour, "hours after 2026-09-01_12:00:00 of the first timestep (for file series)");
+  wrf->add_option("--start-hour", start_hour,
+                  "hours after 2026-09-01_12:00:00 of the first timestep (for file series)");
   wrf->add_flag("--hail", hail, "add QHAIL/QNHAIL");
   std::vector<double> mountain;
-  wrf->add_option("--mountain", mountain,
-                  "LON,LAT,HEIGHT_M,SIGMA_M: add a Gaussian mountain to HGT (terrain; issue 14), e.g. -76,25.3,2500,40000")
+  wrf->add_option(
+         "--mountain", mountain,
+         "LON,LAT,HEIGHT_M,SIGMA_M: add a Gaussian mountain to HGT (terrain; issue 14), e.g. -76,25.3,2500,40000")
       ->expected(4)
       ->delimiter(',');
 
@@ -84,11 +87,13 @@ int main(int argc, char** argv) {
   int icon_times = 2;
   add_common(icon);
   icon->add_option("-o,--output", icon_out, "output file");
-  icon->add_flag("--native", native, "native triangular grid (ncells, clon/clat in radians) instead of regular lat-lon");
+  icon->add_flag("--native", native,
+                 "native triangular grid (ncells, clon/clat in radians) instead of regular lat-lon");
   icon->add_flag("--lat-descending", descending, "write latitudes north to south");
   icon->add_option("--times", icon_times, "hourly timesteps (>= 1)")->check(CLI::PositiveNumber);
 
-  CLI::App* all = app.add_subcommand("all", "standard set: wrf lambert/mercator x thompson/wsm3, icon regular + native");
+  CLI::App* all =
+      app.add_subcommand("all", "standard set: wrf lambert/mercator x thompson/wsm3, icon regular + native");
   std::string dir = "sample-data";
   add_common(all);
   all->add_option("-d,--dir", dir, "output directory");
@@ -113,8 +118,8 @@ int main(int argc, char** argv) {
       spec.format = format(spec.format);
       const auto t0 = std::chrono::steady_clock::now();
       const auto truth = nph::datagen::writeWrfHurricane(spec, path);
-      fmt::print("{}: wrfout {}x{}x{} x {} times, MAP_PROJ={}, MP_PHYSICS={}, {:.2f} s\n", path, truth.nx,
-                 truth.ny, truth.nz, truth.ntimes, truth.map_proj, truth.mp_physics, secondsSince(t0));
+      fmt::print("{}: wrfout {}x{}x{} x {} times, MAP_PROJ={}, MP_PHYSICS={}, {:.2f} s\n", path, truth.nx, truth.ny,
+                 truth.nz, truth.ntimes, truth.map_proj, truth.mp_physics, secondsSince(t0));
     };
     auto write_icon = [&](const std::string& path, bool nat) {
       auto spec = nph::datagen::iconPreset(size, nat);

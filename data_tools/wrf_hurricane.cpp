@@ -4,8 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 
@@ -47,18 +47,15 @@ struct ParticleClass {
 // Mean radii/densities typical of the Thompson scheme's assumptions (Thompson et al. 2008,
 // Mon. Wea. Rev. 136): cloud 10 µm water, rain 0.5 mm, ice 30 µm (rho 890), snow 0.5 mm with
 // bulk density 100 kg/m3, graupel 1 mm (rho 400), hail 2.5 mm (rho 900).
-constexpr ParticleClass kCloud{"QCLOUD", "QNCLOUD", "Cloud water mixing ratio",
-                               "cloud water Number concentration", 10e-6, 1000.0};
+constexpr ParticleClass kCloud{"QCLOUD", "QNCLOUD", "Cloud water mixing ratio", "cloud water Number concentration",
+                               10e-6,    1000.0};
 constexpr ParticleClass kRain{"QRAIN", "QNRAIN", "Rain water mixing ratio", "Rain Number concentration",
-                              0.5e-3, 1000.0};
-constexpr ParticleClass kIce{"QICE", "QNICE", "Ice mixing ratio", "Ice Number concentration", 30e-6,
-                             890.0};
-constexpr ParticleClass kSnow{"QSNOW", "QNSNOW", "Snow mixing ratio", "Snow Number concentration",
-                              0.5e-3, 100.0};
-constexpr ParticleClass kGraupel{"QGRAUP", "QNGRAUPEL", "Graupel mixing ratio",
-                                 "Graupel Number concentration", 1.0e-3, 400.0};
-constexpr ParticleClass kHail{"QHAIL", "QNHAIL", "Hail mixing ratio", "Hail Number concentration",
-                              2.5e-3, 900.0};
+                              0.5e-3,  1000.0};
+constexpr ParticleClass kIce{"QICE", "QNICE", "Ice mixing ratio", "Ice Number concentration", 30e-6, 890.0};
+constexpr ParticleClass kSnow{"QSNOW", "QNSNOW", "Snow mixing ratio", "Snow Number concentration", 0.5e-3, 100.0};
+constexpr ParticleClass kGraupel{"QGRAUP", "QNGRAUPEL", "Graupel mixing ratio", "Graupel Number concentration",
+                                 1.0e-3,   400.0};
+constexpr ParticleClass kHail{"QHAIL", "QNHAIL", "Hail mixing ratio", "Hail Number concentration", 2.5e-3, 900.0};
 
 double smoothstep(double e0, double e1, double x) {
   const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
@@ -112,13 +109,10 @@ ProjectionSetup projectionSetup(WrfProjection p) {
       // POLE_LON = 180, STAND_LON = 180 - lon0. As CF grid_mapping: grid_north_pole_latitude =
       // 90 - lat0, grid_north_pole_longitude = lon0 - 180, i.e. PROJ o_lat_p = 90 - lat0, lon_0 = lon0.
       s = {6, "", true, 0.0, 0.0, 180.0 - kCenLon_deg, 90.0 - kCenLat_deg, 180.0, "Cylindrical Equidistant"};
-      s.proj_definition = fmt::format(
-          "+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p=0 +lon_0={} +R={} +no_defs",
-          90.0 - kCenLat_deg, kCenLon_deg, r);
+      s.proj_definition = fmt::format("+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p=0 +lon_0={} +R={} +no_defs",
+                                      90.0 - kCenLat_deg, kCenLon_deg, r);
       break;
-    case WrfProjection::Cartesian:
-      s = {0, "", false, 0.0, 0.0, 0.0, 90.0, 0.0, "Cartesian"};
-      break;
+    case WrfProjection::Cartesian: s = {0, "", false, 0.0, 0.0, 0.0, 90.0, 0.0, "Cartesian"}; break;
   }
   return s;
 }
@@ -136,8 +130,7 @@ struct Grid {
 class Writer {
  public:
   Writer(const WrfHurricaneSpec& spec, const std::string& path)
-      : spec_(spec), nc_(path, spec.format), proj_(projectionSetup(spec.projection)),
-        noise_(spec.seed) {}
+      : spec_(spec), nc_(path, spec.format), proj_(projectionSetup(spec.projection)), noise_(spec.seed) {}
 
   WrfTruth run();
 
@@ -146,8 +139,7 @@ class Writer {
   int defField(const std::string& name, const std::vector<int>& dims, const std::string& memory_order,
                const std::string& description, const std::string& units, const std::string& stagger);
   void writeTimestep(int t);
-  void put3d(const std::string& name, int t, const std::vector<float>& data, int nz_var, int ny_var,
-             int nx_var);
+  void put3d(const std::string& name, int t, const std::vector<float>& data, int nz_var, int ny_var, int nx_var);
   void put2d(const std::string& name, int t, const std::vector<float>& data);
 
   // Storm position of timestep t in metres from grid point (0, 0).
@@ -227,8 +219,8 @@ Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i
   const double ellipse = std::hypot((x_km - 0.5 * (g_.nx - 1) * spec_.dx_m / 1000.0) / 260.0,
                                     (y_km - 0.55 * (g_.ny - 1) * spec_.dx_m / 1000.0) / 170.0);
   const double shield = (1.0 - smoothstep(0.8, 1.0, ellipse)) * column;
-  const double shield_top_km = 8.2 + 1.6 * noise_.fbm(x_km / 90.0, y_km / 90.0, 0.2 * hours, 2) +
-                               0.6 * (noise_.hash(i, j, 2000) - 0.5);
+  const double shield_top_km =
+      8.2 + 1.6 * noise_.fbm(x_km / 90.0, y_km / 90.0, 0.2 * hours, 2) + 0.6 * (noise_.hash(i, j, 2000) - 0.5);
   const bool warm = temperature_k > kFreezingPoint_k;
   const double freezing_mix = smoothstep(kFreezingPoint_k - 25.0, kFreezingPoint_k - 2.0, temperature_k);
   // Convective cores: sharp tops (0.3 km edge) and bases at 1.2 km.
@@ -236,8 +228,10 @@ Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i
   p.q_cloud = 1.6e-3 * core * freezing_mix + 1.2e-4 * shield * layer(zk, 3.0, 4.6, 0.2) * freezing_mix;
   p.q_rain = (2.2e-3 * cell + 1.2e-4 * shield) * layer(zk, -1.0, 4.2, 0.6) * (warm ? 1.0 : 0.2);
   p.q_graupel = 1.0e-3 * cell * layer(zk, 4.5, std::min(top_km, 9.0), 0.5);
-  p.q_ice = warm ? 0.0 : 4.0e-4 * core * smoothstep(6.0, 8.0, zk) + 8.0e-5 * shield * layer(zk, 6.0, shield_top_km, 0.05);
-  p.q_snow = warm ? 0.0 : 6.0e-4 * core * smoothstep(5.0, 7.0, zk) + 2.5e-4 * shield * layer(zk, 4.6, shield_top_km, 0.05);
+  p.q_ice =
+      warm ? 0.0 : 4.0e-4 * core * smoothstep(6.0, 8.0, zk) + 8.0e-5 * shield * layer(zk, 6.0, shield_top_km, 0.05);
+  p.q_snow =
+      warm ? 0.0 : 6.0e-4 * core * smoothstep(5.0, 7.0, zk) + 2.5e-4 * shield * layer(zk, 4.6, shield_top_km, 0.05);
   // Updrafts in the cores (8 m/s at mid-levels), gentle ascent in the shield.
   p.w_m_per_s = 8.0 * cell * std::sin(kPi * std::clamp((zk - 1.0) / std::max(top_km - 1.0, 1.0), 0.0, 1.0)) +
                 0.3 * shield * layer(zk, 4.6, shield_top_km, 0.5);
@@ -247,9 +241,8 @@ Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i
   return p;
 }
 
-int Writer::defField(const std::string& name, const std::vector<int>& dims,
-                     const std::string& memory_order, const std::string& description,
-                     const std::string& units, const std::string& stagger) {
+int Writer::defField(const std::string& name, const std::vector<int>& dims, const std::string& memory_order,
+                     const std::string& description, const std::string& units, const std::string& stagger) {
   const int id = nc_.defVar(name, NC_FLOAT, dims);
   nc_.attInt(id, "FieldType", 104);
   nc_.attText(id, "MemoryOrder", memory_order);
@@ -391,14 +384,12 @@ void Writer::defineFile() {
   nc_.endDef();
 }
 
-void Writer::put3d(const std::string& name, int t, const std::vector<float>& data, int nz_var,
-                   int ny_var, int nx_var) {
+void Writer::put3d(const std::string& name, int t, const std::vector<float>& data, int nz_var, int ny_var, int nx_var) {
   nc_.putFloat(var_.at(name), {std::size_t(t), 0, 0, 0},
                {1, std::size_t(nz_var), std::size_t(ny_var), std::size_t(nx_var)}, data.data());
 }
 void Writer::put2d(const std::string& name, int t, const std::vector<float>& data) {
-  nc_.putFloat(var_.at(name), {std::size_t(t), 0, 0}, {1, std::size_t(g_.ny), std::size_t(g_.nx)},
-               data.data());
+  nc_.putFloat(var_.at(name), {std::size_t(t), 0, 0}, {1, std::size_t(g_.ny), std::size_t(g_.nx)}, data.data());
 }
 
 void Writer::writeTimestep(int t) {
@@ -456,8 +447,8 @@ void Writer::writeTimestep(int t) {
       phi_rad[c] = static_cast<float>(std::atan2(ddy, ddx));
       // Holland-like surface pressure deficit: dp0 (1 - exp(-(R_mw/r)^1.5)).
       const double rr = std::max(r, 1e-3);
-      const double dp = intensity * kCentralPressureDeficit_pa *
-                        (1.0 - std::exp(-std::pow(kRadiusMaxWind_km / rr, 1.5)));
+      const double dp =
+          intensity * kCentralPressureDeficit_pa * (1.0 - std::exp(-std::pow(kRadiusMaxWind_km / rr, 1.5)));
       const double hgt = terrain_m_[c];
       const double ps_base = standardPressurePa(hgt);
       const double ps = ps_base - dp;
@@ -629,8 +620,9 @@ void Writer::writeTimestep(int t) {
         const double anvil = eye * gaussian(r, 0.0, 200.0) * (0.65 + 0.35 * std::cos(phi + r / 90.0 - 0.2 * hours)) *
                              layer(zk, 11.0, 13.8, 1.0) * texture;
         const double q_ice = (3.0e-4 * eyewall * layer(zk, 7.0, 14.5, 1.0) + 1.6e-4 * anvil) * (warm ? 0.0 : 1.0);
-        const double q_snow = (7.0e-4 * convective * layer(zk, 5.5, 11.0, 1.0) + 2.0e-4 * stratiform * layer(zk, 5.0, 9.0, 1.0) +
-                               0.6e-4 * anvil) * (warm ? 0.0 : 1.0);
+        const double q_snow = (7.0e-4 * convective * layer(zk, 5.5, 11.0, 1.0) +
+                               2.0e-4 * stratiform * layer(zk, 5.0, 9.0, 1.0) + 0.6e-4 * anvil) *
+                              (warm ? 0.0 : 1.0);
         const double q_hail = spec_.include_hail ? 3.0e-4 * eyewall * eyewall * layer(zk, 3.0, 7.5, 1.0) : 0.0;
 
         const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
@@ -733,7 +725,8 @@ WrfTruth Writer::run() {
     for (int j = 0; j < g_.ny; ++j) {
       for (int i = 0; i < g_.nx; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(g_.nx) + std::size_t(i);
-        const auto [lon, lat] = projection.inverse({xc + (i - 0.5 * (g_.nx - 1)) * step, yc + (j - 0.5 * (g_.ny - 1)) * step});
+        const auto [lon, lat] =
+            projection.inverse({xc + (i - 0.5 * (g_.nx - 1)) * step, yc + (j - 0.5 * (g_.ny - 1)) * step});
         truth_.lat_deg[c] = lat;
         truth_.lon_deg[c] = lon;
         lat_[c] = static_cast<float>(lat);
@@ -748,7 +741,8 @@ WrfTruth Writer::run() {
       const double my = ((at.y - yc) / step + 0.5 * (g_.ny - 1)) * spec_.dx_m;
       for (int j = 0; j < g_.ny; ++j) {
         for (int i = 0; i < g_.nx; ++i) {
-          const double r2 = (i * spec_.dx_m - mx) * (i * spec_.dx_m - mx) + (j * spec_.dx_m - my) * (j * spec_.dx_m - my);
+          const double r2 =
+              (i * spec_.dx_m - mx) * (i * spec_.dx_m - mx) + (j * spec_.dx_m - my) * (j * spec_.dx_m - my);
           terrain_m_[std::size_t(j) * std::size_t(g_.nx) + std::size_t(i)] +=
               mt.height_m * std::exp(-r2 / (2.0 * mt.sigma_m * mt.sigma_m));
         }
@@ -784,7 +778,8 @@ WrfHurricaneSpec coarseStormSpec() {
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path) {
   if (spec.nx < 1 || spec.ny < 1 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dx_m > 0.0) ||
       !(spec.mountain.sigma_m > 0.0) || !std::isfinite(spec.mountain.height_m)) {
-    throw UsageError(fmt::format("{}: hurricane grid must have nx, ny, nz, ntimes >= 1 and dx > 0; a mountain sigma > 0", path));
+    throw UsageError(
+        fmt::format("{}: hurricane grid must have nx, ny, nz, ntimes >= 1 and dx > 0; a mountain sigma > 0", path));
   }
   Writer writer(spec, path);
   return writer.run();
@@ -797,7 +792,8 @@ std::pair<double, double> stormCentreLonLat(const WrfTruth& truth, double dx_m) 
   const double a = fi - i, b = fj - j;
   auto lerp = [&](const std::vector<double>& f) {
     auto at = [&](int ii, int jj) { return f[std::size_t(jj) * std::size_t(truth.nx) + std::size_t(ii)]; };
-    return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) + a * b * at(i + 1, j + 1);
+    return (1 - a) * (1 - b) * at(i, j) + a * (1 - b) * at(i + 1, j) + (1 - a) * b * at(i, j + 1) +
+           a * b * at(i + 1, j + 1);
   };
   return {lerp(truth.lon_deg), lerp(truth.lat_deg)};
 }

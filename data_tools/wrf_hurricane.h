@@ -49,12 +49,12 @@ struct WrfHurricaneSpec {
   double dx_m = 15000.0;          ///< grid spacing DX = DY [m]
   WrfProjection projection = WrfProjection::Lambert;
   WrfScheme scheme = WrfScheme::ThompsonLike;
-  bool include_hail = false;      ///< add QHAIL/QNHAIL (zero outside the eyewall core)
+  bool include_hail = false;  ///< add QHAIL/QNHAIL (zero outside the eyewall core)
   std::uint64_t seed = 1;
   NcFormat format = NcFormat::Classic64;
-  bool keep_truth = false;        ///< fill WrfTruth's 3-D fields (tests; costs memory)
+  bool keep_truth = false;  ///< fill WrfTruth's 3-D fields (tests; costs memory)
   WrfCase weather = WrfCase::Hurricane;
-  GaussianMountain mountain;      ///< none by default (height 0); needs a projection (not Cartesian)
+  GaussianMountain mountain;  ///< none by default (height 0); needs a projection (not Cartesian)
 };
 
 /// What the generator wrote, in double precision, to check loaders against.
@@ -66,11 +66,12 @@ struct WrfTruth {
   std::vector<std::string> times;         ///< WRF Times strings
   /// Per timestep, layout (k * ny + j) * nx + i, mass points; only with keep_truth.
   std::vector<std::vector<double>> height_m, pressure_pa, temperature_k;
-  std::vector<double> terrain_m;           ///< nx*ny
-  std::vector<double> lat_deg, lon_deg;    ///< nx*ny; empty for Cartesian
+  std::vector<double> terrain_m;                          ///< nx*ny
+  std::vector<double> lat_deg, lon_deg;                   ///< nx*ny; empty for Cartesian
   double storm_centre_x_m = 0.0, storm_centre_y_m = 0.0;  ///< first timestep, from grid point 0
   /// The mountain's summit in grid metres from mass point (0, 0) (NaN without a mountain).
-  double mountain_x_m = std::numeric_limits<double>::quiet_NaN(), mountain_y_m = std::numeric_limits<double>::quiet_NaN();
+  double mountain_x_m = std::numeric_limits<double>::quiet_NaN(),
+         mountain_y_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The storm centre's (lon, lat) [deg] at the first timestep: the truth's XLONG/XLAT interpolated

@@ -59,15 +59,18 @@ Options parse(int argc, char** argv) {
     const std::string a = argv[i];
     auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : (die(a + " needs a value"), std::string()); };
     if (a == "--plugin") o.plugin = next();
-    else if (a == "--size") { if (std::sscanf(next().c_str(), "%dx%d", &o.width, &o.height) != 2) die("--size WxH"); }
-    else if (a == "--time") o.time = std::atof(next().c_str());
+    else if (a == "--size") {
+      if (std::sscanf(next().c_str(), "%dx%d", &o.width, &o.height) != 2) die("--size WxH");
+    } else if (a == "--time") o.time = std::atof(next().c_str());
     else if (a == "--exaggeration") o.exaggeration = std::atof(next().c_str());
     else if (a == "--frames") o.frames = std::atoi(next().c_str());
     else if (a == "--screenshot") o.screenshot = next();
     else if (!a.empty() && a[0] != '-' && o.dataset.empty()) o.dataset = a;
     else die("unknown argument " + a);
   }
-  if (o.dataset.empty()) die("usage: embed_glfw DATASET [--plugin PATH] [--size WxH] [--time T] [--exaggeration X] [--frames N --screenshot FILE.ppm]");
+  if (o.dataset.empty())
+    die("usage: embed_glfw DATASET [--plugin PATH] [--size WxH] [--time T] [--exaggeration X] [--frames N --screenshot "
+        "FILE.ppm]");
   return o;
 }
 
@@ -133,7 +136,8 @@ struct OrbitCamera {  // around the volume's centre, in nephele's world frame (z
 
   glm::dmat4 viewFromWorld() const {
     const double az = glm::radians(azimuth_deg), el = glm::radians(elevation_deg);
-    const glm::dvec3 eye = target + distance_m * glm::dvec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+    const glm::dvec3 eye =
+        target + distance_m * glm::dvec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
     return glm::lookAt(eye, target, glm::dvec3(0.0, 0.0, 1.0));
   }
 };
@@ -216,7 +220,8 @@ int main(int argc, char** argv) {
   const glm::vec3 tower_colours[] = {{0.8f, 0.3f, 0.2f}, {0.9f, 0.8f, 0.3f}, {0.3f, 0.5f, 0.9f}, {0.8f, 0.8f, 0.8f}};
   for (int i = 0; i < 4; ++i) {
     const glm::vec3 c(towers[i] * glm::vec2(size), 0.0f);
-    addBox(mesh, c - glm::vec3(side, side, 0.0f), c + glm::vec3(side, side, top_m * (0.5f + 0.15f * float(i))), tower_colours[i]);
+    addBox(mesh, c - glm::vec3(side, side, 0.0f), c + glm::vec3(side, side, top_m * (0.5f + 0.15f * float(i))),
+           tower_colours[i]);
   }
   GLuint vbo = 0, vao = 0;
   glCreateBuffers(1, &vbo);
@@ -263,11 +268,18 @@ int main(int argc, char** argv) {
     }
     camera.distance_m *= std::pow(0.9, g_scroll);
     g_scroll = 0.0;
-    auto pressed = [&](int key) { static bool down[512]; bool now = glfwGetKey(window, key) == GLFW_PRESS, edge = now && !down[key]; down[key] = now; return edge; };
+    auto pressed = [&](int key) {
+      static bool down[512];
+      bool now = glfwGetKey(window, key) == GLFW_PRESS, edge = now && !down[key];
+      down[key] = now;
+      return edge;
+    };
     if (pressed(GLFW_KEY_RIGHT_BRACKET)) time = std::min(time + 0.25, double(timesteps - 1));
     if (pressed(GLFW_KEY_LEFT_BRACKET)) time = std::max(time - 0.25, 0.0);
-    if (pressed(GLFW_KEY_S)) check(g_api->set_sun(clouds, sun_azimuth_deg += 30.0, sun_elevation_deg), clouds, "set_sun");
-    if (pressed(GLFW_KEY_Q)) check(g_api->set_quality_preset(clouds, (draft = !draft) ? "draft" : "broadcast"), clouds, "quality");
+    if (pressed(GLFW_KEY_S))
+      check(g_api->set_sun(clouds, sun_azimuth_deg += 30.0, sun_elevation_deg), clouds, "set_sun");
+    if (pressed(GLFW_KEY_Q))
+      check(g_api->set_quality_preset(clouds, (draft = !draft) ? "draft" : "broadcast"), clouds, "quality");
 
     const glm::dmat4 view = camera.viewFromWorld();
     const glm::dmat4 proj = glm::perspective(glm::radians(40.0), double(o.width) / double(o.height), near_m, far_m);
@@ -284,15 +296,16 @@ int main(int argc, char** argv) {
     glUseProgram(program);
     glUniformMatrix4fv(glGetUniformLocation(program, "u_clip_from_world"), 1, GL_FALSE, glm::value_ptr(projf * viewf));
     const double az = glm::radians(sun_azimuth_deg), el = glm::radians(sun_elevation_deg);
-    glUniform3f(glGetUniformLocation(program, "u_to_sun"), float(std::sin(az) * std::cos(el)), float(std::cos(az) * std::cos(el)),
-                float(std::sin(el)));
+    glUniform3f(glGetUniformLocation(program, "u_to_sun"), float(std::sin(az) * std::cos(el)),
+                float(std::cos(az) * std::cos(el)), float(std::sin(el)));
     glUniform1f(glGetUniformLocation(program, "u_grid_m"), 0.1f * std::max(size.x, size.y));
     glBindVertexArray(vao);
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(mesh.size()));
 
     // (2)+(3) the clouds, cut by the host's depth, blended over its colour
     check(g_api->set_time(clouds, time), clouds, "set_time");
-    check(g_api->set_camera(clouds, glm::value_ptr(viewf), glm::value_ptr(projf), o.width, o.height), clouds, "set_camera");
+    check(g_api->set_camera(clouds, glm::value_ptr(viewf), glm::value_ptr(projf), o.width, o.height), clouds,
+          "set_camera");
     check(g_api->render(clouds), clouds, "render");
 
     // (4) to the window

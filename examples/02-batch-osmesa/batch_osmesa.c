@@ -48,8 +48,15 @@ int main(int argc, char** argv) {
   }
 
   /* The host's context: OpenGL 4.5 core on OSMesa, drawing into `pixels`. */
-  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         4,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         5,
+                         0};
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
   unsigned char* pixels = malloc((size_t)w * (size_t)h * 4);
   if (ctx == NULL || pixels == NULL || !OSMesaMakeCurrent(ctx, pixels, GL_UNSIGNED_BYTE, w, h)) {

@@ -57,7 +57,7 @@ typedef int32_t nph_status;
 #define NPH_ERROR_INPUT 6            /* a dataset that is missing, unreadable or malformed */
 #define NPH_ERROR_GL 7               /* GL 4.5 core missing, shader or GL call failed */
 #define NPH_ERROR_OUT_OF_MEMORY 8
-#define NPH_ERROR_INTERNAL 9         /* a bug in nephele: please report with the message */
+#define NPH_ERROR_INTERNAL 9 /* a bug in nephele: please report with the message */
 
 /** What the host's GetProcAddress returns (eglGetProcAddress, glfwGetProcAddress, ...). */
 typedef void (*nph_gl_proc)(void);
@@ -71,22 +71,23 @@ typedef struct nph_renderer_desc {
   double time_index;                        /* initial fractional timestep index */
   double height_exaggeration;               /* vertical scale of the world frame; 0 = 1 (true scale) */
 } nph_renderer_desc;
-#define NPH_RENDERER_DESC_INIT {sizeof(nph_renderer_desc), NULL, NULL, 0.0, 1.0}
+#define NPH_RENDERER_DESC_INIT \
+  { sizeof(nph_renderer_desc), NULL, NULL, 0.0, 1.0 }
 
 /** Per-frame and per-renderer figures (get_stats). Set struct_size before the call. */
 typedef struct nph_stats {
-  uint32_t struct_size;    /* sizeof(nph_stats) */
-  int32_t volume_changed;  /* 1: the last render uploaded a new (possibly blended) volume */
-  int32_t dlm_rebuilt;     /* 1: the last render rebuilt the deep light map; 0: reused it */
+  uint32_t struct_size;   /* sizeof(nph_stats) */
+  int32_t volume_changed; /* 1: the last render uploaded a new (possibly blended) volume */
+  int32_t dlm_rebuilt;    /* 1: the last render rebuilt the deep light map; 0: reused it */
   int32_t reserved;
-  double time_index;       /* fractional timestep index of the last render */
-  double load_ms;          /* decoding / blending timesteps (0 when cached) */
-  double upload_ms;        /* volume upload */
-  double dlm_ms;           /* deep light map build (0 when reused) */
-  double raycast_ms;       /* ray cast submission */
-  double composite_ms;     /* the composite pass into the host framebuffer */
-  double total_ms;         /* the whole render call, incl. state save and restore */
-  uint64_t frames;         /* render calls that succeeded */
+  double time_index;   /* fractional timestep index of the last render */
+  double load_ms;      /* decoding / blending timesteps (0 when cached) */
+  double upload_ms;    /* volume upload */
+  double dlm_ms;       /* deep light map build (0 when reused) */
+  double raycast_ms;   /* ray cast submission */
+  double composite_ms; /* the composite pass into the host framebuffer */
+  double total_ms;     /* the whole render call, incl. state save and restore */
+  uint64_t frames;     /* render calls that succeeded */
   uint64_t dlm_builds, dlm_reuses, volume_uploads;
 } nph_stats;
 
@@ -131,8 +132,8 @@ typedef struct nph_api_v1 {
   /* The host's camera: column-major 4x4 matrices as glUniformMatrix4fv takes them (world -> eye,
    * rigid; eye -> clip, OpenGL perspective) and the size of the image rendered (usually the
    * viewport; the cloud layer is ray cast at this size and stretched over the viewport). */
-  nph_status (*set_camera)(nph_renderer* renderer, const float view_from_world[16],
-                           const float clip_from_view[16], int32_t width, int32_t height);
+  nph_status (*set_camera)(nph_renderer* renderer, const float view_from_world[16], const float clip_from_view[16],
+                           int32_t width, int32_t height);
   /* A camera framing the volume: "overview" | "oblique" | "top" (as in scene files). */
   nph_status (*set_camera_preset)(nph_renderer* renderer, const char* preset, int32_t width, int32_t height);
   /* The current camera's matrices (column-major), e.g. to draw host geometry under a preset. */
@@ -179,8 +180,8 @@ typedef struct nph_api_v2 {
   nph_status (*renderer_destroy)(nph_renderer* renderer);
   nph_status (*world_bounds)(const nph_renderer* renderer, double min_m[3], double max_m[3]);
   nph_status (*set_time)(nph_renderer* renderer, double time_index);
-  nph_status (*set_camera)(nph_renderer* renderer, const float view_from_world[16],
-                           const float clip_from_view[16], int32_t width, int32_t height);
+  nph_status (*set_camera)(nph_renderer* renderer, const float view_from_world[16], const float clip_from_view[16],
+                           int32_t width, int32_t height);
   nph_status (*set_camera_preset)(nph_renderer* renderer, const char* preset, int32_t width, int32_t height);
   nph_status (*get_camera)(const nph_renderer* renderer, float view_from_world[16], float clip_from_view[16]);
   nph_status (*set_sun)(nph_renderer* renderer, double azimuth_deg, double elevation_deg);

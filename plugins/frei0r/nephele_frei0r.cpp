@@ -68,9 +68,8 @@ struct Params {
 /// clock (f0r_update's time, seconds) advances it at `clock` × 10 timesteps/s; clamped to the data.
 double frameTimestep(const Params& p, double stream_time_s, int32_t timesteps) {
   const double last = double(std::max(timesteps - 1, 0));
-  const double clock = std::isfinite(p.clock) && std::isfinite(stream_time_s)
-                           ? p.clock * kClockRangeTimestepsPerS * stream_time_s
-                           : 0.0;
+  const double clock =
+      std::isfinite(p.clock) && std::isfinite(stream_time_s) ? p.clock * kClockRangeTimestepsPerS * stream_time_s : 0.0;
   return std::clamp(std::clamp(p.time, 0.0, 1.0) * last + clock, 0.0, last);
 }
 
@@ -92,7 +91,7 @@ class Instance {
     thread_.join();
   }
 
-  Params params;      // set by f0r_set_param_value on the host's thread
+  Params params;             // set by f0r_set_param_value on the host's thread
   std::string string_value;  // what f0r_get_param_value returned last for a string
 
   void update(double stream_time_s, std::uint32_t* out) {
@@ -280,7 +279,10 @@ void f0r_set_param_value(f0r_instance_t instance, f0r_param_t param, int index) 
   auto* in = static_cast<Instance*>(instance);
   if (in == nullptr || param == nullptr) return;
   Params& p = in->params;
-  auto text = [param] { const char* s = *static_cast<f0r_param_string*>(param); return std::string(s ? s : ""); };
+  auto text = [param] {
+    const char* s = *static_cast<f0r_param_string*>(param);
+    return std::string(s ? s : "");
+  };
   const double value = index == kDataset || index == kCamera || index == kQuality ? 0.0 : *static_cast<double*>(param);
   switch (index) {
     case kDataset: p.dataset = text(); break;

@@ -59,7 +59,8 @@ scene::Camera orbit(const glm::dvec3& target, double azimuth_deg, double elevati
   const double az = glm::radians(azimuth_deg), el = glm::radians(elevation_deg);
   scene::Camera c;
   c.target_m = target;
-  c.position_m = target + distance_m * glm::dvec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+  c.position_m =
+      target + distance_m * glm::dvec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
   c.up = elevation_deg > 89.0 ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(0.0, 0.0, 1.0);
   c.vertical_fov_deg = fov_deg;
   c.width = width;
@@ -77,7 +78,8 @@ ExtinctionVolumes generatedHurricane(bool quick, const std::string& scratch_dir)
   }
   spec.ntimes = 1;
   std::filesystem::create_directories(scratch_dir);
-  const std::string path = (std::filesystem::path(scratch_dir) / (quick ? "wrfout_quick.nc" : "wrfout_accuracy.nc")).string();
+  const std::string path =
+      (std::filesystem::path(scratch_dir) / (quick ? "wrfout_quick.nc" : "wrfout_accuracy.nc")).string();
   datagen::writeWrfHurricane(spec, path);
   const auto file = io::openModelFile(path);
   ExtinctionVolumes v =
@@ -174,8 +176,8 @@ SceneSet standardScenes(int width, int height, bool quick, const std::string& sc
   set.volumes.push_back(cirrusLayer(quick ? 32 : 96, 31));
   const char* names[] = {"hurricane", "stratus", "cumulus", "cirrus"};
   const double exaggeration[] = {8.0, 4.0, 1.0, 4.0};
-  auto add = [&](int vi, const std::string& view, double camAz, double camEl, double dist, double fov,
-                 double sunAz, double sunEl) {
+  auto add = [&](int vi, const std::string& view, double camAz, double camEl, double dist, double fov, double sunAz,
+                 double sunEl) {
     AccuracyScene s;
     s.volume_name = names[vi];
     s.name = std::string(names[vi]) + "-" + view;

@@ -7,9 +7,9 @@
 
 #include <fmt/format.h>
 
+#include <map>
 #include "core/error.h"
 #include "core/log.h"
-#include <map>
 
 #include "reference/dlm_reference.h"
 #include "reference/ray_marcher.h"
@@ -62,8 +62,9 @@ const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextu
   reference::RayMarchSettings march = v.render;
   march.step_voxels = kReferenceStepVoxels;
   march.min_transmittance = 0.0;
-  return cache[key] = reference::marchCloudLayer(*sc.volumes, sc.frame, sc.camera, sc.sun,
-                                                 [&](const glm::dvec3& p) { return light->intensityAt(p); }, march);
+  return cache[key] = reference::marchCloudLayer(
+             *sc.volumes, sc.frame, sc.camera, sc.sun, [&](const glm::dvec3& p) { return light->intensityAt(p); },
+             march);
 }
 
 }  // namespace
@@ -88,8 +89,8 @@ Variant variantOf(const lighting::QualitySettings& q) {
   v.value = q.preset;
   v.dlm = lighting::dlmSettingsFor(q);
   v.render = lighting::renderSettingsFor(q, lighting::StyleSettings{});
-  v.render.jitter = false;     // pixel-centre rays, like both references
-  v.render.sky_below = true;   // the path-traced truth has no ground: sky all round
+  v.render.jitter = false;    // pixel-centre rays, like both references
+  v.render.sky_below = true;  // the path-traced truth has no ground: sky all round
   return v;
 }
 
@@ -98,7 +99,8 @@ std::vector<Variant> sweepVariants(bool quick) {
   // A quality knob of the knob table (lighting/knobs.h), by its name there.
   auto knob = [&](std::string_view name, const std::vector<double>& values) {
     const lighting::Knob* k = lighting::findKnob(name);
-    if (k == nullptr || k->group() != lighting::KnobGroup::Quality) throw UsageError(fmt::format("bench accuracy: no quality knob {}", name));
+    if (k == nullptr || k->group() != lighting::KnobGroup::Quality)
+      throw UsageError(fmt::format("bench accuracy: no quality knob {}", name));
     for (double x : values) {
       if (!k->accepts(x)) throw UsageError(fmt::format("bench accuracy: {} = {} is outside the knob's range", name, x));
       lighting::QualitySettings q = sweepBase();
@@ -140,11 +142,30 @@ std::vector<Variant> sweepVariants(bool quick) {
 }
 
 const std::vector<std::string>& csvColumns() {
-  static const std::vector<std::string> c{
-      "scene", "knob", "value", "dlm_ms", "raycast_ms", "total_ms", "dlm_mean_nodes", "dlm_unbounded_texels",
-      "truth_rmse", "truth_rel_mse", "truth_mean_abs", "truth_max_abs", "truth_share_off_2_255", "truth_alpha_max_abs",
-      "truth_noise_rmse", "truth_bias_rmse", "truth_truncated_share", "coverage",
-      "ref_rmse", "ref_rel_mse", "ref_mean_abs", "ref_max_abs", "ref_share_off_2_255", "ref_alpha_max_abs"};
+  static const std::vector<std::string> c{"scene",
+                                          "knob",
+                                          "value",
+                                          "dlm_ms",
+                                          "raycast_ms",
+                                          "total_ms",
+                                          "dlm_mean_nodes",
+                                          "dlm_unbounded_texels",
+                                          "truth_rmse",
+                                          "truth_rel_mse",
+                                          "truth_mean_abs",
+                                          "truth_max_abs",
+                                          "truth_share_off_2_255",
+                                          "truth_alpha_max_abs",
+                                          "truth_noise_rmse",
+                                          "truth_bias_rmse",
+                                          "truth_truncated_share",
+                                          "coverage",
+                                          "ref_rmse",
+                                          "ref_rel_mse",
+                                          "ref_mean_abs",
+                                          "ref_max_abs",
+                                          "ref_share_off_2_255",
+                                          "ref_alpha_max_abs"};
   return c;
 }
 
@@ -160,20 +181,23 @@ void writeCsv(const std::vector<SweepRow>& rows, const std::string& path) {
   for (const SweepRow& r : rows) {
     const ImageError& t = r.vs_truth;
     const ImageError& c = r.vs_reference;
-    out << fmt::format("{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},"
-                       "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
-                       r.scene, r.knob, r.value, r.dlm_ms, r.raycast_ms, r.dlm_ms + r.raycast_ms, r.dlm_mean_nodes,
-                       r.dlm_unbounded_texels, t.rmse, t.rel_mse, t.mean_abs, t.max_abs, t.share_off_2_255,
-                       t.alpha_max_abs, t.ref_noise_rmse, biasRmse(t), r.truth_truncated_share, r.coverage, c.rmse, c.rel_mse,
-                       c.mean_abs, c.max_abs, c.share_off_2_255, c.alpha_max_abs);
+    out << fmt::format(
+        "{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},"
+        "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+        r.scene, r.knob, r.value, r.dlm_ms, r.raycast_ms, r.dlm_ms + r.raycast_ms, r.dlm_mean_nodes,
+        r.dlm_unbounded_texels, t.rmse, t.rel_mse, t.mean_abs, t.max_abs, t.share_off_2_255, t.alpha_max_abs,
+        t.ref_noise_rmse, biasRmse(t), r.truth_truncated_share, r.coverage, c.rmse, c.rel_mse, c.mean_abs, c.max_abs,
+        c.share_off_2_255, c.alpha_max_abs);
   }
   if (!out) throw IoError(path + ": write failed");
 }
 
 std::vector<SweepRow> runSweep(const SweepOptions& o) {
   if (o.runs < 1) throw UsageError("bench accuracy: --runs must be at least 1");
-  const std::string cacheDir = o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
-  const SceneSet set = standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const std::string cacheDir =
+      o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
+  const SceneSet set =
+      standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
   std::vector<Variant> variants = sweepVariants(o.quick);
   if (!o.knob_filter.empty()) {
     std::erase_if(variants, [&](const Variant& v) { return v.knob.find(o.knob_filter) == std::string::npos; });
@@ -199,7 +223,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
       std::vector<double> dlmMs, castMs;
       render::RenderOutput out;
       std::unique_ptr<render::DeepLightMap> dlm;
-      for (int r = -1; r < o.runs; ++r) {  // run −1 warms up (shader variants, caches): not timed
+      for (int r = -1; r < o.runs; ++r) {                // run −1 warms up (shader variants, caches): not timed
         dlm = std::make_unique<render::DeepLightMap>();  // a fresh map: the cache key would skip the build
         dlm->build(tex, -sc.sun.toSun(), v.dlm);
         const render::DlmStats& st = dlm->stats();
@@ -221,12 +245,13 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
       row.vs_reference = compareImages(out.cloud_layer, cpu);
       row.truth_truncated_share = gt.truncated_share;
       row.coverage = coverage;
-      log::info("  {:>18} {:>6}: dlm {:7.1f} ms  cast {:7.1f} ms  rmse truth {:.4f} ref {:.2e}  off>2/255 {:.3f}", v.knob,
-                v.value, row.dlm_ms, row.raycast_ms, row.vs_truth.rmse, row.vs_reference.rmse,
+      log::info("  {:>18} {:>6}: dlm {:7.1f} ms  cast {:7.1f} ms  rmse truth {:.4f} ref {:.2e}  off>2/255 {:.3f}",
+                v.knob, v.value, row.dlm_ms, row.raycast_ms, row.vs_truth.rmse, row.vs_reference.rmse,
                 row.vs_truth.share_off_2_255);
       if (o.write_images) {
-        scene::writePng(out.cloud_layer,
-                        (std::filesystem::path(o.out_dir) / fmt::format("{}-{}-{}.png", sc.name, v.knob, v.value)).string());
+        scene::writePng(
+            out.cloud_layer,
+            (std::filesystem::path(o.out_dir) / fmt::format("{}-{}-{}.png", sc.name, v.knob, v.value)).string());
       }
       rows.push_back(row);
     }

@@ -51,9 +51,9 @@ struct SweepOptions {
   int runs = 3;  ///< timed repetitions (median)
   GroundTruthSettings ground_truth;
   std::string out_dir = "accuracy";
-  std::string cache_dir;    ///< ground-truth cache; default <out_dir>/ground-truth
-  std::string scene_filter;  ///< substring of scene names to run (empty = all)
-  std::string knob_filter;   ///< substring of knob names to run ("preset", "epsilon", ...; empty = all)
+  std::string cache_dir;      ///< ground-truth cache; default <out_dir>/ground-truth
+  std::string scene_filter;   ///< substring of scene names to run (empty = all)
+  std::string knob_filter;    ///< substring of knob names to run ("preset", "epsilon", ...; empty = all)
   bool write_images = false;  ///< PNGs of the ground truth and every variant
 };
 

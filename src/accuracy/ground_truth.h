@@ -36,12 +36,12 @@ struct GroundTruthSettings {
 };
 
 struct GroundTruth {
-  scene::RgbaImage image;              ///< premultiplied cloud layer (RGB no background, exact α)
-  std::vector<float> standard_error;   ///< RGB per pixel
-  double seconds = 0.0;                ///< tracing time (0 when read from the cache)
-  double truncated_share = 0.0;        ///< paths cut by max_events / paths
-  double rouletted_share = 0.0;        ///< paths ended by Russian roulette / paths (unbiased)
-  double noise_rmse = 0.0;             ///< RMS over pixels of the luminance standard error
+  scene::RgbaImage image;             ///< premultiplied cloud layer (RGB no background, exact α)
+  std::vector<float> standard_error;  ///< RGB per pixel
+  double seconds = 0.0;               ///< tracing time (0 when read from the cache)
+  double truncated_share = 0.0;       ///< paths cut by max_events / paths
+  double rouletted_share = 0.0;       ///< paths ended by Russian roulette / paths (unbiased)
+  double noise_rmse = 0.0;            ///< RMS over pixels of the luminance standard error
   bool from_cache = false;
   std::string cache_path;
 };

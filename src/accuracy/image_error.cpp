@@ -36,7 +36,8 @@ double luminanceNoiseRmse(const std::vector<float>& se) {
 
 ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& reference,
                          const std::vector<float>& se) {
-  if (image.width != reference.width || image.height != reference.height || image.rgba.size() != reference.rgba.size()) {
+  if (image.width != reference.width || image.height != reference.height ||
+      image.rgba.size() != reference.rgba.size()) {
     throw UsageError("compareImages: image sizes differ");
   }
   const std::size_t n = std::size_t(image.width) * std::size_t(image.height);

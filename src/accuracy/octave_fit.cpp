@@ -36,7 +36,7 @@ struct SceneSamples {
   int pixels = 0;
   double y_sun = 0.0;  // luminance of E
   std::vector<double> alpha, cos_psi, y_truth, sigma_truth;
-  std::vector<double> y_sky;  // luminance of the sky light each pixel gathers (not fitted)
+  std::vector<double> y_sky;                // luminance of the sky light each pixel gathers (not fitted)
   std::vector<float> hist_ice, hist_water;  // [pixel][bin]
 };
 
@@ -60,7 +60,9 @@ struct NormalEquations {
   std::vector<double> g = std::vector<double>(kMaxOctaves * kMaxOctaves, 0.0);
   std::vector<double> h = std::vector<double>(kMaxOctaves, 0.0);
   double c0 = 0.0;
-  double gram(int n, int m) const { return n >= m ? g[std::size_t(n * kMaxOctaves + m)] : g[std::size_t(m * kMaxOctaves + n)]; }
+  double gram(int n, int m) const {
+    return n >= m ? g[std::size_t(n * kMaxOctaves + m)] : g[std::size_t(m * kMaxOctaves + n)];
+  }
   /// Non-negative least squares by cyclic coordinate descent (convex; 12 unknowns). Returns the
   /// objective Σ r² (normalised) at the solution.
   double solve(std::vector<double>& w) const {
@@ -93,7 +95,8 @@ struct NormalEquations {
 OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
   const std::string cacheDir =
       o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
-  const SceneSet set = standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const SceneSet set =
+      standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
   const Variant base = defaultVariant();
   const reference::RayMarchSettings march = base.render;
 
@@ -198,8 +201,9 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
         for (int n = 0; n < kMaxOctaves; ++n) {
           const double aniso = std::pow(cs[ic], n);
           for (std::size_t px = 0; px < P; ++px) {
-            q[std::size_t(n) * P + px] = sIce[std::size_t(n) * P + px] * lighting::hgPhase(d.cos_psi[px], aniso * gIce) +
-                                         sWater[std::size_t(n) * P + px] * lighting::hgPhase(d.cos_psi[px], aniso * gWater);
+            q[std::size_t(n) * P + px] =
+                sIce[std::size_t(n) * P + px] * lighting::hgPhase(d.cos_psi[px], aniso * gIce) +
+                sWater[std::size_t(n) * P + px] * lighting::hgPhase(d.cos_psi[px], aniso * gWater);
           }
         }
         {  // normal equations of the free weights w_1 … w_{N−1} (w_0 = 1): r = Y_ref − Y_amb·α − Y_sun·Q_0
@@ -211,7 +215,8 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
               const double qn = d.y_sun * q[std::size_t(n) * P + px];
               ne.h[std::size_t(n)] += qn * res / yTruthSq / double(data.size());
               for (int m = 1; m <= n; ++m) {
-                ne.g[std::size_t(n * kMaxOctaves + m)] += qn * d.y_sun * q[std::size_t(m) * P + px] / yTruthSq / double(data.size());
+                ne.g[std::size_t(n * kMaxOctaves + m)] +=
+                    qn * d.y_sun * q[std::size_t(m) * P + px] / yTruthSq / double(data.size());
               }
             }
           }
@@ -228,7 +233,8 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
               sq[std::size_t(n)] += diff * diff;
             }
           }
-          for (int n = 0; n < kMaxOctaves; ++n) at(ia, ic, ib, n) += sq[std::size_t(n)] / yTruthSq / double(data.size());
+          for (int n = 0; n < kMaxOctaves; ++n)
+            at(ia, ic, ib, n) += sq[std::size_t(n)] / yTruthSq / double(data.size());
         }
       }
     }
@@ -311,11 +317,12 @@ namespace {
 std::string sceneTable(const std::vector<OctaveFitSceneResult>& scenes) {
   std::string md =
       "| scene | relMSE single | relMSE octaves | luminance bias single | luminance bias octaves | > 2/255 single | "
-      "> 2/255 octaves | truth noise RMSE | CPU march ms |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+      "> 2/255 octaves | truth noise RMSE | CPU march ms |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
+      "---: |\n";
   double s1 = 0.0, s2 = 0.0;
   for (const OctaveFitSceneResult& s : scenes) {
-    md += fmt::format("| {} | {:.4f} | {:.4f} | {:+.1f} % | {:+.1f} % | {:.1f} % | {:.1f} % | {:.3g} | {:.0f} |\n", s.scene,
-                      s.single.rel_mse, s.fitted.rel_mse, 100.0 * s.single.luminance_bias,
+    md += fmt::format("| {} | {:.4f} | {:.4f} | {:+.1f} % | {:+.1f} % | {:.1f} % | {:.1f} % | {:.3g} | {:.0f} |\n",
+                      s.scene, s.single.rel_mse, s.fitted.rel_mse, 100.0 * s.single.luminance_bias,
                       100.0 * s.fitted.luminance_bias, 100.0 * s.single.share_off_2_255,
                       100.0 * s.fitted.share_off_2_255, s.fitted.ref_noise_rmse, s.march_ms);
     s1 += s.single.rel_mse;
@@ -340,10 +347,11 @@ std::string octaveFitMarkdown(const OctaveFitResult& r) {
   for (const auto& [b, e] : r.along_b) md += fmt::format("{:.2f}: {:.4f}; ", b, e);
   md += "\n\nObjective along a (b, c, N at the best): ";
   for (const auto& [a, e] : r.along_a) md += fmt::format("{:.2f}: {:.4f}; ", a, e);
-  md += fmt::format("\n\nFree octave weights (w₀ = 1, non-negative least squares): a = {:.2f}, c = {:.2f}, weights {:.3f}; "
-                    "objective {:.4f}\n\n",
-                    r.best_free.extinction_scale, r.best_free.anisotropy_scale, fmt::join(r.best_free.energy, ", "),
-                    r.objective_free);
+  md += fmt::format(
+      "\n\nFree octave weights (w₀ = 1, non-negative least squares): a = {:.2f}, c = {:.2f}, weights {:.3f}; "
+      "objective {:.4f}\n\n",
+      r.best_free.extinction_scale, r.best_free.anisotropy_scale, fmt::join(r.best_free.energy, ", "),
+      r.objective_free);
   md += sceneTable(r.scenes_free);
   return md;
 }

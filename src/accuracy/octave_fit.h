@@ -13,9 +13,9 @@
 // and a grid search over (a, b, c, N) minimises the mean over the scenes of the normalised squared
 // error Σ_px (Y − Y_ref)² / Σ_px (Y_ref² + 0.01) against the path-traced truth. Not the per-pixel
 // relMSE of image_error.h: with a noisy truth, relMSE's noisy denominators favour dark models,
-// while the truth's zero-mean noise only adds a constant to a squared error (optimum unchanged). The binning (128 bins, 13 % wide in τ, weights split linearly between neighbours) changes
-// e^{−aⁿτ} by well under 1 %;
-// the winner is then re-rendered exactly by marchCloudLayer and measured with compareImages.
+// while the truth's zero-mean noise only adds a constant to a squared error (optimum unchanged). The binning (128 bins,
+// 13 % wide in τ, weights split linearly between neighbours) changes e^{−aⁿτ} by well under 1 %; the winner is then
+// re-rendered exactly by marchCloudLayer and measured with compareImages.
 #include <string>
 #include <vector>
 
@@ -27,8 +27,8 @@ namespace nph::accuracy {
 
 struct OctaveFitSceneResult {
   std::string scene;
-  ImageError single;  ///< today's model (one octave) vs the truth
-  ImageError fitted;  ///< the fitted series vs the truth
+  ImageError single;      ///< today's model (one octave) vs the truth
+  ImageError fitted;      ///< the fitted series vs the truth
   double march_ms = 0.0;  ///< CPU time of the fitted march (one thread of TBB's pool, for scale)
 };
 

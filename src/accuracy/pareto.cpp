@@ -6,9 +6,9 @@
 
 #include <fmt/format.h>
 
-#include "core/process.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/process.h"
 
 namespace nph::accuracy {
 
@@ -16,7 +16,8 @@ std::vector<VariantSummary> summarise(const std::vector<SweepRow>& rows) {
   std::vector<VariantSummary> out;
   std::vector<int> counts;
   for (const SweepRow& r : rows) {
-    auto it = std::find_if(out.begin(), out.end(), [&](const VariantSummary& s) { return s.knob == r.knob && s.value == r.value; });
+    auto it = std::find_if(out.begin(), out.end(),
+                           [&](const VariantSummary& s) { return s.knob == r.knob && s.value == r.value; });
     if (it == out.end()) {
       out.push_back({r.knob, r.value});
       counts.push_back(0);
@@ -72,12 +73,13 @@ void writeSummaryCsv(const std::vector<VariantSummary>& summary, const std::stri
 
 std::string summaryMarkdown(const std::vector<VariantSummary>& summary) {
   std::string md =
-      "| knob | value | DLM ms | ray cast ms | total ms | RMSE vs truth | relMSE vs truth | > 2/255 vs truth | RMSE vs CPU ref | "
+      "| knob | value | DLM ms | ray cast ms | total ms | RMSE vs truth | relMSE vs truth | > 2/255 vs truth | RMSE vs "
+      "CPU ref | "
       "> 2/255 vs CPU ref | front |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | :---: |\n";
   for (const VariantSummary& s : summary) {
-    md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.4f} | {:.4f} | {:.1f} % | {:.2e} | {:.2f} % | {} |\n", s.knob,
-                      s.value, s.dlm_ms, s.raycast_ms, s.total_ms, s.rmse_truth, s.rel_mse_truth, 100.0 * s.share_off_truth,
-                      s.rmse_reference, 100.0 * s.share_off_reference, s.pareto ? "●" : "");
+    md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.4f} | {:.4f} | {:.1f} % | {:.2e} | {:.2f} % | {} |\n",
+                      s.knob, s.value, s.dlm_ms, s.raycast_ms, s.total_ms, s.rmse_truth, s.rel_mse_truth,
+                      100.0 * s.share_off_truth, s.rmse_reference, 100.0 * s.share_off_reference, s.pareto ? "●" : "");
   }
   return md;
 }
@@ -102,25 +104,38 @@ bool plotSummary(const std::vector<VariantSummary>& summary, const std::string& 
     std::ofstream g(gp);
     g << "# nephele bench accuracy: error against time (mean over the standard scenes)\n"
          "set terminal pngcairo size 1400,620 font 'DejaVu Sans,10'\n"
-         "set output " << process::gnuplotQuoted(png) << "\n"
+         "set output "
+      << process::gnuplotQuoted(png)
+      << "\n"
          "set multiplot layout 1,2\n"
          "set logscale x\nset logscale y\nset grid\nset key top right\n"
          "set xlabel 'GPU time per frame: DLM build + ray cast [ms, llvmpipe]'\n"
          "set ylabel 'RMSE of luminance vs path-traced ground truth'\n"
          "set title 'Model bias + discretisation (vs ground truth)'\n"
-         "plot " << process::gnuplotQuoted(dat) << " using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa' title 'variants', \\\n"
-         "     " << process::gnuplotQuoted(stem + "-front.dat") << " using 1:2 with linespoints lw 2 pt 6 ps 2 lc rgb '#cc3311' title 'Pareto front', \\\n"
-         "     " << process::gnuplotQuoted(dat) << " using 1:2:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
+         "plot "
+      << process::gnuplotQuoted(dat)
+      << " using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa' title 'variants', \\\n"
+         "     "
+      << process::gnuplotQuoted(stem + "-front.dat")
+      << " using 1:2 with linespoints lw 2 pt 6 ps 2 lc rgb '#cc3311' title 'Pareto front', \\\n"
+         "     "
+      << process::gnuplotQuoted(dat)
+      << " using 1:2:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
          "set ylabel 'RMSE of luminance vs CPU reference (same DLM)'\n"
          "set title 'Discretisation + float (vs CPU reference of the same approximation)'\n"
-         "plot " << process::gnuplotQuoted(dat) << " using 1:3 with points pt 7 ps 1.2 lc rgb '#228833' title 'variants', \\\n"
-         "     " << process::gnuplotQuoted(dat) << " using 1:3:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
+         "plot "
+      << process::gnuplotQuoted(dat)
+      << " using 1:3 with points pt 7 ps 1.2 lc rgb '#228833' title 'variants', \\\n"
+         "     "
+      << process::gnuplotQuoted(dat)
+      << " using 1:3:5 with labels font ',7' offset 0.5,0.5 left notitle\n"
          "unset multiplot\n";
   }
   // No shell: the paths come from --out and may hold any character (issue #18).
   const int rc = process::run({process::toolPath("NEPHELE_GNUPLOT", "gnuplot"), gp});
   if (rc != 0) {
-    log::warn("gnuplot failed or is missing (exit {}): no {} (install Debian gnuplot-nox; the CSVs are complete)", rc, png);
+    log::warn("gnuplot failed or is missing (exit {}): no {} (install Debian gnuplot-nox; the CSVs are complete)", rc,
+              png);
     return false;
   }
   return true;

@@ -152,8 +152,9 @@ nph_status rendererCreate(nph_dataset* dataset, const nph_renderer_desc* desc, n
     const auto d = require<DatasetObject>(dataset, Kind::Dataset, "dataset");
     requireArg(desc, "desc");
     if (desc->struct_size < sizeof(nph_renderer_desc)) {
-      throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("desc->struct_size {} < {}: initialise with NPH_RENDERER_DESC_INIT",
-                                                             desc->struct_size, sizeof(nph_renderer_desc)));
+      throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
+                     fmt::format("desc->struct_size {} < {}: initialise with NPH_RENDERER_DESC_INIT", desc->struct_size,
+                                 sizeof(nph_renderer_desc)));
     }
     if (desc->get_proc_address == nullptr) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, "desc->get_proc_address is NULL");
     RendererOptions o;
@@ -170,8 +171,8 @@ nph_status rendererCreate(nph_dataset* dataset, const nph_renderer_desc* desc, n
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
     if (major * 10 + minor < 45) {
-      throw ApiError(NPH_ERROR_GL, fmt::format("the current context is OpenGL {}.{} ({}); nephele needs 4.5",
-                                               major, minor, reinterpret_cast<const char*>(glGetString(GL_VERSION))));
+      throw ApiError(NPH_ERROR_GL, fmt::format("the current context is OpenGL {}.{} ({}); nephele needs 4.5", major,
+                                               minor, reinterpret_cast<const char*>(glGetString(GL_VERSION))));
     }
     object->renderer = std::make_unique<Renderer>(d->dataset, o);
     *out = static_cast<nph_renderer*>(const_cast<void*>(registerHandle(Kind::Renderer, std::move(object))));
@@ -265,7 +266,8 @@ nph_status setQualityPreset(nph_renderer* renderer, const char* preset) {
 }
 
 nph_status setParameter(nph_renderer* renderer, const char* name, double value) {
-  return onRenderer(renderer, "set_parameter", false, [&](Renderer& r) { r.setParameter(stringArg(name, "name"), value); });
+  return onRenderer(renderer, "set_parameter", false,
+                    [&](Renderer& r) { r.setParameter(stringArg(name, "name"), value); });
 }
 
 nph_status getParameter(const nph_renderer* renderer, const char* name, double* value) {
@@ -294,8 +296,8 @@ nph_status getStats(const nph_renderer* renderer, nph_stats* stats) {
   return onRenderer(renderer, "get_stats", false, [&](const Renderer& r) {
     requireArg(stats, "stats");
     if (stats->struct_size < sizeof(nph_stats)) {
-      throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
-                     fmt::format("stats->struct_size {} < {}: set it to sizeof(nph_stats)", stats->struct_size, sizeof(nph_stats)));
+      throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("stats->struct_size {} < {}: set it to sizeof(nph_stats)",
+                                                             stats->struct_size, sizeof(nph_stats)));
     }
     if (!r.stats()) throw ApiError(NPH_ERROR_WRONG_ORDER, "no frame rendered yet");
     *stats = *r.stats();
@@ -304,7 +306,8 @@ nph_status getStats(const nph_renderer* renderer, nph_stats* stats) {
 
 nph_status setPasses(nph_renderer* renderer, int32_t enabled) {
   return onRenderer(renderer, "set_passes", false, [&](Renderer& r) {
-    if (enabled != 0 && enabled != 1) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("enabled {}: expected 0 or 1", enabled));
+    if (enabled != 0 && enabled != 1)
+      throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("enabled {}: expected 0 or 1", enabled));
     r.setPasses(enabled == 1);
   });
 }
@@ -313,31 +316,70 @@ nph_status passToTexture(nph_renderer* renderer, const char* pass, uint32_t text
   return onRenderer(renderer, "pass_to_texture", true, [&](Renderer& r) {
     const std::string name = stringArg(pass, "pass");
     const auto p = scene::passFromName(name);
-    if (!p) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("pass '{}': expected one of {}", name, scene::passNames()));
+    if (!p)
+      throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
+                     fmt::format("pass '{}': expected one of {}", name, scene::passNames()));
     r.passToTexture(*p, texture, level);
   });
 }
 
 // Version 1: frozen. Append-only is not allowed either: a v2 is a new struct and a new table.
 const nph_api_v1 kApiV1 = {
-    1u, sizeof(nph_api_v1),
-    &libraryVersion, &statusName, &lastErrorOf,
-    &datasetOpen, &datasetClose, &datasetTimestepCount, &datasetTimestepUtc,
-    &rendererCreate, &rendererDestroy, &worldBounds,
-    &setTime, &setCamera, &setCameraPreset, &getCamera, &setSun, &setQualityPreset, &setParameter, &getParameter,
-    &setHostDepth, &render, &renderToTexture, &getStats,
+    1u,
+    sizeof(nph_api_v1),
+    &libraryVersion,
+    &statusName,
+    &lastErrorOf,
+    &datasetOpen,
+    &datasetClose,
+    &datasetTimestepCount,
+    &datasetTimestepUtc,
+    &rendererCreate,
+    &rendererDestroy,
+    &worldBounds,
+    &setTime,
+    &setCamera,
+    &setCameraPreset,
+    &getCamera,
+    &setSun,
+    &setQualityPreset,
+    &setParameter,
+    &getParameter,
+    &setHostDepth,
+    &render,
+    &renderToTexture,
+    &getStats,
 };
 
 // Version 2: version 1's members in the same order (a v1 pointer to it stays valid), then the
 // compositing passes. Frozen from its release on, as version 1.
 const nph_api_v2 kApiV2 = {
-    2u, sizeof(nph_api_v2),
-    &libraryVersion, &statusName, &lastErrorOf,
-    &datasetOpen, &datasetClose, &datasetTimestepCount, &datasetTimestepUtc,
-    &rendererCreate, &rendererDestroy, &worldBounds,
-    &setTime, &setCamera, &setCameraPreset, &getCamera, &setSun, &setQualityPreset, &setParameter, &getParameter,
-    &setHostDepth, &render, &renderToTexture, &getStats,
-    &setPasses, &passToTexture,
+    2u,
+    sizeof(nph_api_v2),
+    &libraryVersion,
+    &statusName,
+    &lastErrorOf,
+    &datasetOpen,
+    &datasetClose,
+    &datasetTimestepCount,
+    &datasetTimestepUtc,
+    &rendererCreate,
+    &rendererDestroy,
+    &worldBounds,
+    &setTime,
+    &setCamera,
+    &setCameraPreset,
+    &getCamera,
+    &setSun,
+    &setQualityPreset,
+    &setParameter,
+    &getParameter,
+    &setHostDepth,
+    &render,
+    &renderToTexture,
+    &getStats,
+    &setPasses,
+    &passToTexture,
 };
 // The prefix a version-1 host reads through its nph_api_v1 pointer.
 static_assert(offsetof(nph_api_v2, get_stats) == offsetof(nph_api_v1, get_stats) &&

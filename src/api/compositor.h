@@ -3,14 +3,14 @@
 // layer "over" the host's currently bound draw framebuffer within its viewport
 // (glsl/api/composite.frag has the equation and the output transforms).
 #include "render/gl/objects.h"
-#include "scene/output_image.h"
 #include "render/gl/program.h"
+#include "scene/output_image.h"
 
 namespace nph::api {
 
 struct CompositeSettings {
   double exposure_ev = scene::kDefaultExposureEv;  ///< radiance scale 2^ev
-  bool display = false;      ///< ACES + sRGB like `nephele render`'s PNG, else linear
+  bool display = false;                            ///< ACES + sRGB like `nephele render`'s PNG, else linear
 };
 
 class Compositor {

@@ -24,17 +24,20 @@ constexpr std::pair<GLenum, GLenum> kTextureTargets[] = {
 
 // Pixel store parameters and the values the passes expect (GL 4.5 core defaults).
 constexpr std::pair<GLenum, GLint> kPixelStoreDefaults[] = {
-    {GL_PACK_SWAP_BYTES, 0},   {GL_PACK_LSB_FIRST, 0},    {GL_PACK_ROW_LENGTH, 0},
-    {GL_PACK_IMAGE_HEIGHT, 0}, {GL_PACK_SKIP_ROWS, 0},    {GL_PACK_SKIP_PIXELS, 0},
-    {GL_PACK_SKIP_IMAGES, 0},  {GL_PACK_ALIGNMENT, 4},    {GL_UNPACK_SWAP_BYTES, 0},
-    {GL_UNPACK_LSB_FIRST, 0},  {GL_UNPACK_ROW_LENGTH, 0}, {GL_UNPACK_IMAGE_HEIGHT, 0},
-    {GL_UNPACK_SKIP_ROWS, 0},  {GL_UNPACK_SKIP_PIXELS, 0}, {GL_UNPACK_SKIP_IMAGES, 0},
-    {GL_UNPACK_ALIGNMENT, 4},
+    {GL_PACK_SWAP_BYTES, 0},   {GL_PACK_LSB_FIRST, 0},     {GL_PACK_ROW_LENGTH, 0},    {GL_PACK_IMAGE_HEIGHT, 0},
+    {GL_PACK_SKIP_ROWS, 0},    {GL_PACK_SKIP_PIXELS, 0},   {GL_PACK_SKIP_IMAGES, 0},   {GL_PACK_ALIGNMENT, 4},
+    {GL_UNPACK_SWAP_BYTES, 0}, {GL_UNPACK_LSB_FIRST, 0},   {GL_UNPACK_ROW_LENGTH, 0},  {GL_UNPACK_IMAGE_HEIGHT, 0},
+    {GL_UNPACK_SKIP_ROWS, 0},  {GL_UNPACK_SKIP_PIXELS, 0}, {GL_UNPACK_SKIP_IMAGES, 0}, {GL_UNPACK_ALIGNMENT, 4},
 };
 
 // Capabilities the composite pass switches; saved and restored as they were.
-constexpr GLenum kEnables[] = {GL_DEPTH_TEST,  GL_STENCIL_TEST,           GL_CULL_FACE, GL_SCISSOR_TEST,
-                               GL_DITHER,      GL_RASTERIZER_DISCARD,     GL_SAMPLE_ALPHA_TO_COVERAGE,
+constexpr GLenum kEnables[] = {GL_DEPTH_TEST,
+                               GL_STENCIL_TEST,
+                               GL_CULL_FACE,
+                               GL_SCISSOR_TEST,
+                               GL_DITHER,
+                               GL_RASTERIZER_DISCARD,
+                               GL_SAMPLE_ALPHA_TO_COVERAGE,
                                GL_COLOR_LOGIC_OP};
 
 void setEnabled(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }

@@ -44,8 +44,10 @@ template <class T>
 std::shared_ptr<T> require(const void* handle, Kind kind, const char* what) {
   auto object = lookupHandle(handle, kind);
   if (!object) {
-    throw ApiError(NPH_ERROR_INVALID_HANDLE,
-                   std::string(what) + (handle == nullptr ? " is NULL" : " is not a live handle (destroyed, or not a " + std::string(what) + ")"));
+    throw ApiError(
+        NPH_ERROR_INVALID_HANDLE,
+        std::string(what) +
+            (handle == nullptr ? " is NULL" : " is not a live handle (destroyed, or not a " + std::string(what) + ")"));
   }
   return std::static_pointer_cast<T>(std::move(object));
 }
@@ -59,7 +61,8 @@ nph_status guarded(const void* handle, const char* call, void (*body)(void*), vo
 
 template <class F>
 nph_status guarded(const void* handle, const char* call, F&& f) noexcept {
-  return guarded(handle, call, [](void* c) { (*static_cast<F*>(c))(); }, &f);
+  return guarded(
+      handle, call, [](void* c) { (*static_cast<F*>(c))(); }, &f);
 }
 
 }  // namespace nph::api

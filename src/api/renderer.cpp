@@ -33,12 +33,14 @@ scene::SceneDescription sceneFor(const engine::Dataset& dataset, const RendererO
 /// The width and height of level `level` of a host 2-D texture; INVALID_ARGUMENT if it is none.
 glm::ivec2 hostTextureSize(unsigned texture, int level, const char* what) {
   if (texture == 0 || glIsTexture(texture) == GL_FALSE) {
-    throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("{} {} is not a texture of the current context", what, texture));
+    throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
+                   fmt::format("{} {} is not a texture of the current context", what, texture));
   }
   GLint target = 0;
   glGetTextureParameteriv(texture, GL_TEXTURE_TARGET, &target);
   if (target != GL_TEXTURE_2D) {
-    throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("{} {} is not a GL_TEXTURE_2D (target 0x{:04x})", what, texture, target));
+    throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
+                   fmt::format("{} {} is not a GL_TEXTURE_2D (target 0x{:04x})", what, texture, target));
   }
   glm::ivec2 size{0};
   glGetTextureLevelParameteriv(texture, level, GL_TEXTURE_WIDTH, &size.x);
@@ -79,11 +81,13 @@ void Renderer::setCamera(const HostCamera& c) {
   }
   for (const glm::dmat4* m : {&c.view_from_world, &c.clip_from_view}) {
     for (int i = 0; i < 16; ++i) {
-      if (!std::isfinite((*m)[i / 4][i % 4])) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, "camera matrix has a NaN or infinity");
+      if (!std::isfinite((*m)[i / 4][i % 4]))
+        throw ApiError(NPH_ERROR_INVALID_ARGUMENT, "camera matrix has a NaN or infinity");
     }
   }
   if (std::abs(glm::determinant(c.view_from_world)) < 1e-12 || std::abs(glm::determinant(c.clip_from_view)) < 1e-30) {
-    throw ApiError(NPH_ERROR_INVALID_ARGUMENT, "camera matrix is singular (expected a rigid view and a perspective projection)");
+    throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
+                   "camera matrix is singular (expected a rigid view and a perspective projection)");
   }
   camera_ = c;
 }
@@ -97,9 +101,11 @@ void Renderer::setCameraPreset(std::string_view preset, int width, int height) {
   } else if (preset == "top") {
     spec.preset = scene::CameraPreset::Top;
   } else {
-    throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("camera preset '{}': expected overview, oblique or top", preset));
+    throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
+                   fmt::format("camera preset '{}': expected overview, oblique or top", preset));
   }
-  if (width <= 0 || height <= 0) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("camera size {}x{}", width, height));
+  if (width <= 0 || height <= 0)
+    throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("camera size {}x{}", width, height));
   const scene::Camera cam = scene::cameraFor(spec, frame(), width, height);
   setCamera({cam.viewFromWorld(), cam.clipFromView(), width, height});
 }
@@ -107,7 +113,8 @@ void Renderer::setCameraPreset(std::string_view preset, int width, int height) {
 void Renderer::setSun(double azimuth_deg, double elevation_deg) {
   if (!std::isfinite(azimuth_deg) || !(elevation_deg >= -90.0 && elevation_deg <= 90.0)) {
     throw ApiError(NPH_ERROR_INVALID_ARGUMENT,
-                   fmt::format("sun azimuth {} / elevation {}: expected a finite azimuth and -90..90 deg", azimuth_deg, elevation_deg));
+                   fmt::format("sun azimuth {} / elevation {}: expected a finite azimuth and -90..90 deg", azimuth_deg,
+                               elevation_deg));
   }
   scene::Sun sun = session_->sun();
   sun.azimuth_deg = azimuth_deg;
@@ -147,8 +154,8 @@ void Renderer::render(unsigned texture, int level) {
     if (host_depth_ != 0) {
       const glm::ivec2 size = hostTextureSize(host_depth_, 0, "host depth texture");
       if (size != glm::ivec2(camera_->width, camera_->height)) {
-        throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("host depth texture is {}x{}, the camera {}x{}", size.x, size.y,
-                                                               camera_->width, camera_->height));
+        throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("host depth texture is {}x{}, the camera {}x{}", size.x,
+                                                               size.y, camera_->width, camera_->height));
       }
     }
     intoHostTarget(texture, level, "render_to_texture target", [&] {
@@ -183,7 +190,8 @@ void Renderer::render(unsigned texture, int level) {
 
 void Renderer::passToTexture(scene::Pass pass, unsigned texture, int level) {
   if (!last_render_had_passes_) {
-    throw ApiError(NPH_ERROR_WRONG_ORDER, "the last render made no passes: call set_passes(renderer, 1) and render first");
+    throw ApiError(NPH_ERROR_WRONG_ORDER,
+                   "the last render made no passes: call set_passes(renderer, 1) and render first");
   }
   if (texture == 0) throw ApiError(NPH_ERROR_INVALID_ARGUMENT, "texture 0: name a host GL_TEXTURE_2D");
   GlStateGuard guard;

@@ -10,10 +10,10 @@
 #include <glm/glm.hpp>
 
 #include "api/compositor.h"
-#include "scene/passes.h"
 #include "engine/dataset.h"
 #include "engine/session.h"
 #include "nephele/nephele.h"
+#include "scene/passes.h"
 
 namespace nph::api {
 

@@ -36,13 +36,13 @@ struct Parameters {
   glm::dvec3 rayleigh_scattering_per_m{5.802e-6, 13.558e-6, 33.1e-6};  ///< β_R at the ground
   double rayleigh_scale_height_m = 8000.0;                             ///< H_R
   glm::dvec3 mie_scattering_per_m{3.996e-6};                           ///< β_M^s at the ground
-  glm::dvec3 mie_absorption_per_m{0.444e-6};  ///< β_M^a (extinction 4.40e-6 /m)
-  double mie_scale_height_m = 1200.0;         ///< H_M
-  double mie_g = 0.8;                         ///< Cornette–Shanks asymmetry
-  glm::dvec3 ozone_absorption_per_m{0.650e-6, 1.881e-6, 0.085e-6};  ///< β_O at the tent's peak
-  double ozone_center_m = 25000.0;      ///< h_O: the ozone tent peaks here …
-  double ozone_half_width_m = 15000.0;  ///< … and falls to 0 this far above and below
-  glm::dvec3 ground_albedo{0.3};        ///< Lambertian ground of the multiple-scattering term
+  glm::dvec3 mie_absorption_per_m{0.444e-6};                           ///< β_M^a (extinction 4.40e-6 /m)
+  double mie_scale_height_m = 1200.0;                                  ///< H_M
+  double mie_g = 0.8;                                                  ///< Cornette–Shanks asymmetry
+  glm::dvec3 ozone_absorption_per_m{0.650e-6, 1.881e-6, 0.085e-6};     ///< β_O at the tent's peak
+  double ozone_center_m = 25000.0;                                     ///< h_O: the ozone tent peaks here …
+  double ozone_half_width_m = 15000.0;                                 ///< … and falls to 0 this far above and below
+  glm::dvec3 ground_albedo{0.3};             ///< Lambertian ground of the multiple-scattering term
   double sun_angular_radius_rad = 0.004675;  ///< softens the planet's shadow edge (Bruneton)
   bool multiple_scattering = true;           ///< Ψ_ms on (Hillaire) or single scattering only
 
@@ -73,12 +73,12 @@ bool rayHitsGround(const Parameters& p, double r_m, double mu);
 
 /// How finely the CPU evaluation integrates (every integral is a sum of these many pieces).
 struct Quadrature {
-  int view_steps = 128;           ///< along a view ray or segment
-  int transmittance_steps = 128;  ///< from a point to the top of the atmosphere
-  int ms_directions_mu = 8;       ///< Ψ_ms: sphere of directions, bands of equal cos θ …
-  int ms_directions_phi = 8;      ///< … times equal azimuth cells
-  int ms_steps = 32;              ///< Ψ_ms: along each direction
-  int ms_transmittance_steps = 64;  ///< Ψ_ms: sunlight to each of its samples
+  int view_steps = 128;                       ///< along a view ray or segment
+  int transmittance_steps = 128;              ///< from a point to the top of the atmosphere
+  int ms_directions_mu = 8;                   ///< Ψ_ms: sphere of directions, bands of equal cos θ …
+  int ms_directions_phi = 8;                  ///< … times equal azimuth cells
+  int ms_steps = 32;                          ///< Ψ_ms: along each direction
+  int ms_transmittance_steps = 64;            ///< Ψ_ms: sunlight to each of its samples
   int irradiance_mu = 8, irradiance_phi = 8;  ///< skyIrradiance's hemisphere (azimuth: half, mirrored)
 };
 
@@ -119,8 +119,8 @@ Segment integrateSegment(const Parameters& p, const glm::dvec3& origin_m, const 
 /// Sky radiance seen from `origin_m` (planet-centred, inside or outside the atmosphere) along
 /// unit `dir`: the segment through the atmosphere up to the ground or space (the ground's own
 /// radiance is not included). Per unit solar irradiance [1/sr].
-glm::dvec3 skyRadiance(const Parameters& p, const glm::dvec3& origin_m, const glm::dvec3& dir,
-                       const glm::dvec3& to_sun, const Quadrature& q);
+glm::dvec3 skyRadiance(const Parameters& p, const glm::dvec3& origin_m, const glm::dvec3& dir, const glm::dvec3& to_sun,
+                       const Quadrature& q);
 
 /// Irradiance of a horizontal surface at `altitude_m` from the sky alone (the direct sun left
 /// out) with the sun at elevation `sun_elevation_rad`: E_sky = ∫_{upper hemisphere} L·cos θ dΩ,

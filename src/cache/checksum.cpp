@@ -6,9 +6,7 @@
 
 namespace nph::cache {
 
-std::uint64_t xxh64(std::span<const std::byte> bytes) {
-  return XXH64(bytes.data(), bytes.size(), 0);
-}
+std::uint64_t xxh64(std::span<const std::byte> bytes) { return XXH64(bytes.data(), bytes.size(), 0); }
 
 std::string toHex(std::uint64_t value) { return fmt::format("{:016x}", value); }
 

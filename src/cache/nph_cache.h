@@ -46,9 +46,9 @@ struct NphMetadata {
   double z_bottom_m = 0.0;
   geo::GridGeoreference georef;
   std::vector<float> terrain_height_m;  ///< nx*ny surface heights [m]; empty = sea level (no chunk)
-  std::string optics_json = "{}";  ///< optics settings used (a JSON object, written by physics/)
-  std::vector<std::string> inputs;  ///< input files
-  std::string created_by;           ///< e.g. "nephele 0.1.0"
+  std::string optics_json = "{}";       ///< optics settings used (a JSON object, written by physics/)
+  std::vector<std::string> inputs;      ///< input files
+  std::string created_by;               ///< e.g. "nephele 0.1.0"
 };
 
 /// Per-timestep entry of the index.
@@ -76,7 +76,7 @@ struct WriterOptions {
 struct QuantisedVolumes {
   int nx = 0, ny = 0, nz = 0;  ///< nz: the file's nz (padded with code 0)
   std::string time_utc;
-  std::vector<std::uint16_t> ice_codes;    ///< x fastest, as ExtinctionVolumes
+  std::vector<std::uint16_t> ice_codes;  ///< x fastest, as ExtinctionVolumes
   std::vector<std::uint16_t> water_codes;
   float max_ice_per_m = 0.0f;
   float max_water_per_m = 0.0f;

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "cache/checksum.h"
 #include <fmt/format.h>
+#include "cache/checksum.h"
 
 #include "core/error.h"
 #include "core/json_limits.h"
@@ -23,8 +23,7 @@ using nlohmann::json;
 constexpr double kMaxAbsHeight_m = 1.0e6;
 
 json chunkJson(const ChunkRef& c) {
-  return {{"offset", c.offset}, {"bytes", c.bytes}, {"raw_bytes", c.raw_bytes},
-          {"xxh64", toHex(c.xxh64)}};
+  return {{"offset", c.offset}, {"bytes", c.bytes}, {"raw_bytes", c.raw_bytes}, {"xxh64", toHex(c.xxh64)}};
 }
 
 ChunkRef chunkFromJson(const json& j) {
@@ -42,8 +41,8 @@ ChunkRef chunkFromJson(const json& j) {
 
 }  // namespace
 
-json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timesteps,
-                 const ChunkRef& geolocation, const ChunkRef& terrain) {
+json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timesteps, const ChunkRef& geolocation,
+                 const ChunkRef& terrain) {
   int nz = 0;
   for (const auto& t : timesteps) nz = std::max(nz, t.nz);
   json optics = json::parse(m.optics_json, nullptr, /*allow_exceptions=*/false);
@@ -52,7 +51,10 @@ json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timestep
   j["format"] = "nephele extinction cache";
   j["version"] = kFormatVersion;
   j["created_by"] = m.created_by;
-  j["grid"] = {{"nx", m.nx}, {"ny", m.ny}, {"nz", nz}, {"dz_m", m.dz_m},
+  j["grid"] = {{"nx", m.nx},
+               {"ny", m.ny},
+               {"nz", nz},
+               {"dz_m", m.dz_m},
                {"z_bottom_m", m.z_bottom_m},
                {"terrain", terrain.present() ? chunkJson(terrain) : json()},
                {"layout", "x fastest, then y, then z; voxel k centred at z_bottom_m+(k+0.5)*dz_m"}};
@@ -126,16 +128,15 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
   }
   const auto& m = d.metadata;
   if (m.nx <= 0 || m.ny <= 0 || d.nz < 0 || !(m.dz_m > 0.0)) {
-    throw InputError(fmt::format("{}: invalid grid {}x{}x{}, dz {} m in the index", file, m.nx,
-                                 m.ny, d.nz, m.dz_m));
+    throw InputError(fmt::format("{}: invalid grid {}x{}x{}, dz {} m in the index", file, m.nx, m.ny, d.nz, m.dz_m));
   }
   // Every size below is a product of these: bound it first (a valid-checksum index declaring
   // nx = ny = 2^30 made the byte count wrap to 0 and readQuantised copy from a wild address).
-  limits::requireProductWithin(file, "the index's grid nx x ny x nz", {std::uint64_t(m.nx), std::uint64_t(m.ny),
-                               std::uint64_t(std::max(d.nz, 1))}, limits::kMaxGridPoints,
-                               "limits::kMaxGridPoints; a real grid this large needs a nephele built with a higher limit");
-  if (!std::isfinite(m.z_bottom_m) || std::abs(m.z_bottom_m) > kMaxAbsHeight_m ||
-      !(m.dz_m <= kMaxAbsHeight_m)) {
+  limits::requireProductWithin(
+      file, "the index's grid nx x ny x nz",
+      {std::uint64_t(m.nx), std::uint64_t(m.ny), std::uint64_t(std::max(d.nz, 1))}, limits::kMaxGridPoints,
+      "limits::kMaxGridPoints; a real grid this large needs a nephele built with a higher limit");
+  if (!std::isfinite(m.z_bottom_m) || std::abs(m.z_bottom_m) > kMaxAbsHeight_m || !(m.dz_m <= kMaxAbsHeight_m)) {
     throw InputError(fmt::format("{}: grid z_bottom_m {} m / dz_m {} m in the index, expected heights within "
                                  "+-{} m",
                                  file, m.z_bottom_m, m.dz_m, kMaxAbsHeight_m));
@@ -145,8 +146,8 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
     const std::uint64_t expected =
         2u * sizeof(std::uint16_t) * std::uint64_t(m.nx) * std::uint64_t(m.ny) * std::uint64_t(t.nz);
     if (t.nz < 0 || t.nz > d.nz || t.raw_bytes != expected) {
-      throw InputError(fmt::format("{}: chunk {} ({}): nz {} / {} bytes do not fit the {}x{}x{} grid",
-                                   file, n, t.time_utc, t.nz, t.raw_bytes, m.nx, m.ny, d.nz));
+      throw InputError(fmt::format("{}: chunk {} ({}): nz {} / {} bytes do not fit the {}x{}x{} grid", file, n,
+                                   t.time_utc, t.nz, t.raw_bytes, m.nx, m.ny, d.nz));
     }
   }
   return d;

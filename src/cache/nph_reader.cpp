@@ -7,12 +7,12 @@
 #include <cstring>
 #include <system_error>
 
+#include <fmt/format.h>
 #include "cache/checksum.h"
 #include "cache/nph_cache.h"
 #include "cache/nph_format.h"
 #include "cache/nph_index.h"
 #include "cache/quantize.h"
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -56,18 +56,18 @@ struct NphReader::State {
   /// Reads, checksums and decompresses one block. `what` names it in errors.
   std::vector<std::byte> readBlock(const ChunkRef& c, const std::string& what) const {
     if (c.offset < kHeaderBytes || c.offset + c.bytes > file_bytes || c.bytes > file_bytes) {
-      throw InputError(fmt::format("{}: {} lies outside the file (offset {}, {} bytes, file {} bytes)",
-                                   name(), what, c.offset, c.bytes, file_bytes));
+      throw InputError(fmt::format("{}: {} lies outside the file (offset {}, {} bytes, file {} bytes)", name(), what,
+                                   c.offset, c.bytes, file_bytes));
     }
     std::vector<std::byte> packed(c.bytes);
     if (!readAt(fd, packed.data(), packed.size(), c.offset)) {
-      throw InputError(fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(),
-                                   what, c.bytes, c.offset));
+      throw InputError(
+          fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(), what, c.bytes, c.offset));
     }
     const std::uint64_t sum = xxh64(packed);
     if (sum != c.xxh64) {
-      throw InputError(fmt::format("{}: {} is corrupt: XXH64 {} , expected {}", name(), what,
-                                   toHex(sum), toHex(c.xxh64)));
+      throw InputError(
+          fmt::format("{}: {} is corrupt: XXH64 {} , expected {}", name(), what, toHex(sum), toHex(c.xxh64)));
     }
     // The zstd frame states its decompressed size: compare before allocating raw_bytes, so a
     // small file cannot make the reader allocate what its index claims.
@@ -82,8 +82,8 @@ struct NphReader::State {
     std::vector<std::byte> raw(c.raw_bytes);
     const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
     if (ZSTD_isError(n) || n != raw.size()) {
-      throw InputError(fmt::format("{}: {} does not decompress to {} bytes: {}", name(), what,
-                                   raw.size(), ZSTD_isError(n) ? ZSTD_getErrorName(n) : "size mismatch"));
+      throw InputError(fmt::format("{}: {} does not decompress to {} bytes: {}", name(), what, raw.size(),
+                                   ZSTD_isError(n) ? ZSTD_getErrorName(n) : "size mismatch"));
     }
     return raw;
   }
@@ -115,8 +115,8 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
   const auto actual_bytes = static_cast<std::uint64_t>(st.st_size);
   std::array<std::byte, kHeaderBytes> raw{};
   if (actual_bytes < kHeaderBytes || !readAt(s.fd, raw.data(), raw.size(), 0)) {
-    throw InputError(fmt::format("{}: truncated: {} bytes, a .nph file starts with a {}-byte header",
-                                 s.name(), actual_bytes, kHeaderBytes));
+    throw InputError(fmt::format("{}: truncated: {} bytes, a .nph file starts with a {}-byte header", s.name(),
+                                 actual_bytes, kHeaderBytes));
   }
   if (std::memcmp(raw.data(), detail::kMagic.data(), detail::kMagic.size()) != 0) {
     throw InputError(fmt::format("{}: not a nephele .nph cache file (no NPHCACHE magic)", s.name()));
@@ -127,8 +127,8 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
   }
   s.version = detail::get<std::uint32_t>(raw.data() + 8);
   if (s.version != kFormatVersion) {
-    throw InputError(fmt::format("{}: .nph format version {}, this nephele reads version {}",
-                                 s.name(), s.version, kFormatVersion));
+    throw InputError(
+        fmt::format("{}: .nph format version {}, this nephele reads version {}", s.name(), s.version, kFormatVersion));
   }
   const auto index_offset = detail::get<std::uint64_t>(raw.data() + 16);
   const auto index_bytes = detail::get<std::uint64_t>(raw.data() + 24);
@@ -136,12 +136,12 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
   s.file_bytes = detail::get<std::uint64_t>(raw.data() + 40);
   if (actual_bytes != s.file_bytes) {
     throw InputError(fmt::format("{}: {} ({} bytes, the header says {})", s.name(),
-                                 actual_bytes < s.file_bytes ? "truncated" : "trailing data",
-                                 actual_bytes, s.file_bytes));
+                                 actual_bytes < s.file_bytes ? "truncated" : "trailing data", actual_bytes,
+                                 s.file_bytes));
   }
   if (index_offset < kHeaderBytes || index_offset + index_bytes != s.file_bytes) {
-    throw InputError(fmt::format("{}: index at {} (+{} bytes) does not end the file", s.name(),
-                                 index_offset, index_bytes));
+    throw InputError(
+        fmt::format("{}: index at {} (+{} bytes) does not end the file", s.name(), index_offset, index_bytes));
   }
   std::string text(index_bytes, '\0');
   if (!readAt(s.fd, text.data(), text.size(), index_offset)) {
@@ -199,8 +199,7 @@ std::uint64_t NphReader::fileBytes() const { return state_->file_bytes; }
 
 const TimestepInfo& NphReader::timestep(std::size_t t) const {
   if (t >= timestepCount()) {
-    throw UsageError(fmt::format("{}: timestep {} requested, the file has {}", state_->name(), t,
-                                 timestepCount()));
+    throw UsageError(fmt::format("{}: timestep {} requested, the file has {}", state_->name(), t, timestepCount()));
   }
   return state_->index.timesteps[t];
 }
@@ -230,8 +229,7 @@ QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
   q.ice_codes.assign(padded, 0);  // layers above nz_t stay 0 (cropped, empty)
   q.water_codes.assign(padded, 0);
   std::memcpy(q.ice_codes.data(), raw.data(), stored * sizeof(std::uint16_t));
-  std::memcpy(q.water_codes.data(), raw.data() + stored * sizeof(std::uint16_t),
-              stored * sizeof(std::uint16_t));
+  std::memcpy(q.water_codes.data(), raw.data() + stored * sizeof(std::uint16_t), stored * sizeof(std::uint16_t));
   return q;
 }
 

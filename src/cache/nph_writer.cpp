@@ -15,9 +15,9 @@
 #include "cache/nph_format.h"
 #include "cache/nph_index.h"
 #include "cache/quantize.h"
-#include "core/temp_files.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/temp_files.h"
 
 namespace nph::cache {
 
@@ -61,8 +61,7 @@ struct NphWriter::State {
     std::vector<std::byte> packed(ZSTD_compressBound(raw_bytes));
     const std::size_t n = ZSTD_compress2(cctx, packed.data(), packed.size(), raw, raw_bytes);
     if (ZSTD_isError(n)) {
-      throw IoError(fmt::format("{}: zstd compression failed: {}", temp_path.string(),
-                                ZSTD_getErrorName(n)));
+      throw IoError(fmt::format("{}: zstd compression failed: {}", temp_path.string(), ZSTD_getErrorName(n)));
     }
     ChunkRef ref;
     ref.offset = offset;
@@ -91,16 +90,14 @@ NphWriter::NphWriter(std::filesystem::path path, NphMetadata metadata, WriterOpt
   s.metadata = std::move(metadata);
   s.options = options;
   if (s.metadata.nx <= 0 || s.metadata.ny <= 0 || !(s.metadata.dz_m > 0.0)) {
-    throw UsageError(fmt::format("{}: invalid grid {}x{}, dz {} m", s.path.string(),
-                                 s.metadata.nx, s.metadata.ny, s.metadata.dz_m));
+    throw UsageError(
+        fmt::format("{}: invalid grid {}x{}, dz {} m", s.path.string(), s.metadata.nx, s.metadata.ny, s.metadata.dz_m));
   }
   // Exclusive, unpredictable temporary in the target's directory, so that rename() stays on one
   // file system (atomic); named with our pid, so that a later run removes it if we are killed.
-  const std::filesystem::path dir =
-      s.path.has_parent_path() ? s.path.parent_path() : std::filesystem::path(".");
+  const std::filesystem::path dir = s.path.has_parent_path() ? s.path.parent_path() : std::filesystem::path(".");
   temp_files::removeStale(dir, ".tmp-");
-  const temp_files::Created temp =
-      temp_files::createExclusive(s.path, s.path.filename().string(), ".tmp-", "");
+  const temp_files::Created temp = temp_files::createExclusive(s.path, s.path.filename().string(), ".tmp-", "");
   s.fd = temp.fd;
   s.temp_path = temp.path;
   s.cleanup_slot = temp_files::registerForCleanup(s.temp_path);
@@ -119,9 +116,8 @@ NphWriter::NphWriter(std::filesystem::path path, NphMetadata metadata, WriterOpt
   const std::size_t columns = std::size_t(s.metadata.nx) * std::size_t(s.metadata.ny);
   if (!g.lat_deg.empty() || !g.lon_deg.empty()) {
     if (g.lat_deg.size() != columns || g.lon_deg.size() != columns) {
-      throw UsageError(fmt::format("{}: geolocation has {}/{} lat/lon values, expected {} ({}x{})",
-                                   s.path.string(), g.lat_deg.size(), g.lon_deg.size(), columns,
-                                   s.metadata.nx, s.metadata.ny));
+      throw UsageError(fmt::format("{}: geolocation has {}/{} lat/lon values, expected {} ({}x{})", s.path.string(),
+                                   g.lat_deg.size(), g.lon_deg.size(), columns, s.metadata.nx, s.metadata.ny));
     }
     std::vector<float> latlon(g.lat_deg);
     latlon.insert(latlon.end(), g.lon_deg.begin(), g.lon_deg.end());
@@ -150,26 +146,23 @@ void NphWriter::append(const ExtinctionVolumes& v) {
   if (s.committed) throw UsageError(fmt::format("{}: append() after commit()", s.path.string()));
   const NphMetadata& m = s.metadata;
   if (v.nx != m.nx || v.ny != m.ny || v.dz_m != m.dz_m || v.z_bottom_m != m.z_bottom_m) {
-    throw UsageError(fmt::format(
-        "{}: timestep {} has grid {}x{} (dz {} m, bottom {} m), the file has {}x{} (dz {} m, "
-        "bottom {} m)",
-        s.path.string(), v.time_utc, v.nx, v.ny, v.dz_m, v.z_bottom_m, m.nx, m.ny, m.dz_m,
-        m.z_bottom_m));
+    throw UsageError(fmt::format("{}: timestep {} has grid {}x{} (dz {} m, bottom {} m), the file has {}x{} (dz {} m, "
+                                 "bottom {} m)",
+                                 s.path.string(), v.time_utc, v.nx, v.ny, v.dz_m, v.z_bottom_m, m.nx, m.ny, m.dz_m,
+                                 m.z_bottom_m));
   }
   const std::size_t n = v.voxelCount();
   if (v.nz < 0 || v.ice_per_m.size() != n || v.water_per_m.size() != n) {
-    throw UsageError(fmt::format("{}: timestep {}: {} ice / {} water values for {}x{}x{} voxels",
-                                 s.path.string(), v.time_utc, v.ice_per_m.size(),
-                                 v.water_per_m.size(), v.nx, v.ny, v.nz));
+    throw UsageError(fmt::format("{}: timestep {}: {} ice / {} water values for {}x{}x{} voxels", s.path.string(),
+                                 v.time_utc, v.ice_per_m.size(), v.water_per_m.size(), v.nx, v.ny, v.nz));
   }
   float max_ice = 0.0f, max_water = 0.0f;
   for (std::size_t q = 0; q < n; ++q) {
     const float a = v.ice_per_m[q], b = v.water_per_m[q];
     if (!std::isfinite(a) || !std::isfinite(b) || a < 0.0f || b < 0.0f) {
-      throw InputError(fmt::format(
-          "{}: timestep {}: extinction at voxel {} is {} (ice) / {} (water); expected finite, "
-          ">= 0",
-          s.path.string(), v.time_utc, q, a, b));
+      throw InputError(fmt::format("{}: timestep {}: extinction at voxel {} is {} (ice) / {} (water); expected finite, "
+                                   ">= 0",
+                                   s.path.string(), v.time_utc, q, a, b));
     }
     max_ice = std::max(max_ice, a);
     max_water = std::max(max_water, b);
@@ -218,8 +211,7 @@ void NphWriter::commit() {
   detail::put(raw.data() + 32, h.index_xxh64);
   detail::put(raw.data() + 40, h.file_bytes);
   detail::put(raw.data() + 48, std::uint64_t{0});
-  detail::put(raw.data() + detail::kHeaderChecksumOffset,
-              xxh64(std::span(raw.data(), detail::kHeaderChecksumOffset)));
+  detail::put(raw.data() + detail::kHeaderChecksumOffset, xxh64(std::span(raw.data(), detail::kHeaderChecksumOffset)));
   if (::pwrite(s.fd, raw.data(), raw.size(), 0) != static_cast<ssize_t>(raw.size())) {
     throw IoError(fmt::format("{}: cannot write the header: {}", s.temp_path.string(), errnoText()));
   }
@@ -231,8 +223,7 @@ void NphWriter::commit() {
   std::error_code ec;
   std::filesystem::rename(s.temp_path, s.path, ec);
   if (ec) {
-    throw IoError(fmt::format("{}: cannot rename {} to it: {}", s.path.string(),
-                              s.temp_path.string(), ec.message()));
+    throw IoError(fmt::format("{}: cannot rename {} to it: {}", s.path.string(), s.temp_path.string(), ec.message()));
   }
   s.committed = true;
   temp_files::unregisterForCleanup(s.cleanup_slot);

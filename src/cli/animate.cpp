@@ -27,12 +27,12 @@
 #include "cli/commands.h"
 #include "cli/headless.h"
 #include "cli/output_options.h"
-#include "cli/quick_look.h"
 #include "cli/progress.h"
-#include "core/temp_files.h"
-#include "core/process.h"
+#include "cli/quick_look.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/process.h"
+#include "core/temp_files.h"
 #include "engine/animation.h"
 #include "engine/dataset.h"
 #include "engine/session.h"
@@ -147,9 +147,19 @@ double peakResidentMb() {
 /// broadcast chains read). Written under a temporary name and renamed.
 void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t last, const scene::FrameRate& fps,
                  const std::string& codec, const scene::VideoColourTags& tags, const std::string& video) {
-  std::vector<std::string> args{process::toolPath("NEPHELE_FFMPEG", "ffmpeg"), "-nostdin", "-y", "-loglevel", "error", "-framerate", fps.text(),
-                                "-start_number", std::to_string(first), "-i", pattern,
-                                "-frames:v", std::to_string(last - first + 1)};
+  std::vector<std::string> args{process::toolPath("NEPHELE_FFMPEG", "ffmpeg"),
+                                "-nostdin",
+                                "-y",
+                                "-loglevel",
+                                "error",
+                                "-framerate",
+                                fps.text(),
+                                "-start_number",
+                                std::to_string(first),
+                                "-i",
+                                pattern,
+                                "-frames:v",
+                                std::to_string(last - first + 1)};
   if (codec == "prores4444") {
     args.insert(args.end(), {"-c:v", "prores_ks", "-profile:v", "4444", "-pix_fmt", "yuva444p10le", "-vendor", "apl0"});
   } else {
@@ -161,15 +171,17 @@ void encodeVideo(const std::string& pattern, std::int64_t first, std::int64_t la
     args.insert(args.end(), {"-color_primaries", tags.primaries, "-color_trc", tags.transfer, "-colorspace",
                              tags.colorspace, "-movflags", "+write_colr"});
     if (codec == "prores4444") {  // a ProRes frame header knows no sRGB transfer: "unknown" there
-      const bool proresTrc = tags.transfer == "bt709" || tags.transfer == "smpte2084" || tags.transfer == "arib-std-b67";
-      args.insert(args.end(), {"-bsf:v", fmt::format("prores_metadata=color_primaries={}:color_trc={}:colorspace={}",
-                                                     tags.primaries, proresTrc ? tags.transfer : "unknown",
-                                                     tags.colorspace)});
+      const bool proresTrc =
+          tags.transfer == "bt709" || tags.transfer == "smpte2084" || tags.transfer == "arib-std-b67";
+      args.insert(args.end(),
+                  {"-bsf:v", fmt::format("prores_metadata=color_primaries={}:color_trc={}:colorspace={}",
+                                         tags.primaries, proresTrc ? tags.transfer : "unknown", tags.colorspace)});
     }
   }
   const fs::path final(video);
   temp_files::removeStale(final.has_parent_path() ? final.parent_path() : fs::path("."), ".partial-");
-  const temp_files::Created created = temp_files::createExclusive(final, "." + final.filename().string(), ".partial-", "");
+  const temp_files::Created created =
+      temp_files::createExclusive(final, "." + final.filename().string(), ".partial-", "");
   ::close(created.fd);
   const fs::path tmp = created.path;
   const temp_files::CleanupRegistration cleanup(tmp);
@@ -200,7 +212,8 @@ int runAnimate(const AnimateOptions& o) {
   }
   if (o.width > 0) s.output.width = o.width;
   if (o.height > 0) s.output.height = o.height;
-  if (!s.data && o.data.empty()) throw InputError(o.scene + ": no \"data\" section: which .nph or model files to animate?");
+  if (!s.data && o.data.empty())
+    throw InputError(o.scene + ": no \"data\" section: which .nph or model files to animate?");
   if (!o.data.empty()) {
     if (!s.data) s.data = scene::DataSpec{};
     s.data->path = o.data.front();
@@ -229,7 +242,7 @@ int runAnimate(const AnimateOptions& o) {
   if (!o.video.empty() && std::find(exts.begin(), exts.end(), ".png") == exts.end()) {
     throw UsageError("--video encodes the PNG sequence: add png to --format");
   }
-  const auto dataset = quick_dataset                 ? quick_dataset
+  const auto dataset = quick_dataset       ? quick_dataset
                        : o.data.size() > 1 ? engine::Dataset::openSeries(o.data)
                                            : engine::Dataset::open(s.data->path);
 
@@ -275,8 +288,9 @@ int runAnimate(const AnimateOptions& o) {
     }
   }
   log::info("animation: {} frames at {} fps ({:.3f} s), timesteps {:.3f} to {:.3f}, sun {}; frames {} to {}: {} to "
-            "render, {} complete", plan.frameCount(), spec.fps.text(), plan.durationSeconds(), plan.fromIndex(),
-            plan.toIndex(), plan.sunFollowsClock() ? "following the clock" : "fixed", first, last, todo.size(), skipped);
+            "render, {} complete",
+            plan.frameCount(), spec.fps.text(), plan.durationSeconds(), plan.fromIndex(), plan.toIndex(),
+            plan.sunFollowsClock() ? "following the clock" : "fixed", first, last, todo.size(), skipped);
 
   engine::PrefetchSettings prefetch;
   prefetch.enabled = !o.no_prefetch;
@@ -323,13 +337,14 @@ int runAnimate(const AnimateOptions& o) {
                                     : dataset->sourceFile(b.first);
       bar.finish();
       throw InputError(fmt::format("frame {} ({}, timestep {:.4f} of {}): {} — frames written before it are kept; run "
-                                   "again to resume", k, when, f.time_index, files, e.what()));
+                                   "again to resume",
+                                   k, when, f.time_index, files, e.what()));
     }
     scene::ImageOutputOptions image = s.output.image;
     image.date_time = exrDateTime(f);
     const scene::FramePasses* passes = out.passes ? &*out.passes : nullptr;
     for (const auto& [pass, path] : outputsOf(k)) {
-      scene::writeImage(pass == scene::Pass::Beauty ? scene::outputFrame(s.output, out.frame, out.cloud_layer, passes)
+      scene::writeImage(pass == scene::Pass::Beauty  ? scene::outputFrame(s.output, out.frame, out.cloud_layer, passes)
                         : pass == scene::Pass::Cloud ? out.cloud_layer
                                                      : scene::passImage(pass, out.frame, out.cloud_layer, *passes),
                         path, image);
@@ -342,7 +357,8 @@ int runAnimate(const AnimateOptions& o) {
     const double frame_s = std::chrono::duration<double>(Clock::now() - t0).count();
     if (i > 0) steady_s += frame_s;
     log::info("frame {} ({}, timestep {:.4f}): {:.2f} s (load {:.0f} ms of which blocked {:.0f}, upload {:.0f}, DLM "
-              "{}, ray cast {:.0f} ms)", k, when, f.time_index, frame_s, st.load_ms, st.blocked_ms, st.upload_ms,
+              "{}, ray cast {:.0f} ms)",
+              k, when, f.time_index, frame_s, st.load_ms, st.blocked_ms, st.upload_ms,
               st.dlm_rebuilt ? fmt::format("{:.0f} ms", st.dlm_ms) : std::string("reused"), st.raycast_ms);
     bar.update(i + 1, fmt::format("frame {}", k));
   }
@@ -374,7 +390,8 @@ int runAnimate(const AnimateOptions& o) {
     const scene::VideoColourTags tags =
         s.output.image.display.empty()
             ? scene::VideoColourTags{"bt709", "iec61966-2-1", "bt709"}
-            : scene::DisplayOutput::open(s.output.image.ocio_config, s.output.image.display, s.output.image.view)->videoTags();
+            : scene::DisplayOutput::open(s.output.image.ocio_config, s.output.image.display, s.output.image.view)
+                  ->videoTags();
     encodeVideo((fs::path(o.output_dir) / fmt::format("{}_%06d.png", kind)).string(), first, last, spec.fps,
                 o.video_codec, tags, o.video);
     std::printf("animate: wrote %s (%s, %s frames with alpha)\n", o.video.c_str(), o.video_codec.c_str(), kind);

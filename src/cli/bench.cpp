@@ -66,11 +66,10 @@ void addBenchCommand(CLI::App& app, Action& run) {
   bench->require_subcommand(1);
   auto o = std::make_shared<BenchAccuracyOptions>();
   CLI::App* cmd = bench->add_subcommand(
-      "accuracy",
-      "Run time against error: the standard scenes (hurricane above/oblique, stratus, cumulus, cirrus; sun "
-      "high, low, behind the camera) rendered on the GPU with each quality knob swept around the default "
-      "and the presets; error vs a cached path-traced ground truth and vs the CPU reference of the same "
-      "approximation. Writes accuracy.csv, accuracy-summary.csv/.md and accuracy.png (gnuplot) to --out.");
+      "accuracy", "Run time against error: the standard scenes (hurricane above/oblique, stratus, cumulus, cirrus; sun "
+                  "high, low, behind the camera) rendered on the GPU with each quality knob swept around the default "
+                  "and the presets; error vs a cached path-traced ground truth and vs the CPU reference of the same "
+                  "approximation. Writes accuracy.csv, accuracy-summary.csv/.md and accuracy.png (gnuplot) to --out.");
   cmd->add_option("-o,--out", o->sweep.out_dir, "output folder")->capture_default_str();
   cmd->add_option("--cache", o->sweep.cache_dir, "ground-truth cache folder (default OUT/ground-truth)");
   cmd->add_flag("--quick", o->sweep.quick, "tiny scenes, 48x27, 1 run, 8 spp, two values a knob (tests)");
@@ -79,7 +78,8 @@ void addBenchCommand(CLI::App& app, Action& run) {
   cmd->add_option("--height", o->sweep.height, "image height")->capture_default_str();
   cmd->add_option("--spp", o->spp, "path-tracer samples per pixel (default 256; quick 8)");
   cmd->add_option("--max-events", o->sweep.ground_truth.max_events,
-                  "path-tracer collisions per path before it is cut (counted)")->capture_default_str();
+                  "path-tracer collisions per path before it is cut (counted)")
+      ->capture_default_str();
   cmd->add_option("--roulette-after", o->sweep.ground_truth.roulette_after_events,
                   "path tracer: unbiased Russian roulette past this many collisions (0 = off)")
       ->capture_default_str();

@@ -22,6 +22,6 @@ void addRenderCommand(CLI::App& app, Action& run);
 void addAnimateCommand(CLI::App& app, Action& run);
 void addBenchCommand(CLI::App& app, Action& run);
 void addExportVdbCommand(CLI::App& app, Action& run);  ///< interop/vdb_export.h
-void addViewCommand(CLI::App& app, Action& run);  ///< only with NEPHELE_HAVE_GLFW
+void addViewCommand(CLI::App& app, Action& run);       ///< only with NEPHELE_HAVE_GLFW
 
 }  // namespace nph::cli

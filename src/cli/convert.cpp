@@ -48,15 +48,12 @@ struct ConvertOptions {
 };
 
 using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// Bytes of the model fields held by a loaded timestep (what NetCDF decompressed for us).
 std::size_t fieldBytes(const io::ModelTimestep& ts) {
-  std::size_t floats = ts.water_vapour_kg_per_kg.size() + ts.pressure_pa.size() +
-                       ts.temperature_k.size() + ts.height_m.size() + ts.terrain_height_m.size() +
-                       ts.cloud_cover_fraction.size();
+  std::size_t floats = ts.water_vapour_kg_per_kg.size() + ts.pressure_pa.size() + ts.temperature_k.size() +
+                       ts.height_m.size() + ts.terrain_height_m.size() + ts.cloud_cover_fraction.size();
   for (const auto& [h, v] : ts.q_kg_per_kg) floats += v.size();
   for (const auto& [h, v] : ts.number_per_kg) floats += v.size();
   return floats * sizeof(float);
@@ -73,9 +70,8 @@ bool sameGrid(const geo::GridGeoreference& a, const geo::GridGeoreference& b) {
   auto close = [](double x, double y, double spacing) {
     return std::abs(x - y) <= 1e-6 * std::max(std::abs(spacing), 1e-12);
   };
-  return a.proj_definition == b.proj_definition && a.geographic == b.geographic &&
-         close(a.dx_m, b.dx_m, b.dx_m) && close(a.dy_m, b.dy_m, b.dy_m) &&
-         close(a.x0, b.x0, b.dx_m) && close(a.y0, b.y0, b.dy_m);
+  return a.proj_definition == b.proj_definition && a.geographic == b.geographic && close(a.dx_m, b.dx_m, b.dx_m) &&
+         close(a.dy_m, b.dy_m, b.dy_m) && close(a.x0, b.x0, b.dx_m) && close(a.y0, b.y0, b.dy_m);
 }
 
 physics::OpticsSettings opticsFrom(const ConvertOptions& o) {
@@ -106,8 +102,7 @@ int runConvert(const ConvertOptions& o) {
   }
   // Replacing an older .nph is normal; replacing anything else (a typo naming a model file) is not.
   if (std::filesystem::exists(o.output) && !cache::NphReader::sniff(o.output) && !o.force) {
-    throw UsageError(fmt::format(
-        "{}: exists and is not a .nph file; refusing to replace it (use --force)", o.output));
+    throw UsageError(fmt::format("{}: exists and is not a .nph file; refusing to replace it (use --force)", o.output));
   }
 
   io::LoadOptions load;
@@ -163,16 +158,15 @@ int runConvert(const ConvertOptions& o) {
       wo.zstd_level = o.zstd_level;
       writer = std::make_unique<cache::NphWriter>(o.output, std::move(meta), wo);
     } else if (ts.nx != nx || ts.ny != ny) {
-      throw InputError(fmt::format(
-          "{}: timestep {} has a {}x{} grid, the earlier inputs {}x{}: one .nph file holds one grid",
-          ref.file, ref.index, ts.nx, ts.ny, nx, ny));
+      throw InputError(
+          fmt::format("{}: timestep {} has a {}x{} grid, the earlier inputs {}x{}: one .nph file holds one grid",
+                      ref.file, ref.index, ts.nx, ts.ny, nx, ny));
     } else if (!sameGrid(ts.georef, first_georef)) {
-      throw InputError(fmt::format(
-          "{}: timestep {} is on another grid ({}, dx {}, origin {}, {}) than the earlier inputs "
-          "({}, dx {}, origin {}, {}): one .nph file holds one grid",
-          ref.file, ref.index, ts.georef.proj_definition, ts.georef.dx_m, ts.georef.x0,
-          ts.georef.y0, first_georef.proj_definition, first_georef.dx_m, first_georef.x0,
-          first_georef.y0));
+      throw InputError(
+          fmt::format("{}: timestep {} is on another grid ({}, dx {}, origin {}, {}) than the earlier inputs "
+                      "({}, dx {}, origin {}, {}): one .nph file holds one grid",
+                      ref.file, ref.index, ts.georef.proj_definition, ts.georef.dx_m, ts.georef.x0, ts.georef.y0,
+                      first_georef.proj_definition, first_georef.dx_m, first_georef.x0, first_georef.y0));
     }
     ExtinctionVolumes volumes = physics::buildExtinctionVolumes(ts, optics, vertical);
     ts = io::ModelTimestep{};  // release the model fields before compressing
@@ -181,8 +175,8 @@ int runConvert(const ConvertOptions& o) {
     t0 = Clock::now();
     writer->append(volumes);
     seconds_write += secondsSince(t0);
-    log::debug("{}[{}] {}: nz {}, max ice {:.3g} /m, water {:.3g} /m", ref.file, ref.index,
-               volumes.time_utc, volumes.nz, volumes.max_ice_per_m, volumes.max_water_per_m);
+    log::debug("{}[{}] {}: nz {}, max ice {:.3g} /m, water {:.3g} /m", ref.file, ref.index, volumes.time_utc,
+               volumes.nz, volumes.max_ice_per_m, volumes.max_water_per_m);
   }
   t0 = Clock::now();
   writer->commit();
@@ -192,23 +186,21 @@ int runConvert(const ConvertOptions& o) {
 
   const double total = secondsSince(t_start);
   const std::uintmax_t out_bytes = std::filesystem::file_size(o.output);
-  log::info("{}: {} timesteps, {:.1f} MB from {:.1f} MB of input in {:.2f} s", o.output,
-            series.size(), double(out_bytes) / 1e6, double(input_bytes) / 1e6, total);
+  log::info("{}: {} timesteps, {:.1f} MB from {:.1f} MB of input in {:.2f} s", o.output, series.size(),
+            double(out_bytes) / 1e6, double(input_bytes) / 1e6, total);
   if (negative_clamped > 0 || missing_as_zero > 0) {
-    log::info("inputs: {} negative values set to 0, {} fill values read as 0", negative_clamped,
-              missing_as_zero);
+    log::info("inputs: {} negative values set to 0, {} fill values read as 0", negative_clamped, missing_as_zero);
   }
   if (o.stats) {
     // machine-readable, one key=value per line on stdout
-    std::printf(
-        "timesteps=%zu\ninput_file_mb=%.3f\nmodel_field_mb=%.3f\noutput_mb=%.3f\n"
-        "seconds_total=%.3f\nseconds_open=%.3f\nseconds_read=%.3f\nseconds_optics_resample=%.3f\n"
-        "seconds_quantise_compress_write=%.3f\ninput_file_mb_per_s=%.2f\nmodel_field_mb_per_s=%.2f\n"
-        "compute_model_field_mb_per_s=%.2f\npeak_rss_mb=%.1f\n",
-        series.size(), double(input_bytes) / 1e6, double(model_bytes) / 1e6,
-        double(out_bytes) / 1e6, total, seconds_open, seconds_load, seconds_optics, seconds_write,
-        double(input_bytes) / 1e6 / total, double(model_bytes) / 1e6 / total,
-        double(model_bytes) / 1e6 / (seconds_optics + seconds_write), peakResidentMb());
+    std::printf("timesteps=%zu\ninput_file_mb=%.3f\nmodel_field_mb=%.3f\noutput_mb=%.3f\n"
+                "seconds_total=%.3f\nseconds_open=%.3f\nseconds_read=%.3f\nseconds_optics_resample=%.3f\n"
+                "seconds_quantise_compress_write=%.3f\ninput_file_mb_per_s=%.2f\nmodel_field_mb_per_s=%.2f\n"
+                "compute_model_field_mb_per_s=%.2f\npeak_rss_mb=%.1f\n",
+                series.size(), double(input_bytes) / 1e6, double(model_bytes) / 1e6, double(out_bytes) / 1e6, total,
+                seconds_open, seconds_load, seconds_optics, seconds_write, double(input_bytes) / 1e6 / total,
+                double(model_bytes) / 1e6 / total, double(model_bytes) / 1e6 / (seconds_optics + seconds_write),
+                peakResidentMb());
   }
   return kExitOk;
 }
@@ -218,13 +210,12 @@ int runConvert(const ConvertOptions& o) {
 void addConvertCommand(CLI::App& app, Action& run) {
   auto o = std::make_shared<ConvertOptions>();
   CLI::App* sub = app.add_subcommand(
-      "convert",
-      "Convert model output into ice and water extinction volumes [1/m] (Nes 2008 eq. 5.3, §5.6)\n"
-      "on a uniform height grid (PCHIP, cropped just above the highest condensate) and write them,\n"
-      "all timesteps of all inputs in time order, into one .nph cache file (zstd, checksummed,\n"
-      "16-bit). The output appears only when the whole conversion succeeded (an existing file\n"
-      "is replaced then); on any error nothing is written and the exit status is 1.\n"
-      "Example: nephele convert wrfout_d01_* -o storm.nph --preset nes2008 --dz 250");
+      "convert", "Convert model output into ice and water extinction volumes [1/m] (Nes 2008 eq. 5.3, §5.6)\n"
+                 "on a uniform height grid (PCHIP, cropped just above the highest condensate) and write them,\n"
+                 "all timesteps of all inputs in time order, into one .nph cache file (zstd, checksummed,\n"
+                 "16-bit). The output appears only when the whole conversion succeeded (an existing file\n"
+                 "is replaced then); on any error nothing is written and the exit status is 1.\n"
+                 "Example: nephele convert wrfout_d01_* -o storm.nph --preset nes2008 --dz 250");
   sub->add_option("inputs", o->inputs, "wrfout or ICON NetCDF files (several: one time series)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -242,15 +233,13 @@ void addConvertCommand(CLI::App& app, Action& run) {
                 "ICON: do not raise CLC where condensate exists (Muth 2026 §3.3.1, eq. 3.1)");
   sub->add_flag("--no-icon-condensate-fix", o->no_icon_condensate,
                 "ICON: do not reconstruct condensate where CLC > 0 (Muth 2026 §3.3.1)");
-  sub->add_option("--dz", o->dz_m, "vertical spacing of the output grid [m] (default 250)")
-      ->check(CLI::PositiveNumber);
+  sub->add_option("--dz", o->dz_m, "vertical spacing of the output grid [m] (default 250)")->check(CLI::PositiveNumber);
   sub->add_option("--z-top", o->z_top_m, "fixed top of the grid [m above MSL] instead of the crop");
   sub->add_option("--z-bottom", o->z_bottom_m,
                   "bottom of the grid [m above MSL] (default: lowest terrain, rounded down to dz)");
   sub->add_option("--crop-threshold", o->crop_threshold_per_m,
                   "extinction [1/m] below which a level counts as clear for the crop (default 1e-6)");
-  sub->add_option("--zstd-level", o->zstd_level, "zstd level 1..19 (default 3)")
-      ->check(CLI::Range(1, 19));
+  sub->add_option("--zstd-level", o->zstd_level, "zstd level 1..19 (default 3)")->check(CLI::Range(1, 19));
   sub->add_flag("--progress", o->progress, "show the progress bar even when stderr is no terminal");
   sub->add_flag("--no-progress", o->no_progress, "never show the progress bar");
   sub->add_flag("--stats", o->stats,

@@ -12,8 +12,8 @@
 
 #include "cache/nph_cache.h"
 #include "cli/commands.h"
-#include "core/terminal_text.h"
 #include "core/error.h"
+#include "core/terminal_text.h"
 #include "io/model_file.h"
 #include "physics/optics_settings.h"
 
@@ -53,13 +53,12 @@ std::string rangeText(const std::vector<float>& v) {
 std::string opticsText(const std::string& json_text) {
   const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
   if (j.is_discarded() || !j.is_object() || !j.contains("classes")) return json_text;
-  std::string s = fmt::format("preset {}, r_eff from number concentrations {}\n",
-                              j.value("preset", "?"),
+  std::string s = fmt::format("preset {}, r_eff from number concentrations {}\n", j.value("preset", "?"),
                               j.value("use_number_concentrations", false) ? "on" : "off");
   for (const auto& [name, c] : j["classes"].items()) {
-    s += fmt::format("                {:8s} r_eff {:8.1f} um, density {:6.0f} kg/m3 -> {} volume\n",
-                     name, c.value("effective_radius_m", 0.0) * 1e6,
-                     c.value("particle_density_kg_per_m3", 0.0), c.value("volume", "?"));
+    s += fmt::format("                {:8s} r_eff {:8.1f} um, density {:6.0f} kg/m3 -> {} volume\n", name,
+                     c.value("effective_radius_m", 0.0) * 1e6, c.value("particle_density_kg_per_m3", 0.0),
+                     c.value("volume", "?"));
   }
   if (j.contains("icon_corrections")) {
     const auto& ic = j["icon_corrections"];
@@ -78,16 +77,16 @@ std::string projectionText(const std::string& proj, bool geographic) {
 void describeNph(const std::string& path, const InfoOptions& o) {
   const cache::NphReader r(path);
   const cache::NphMetadata& m = r.metadata();
-  out(fmt::format("{}: nephele extinction cache (.nph version {}, {:.2f} MB)\n", path,
-                  r.formatVersion(), double(r.fileBytes()) / 1e6));
-  out(fmt::format("  grid          {} x {} x {} (nx, ny, nz), dz {} m, z {} .. {} m above MSL\n",
-                  m.nx, m.ny, r.nz(), m.dz_m, m.z_bottom_m, m.z_bottom_m + r.nz() * m.dz_m));
+  out(fmt::format("{}: nephele extinction cache (.nph version {}, {:.2f} MB)\n", path, r.formatVersion(),
+                  double(r.fileBytes()) / 1e6));
+  out(fmt::format("  grid          {} x {} x {} (nx, ny, nz), dz {} m, z {} .. {} m above MSL\n", m.nx, m.ny, r.nz(),
+                  m.dz_m, m.z_bottom_m, m.z_bottom_m + r.nz() * m.dz_m));
   out(fmt::format("  projection    {}\n", projectionText(m.georef.proj_definition, m.georef.geographic)));
-  out(fmt::format("  spacing       dx {} dy {}, origin ({}, {})\n", m.georef.dx_m, m.georef.dy_m,
-                  m.georef.x0, m.georef.y0));
+  out(fmt::format("  spacing       dx {} dy {}, origin ({}, {})\n", m.georef.dx_m, m.georef.dy_m, m.georef.x0,
+                  m.georef.y0));
   out(fmt::format("  geolocation   {}\n", m.georef.lat_deg.empty() ? "absent" : "lat/lon per column"));
-  out(fmt::format("  terrain [m]   {}\n", m.terrain_height_m.empty() ? std::string("absent (sea level)")
-                                                                     : rangeText(m.terrain_height_m)));
+  out(fmt::format("  terrain [m]   {}\n",
+                  m.terrain_height_m.empty() ? std::string("absent (sea level)") : rangeText(m.terrain_height_m)));
   out(fmt::format("  variables     ice_per_m, water_per_m [1/m] (16-bit, linear per timestep)\n"));
   out(fmt::format("  optics        {}\n", opticsText(m.optics_json)));
   out(fmt::format("  inputs        {}\n", fmt::join(m.inputs, ", ")));
@@ -97,10 +96,9 @@ void describeNph(const std::string& path, const InfoOptions& o) {
     const cache::TimestepInfo& s = r.timestep(t);
     out(fmt::format("    {:3d} {:22s} nz {:3d}  max ice {:.4g} /m  max water {:.4g} /m  "
                     "{:.2f} MB ({:.1f}x)  from {}[{}]\n",
-                    t, s.time_utc, s.nz, s.max_ice_per_m, s.max_water_per_m,
-                    double(s.chunk_bytes) / 1e6,
-                    s.chunk_bytes > 0 ? double(s.raw_bytes) / double(s.chunk_bytes) : 0.0,
-                    s.source_file, s.source_time_index));
+                    t, s.time_utc, s.nz, s.max_ice_per_m, s.max_water_per_m, double(s.chunk_bytes) / 1e6,
+                    s.chunk_bytes > 0 ? double(s.raw_bytes) / double(s.chunk_bytes) : 0.0, s.source_file,
+                    s.source_time_index));
   }
   if (o.verify) {
     for (std::size_t t = 0; t < r.timestepCount(); ++t) (void)r.read(t);
@@ -119,14 +117,14 @@ void describeModel(const std::string& path, const InfoOptions& o) {
   }
   if (!o.ranges || f.timesteps().empty()) return;
   if (o.timestep >= f.timesteps().size()) {
-    throw UsageError(fmt::format("{}: --timestep {} requested, the file has {}", path, o.timestep,
-                                 f.timesteps().size()));
+    throw UsageError(
+        fmt::format("{}: --timestep {} requested, the file has {}", path, o.timestep, f.timesteps().size()));
   }
   const io::ModelTimestep ts = f.load(o.timestep);
   out(fmt::format("  grid          {} x {} x {} mass points (nx, ny, levels)\n", ts.nx, ts.ny, ts.nz));
   out(fmt::format("  projection    {}\n", projectionText(ts.georef.proj_definition, ts.georef.geographic)));
-  out(fmt::format("  spacing       dx {} dy {}, origin ({}, {})\n", ts.georef.dx_m, ts.georef.dy_m,
-                  ts.georef.x0, ts.georef.y0));
+  out(fmt::format("  spacing       dx {} dy {}, origin ({}, {})\n", ts.georef.dx_m, ts.georef.dy_m, ts.georef.x0,
+                  ts.georef.y0));
   out(fmt::format("  geolocation   {}\n", ts.georef.lat_deg.empty() ? "absent" : "lat/lon per column"));
   if (ts.model == io::ModelKind::Wrf) {
     out(fmt::format("  microphysics  MP_PHYSICS = {}\n", ts.microphysics_scheme));
@@ -153,8 +151,8 @@ void describeModel(const std::string& path, const InfoOptions& o) {
     const auto qi = ts.q_kg_per_kg.find(io::Hydrometeor::Ice);
     std::size_t clc_zero = 0, clc_without = 0;
     for (std::size_t m = 0; m < ts.voxelCount(); ++m) {
-      const float q = (qc != ts.q_kg_per_kg.end() ? qc->second[m] : 0.0f) +
-                      (qi != ts.q_kg_per_kg.end() ? qi->second[m] : 0.0f);
+      const float q =
+          (qc != ts.q_kg_per_kg.end() ? qc->second[m] : 0.0f) + (qi != ts.q_kg_per_kg.end() ? qi->second[m] : 0.0f);
       if (ts.cloud_cover_fraction[m] <= 0.0f && q > 0.0f) ++clc_zero;
       if (ts.cloud_cover_fraction[m] > 0.0f && q <= 0.0f) ++clc_without;
     }
@@ -189,11 +187,10 @@ int runInfo(const InfoOptions& o) {
 void addInfoCommand(CLI::App& app, Action& run) {
   auto o = std::make_shared<InfoOptions>();
   CLI::App* sub = app.add_subcommand(
-      "info",
-      "Print what files hold: for wrfout and ICON files the format, timesteps, grid, projection,\n"
-      "variables present and their value ranges (of one timestep); for .nph caches the grid,\n"
-      "georeference, optics settings and per-timestep maxima and chunk sizes.\n"
-      "Exit status 1 when any file cannot be read (the others are still described).");
+      "info", "Print what files hold: for wrfout and ICON files the format, timesteps, grid, projection,\n"
+              "variables present and their value ranges (of one timestep); for .nph caches the grid,\n"
+              "georeference, optics settings and per-timestep maxima and chunk sizes.\n"
+              "Exit status 1 when any file cannot be read (the others are still described).");
   sub->add_option("files", o->files, "wrfout, ICON NetCDF or .nph files")->required();
   sub->add_flag("!--no-ranges", o->ranges, "model files: skip loading a timestep for value ranges");
   sub->add_option("--timestep", o->timestep, "model files: which timestep's ranges (default 0)");

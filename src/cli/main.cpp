@@ -12,14 +12,13 @@
 #include "core/terminal_text.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "nephele: volumetric clouds from weather-model output (WRF wrfout, ICON NetCDF).\n"
-      "  info     what a wrfout, ICON or .nph file holds\n"
-      "  convert  model files -> ice/water extinction volumes in a .nph cache file\n"
-      "  render   one frame of a scene file (deep light map + ray caster), headless\n"
-      "  animate  image sequence (and video) of a scene's time range and camera keyframes\n"
-      "  bench    benchmarks: `bench accuracy` (run time against error of every quality knob)\n"
-      "Run `nephele <command> --help` for the options of a command."};
+  CLI::App app{"nephele: volumetric clouds from weather-model output (WRF wrfout, ICON NetCDF).\n"
+               "  info     what a wrfout, ICON or .nph file holds\n"
+               "  convert  model files -> ice/water extinction volumes in a .nph cache file\n"
+               "  render   one frame of a scene file (deep light map + ray caster), headless\n"
+               "  animate  image sequence (and video) of a scene's time range and camera keyframes\n"
+               "  bench    benchmarks: `bench accuracy` (run time against error of every quality knob)\n"
+               "Run `nephele <command> --help` for the options of a command."};
   app.set_version_flag("--version", "nephele " NEPHELE_VERSION);
   app.require_subcommand(1);
   nph::cli::Action run;

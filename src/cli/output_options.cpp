@@ -21,7 +21,8 @@ void applyColourOptions(const std::string& display, const std::string& view, sce
     image.view.clear();
   }
   if (!view.empty()) image.view = view;
-  if (image.display.empty() && !image.view.empty()) throw UsageError("--view needs a display (--display or output.display)");
+  if (image.display.empty() && !image.view.empty())
+    throw UsageError("--view needs a display (--display or output.display)");
   if (!image.display.empty()) (void)scene::DisplayOutput::open(image.ocio_config, image.display, image.view);
 }
 

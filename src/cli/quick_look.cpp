@@ -37,7 +37,9 @@ constexpr float kCloudExtinction_per_m = 1e-4f;
 class PreloadedDataset final : public engine::Dataset {
  public:
   PreloadedDataset(std::shared_ptr<const engine::Dataset> inner, std::size_t t, ExtinctionVolumes v)
-      : Dataset(inner->path(), inner->times(), sourcesOf(*inner)), inner_(std::move(inner)), t_(t),
+      : Dataset(inner->path(), inner->times(), sourcesOf(*inner)),
+        inner_(std::move(inner)),
+        t_(t),
         volume_(std::move(v)) {}
   ExtinctionVolumes load(std::size_t t) const override {
     {
@@ -83,9 +85,12 @@ bool isDataFile(const std::string& path) {
   std::array<char, 8> head{};
   in.read(head.data(), head.size());
   const auto n = static_cast<std::size_t>(in.gcount());
-  const auto starts = [&](const char* sig, std::size_t len) { return n >= len && std::memcmp(head.data(), sig, len) == 0; };
-  return starts("CDF\x01", 4) || starts("CDF\x02", 4) || starts("CDF\x05", 4) ||  // NetCDF classic, 64-bit offset, CDF-5
-         starts("\x89HDF\r\n\x1a\n", 8) ||                                       // netCDF-4 (HDF5)
+  const auto starts = [&](const char* sig, std::size_t len) {
+    return n >= len && std::memcmp(head.data(), sig, len) == 0;
+  };
+  return starts("CDF\x01", 4) || starts("CDF\x02", 4) ||
+         starts("CDF\x05", 4) ||            // NetCDF classic, 64-bit offset, CDF-5
+         starts("\x89HDF\r\n\x1a\n", 8) ||  // netCDF-4 (HDF5)
          starts("GRIB", 4) || starts("NPHCACHE", 8);
 }
 

@@ -20,8 +20,8 @@ namespace nph::cli {
 bool isDataFile(const std::string& path);
 
 struct QuickLook {
-  std::string scene_json;                    ///< the scene file text (what --print-scene prints)
-  scene::SceneDescription scene;             ///< scene_json parsed
+  std::string scene_json;                          ///< the scene file text (what --print-scene prints)
+  scene::SceneDescription scene;                   ///< scene_json parsed
   std::shared_ptr<const engine::Dataset> dataset;  ///< the opened data; timestep 0 already read
 };
 

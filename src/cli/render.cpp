@@ -84,9 +84,11 @@ int runRender(const RenderOptions& o) {
   }
   const auto out = session.render(prepared.camera);
   const auto& st = session.deepLightMap().stats();
-  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
-            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6, st.compression_ratio, st.pass1_ms,
-            st.pass2_ms, st.pass3_ms, st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
+  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the "
+            "uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
+            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6,
+            st.compression_ratio, st.pass1_ms, st.pass2_ms, st.pass3_ms,
+            st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
   log::info("ray cast {}x{} in {:.0f} ms", out.frame.width, out.frame.height, out.milliseconds);
   const auto prepare = [](const std::string& path) {
     if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
@@ -115,15 +117,14 @@ int runRender(const RenderOptions& o) {
 void addRenderCommand(CLI::App& app, Action& run) {
   auto opts = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "render",
-      "Render one frame of a scene file (JSON: data, camera, sun, basemap, quality, output; see "
-      "docs/scene-file.md) headless through EGL or OSMesa. Writes the clouds composited over the "
-      "basemap to every output path (.png: sRGB 8-bit; .exr: linear half) and, with --layer, the "
-      "premultiplied cloud layer alone for a compositor; with --passes / --pass the compositing passes "
-      "(cloud, ground, sky, shadow matte, depth).\n\nQuick look: give a wrfout, ICON or .nph "
-      "file instead of a scene (`nephele render wrfout_d01.nc -o look.png`): the data is framed "
-      "automatically (oblique camera, sun from the data's time, Blue Marble); --print-scene prints "
-      "that scene as JSON to start editing from.");
+      "render", "Render one frame of a scene file (JSON: data, camera, sun, basemap, quality, output; see "
+                "docs/scene-file.md) headless through EGL or OSMesa. Writes the clouds composited over the "
+                "basemap to every output path (.png: sRGB 8-bit; .exr: linear half) and, with --layer, the "
+                "premultiplied cloud layer alone for a compositor; with --passes / --pass the compositing passes "
+                "(cloud, ground, sky, shadow matte, depth).\n\nQuick look: give a wrfout, ICON or .nph "
+                "file instead of a scene (`nephele render wrfout_d01.nc -o look.png`): the data is framed "
+                "automatically (oblique camera, sun from the data's time, Blue Marble); --print-scene prints "
+                "that scene as JSON to start editing from.");
   cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")
       ->required()
       ->check(CLI::ExistingFile);

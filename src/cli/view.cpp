@@ -38,21 +38,20 @@
 namespace nph::cli {
 namespace {
 
-constexpr int kPreviewDivisor = 2;            // progressive preview: half resolution per axis
-constexpr double kSettleSeconds = 0.25;       // full resolution once nothing moved for this long
+constexpr int kPreviewDivisor = 2;       // progressive preview: half resolution per axis
+constexpr double kSettleSeconds = 0.25;  // full resolution once nothing moved for this long
 constexpr double kOrbitDegPerPixel = 0.3;
 constexpr double kZoomPerScrollStep = 0.9;
-constexpr double kScrubStep = 0.1;            // [ ] : a tenth of a timestep
+constexpr double kScrubStep = 0.1;  // [ ] : a tenth of a timestep
 constexpr double kSunStep_deg = 5.0;
 
-constexpr const char* kHelp =
-    "nephele view\n"
-    "  left drag      orbit            right drag   pan            wheel   zoom\n"
-    "  left / right   previous / next timestep      [ / ]   scrub by 0.1 timestep\n"
-    "  space          play / pause                  + / -   playback speed x2 / /2\n"
-    "  A / D          sun azimuth -/+ 5 deg         W / S   sun elevation +/- 5 deg\n"
-    "  Q              quality preset (draft, broadcast, reference)\n"
-    "  H              this help                     Esc     quit\n";
+constexpr const char* kHelp = "nephele view\n"
+                              "  left drag      orbit            right drag   pan            wheel   zoom\n"
+                              "  left / right   previous / next timestep      [ / ]   scrub by 0.1 timestep\n"
+                              "  space          play / pause                  + / -   playback speed x2 / /2\n"
+                              "  A / D          sun azimuth -/+ 5 deg         W / S   sun elevation +/- 5 deg\n"
+                              "  Q              quality preset (draft, broadcast, reference)\n"
+                              "  H              this help                     Esc     quit\n";
 
 struct ViewOptions {
   std::string scene;
@@ -101,9 +100,13 @@ struct Orbit {
 class Viewer {
  public:
   Viewer(gl::Context& ctx, engine::Session& session, const ViewOptions& o)
-      : ctx_(ctx), session_(session), window_(ctx.window()), opts_(o),
+      : ctx_(ctx),
+        session_(session),
+        window_(ctx.window()),
+        opts_(o),
         present_(gl::Program::graphics("render/fullscreen.vert", "render/present.frag")),
-        sampler_(gl::Sampler::create(GL_LINEAR, GL_CLAMP_TO_EDGE)), vao_(gl::VertexArray::create()) {
+        sampler_(gl::Sampler::create(GL_LINEAR, GL_CLAMP_TO_EDGE)),
+        vao_(gl::VertexArray::create()) {
     camera_ = session.prepared().camera;
     orbit_ = Orbit::from(camera_, session.scene().view == scene::ViewMode::Globe);
     sun_ = session.sun();
@@ -192,7 +195,8 @@ class Viewer {
     const auto row = static_cast<OIIO::stride_t>(w) * 4;
     // GL rows go bottom-up: start at the last row and step backwards.
     if (!out || !out->open(path, spec) ||
-        !out->write_image(OIIO::TypeDesc::UINT8, px.data() + (std::size_t(h) - 1) * std::size_t(row), OIIO::AutoStride, -row) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, px.data() + (std::size_t(h) - 1) * std::size_t(row), OIIO::AutoStride,
+                          -row) ||
         !out->close()) {
       throw IoError(fmt::format("{}: cannot write the screenshot: {}", path, out ? out->geterror() : OIIO::geterror()));
     }
@@ -212,24 +216,35 @@ class Viewer {
     const double last = double(session_.dataset().timestepCount() - 1);
     switch (key) {
       case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, 1); break;
-      case GLFW_KEY_H: std::fputs(kHelp, stdout); std::fflush(stdout); break;
+      case GLFW_KEY_H:
+        std::fputs(kHelp, stdout);
+        std::fflush(stdout);
+        break;
       case GLFW_KEY_RIGHT: setTime(std::min(std::floor(time_ + 1e-9) + 1.0, last)); break;
       case GLFW_KEY_LEFT: setTime(std::max(std::ceil(time_ - 1e-9) - 1.0, 0.0)); break;
       case GLFW_KEY_RIGHT_BRACKET: setTime(std::min(time_ + kScrubStep, last)); break;
       case GLFW_KEY_LEFT_BRACKET: setTime(std::max(time_ - kScrubStep, 0.0)); break;
       case GLFW_KEY_SPACE: playing_ = !playing_; break;
-      case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD: speed_ = std::min(speed_ * 2.0, 64.0); break;
-      case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: speed_ = std::max(speed_ / 2.0, 1.0 / 64.0); break;
-      case GLFW_KEY_A: case GLFW_KEY_D:
-      case GLFW_KEY_W: case GLFW_KEY_S: {
-        if (key == GLFW_KEY_A || key == GLFW_KEY_D) sun_.azimuth_deg += key == GLFW_KEY_D ? kSunStep_deg : -kSunStep_deg;
-        else sun_.elevation_deg = std::clamp(sun_.elevation_deg + (key == GLFW_KEY_W ? kSunStep_deg : -kSunStep_deg), -10.0, 90.0);
+      case GLFW_KEY_EQUAL:
+      case GLFW_KEY_KP_ADD: speed_ = std::min(speed_ * 2.0, 64.0); break;
+      case GLFW_KEY_MINUS:
+      case GLFW_KEY_KP_SUBTRACT: speed_ = std::max(speed_ / 2.0, 1.0 / 64.0); break;
+      case GLFW_KEY_A:
+      case GLFW_KEY_D:
+      case GLFW_KEY_W:
+      case GLFW_KEY_S: {
+        if (key == GLFW_KEY_A || key == GLFW_KEY_D)
+          sun_.azimuth_deg += key == GLFW_KEY_D ? kSunStep_deg : -kSunStep_deg;
+        else
+          sun_.elevation_deg =
+              std::clamp(sun_.elevation_deg + (key == GLFW_KEY_W ? kSunStep_deg : -kSunStep_deg), -10.0, 90.0);
         sun_.azimuth_deg = std::fmod(sun_.azimuth_deg + 360.0, 360.0);
         session_.setSun(sun_);
         break;
       }
       case GLFW_KEY_Q: {
-        quality_ = (quality_ + ((mods & GLFW_MOD_SHIFT) != 0 ? lighting::kPresetNames.size() - 1 : 1)) % lighting::kPresetNames.size();
+        quality_ = (quality_ + ((mods & GLFW_MOD_SHIFT) != 0 ? lighting::kPresetNames.size() - 1 : 1)) %
+                   lighting::kPresetNames.size();
         session_.setQuality(lighting::qualityPreset(lighting::Preset(quality_)));  // keeps the style
         log::info("quality preset {}", lighting::kPresetNames[quality_]);
         break;
@@ -253,7 +268,8 @@ class Viewer {
     } else {  // pan in the view plane, one pixel = one pixel's footprint at the target
       int h = 1;
       glfwGetFramebufferSize(window_, nullptr, &h);
-      const double m = 2.0 * orbit_.distance_m * std::tan(glm::radians(0.5 * camera_.vertical_fov_deg)) / std::max(h, 1);
+      const double m =
+          2.0 * orbit_.distance_m * std::tan(glm::radians(0.5 * camera_.vertical_fov_deg)) / std::max(h, 1);
       const glm::dvec3 fwd = glm::normalize(camera_.target_m - camera_.position_m);
       const glm::dvec3 right = glm::normalize(glm::cross(fwd, camera_.up));
       orbit_.target += m * (-d.x * right + d.y * glm::normalize(camera_.up));
@@ -313,14 +329,16 @@ int runView(const ViewOptions& o) {
 void addViewCommand(CLI::App& app, Action& run) {
   auto opts = std::make_shared<ViewOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "view",
-      "Interactive viewer of a scene file in a GLFW window: orbit/pan/zoom with the mouse, timesteps, "
-      "playback, sun and quality from the keyboard (H prints the keys). --frames N --screenshot F "
-      "renders N frames without interaction and writes the last one.");
-  cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")->required()->check(CLI::ExistingFile);
+      "view", "Interactive viewer of a scene file in a GLFW window: orbit/pan/zoom with the mouse, timesteps, "
+              "playback, sun and quality from the keyboard (H prints the keys). --frames N --screenshot F "
+              "renders N frames without interaction and writes the last one.");
+  cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--width", opts->width, "window width")->capture_default_str()->check(CLI::Range(16, 16384));
   cmd->add_option("--height", opts->height, "window height")->capture_default_str()->check(CLI::Range(16, 16384));
-  cmd->add_option("--frames", opts->frames, "render this many frames, then exit (non-interactive)")->check(CLI::PositiveNumber);
+  cmd->add_option("--frames", opts->frames, "render this many frames, then exit (non-interactive)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--screenshot", opts->screenshot, "with --frames: write the last frame (PNG, as shown)");
   cmd->add_option("--timestep", opts->timestep, "timestep index to start at");
   cmd->callback([opts, &run] {

@@ -52,8 +52,7 @@ inline nlohmann::json parse(std::string_view text, const std::string& file, cons
                                        file, what, parsed.get<std::string>(), depth));
         }
         break;
-      case json::parse_event_t::value:
-        break;
+      case json::parse_event_t::value: break;
     }
     return true;
   };

@@ -23,8 +23,8 @@ std::uint64_t requireProductWithin(const std::string& file, const std::string& f
     std::string shape;
     for (const std::uint64_t f : factors) shape += (shape.empty() ? "" : " x ") + std::to_string(f);
     throw InputError(fmt::format("{}: {} = {}{} exceeds the limit of {} ({})", file, field, shape,
-                                 product ? fmt::format(" = {}", *product) : std::string(" (overflows 64 bits)"),
-                                 limit, how_to_raise));
+                                 product ? fmt::format(" = {}", *product) : std::string(" (overflows 64 bits)"), limit,
+                                 how_to_raise));
   }
   return *product;
 }

@@ -68,7 +68,6 @@ std::uint64_t memoryBudgetBytesFromEnv();
 
 /// Parses `text` as an unsigned integer in [lo, hi] (decimal digits only, nothing else);
 /// UsageError "<what> = "<text>": expected a whole number in [lo, hi]" otherwise.
-std::uint64_t parseUnsignedStrict(const std::string& what, const std::string& text, std::uint64_t lo,
-                                  std::uint64_t hi);
+std::uint64_t parseUnsignedStrict(const std::string& what, const std::string& text, std::uint64_t lo, std::uint64_t hi);
 
 }  // namespace nph::limits

@@ -37,8 +37,8 @@ void setThreshold(Level level) { thresholdRef().store(level, std::memory_order_r
 
 void write(Level level, std::string_view message) {
   std::lock_guard lock(sinkMutex());
-  std::fprintf(stderr, "nephele[%s] %.*s\n", kNames[static_cast<int>(level)],
-               static_cast<int>(message.size()), message.data());
+  std::fprintf(stderr, "nephele[%s] %.*s\n", kNames[static_cast<int>(level)], static_cast<int>(message.size()),
+               message.data());
   std::fflush(stderr);
 }
 

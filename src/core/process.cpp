@@ -37,8 +37,8 @@ std::string toolPath(const char* env_name, const char* default_name) {
   struct stat st {};
   if (pinned->front() != '/' || ::stat(pinned->c_str(), &st) != 0 || !S_ISREG(st.st_mode) ||
       ::access(pinned->c_str(), X_OK) != 0) {
-    throw UsageError(fmt::format("{} = \"{}\": expected the absolute path of an executable {}", env_name, *pinned,
-                                 default_name));
+    throw UsageError(
+        fmt::format("{} = \"{}\": expected the absolute path of an executable {}", env_name, *pinned, default_name));
   }
   return *pinned;
 }

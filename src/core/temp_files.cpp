@@ -6,9 +6,9 @@
 
 #include <atomic>
 #include <cerrno>
-#include <cstring>
-#include <cstdlib>
 #include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <set>
 #include <system_error>
@@ -21,9 +21,10 @@
 
 namespace nph::temp_files {
 
-Created createExclusive(const std::filesystem::path& final_path, const std::string& prefix,
-                        const std::string& marker, const std::string& suffix) {
-  const std::filesystem::path dir = final_path.has_parent_path() ? final_path.parent_path() : std::filesystem::path(".");
+Created createExclusive(const std::filesystem::path& final_path, const std::string& prefix, const std::string& marker,
+                        const std::string& suffix) {
+  const std::filesystem::path dir =
+      final_path.has_parent_path() ? final_path.parent_path() : std::filesystem::path(".");
   std::string templ = (dir / fmt::format("{}{}{}-XXXXXX{}", prefix, marker, ::getpid(), suffix)).string();
   const int fd = ::mkstemps(templ.data(), static_cast<int>(suffix.size()));
   if (fd < 0) {
@@ -52,7 +53,8 @@ int removeStale(const std::filesystem::path& dir, const std::string& marker) {
     std::size_t p = at + marker.size();
     long long pid = 0;
     const std::size_t digits_from = p;
-    while (p < name.size() && name[p] >= '0' && name[p] <= '9' && p - digits_from < 10) pid = pid * 10 + (name[p++] - '0');
+    while (p < name.size() && name[p] >= '0' && name[p] <= '9' && p - digits_from < 10)
+      pid = pid * 10 + (name[p++] - '0');
     if (p == digits_from || p >= name.size() || name[p] != '-' || pid <= 0) continue;
     if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
     std::error_code rm;

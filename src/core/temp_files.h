@@ -10,14 +10,14 @@
 namespace nph::temp_files {
 
 struct Created {
-  int fd = -1;                  ///< open for writing (the caller closes it)
-  std::filesystem::path path;   ///< <dir>/<prefix><marker><pid>-XXXXXX<suffix>
+  int fd = -1;                 ///< open for writing (the caller closes it)
+  std::filesystem::path path;  ///< <dir>/<prefix><marker><pid>-XXXXXX<suffix>
 };
 
 /// Creates <dir>/<prefix><marker><pid>-XXXXXX<suffix> exclusively, mode 0644. IoError naming
 /// `final_path` when it cannot. `marker` is ".partial-" or ".tmp-" (what removeStale looks for).
-Created createExclusive(const std::filesystem::path& final_path, const std::string& prefix,
-                        const std::string& marker, const std::string& suffix);
+Created createExclusive(const std::filesystem::path& final_path, const std::string& prefix, const std::string& marker,
+                        const std::string& suffix);
 
 /// Removes the files of `dir` whose name holds `marker` followed by "<pid>-" where no process
 /// <pid> exists any more (kill(pid, 0) fails with ESRCH): leftovers of killed runs. Scans each

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "core/limits.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "scene/georeference.h"
 
 namespace nph::engine {
@@ -51,8 +51,8 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
     for (const auto& t : dataset.times()) time_s_.push_back(scene::UtcTime::parse(t).secondsSince(t0_));
     for (std::size_t i = 1; i < time_s_.size(); ++i) {
       if (!(time_s_[i] > time_s_[i - 1])) {
-        throw InputError(fmt::format("{}: timesteps {} and {} are not in increasing time order ({}, {})", dataset.path(),
-                                     i - 1, i, dataset.timeUtc(i - 1), dataset.timeUtc(i)));
+        throw InputError(fmt::format("{}: timesteps {} and {} are not in increasing time order ({}, {})",
+                                     dataset.path(), i - 1, i, dataset.timeUtc(i - 1), dataset.timeUtc(i)));
       }
     }
   }
@@ -65,7 +65,8 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
   if (spec.duration_s) {
     duration_s_ = *spec.duration_s;
   } else if (spec.speed) {
-    if (time_s_.empty()) throw InputError(fmt::format("{}: animation.speed needs timestep times; the data has none", file));
+    if (time_s_.empty())
+      throw InputError(fmt::format("{}: animation.speed needs timestep times; the data has none", file));
     duration_s_ = (secondsAtIndex(to_index_) - secondsAtIndex(from_index_)) / *spec.speed;
   } else {
     duration_s_ = to_index_ - from_index_;  // one video second per timestep interval
@@ -73,7 +74,8 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
   if (!(duration_s_ > 0.0) && spec.keyframes.size() > 1) duration_s_ = spec.keyframes.back().at_s;
   if (!(duration_s_ > 0.0)) {
     throw InputError(fmt::format("{}: the animation has no length: from and to are the same time; give "
-                                 "animation.duration_s (nephele animate --duration)", file));
+                                 "animation.duration_s (nephele animate --duration)",
+                                 file));
   }
   // Checked on the double, before the cast: animation.speed = 1e-10 or --duration 1e12 planned
   // 1.8e15 frames (and a cast beyond int64 is undefined behaviour).
@@ -88,10 +90,12 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
 
   sun_follows_clock_ = spec.sun_follows_clock.value_or(scene.sun.from_time && !scene.sun.time_utc);
   if (sun_follows_clock_) {
-    if (time_s_.empty()) throw InputError(fmt::format("{}: the sun cannot follow the clock: the data has no times", file));
+    if (time_s_.empty())
+      throw InputError(fmt::format("{}: the sun cannot follow the clock: the data has no times", file));
     if (!prepared.geo) {
       throw InputError(fmt::format("{}: the sun cannot follow the clock: the volume has no place on Earth (give "
-                                   "centre_lonlat_deg)", file));
+                                   "centre_lonlat_deg)",
+                                   file));
     }
   }
 
@@ -111,14 +115,15 @@ double AnimationPlan::resolve(const scene::TimePoint& p, double fallback, const 
   const double last = double(timestep_count_ - 1);
   if (p.index) {
     if (*p.index > last) {
-      throw InputError(fmt::format("{}: {}: timestep {} requested, the data has {} (0 to {})", scene_->source_file, what,
-                                   *p.index, timestep_count_, timestep_count_ - 1));
+      throw InputError(fmt::format("{}: {}: timestep {} requested, the data has {} (0 to {})", scene_->source_file,
+                                   what, *p.index, timestep_count_, timestep_count_ - 1));
     }
     return *p.index;
   }
   if (!p.utc) return fallback;
   if (time_s_.empty()) {
-    throw InputError(fmt::format("{}: {}: a UTC time needs timestep times; the data has none", scene_->source_file, what));
+    throw InputError(
+        fmt::format("{}: {}: a UTC time needs timestep times; the data has none", scene_->source_file, what));
   }
   const double s = scene::UtcTime::parse(*p.utc).secondsSince(t0_);
   constexpr double kSlack_s = 0.5;
@@ -145,13 +150,14 @@ double AnimationPlan::secondsAtIndex(double index) const {
 
 AnimationFrame AnimationPlan::frame(std::int64_t k) const {
   if (k < 0 || k >= frame_count_) {
-    throw UsageError(fmt::format("frame {} requested, the animation has {} (0 to {})", k, frame_count_, frame_count_ - 1));
+    throw UsageError(
+        fmt::format("frame {} requested, the animation has {} (0 to {})", k, frame_count_, frame_count_ - 1));
   }
   AnimationFrame f;
   f.index = k;
   f.video_s = spec_.fps.secondsAt(k);
   const double u = std::min(1.0, f.video_s / duration_s_);  // share of the model time range
-  double clock_s = 0.0;  // model seconds since the first timestep
+  double clock_s = 0.0;                                     // model seconds since the first timestep
   if (time_s_.empty()) {
     f.time_index = from_index_ + u * (to_index_ - from_index_);
   } else {
@@ -177,7 +183,8 @@ AnimationFrame AnimationPlan::frame(std::int64_t k) const {
     c.near_m = *std::min_element(key_near_.begin(), key_near_.end());
     c.far_m = *std::max_element(key_far_.begin(), key_far_.end());
   }
-  if (scene_->view == scene::ViewMode::Globe && prepared_->geo) f.camera = scene::globeCameraFrom(f.camera, *prepared_->geo);
+  if (scene_->view == scene::ViewMode::Globe && prepared_->geo)
+    f.camera = scene::globeCameraFrom(f.camera, *prepared_->geo);
 
   f.sun = prepared_->sun;
   if (sun_follows_clock_) {

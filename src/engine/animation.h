@@ -38,7 +38,7 @@ namespace nph::engine {
 struct AnimationFrame {
   std::int64_t index = 0;
   double video_s = 0.0;
-  double time_index = 0.0;          ///< fractional timestep index for Session::setTime
+  double time_index = 0.0;            ///< fractional timestep index for Session::setTime
   std::optional<scene::UtcTime> utc;  ///< model time, when the dataset has times
   scene::Camera camera;
   scene::Sun sun;
@@ -51,8 +51,9 @@ T catmullRom(const std::vector<double>& times, const std::vector<T>& values, dou
 
 class AnimationPlan {
  public:
-  /// `scene` and `prepared` (a Session's) must outlive the plan. InputError for a time range outside the data, a UTC range on data without times, a sun that
-  /// follows the clock without times or without a place on Earth, or no duration for a single time.
+  /// `scene` and `prepared` (a Session's) must outlive the plan. InputError for a time range outside the data, a UTC
+  /// range on data without times, a sun that follows the clock without times or without a place on Earth, or no
+  /// duration for a single time.
   AnimationPlan(const scene::AnimationSpec& spec, const Dataset& dataset, const scene::SceneDescription& scene,
                 const scene::PreparedScene& prepared);
 
@@ -74,8 +75,8 @@ class AnimationPlan {
   scene::AnimationSpec spec_;
   const scene::SceneDescription* scene_ = nullptr;
   const scene::PreparedScene* prepared_ = nullptr;
-  scene::UtcTime t0_;            ///< time of the first timestep
-  std::vector<double> time_s_;   ///< per timestep, seconds since the first; empty without times
+  scene::UtcTime t0_;           ///< time of the first timestep
+  std::vector<double> time_s_;  ///< per timestep, seconds since the first; empty without times
   std::size_t timestep_count_ = 0;
   double from_index_ = 0.0, to_index_ = 0.0;
   double duration_s_ = 0.0;

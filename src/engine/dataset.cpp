@@ -8,9 +8,9 @@
 #include <fmt/format.h>
 
 #include "cache/nph_cache.h"
+#include "core/error.h"
 #include "core/input_file.h"
 #include "core/limits.h"
-#include "core/error.h"
 #include "core/log.h"
 #include "io/model_file.h"
 #include "physics/volume_builder.h"
@@ -74,11 +74,13 @@ std::shared_ptr<const Dataset> Dataset::open(const std::string& path) {
 
 std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string>& paths) {
   if (paths.empty()) throw UsageError("Dataset::openSeries: no files");
-  if (paths.size() == 1 && std::filesystem::exists(paths[0]) && cache::NphReader::sniff(paths[0])) return open(paths[0]);
+  if (paths.size() == 1 && std::filesystem::exists(paths[0]) && cache::NphReader::sniff(paths[0]))
+    return open(paths[0]);
   for (const auto& p : paths) {
     requireRegularFile(p, "a WRF/ICON NetCDF file");
     if (cache::NphReader::sniff(p)) {
-      throw InputError(fmt::format("{}: a .nph cache cannot be part of a series of model files; convert them together", p));
+      throw InputError(
+          fmt::format("{}: a .nph cache cannot be part of a series of model files; convert them together", p));
     }
   }
   io::ModelSeries series = io::ModelSeries::open(paths);

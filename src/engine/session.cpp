@@ -73,11 +73,13 @@ void Session::update() {
   // share a volume only when they would blend the same one, so reuse never changes a frame.
   // The filter is part of the key: the occupancy's dilation and the shaders' rule change with it.
   const scene::Reconstruction reconstruction = lighting::reconstructionOf(scene_.quality);
-  const std::string content = b.weight == 0.0 ? dataset_->identity(b.first)
-                                              : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
+  const std::string content = b.weight == 0.0
+                                  ? dataset_->identity(b.first)
+                                  : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
   const scene::Detail detail = lighting::detailOf(scene_.quality);
-  const std::string key = content + (reconstruction == scene::Reconstruction::Cubic ? "|cubic" : "") +
-                          (detail == scene::Detail::None ? "" : fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]));
+  const std::string key =
+      content + (reconstruction == scene::Reconstruction::Cubic ? "|cubic" : "") +
+      (detail == scene::Detail::None ? "" : fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]));
   std::vector<std::size_t> pinned{b.first};
   if (b.weight > 0.0) pinned.push_back(b.second);
   timesteps_->prefetch(pinned, direction_);  // the worker reads ahead while this frame is built
@@ -86,7 +88,8 @@ void Session::update() {
     const double blocked0 = timesteps_->stats().blocked_ms;
     const auto a = timesteps_->get(b.first);
     std::shared_ptr<const ExtinctionVolumes> v = a;
-    if (b.weight > 0.0) v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timesteps_->get(b.second), b.weight));
+    if (b.weight > 0.0)
+      v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timesteps_->get(b.second), b.weight));
     stats_.load_ms = msSince(t0);
     stats_.blocked_ms = timesteps_->stats().blocked_ms - blocked0;
     t0 = std::chrono::steady_clock::now();

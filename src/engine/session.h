@@ -27,7 +27,7 @@
 namespace nph::engine {
 
 struct FrameStats {
-  double time_index = 0.0;   ///< fractional timestep index rendered
+  double time_index = 0.0;      ///< fractional timestep index rendered
   bool volume_changed = false;  ///< a new volume was uploaded for this frame
   bool dlm_rebuilt = false;     ///< the deep light map was rebuilt for this frame
   double load_ms = 0.0;         ///< decoding/blending timesteps (0 when cached)

@@ -161,8 +161,8 @@ void TimestepCache::run() {
 
 std::shared_ptr<const ExtinctionVolumes> TimestepCache::get(std::size_t t) {
   if (t >= dataset_->timestepCount()) {
-    throw UsageError(fmt::format("{}: timestep {} requested, the dataset has {}", dataset_->path(), t,
-                                 dataset_->timestepCount()));
+    throw UsageError(
+        fmt::format("{}: timestep {} requested, the dataset has {}", dataset_->path(), t, dataset_->timestepCount()));
   }
   const auto t0 = std::chrono::steady_clock::now();
   const auto blocked = [&] {

@@ -50,13 +50,13 @@ struct PrefetchSettings {
 };
 
 struct PrefetchStats {
-  std::uint64_t hits = 0;        ///< get() found the timestep decoded
-  std::uint64_t waits = 0;       ///< get() waited for the background decode of it
-  std::uint64_t misses = 0;      ///< get() decoded it in the caller's thread
-  std::uint64_t prefetched = 0;  ///< timesteps decoded by the background thread
-  std::uint64_t over_budget = 0; ///< prefetches left out because they did not fit the budget
-  double blocked_ms = 0.0;       ///< caller's time spent in waits and misses
-  std::size_t bytes = 0;         ///< decoded bytes held now
+  std::uint64_t hits = 0;         ///< get() found the timestep decoded
+  std::uint64_t waits = 0;        ///< get() waited for the background decode of it
+  std::uint64_t misses = 0;       ///< get() decoded it in the caller's thread
+  std::uint64_t prefetched = 0;   ///< timesteps decoded by the background thread
+  std::uint64_t over_budget = 0;  ///< prefetches left out because they did not fit the budget
+  double blocked_ms = 0.0;        ///< caller's time spent in waits and misses
+  std::size_t bytes = 0;          ///< decoded bytes held now
   std::size_t peak_bytes = 0;
 };
 

@@ -76,8 +76,7 @@ MapProjection& MapProjection::operator=(MapProjection&&) noexcept = default;
 glm::dvec2 MapProjection::forward(LonLat ll) const {
   const PJ_COORD out = proj_trans(impl_->pj, PJ_FWD, proj_coord(ll.lon_deg, ll.lat_deg, 0.0, 0.0));
   if (!usable(out.xy.x) || !usable(out.xy.y)) {
-    throw InputError(fmt::format("projection '{}' cannot project lon {} lat {}", definition_,
-                                 ll.lon_deg, ll.lat_deg));
+    throw InputError(fmt::format("projection '{}' cannot project lon {} lat {}", definition_, ll.lon_deg, ll.lat_deg));
   }
   return {out.xy.x, out.xy.y};
 }
@@ -93,8 +92,7 @@ LonLat MapProjection::inverse(glm::dvec2 xy) const {
 void MapProjection::inverseBatch(double* xy, std::size_t n) const {
   if (n == 0) return;
   const std::size_t stride = 2 * sizeof(double);
-  proj_trans_generic(impl_->pj, PJ_INV, xy, stride, n, xy + 1, stride, n, nullptr, 0, 0, nullptr,
-                     0, 0);
+  proj_trans_generic(impl_->pj, PJ_INV, xy, stride, n, xy + 1, stride, n, nullptr, 0, 0, nullptr, 0, 0);
   for (std::size_t i = 0; i < n; ++i) {
     double& lon = xy[2 * i];
     double& lat = xy[2 * i + 1];

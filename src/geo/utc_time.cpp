@@ -19,10 +19,10 @@ class TimeParser {
  public:
   explicit TimeParser(std::string_view text) : s_(text) {}
   [[noreturn]] void fail() const {
-    throw InputError(fmt::format(
-        "time '{}': expected a UTC time as ISO 8601 'YYYY-MM-DDThh:mm:ss[.fff][Z|±hh:mm]' or WRF "
-        "'YYYY-MM-DD_hh:mm:ss'",
-        s_));
+    throw InputError(
+        fmt::format("time '{}': expected a UTC time as ISO 8601 'YYYY-MM-DDThh:mm:ss[.fff][Z|±hh:mm]' or WRF "
+                    "'YYYY-MM-DD_hh:mm:ss'",
+                    s_));
   }
   int digits(int n) {
     int v = 0;
@@ -90,14 +90,14 @@ int daysInMonth(int y, int m) {
 }
 
 UtcTime UtcTime::fromCivil(int year, int month, int day, int hour, int minute, double second) {
-  if (month < 1 || month > 12 || day < 1 || day > daysInMonth(year, month) || hour < 0 ||
-      hour > 24 || (hour == 24 && (minute > 0 || second > 0.0)) || minute < 0 || minute > 59 || !(second >= 0.0) || !(second < 61.0)) {
+  if (month < 1 || month > 12 || day < 1 || day > daysInMonth(year, month) || hour < 0 || hour > 24 ||
+      (hour == 24 && (minute > 0 || second > 0.0)) || minute < 0 || minute > 59 || !(second >= 0.0) ||
+      !(second < 61.0)) {
     throw InputError(fmt::format("time {:04}-{:02}-{:02} {:02}:{:02}:{}: not a valid calendar date "
                                  "and time of day",
                                  year, month, day, hour, minute, second));
   }
-  const auto days = static_cast<double>(
-      daysFromCivil(year, static_cast<unsigned>(month), static_cast<unsigned>(day)));
+  const auto days = static_cast<double>(daysFromCivil(year, static_cast<unsigned>(month), static_cast<unsigned>(day)));
   const double dayFraction = (double(hour) + (double(minute) + second / 60.0) / 60.0) / 24.0;
   return UtcTime{kJulianDayUnixEpoch + days + dayFraction};
 }
@@ -162,20 +162,19 @@ CivilTime UtcTime::civil() const {
 
 std::string UtcTime::iso8601() const {
   const CivilTime c = civil();
-  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z", c.year, c.month, c.day, c.hour, c.minute,
-                     c.second);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z", c.year, c.month, c.day, c.hour, c.minute, c.second);
 }
 
 std::string UtcTime::wrfTimeString() const {
   const CivilTime c = civil();
-  return fmt::format("{:04}-{:02}-{:02}_{:02}:{:02}:{:02}", c.year, c.month, c.day, c.hour, c.minute,
-                     c.second);
+  return fmt::format("{:04}-{:02}-{:02}_{:02}:{:02}:{:02}", c.year, c.month, c.day, c.hour, c.minute, c.second);
 }
 
 int UtcTime::dayOfYear() const {
   const CivilTime c = civil();
   return static_cast<int>(daysFromCivil(c.year, static_cast<unsigned>(c.month), static_cast<unsigned>(c.day)) -
-                          daysFromCivil(c.year, 1, 1)) + 1;
+                          daysFromCivil(c.year, 1, 1)) +
+         1;
 }
 
 double UtcTime::utcHourOfDay() const {

@@ -36,8 +36,7 @@ struct UtcTime {
   /// ICON write UTC). Throws InputError naming `text` and the expected form.
   static UtcTime parse(std::string_view text);
   /// InputError when the date or time of day does not exist (hour 24 only as 24:00:00).
-  static UtcTime fromCivil(int year, int month, int day, int hour = 0, int minute = 0,
-                           double second = 0.0);
+  static UtcTime fromCivil(int year, int month, int day, int hour = 0, int minute = 0, double second = 0.0);
 
   /// "YYYY-MM-DDThh:mm:ssZ" (seconds rounded to the nearest whole second).
   std::string iso8601() const;

@@ -28,17 +28,14 @@ std::string equirectangularOf(const std::string& geographic_definition, double l
     const std::size_t at = d.find(key);
     if (at == std::string::npos) continue;
     const std::size_t value = d.find('=', at) + 1;
-    d.replace(value, d.find(' ', value) == std::string::npos ? d.size() - value
-                                                              : d.find(' ', value) - value,
-              eqc);
+    d.replace(value, d.find(' ', value) == std::string::npos ? d.size() - value : d.find(' ', value) - value, eqc);
     break;
   }
   // frameOf() scales on nephele's sphere (volume_frame.h); say so instead of the model's radius.
   const std::size_t r = d.find("+R=");
   if (r != std::string::npos) {
     const std::size_t end = d.find(' ', r);
-    d.replace(r, end == std::string::npos ? d.size() - r : end - r,
-              fmt::format("+R={:.0f}", scene::kEarthRadius_m));
+    d.replace(r, end == std::string::npos ? d.size() - r : end - r, fmt::format("+R={:.0f}", scene::kEarthRadius_m));
   }
   return d;
 }
@@ -93,11 +90,10 @@ std::filesystem::path vdbSequencePath(const std::filesystem::path& prefix, std::
   return p.parent_path() / fmt::format("{}_{:04d}.vdb", p.filename().string(), index);
 }
 
-VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& path,
-                       const VdbWriteOptions& options) {
+VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& path, const VdbWriteOptions& options) {
   if (v.ice_per_m.size() != v.voxelCount() || v.water_per_m.size() != v.voxelCount()) {
-    throw UsageError(fmt::format("writeVdb {}: volume arrays do not match the {}x{}x{} grid",
-                                 path.string(), v.nx, v.ny, v.nz));
+    throw UsageError(
+        fmt::format("writeVdb {}: volume arrays do not match the {}x{}x{} grid", path.string(), v.nx, v.ny, v.nz));
   }
   initialiseOpenVdb();
   const VdbFrame frame = vdbFrameOf(v);
@@ -140,14 +136,11 @@ VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& 
     grids.push_back(grid);
     return grid;
   };
-  add(sparseGrid(v, &v.ice_per_m, nullptr), "ice_extinction",
-      "extinction coefficient of ice, snow, graupel and hail");
-  add(sparseGrid(v, &v.water_per_m, nullptr), "water_extinction",
-      "extinction coefficient of cloud droplets and rain");
+  add(sparseGrid(v, &v.ice_per_m, nullptr), "ice_extinction", "extinction coefficient of ice, snow, graupel and hail");
+  add(sparseGrid(v, &v.water_per_m, nullptr), "water_extinction", "extinction coefficient of cloud droplets and rain");
   openvdb::FloatGrid::Ptr density;
   if (options.density) {
-    density = add(sparseGrid(v, &v.ice_per_m, &v.water_per_m), "density",
-                  "total extinction coefficient (ice + water)");
+    density = add(sparseGrid(v, &v.ice_per_m, &v.water_per_m), "density", "total extinction coefficient (ice + water)");
   }
 
   openvdb::MetaMap file_meta;
@@ -168,8 +161,8 @@ VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& 
   std::filesystem::rename(partial, path, ec);
   if (ec) {
     std::filesystem::remove(partial, ec);
-    throw IoError(fmt::format("{}: cannot rename the written OpenVDB file into place: {}",
-                              path.string(), ec.message()));
+    throw IoError(
+        fmt::format("{}: cannot rename the written OpenVDB file into place: {}", path.string(), ec.message()));
   }
 
   VdbWriteStats stats;

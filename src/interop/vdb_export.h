@@ -43,9 +43,9 @@ namespace nph::interop {
 /// Index -> world placement of a volume in the data's projected frame (see above).
 struct VdbFrame {
   double dx_m = 0.0, dy_m = 0.0, dz_m = 0.0;  ///< voxel size [m]
-  double x0_m = 0.0, y0_m = 0.0;               ///< centre of voxel (0, 0, ·)
-  double z0_m = 0.0;                           ///< centre of layer 0 above mean sea level
-  std::string frame_proj_definition;           ///< PROJ definition of x/y; "" for Cartesian grids
+  double x0_m = 0.0, y0_m = 0.0;              ///< centre of voxel (0, 0, ·)
+  double z0_m = 0.0;                          ///< centre of layer 0 above mean sea level
+  std::string frame_proj_definition;          ///< PROJ definition of x/y; "" for Cartesian grids
 };
 
 /// The frame of `volumes`. UsageError for an empty volume or non-positive spacing.

@@ -59,10 +59,17 @@ class HeaderStream {
   /// Bytes of one value of nc_type `type` (0 for an unknown type, which fails the walk).
   std::uint64_t typeBytes(std::uint64_t type) {
     switch (type) {
-      case 1: case 2: case 7: return 1;  // NC_BYTE, NC_CHAR, NC_UBYTE
-      case 3: case 8: return 2;          // NC_SHORT, NC_USHORT
-      case 4: case 5: case 9: return 4;  // NC_INT, NC_FLOAT, NC_UINT
-      case 6: case 10: case 11: return 8;  // NC_DOUBLE, NC_INT64, NC_UINT64
+      case 1:
+      case 2:
+      case 7: return 1;  // NC_BYTE, NC_CHAR, NC_UBYTE
+      case 3:
+      case 8: return 2;  // NC_SHORT, NC_USHORT
+      case 4:
+      case 5:
+      case 9: return 4;  // NC_INT, NC_FLOAT, NC_UINT
+      case 6:
+      case 10:
+      case 11: return 8;  // NC_DOUBLE, NC_INT64, NC_UINT64
       default: ok_ = false; return 0;
     }
   }

@@ -21,13 +21,13 @@ void requireFinite(const std::string& path, const std::string& var, const std::v
   }
 }
 
-void requireRange(const std::string& path, const std::string& var, const std::vector<float>& data,
-                  double lo, double hi, const std::string& what) {
+void requireRange(const std::string& path, const std::string& var, const std::vector<float>& data, double lo, double hi,
+                  const std::string& what) {
   for (std::size_t n = 0; n < data.size(); ++n) {
     const double v = data[n];
     if (!(v >= lo && v <= hi)) {
-      throw InputError(fmt::format("{}: {} is {} at element {}, expected {} in [{}, {}]", path, var, v, n,
-                                   what, lo, hi));
+      throw InputError(
+          fmt::format("{}: {} is {} at element {}, expected {} in [{}, {}]", path, var, v, n, what, lo, hi));
     }
   }
 }
@@ -40,8 +40,8 @@ void requireAtMost(const std::string& path, const std::string& var, const std::v
   if (all_ok) return;
   for (std::size_t n = 0; n < data.size(); ++n) {
     if (!(data[n] <= h)) {
-      throw InputError(fmt::format("{}: {} is {} at element {}, expected {} of at most {}", path, var, data[n], n,
-                                   what, hi));
+      throw InputError(
+          fmt::format("{}: {} is {} at element {}, expected {} of at most {}", path, var, data[n], n, what, hi));
     }
   }
 }
@@ -60,10 +60,10 @@ void requireWithinBudget(const std::string& path, const std::string& what, doubl
                          std::size_t budget_bytes) {
   const double bytes = points * fields * double(sizeof(float));
   if (bytes > double(budget_bytes)) {
-    throw InputError(fmt::format(
-        "{}: {} declares {:.0f} points x {} fields = {:.2f} GiB, more than the memory budget of {:.2f} GiB "
-        "(LoadOptions::memory_budget_bytes or NEPHELE_IO_MEMORY_BUDGET_MB)",
-        path, what, points, fields, bytes / double(1 << 30), double(budget_bytes) / double(1 << 30)));
+    throw InputError(
+        fmt::format("{}: {} declares {:.0f} points x {} fields = {:.2f} GiB, more than the memory budget of {:.2f} GiB "
+                    "(LoadOptions::memory_budget_bytes or NEPHELE_IO_MEMORY_BUDGET_MB)",
+                    path, what, points, fields, bytes / double(1 << 30), double(budget_bytes) / double(1 << 30)));
   }
 }
 

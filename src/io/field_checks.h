@@ -24,8 +24,8 @@ inline constexpr double kHighestTerrain_m = 9000.0;
 /// Throws InputError naming `var` and the first offending index unless every value is finite.
 void requireFinite(const std::string& path, const std::string& var, const std::vector<float>& data);
 /// Throws InputError unless every value lies in [lo, hi] (`what` says what the range means).
-void requireRange(const std::string& path, const std::string& var, const std::vector<float>& data,
-                  double lo, double hi, const std::string& what);
+void requireRange(const std::string& path, const std::string& var, const std::vector<float>& data, double lo, double hi,
+                  const std::string& what);
 /// Throws InputError unless every value is <= hi (NaN included in the failures).
 void requireAtMost(const std::string& path, const std::string& var, const std::vector<float>& data, double hi,
                    const std::string& what);

@@ -10,8 +10,8 @@
 #include <numbers>
 
 #include "core/error.h"
-#include "core/log.h"
 #include "core/limits.h"
+#include "core/log.h"
 #include "field_checks.h"
 #include "geo/utc_time.h"
 #include "netcdf_reader.h"
@@ -46,8 +46,8 @@ struct IconLayout {
 std::string need(const NcReader& nc, std::initializer_list<const char*> names, const char* meaning) {
   if (auto v = nc.firstVar(names)) return *v;
   std::vector<std::string> list(names.begin(), names.end());
-  throw InputError(fmt::format("{}: variable {} is missing, expected {} ({})", nc.path(), *names.begin(), meaning,
-                               joinNames(list)));
+  throw InputError(
+      fmt::format("{}: variable {} is missing, expected {} ({})", nc.path(), *names.begin(), meaning, joinNames(list)));
 }
 
 IconLayout iconLayout(const NcReader& nc) {
@@ -78,17 +78,21 @@ IconLayout iconLayout(const NcReader& nc) {
     l.nlat = shape[zi + 1];
     l.nlon = shape[zi + 2];
     if (!isOneOf(l.lat_dim, kLatNames) || !isOneOf(l.lon_dim, kLonNames)) {
-      throw InputError(fmt::format("{}: {} has dims ({}), expected (time, height, lat, lon)", nc.path(), l.temp,
-                                   joinNames(dims)));
+      throw InputError(
+          fmt::format("{}: {} has dims ({}), expected (time, height, lat, lon)", nc.path(), l.temp, joinNames(dims)));
     }
   }
   for (auto [name, len] : {std::pair<const char*, std::size_t>{"height", l.nz}, {"lat", l.nlat}, {"lon", l.nlon}}) {
     if (!l.native || std::string(name) == "height") {
-      if (len == 0) throw InputError(fmt::format("{}: {} has a zero-length {} dimension, expected at least 1", nc.path(), l.temp, name));
+      if (len == 0)
+        throw InputError(
+            fmt::format("{}: {} has a zero-length {} dimension, expected at least 1", nc.path(), l.temp, name));
     }
   }
-  if (l.native && l.ncells == 0) throw InputError(fmt::format("{}: dimension {} has length 0, expected cells", nc.path(), l.cell_dim));
-  if (l.has_time && l.nt == 0) throw InputError(fmt::format("{}: dimension time has length 0, expected at least one timestep", nc.path()));
+  if (l.native && l.ncells == 0)
+    throw InputError(fmt::format("{}: dimension {} has length 0, expected cells", nc.path(), l.cell_dim));
+  if (l.has_time && l.nt == 0)
+    throw InputError(fmt::format("{}: dimension time has length 0, expected at least one timestep", nc.path()));
   if (auto h = nc.firstVar({"z_ifc", "HHL", "hhl"})) {
     l.heights = *h;
   } else if (auto m = nc.firstVar({"z_mc", "z_mg"})) {
@@ -115,12 +119,14 @@ std::vector<float> readLevels(const NcReader& nc, const IconLayout& l, const std
   }
   if (!timed && dims[0] == "time") {
     throw InputError(fmt::format("{}: {} has {} dims ({}), expected {} ({})", nc.path(), var, dims.size(),
-                                 joinNames(dims), horiz + 2, l.native ? "time, height, ncells" : "time, height, lat, lon"));
+                                 joinNames(dims), horiz + 2,
+                                 l.native ? "time, height, ncells" : "time, height, lat, lon"));
   }
   const std::size_t zi = timed ? 1 : 0;
-  if (timed && dims[0] != "time") throw InputError(fmt::format("{}: {} has dims ({}), expected time first", nc.path(), var, joinNames(dims)));
-  const bool horizontal_ok = l.native ? (dims[zi + 1] == l.cell_dim)
-                                      : (dims[zi + 1] == l.lat_dim && dims[zi + 2] == l.lon_dim);
+  if (timed && dims[0] != "time")
+    throw InputError(fmt::format("{}: {} has dims ({}), expected time first", nc.path(), var, joinNames(dims)));
+  const bool horizontal_ok =
+      l.native ? (dims[zi + 1] == l.cell_dim) : (dims[zi + 1] == l.lat_dim && dims[zi + 2] == l.lon_dim);
   if (!horizontal_ok || shape[zi] != levels) {
     throw InputError(fmt::format("{}: {} has dims ({}) of shape ({}), expected {} levels on ({})", nc.path(), var,
                                  joinNames(dims), fmt::join(shape, ", "), levels,
@@ -293,9 +299,10 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
     }
   }
   if (src.q_kg_per_kg.empty()) {
-    throw InputError(fmt::format("{}: no condensate variable, expected at least one of qc, qi, qr, qs, qg (time, height, "
-                                 "{})",
-                                 path, l.native ? "ncells" : "lat, lon"));
+    throw InputError(
+        fmt::format("{}: no condensate variable, expected at least one of qc, qi, qr, qs, qg (time, height, "
+                    "{})",
+                    path, l.native ? "ncells" : "lat, lon"));
   }
   auto read_state = [&](const std::string& var, std::size_t levels) {
     ReadStats s;
@@ -397,7 +404,8 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
       const double step = v[1] - v[0];
       for (std::size_t n = 1; n < v.size(); ++n) {
         if (!(std::abs((v[n] - v[n - 1]) - step) <= 1e-3 * std::abs(step)) || step == 0.0) {
-          throw InputError(fmt::format("{}: {} is not evenly spaced at index {}, expected a regular lat-lon grid", path, name, n));
+          throw InputError(
+              fmt::format("{}: {} is not evenly spaced at index {}, expected a regular lat-lon grid", path, name, n));
         }
       }
       return step;
@@ -423,7 +431,8 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
     auto lon = nc.readDoubles(clon);
     auto lat = nc.readDoubles(clat);
     if (lon.size() != l.ncells || lat.size() != l.ncells) {
-      throw InputError(fmt::format("{}: clon/clat have {}/{} values, expected ncells = {}", path, lon.size(), lat.size(), l.ncells));
+      throw InputError(
+          fmt::format("{}: clon/clat have {}/{} values, expected ncells = {}", path, lon.size(), lat.size(), l.ncells));
     }
     const bool radians = nc.varText(clon, "units").value_or("radian").rfind("rad", 0) == 0;
     double lat_min = 90, lat_max = -90, lon_min = 1e9, lon_max = -1e9;

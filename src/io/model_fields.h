@@ -17,9 +17,8 @@ namespace nph::io {
 
 /// Hydrometeor classes (Nes 2008 §2.2.3; WRF Q*, ICON q*).
 enum class Hydrometeor : std::uint8_t { Cloud, Rain, Ice, Snow, Graupel, Hail };
-inline constexpr std::array kAllHydrometeors = {Hydrometeor::Cloud, Hydrometeor::Rain,
-                                                Hydrometeor::Ice,   Hydrometeor::Snow,
-                                                Hydrometeor::Graupel, Hydrometeor::Hail};
+inline constexpr std::array kAllHydrometeors = {Hydrometeor::Cloud, Hydrometeor::Rain,    Hydrometeor::Ice,
+                                                Hydrometeor::Snow,  Hydrometeor::Graupel, Hydrometeor::Hail};
 
 /// Which model produced the file; decides how mixing ratios are to be read (see below).
 enum class ModelKind : std::uint8_t { Wrf, Icon };
@@ -28,15 +27,15 @@ enum class ModelKind : std::uint8_t { Wrf, Icon };
 /// (ICON's condensate consistency corrections, Muth 2026 §3.3.1, are not applied by the loaders:
 /// physics/icon_corrections.h applies them, so loaded ICON fields are exactly the file's.)
 struct LoadRepairs {
-  std::int64_t negative_clamped = 0;   ///< negative mixing ratios / cloud cover set to 0
-  std::int64_t missing_as_zero = 0;    ///< _FillValue / missing_value in condensate fields read as 0
+  std::int64_t negative_clamped = 0;  ///< negative mixing ratios / cloud cover set to 0
+  std::int64_t missing_as_zero = 0;   ///< _FillValue / missing_value in condensate fields read as 0
 };
 
 /// One timestep of model output on model levels.
 struct ModelTimestep {
-  std::string source_file;   ///< path of the file this timestep came from
+  std::string source_file;      ///< path of the file this timestep came from
   std::int64_t time_index = 0;  ///< index of the timestep inside source_file
-  std::string time_utc;      ///< ISO 8601, e.g. "2026-09-01T12:00:00Z"
+  std::string time_utc;         ///< ISO 8601, e.g. "2026-09-01T12:00:00Z"
   ModelKind model = ModelKind::Wrf;
   int nx = 0, ny = 0, nz = 0;  ///< mass points
 
@@ -55,8 +54,8 @@ struct ModelTimestep {
   /// Fields for sub-grid detail (issue 13), on mass points, each empty when the file has none.
   /// WRF: CLDFRA; TKE_PBL (else QKE / 2: MYNN's QKE is twice the TKE); W, U, V averaged from
   /// their staggered points to the mass points. Not used by the optics.
-  std::vector<float> cloud_fraction;          ///< WRF CLDFRA [0, 1]
-  std::vector<float> tke_m2_per_s2;           ///< turbulent kinetic energy
+  std::vector<float> cloud_fraction;                                  ///< WRF CLDFRA [0, 1]
+  std::vector<float> tke_m2_per_s2;                                   ///< turbulent kinetic energy
   std::vector<float> wind_u_m_per_s, wind_v_m_per_s, wind_w_m_per_s;  ///< grid-relative x, y and vertical wind
 
   /// WRF MP_PHYSICS option (e.g. 3 = WSM3: no separate ice, frozen condensate lives in

@@ -76,7 +76,8 @@ ModelSeries ModelSeries::open(const std::vector<std::string>& paths, const LoadO
 }
 
 ModelTimestep ModelSeries::load(std::size_t i) const {
-  if (i >= timesteps_.size()) throw UsageError(fmt::format("timestep {} requested, the series has {}", i, timesteps_.size()));
+  if (i >= timesteps_.size())
+    throw UsageError(fmt::format("timestep {} requested, the series has {}", i, timesteps_.size()));
   return loadTimestep(timesteps_[i], options_);
 }
 

@@ -9,9 +9,9 @@
 #include <filesystem>
 
 #include "classic_header.h"
-#include "core/limits.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/limits.h"
 #include "load_options.h"
 
 namespace nph::io {
@@ -34,10 +34,11 @@ NcReader::NcReader(std::string path) : path_(std::move(path)) {
   if (status != NC_NOERR) {
     ncid_ = -1;
     if (status == NC_ENOTNC) {
-      throw InputError(fmt::format("{}: not a NetCDF file (expected NetCDF classic, 64-bit offset or NetCDF-4/HDF5)", path_));
+      throw InputError(
+          fmt::format("{}: not a NetCDF file (expected NetCDF classic, 64-bit offset or NetCDF-4/HDF5)", path_));
     }
-    throw InputError(fmt::format("{}: cannot be opened as NetCDF ({}); the file may be truncated or damaged",
-                                 path_, nc_strerror(status)));
+    throw InputError(fmt::format("{}: cannot be opened as NetCDF ({}); the file may be truncated or damaged", path_,
+                                 nc_strerror(status)));
   }
   checkClassicFileSize();
 }
@@ -149,7 +150,8 @@ void NcReader::requireDims(const std::string& var, const std::vector<std::string
   if (names.size() != expected.size()) {
     fail(fmt::format("{} has {} dims, expected {} ({})", var, names.size(), expected.size(), joinNames(expected)));
   }
-  if (names != expected) fail(fmt::format("{} has dims ({}), expected ({})", var, joinNames(names), joinNames(expected)));
+  if (names != expected)
+    fail(fmt::format("{} has dims ({}), expected ({})", var, joinNames(names), joinNames(expected)));
 }
 
 void NcReader::requireNumeric(const std::string& var) const {
@@ -182,7 +184,9 @@ static std::optional<std::string> textAtt(int ncid, int varid, const std::string
   return s;
 }
 
-std::optional<std::string> NcReader::globalText(const std::string& name) const { return textAtt(ncid_, NC_GLOBAL, name); }
+std::optional<std::string> NcReader::globalText(const std::string& name) const {
+  return textAtt(ncid_, NC_GLOBAL, name);
+}
 
 std::optional<std::string> NcReader::varText(const std::string& var, const std::string& att) const {
   if (!hasVar(var)) return std::nullopt;
@@ -301,7 +305,8 @@ std::string NcReader::readTextRow(const std::string& var, std::size_t index) con
   auto shape = varShape(var);
   // (Time, DateStrLen), or (DateStrLen) in a single-timestep file without Time (index 0 only).
   if (shape.size() == 1 && index == 0) shape.insert(shape.begin(), 1);
-  if (type != NC_CHAR || shape.size() != 2) fail(fmt::format("{} is not a 2-D char variable, expected (Time, DateStrLen)", var));
+  if (type != NC_CHAR || shape.size() != 2)
+    fail(fmt::format("{} is not a 2-D char variable, expected (Time, DateStrLen)", var));
   std::string s(shape[1], '\0');
   const std::size_t start[2] = {index, 0};
   const std::size_t count[2] = {1, shape[1]};

@@ -51,8 +51,7 @@ class NcReader {
   /// Reads a hyperslab as float, applying scale_factor/add_offset. Values equal to _FillValue,
   /// missing_value or NetCDF's default fill become `fill_replacement` and are counted in `stats`.
   std::vector<float> readFloats(const std::string& var, const std::vector<std::size_t>& start,
-                                const std::vector<std::size_t>& count, float fill_replacement,
-                                ReadStats& stats) const;
+                                const std::vector<std::size_t>& count, float fill_replacement, ReadStats& stats) const;
   std::vector<double> readDoubles(const std::string& var) const;
   /// A char variable's row `index` (e.g. WRF Times(Time, DateStrLen)).
   std::string readTextRow(const std::string& var, std::size_t index) const;

@@ -51,8 +51,8 @@ double requireAttribute(const NcReader& nc, const char* name, double lo, double 
   const auto v = nc.globalNumber(name);
   if (!v) throw InputError(fmt::format("{}: global attribute {} is missing, expected {}", nc.path(), name, meaning));
   if (!std::isfinite(*v) || *v < lo || *v > hi) {
-    throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {} in [{}, {}]", nc.path(), name,
-                                 *v, meaning, lo, hi));
+    throw InputError(fmt::format("{}: global attribute {} = {} is absurd, expected {} in [{}, {}]", nc.path(), name, *v,
+                                 meaning, lo, hi));
   }
   return *v;
 }
@@ -90,7 +90,8 @@ Dims wrfDims(const NcReader& nc) {
       throw InputError(fmt::format("{}: dimension {} has length 0, expected at least 1", nc.path(), name));
     }
     if (*len > std::size_t(std::numeric_limits<int>::max())) {
-      throw InputError(fmt::format("{}: dimension {} has length {}, larger than nephele supports", nc.path(), name, *len));
+      throw InputError(
+          fmt::format("{}: dimension {} has length {}, larger than nephele supports", nc.path(), name, *len));
     }
   }
   d.nt = nc.dimLength("Time").value_or(1);
@@ -101,7 +102,8 @@ Dims wrfDims(const NcReader& nc) {
     throw InputError(fmt::format("{}: bottom_top_stag has length {}, expected bottom_top + 1 = {}", nc.path(),
                                  *nc.dimLength("bottom_top_stag"), d.nz + 1));
   }
-  if (d.nt == 0) throw InputError(fmt::format("{}: dimension Time has length 0, expected at least one timestep", nc.path()));
+  if (d.nt == 0)
+    throw InputError(fmt::format("{}: dimension Time has length 0, expected at least one timestep", nc.path()));
   return d;
 }
 
@@ -144,15 +146,18 @@ geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& a, int nx, 
   const double r = kWrfEarthRadius_m;
   switch (a.map_proj) {
     case 1: {  // Lambert conformal conic, secant at TRUELAT1/TRUELAT2, central meridian STAND_LON.
-      if (std::abs(a.truelat1) < 1e-6 && std::abs(a.truelat2) < 1e-6) bad("TRUELAT1", a.truelat1, "a non-zero true latitude for Lambert conformal");
+      if (std::abs(a.truelat1) < 1e-6 && std::abs(a.truelat2) < 1e-6)
+        bad("TRUELAT1", a.truelat1, "a non-zero true latitude for Lambert conformal");
       const double lat0 = std::abs(a.moad_cen_lat) > 1e-6 ? a.moad_cen_lat : a.truelat1;
-      g.proj_definition = fmt::format("+proj=lcc +lat_1={} +lat_2={} +lat_0={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
-                                      a.truelat1, a.truelat2, lat0, a.stand_lon, r);
+      g.proj_definition =
+          fmt::format("+proj=lcc +lat_1={} +lat_2={} +lat_0={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
+                      a.truelat1, a.truelat2, lat0, a.stand_lon, r);
       break;
     }
     case 2:  // Polar stereographic, true at TRUELAT1, pole of TRUELAT1's hemisphere.
-      g.proj_definition = fmt::format("+proj=stere +lat_0={} +lat_ts={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
-                                      a.truelat1 >= 0.0 ? 90 : -90, a.truelat1, a.stand_lon, r);
+      g.proj_definition =
+          fmt::format("+proj=stere +lat_0={} +lat_ts={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
+                      a.truelat1 >= 0.0 ? 90 : -90, a.truelat1, a.stand_lon, r);
       break;
     case 3:  // Mercator, true at TRUELAT1.
       g.proj_definition = fmt::format("+proj=merc +lat_ts={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
@@ -174,8 +179,9 @@ geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& a, int nx, 
         // for a grid centred at (lat0, lon0): POLE_LAT = 90 - lat0, POLE_LON = 180,
         // STAND_LON = 180 - lon0). As PROJ ob_tran: o_lat_p = POLE_LAT, o_lon_p = 180 - POLE_LON,
         // lon_0 = 180 - STAND_LON (as wrf-python's RotatedLatLon does).
-        g.proj_definition = fmt::format("+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p={} +lon_0={} +R={} +no_defs",
-                                        a.pole_lat, 180.0 - a.pole_lon, 180.0 - a.stand_lon, r);
+        g.proj_definition =
+            fmt::format("+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p={} +lon_0={} +R={} +no_defs", a.pole_lat,
+                        180.0 - a.pole_lon, 180.0 - a.stand_lon, r);
       }
       break;
     }
@@ -233,8 +239,8 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   auto require = [&](const std::string& var, const std::vector<std::string>& spatial) {
     timed[var] = timedDims(nc, var, spatial);
   };
-  auto slab = [&](const std::string& var, std::vector<std::size_t> spatial_count,
-                  std::vector<std::size_t>& start_out, std::vector<std::size_t>& count_out) {
+  auto slab = [&](const std::string& var, std::vector<std::size_t> spatial_count, std::vector<std::size_t>& start_out,
+                  std::vector<std::size_t>& count_out) {
     start_out.assign(spatial_count.size(), 0);
     count_out = std::move(spatial_count);
     if (timed.at(var)) {
@@ -342,7 +348,8 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   {
     auto phi = read_state("PH", count_stag);
     const auto phb = read_state("PHB", count_stag);
-    for (std::size_t n = 0; n < phi.size(); ++n) phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
+    for (std::size_t n = 0; n < phi.size(); ++n)
+      phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
     requireRange(path, "(PH+PHB)/g", phi, kLowestHeight_m, kHighestHeight_m, "a height [m]");
     const std::size_t n2 = nx * ny;
     ts.height_m.resize(nx * ny * nz);
@@ -350,9 +357,10 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
       for (std::size_t c = 0; c < n2; ++c) {
         const double lo = phi[k * n2 + c], hi = phi[(k + 1) * n2 + c];
         if (!(hi > lo)) {
-          throw InputError(fmt::format("{}: PH+PHB does not increase with height at level {} (column {}): {} m then {} m, "
-                                       "expected increasing geopotential",
-                                       path, k, c, lo, hi));
+          throw InputError(
+              fmt::format("{}: PH+PHB does not increase with height at level {} (column {}): {} m then {} m, "
+                          "expected increasing geopotential",
+                          path, k, c, lo, hi));
         }
         ts.height_m[k * n2 + c] = static_cast<float>(0.5 * (lo + hi));
       }
@@ -408,7 +416,8 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     // Consistency of the attribute georeference with the file's own geolocation (corners).
     const geo::MapProjection projection(ts.georef.proj_definition);
     double worst = 0.0;
-    for (const auto& [i, j] : {std::pair{0, 0}, std::pair{d.nx - 1, 0}, std::pair{0, d.ny - 1}, std::pair{d.nx - 1, d.ny - 1}}) {
+    for (const auto& [i, j] :
+         {std::pair{0, 0}, std::pair{d.nx - 1, 0}, std::pair{0, d.ny - 1}, std::pair{d.nx - 1, d.ny - 1}}) {
       const auto [lon, lat] = geo::gridLonLat(projection, ts.georef, i, j);
       const std::size_t c = std::size_t(j) * nx + std::size_t(i);
       double dlon = std::fmod(std::abs(lon - double(ts.georef.lon_deg[c])), 360.0);
@@ -432,7 +441,8 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
       double misfit_cells = 0.0;
       for (std::size_t j = 0; j < ny; ++j)
         for (std::size_t i = 0; i < nx; ++i) {
-          const glm::dvec2 e = xy[j * nx + i] - offset - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
+          const glm::dvec2 e =
+              xy[j * nx + i] - offset - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
           misfit_cells = std::max({misfit_cells, std::abs(e.x) / ts.georef.dx_m, std::abs(e.y) / ts.georef.dy_m});
         }
       if (misfit_cells < kGeolocationFitTolerance_cells) {
@@ -476,7 +486,8 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     const auto u = read_optional("U", u_dims, {nz, ny, nx + 1});
     ts.wind_u_m_per_s.resize(nx * ny * nz);
     for (std::size_t r = 0; r < nz * ny; ++r)
-      for (std::size_t i = 0; i < nx; ++i) ts.wind_u_m_per_s[r * nx + i] = 0.5f * (u[r * (nx + 1) + i] + u[r * (nx + 1) + i + 1]);
+      for (std::size_t i = 0; i < nx; ++i)
+        ts.wind_u_m_per_s[r * nx + i] = 0.5f * (u[r * (nx + 1) + i] + u[r * (nx + 1) + i + 1]);
   }
   if (nc.hasVar("V")) {
     const auto v = read_optional("V", v_dims, {nz, ny + 1, nx});

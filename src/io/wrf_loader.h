@@ -14,13 +14,13 @@
 namespace nph::io {
 
 /// WRF constants (WRF share/module_model_constants.F; Skamarock et al. 2019, ARW v4 tech note).
-inline constexpr double kWrfGravity_m_per_s2 = 9.81;            ///< g
+inline constexpr double kWrfGravity_m_per_s2 = 9.81;              ///< g
 inline constexpr double kWrfGasConstantDryAir_J_per_kgK = 287.0;  ///< R_d
 /// c_p = 7 R_d / 2 (ideal diatomic gas), so R_d / c_p = 2/7 = 0.2857.
 inline constexpr double kWrfSpecificHeatDryAir_J_per_kgK = 7.0 * kWrfGasConstantDryAir_J_per_kgK / 2.0;
-inline constexpr double kWrfReferencePressure_pa = 100000.0;    ///< p0 of the Exner function
-inline constexpr double kWrfThetaOffset_k = 300.0;              ///< T in wrfout is θ - 300 K
-inline constexpr double kWrfEarthRadius_m = 6370000.0;          ///< WRF's sphere (EARTH_RADIUS_M)
+inline constexpr double kWrfReferencePressure_pa = 100000.0;  ///< p0 of the Exner function
+inline constexpr double kWrfThetaOffset_k = 300.0;            ///< T in wrfout is θ - 300 K
+inline constexpr double kWrfEarthRadius_m = 6370000.0;        ///< WRF's sphere (EARTH_RADIUS_M)
 
 /// Projection attributes of a wrfout file (global attributes).
 struct WrfProjectionAttributes {
@@ -34,7 +34,8 @@ struct WrfProjectionAttributes {
 /// 2 polar stereographic, 3 Mercator, 6 lat-lon (rotated pole when POLE_LAT != 90), 0 Cartesian;
 /// all on WRF's sphere of radius 6 370 000 m. The domain centre ((nx-1)/2, (ny-1)/2) lies at
 /// (CEN_LAT, CEN_LON). `path` is for messages; InputError names the offending attribute.
-geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& attributes, int nx, int ny, const std::string& path);
+geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& attributes, int nx, int ny,
+                                      const std::string& path);
 
 /// Times ("2026-09-01T12:00:00Z") of every timestep in the file.
 std::vector<std::string> listWrfTimes(const std::string& path);

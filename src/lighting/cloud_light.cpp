@@ -22,8 +22,8 @@ double mixedPhase(double cos_psi, double ice_weight, double g_ice, double g_wate
 }
 double octaveSeries(double sunlight, double cos_psi, double ice_weight, double g_ice, double g_water,
                     const OctaveSeries& s) {
-  return f64::octaveSeries(sunlight, cos_psi, ice_weight, g_ice, g_water, s.octaves, s.extinction_scale,
-                           s.energy_scale, s.anisotropy_scale);
+  return f64::octaveSeries(sunlight, cos_psi, ice_weight, g_ice, g_water, s.octaves, s.extinction_scale, s.energy_scale,
+                           s.anisotropy_scale);
 }
 double diffuseTransmittance(double tau, double g) { return f64::diffuseTransmittance(tau, g); }
 double airMass(double sin_elevation) { return f64::airMass(sin_elevation); }

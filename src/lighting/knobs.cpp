@@ -185,29 +185,28 @@ bool Knob::accepts(double value) const {
 }
 
 double Knob::get(const QualitySettings& q) const {
-  return std::visit(Overloaded{[&](double Q::* m) { return q.*m; }, [&](int Q::* m) { return double(q.*m); },
-                               [&](bool Q::* m) { return q.*m ? 1.0 : 0.0; },
-                               [&](auto) -> double { wrongGroup(*this, "quality"); }},
-                    field);
+  return std::visit(
+      Overloaded{[&](double Q::*m) { return q.*m; }, [&](int Q::*m) { return double(q.*m); },
+                 [&](bool Q::*m) { return q.*m ? 1.0 : 0.0; }, [&](auto) -> double { wrongGroup(*this, "quality"); }},
+      field);
 }
 
 double Knob::get(const StyleSettings& s) const {
-  return std::visit(Overloaded{[&](double S::* m) { return s.*m; },
-                               [&](Vec3Component c) { return (s.*c.vector)[c.component]; },
-                               [&](bool S::* m) { return s.*m ? 1.0 : 0.0; },
-                               [&](auto) -> double { wrongGroup(*this, "style"); }},
-                    field);
+  return std::visit(
+      Overloaded{[&](double S::*m) { return s.*m; }, [&](Vec3Component c) { return (s.*c.vector)[c.component]; },
+                 [&](bool S::*m) { return s.*m ? 1.0 : 0.0; }, [&](auto) -> double { wrongGroup(*this, "style"); }},
+      field);
 }
 
 void Knob::set(QualitySettings& q, double v) const {
-  std::visit(Overloaded{[&](double Q::* m) { q.*m = v; }, [&](int Q::* m) { q.*m = int(v); },
-                        [&](bool Q::* m) { q.*m = v != 0.0; }, [&](auto) { wrongGroup(*this, "quality"); }},
+  std::visit(Overloaded{[&](double Q::*m) { q.*m = v; }, [&](int Q::*m) { q.*m = int(v); },
+                        [&](bool Q::*m) { q.*m = v != 0.0; }, [&](auto) { wrongGroup(*this, "quality"); }},
              field);
 }
 
 void Knob::set(StyleSettings& s, double v) const {
-  std::visit(Overloaded{[&](double S::* m) { s.*m = v; }, [&](Vec3Component c) { (s.*c.vector)[c.component] = v; },
-                        [&](bool S::* m) { s.*m = v != 0.0; }, [&](auto) { wrongGroup(*this, "style"); }},
+  std::visit(Overloaded{[&](double S::*m) { s.*m = v; }, [&](Vec3Component c) { (s.*c.vector)[c.component] = v; },
+                        [&](bool S::*m) { s.*m = v != 0.0; }, [&](auto) { wrongGroup(*this, "style"); }},
              field);
 }
 
@@ -262,7 +261,8 @@ std::string apiParametersMarkdown() {
     if (k.type() == KnobType::Integer) range += ", integer";
     if (k.type() == KnobType::Choice) {
       range.clear();
-      for (std::size_t i = 0; i < k.choices.size(); ++i) range += fmt::format("{}{} = {}", i ? ", " : "", i, k.choices[i]);
+      for (std::size_t i = 0; i < k.choices.size(); ++i)
+        range += fmt::format("{}{} = {}", i ? ", " : "", i, k.choices[i]);
     }
     const std::string def = valueText(k, k.defaultValue(), false);
     md += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, range,

@@ -35,20 +35,20 @@ inline constexpr std::array<std::string_view, 3> kPresetNames{"draft", "broadcas
 struct QualitySettings {
   QualitySettings();  ///< the broadcast preset
 
-  std::string preset = "broadcast";  ///< the preset the values started from
-  double step_voxels{};                ///< ray-march step in voxel sizes (Muth 2026 §3.4.3)
-  int dlm_resolution{};                ///< cap on deep light map texels per side (DlmSettings::max_texels)
-  double dlm_epsilon{};                ///< Lokovic–Veach error bound on I(depth) (DlmSettings::epsilon)
-  double dlm_step_voxels{};            ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
-  double dlm_texel_voxels{};           ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
-  int dlm_max_nodes{};                 ///< node budget per DLM texel (DlmSettings::max_nodes)
+  std::string preset = "broadcast";          ///< the preset the values started from
+  double step_voxels{};                      ///< ray-march step in voxel sizes (Muth 2026 §3.4.3)
+  int dlm_resolution{};                      ///< cap on deep light map texels per side (DlmSettings::max_texels)
+  double dlm_epsilon{};                      ///< Lokovic–Veach error bound on I(depth) (DlmSettings::epsilon)
+  double dlm_step_voxels{};                  ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
+  double dlm_texel_voxels{};                 ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
+  int dlm_max_nodes{};                       ///< node budget per DLM texel (DlmSettings::max_nodes)
   double early_termination_transmittance{};  ///< stop a ray below this T
-  bool empty_space_skipping{};         ///< skip empty occupancy bricks (DLM and ray caster)
-  bool jitter{};                       ///< per-pixel start offset against banding
-  bool shadows{};                      ///< cloud shadows on the basemap
-  int samples_per_pixel{};         ///< parsed; the ray caster takes one jittered sample for now
-  int reconstruction{};                ///< scene::Reconstruction: 0 trilinear, 1 cubic B-spline
-  int detail{};                        ///< scene::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
+  bool empty_space_skipping{};               ///< skip empty occupancy bricks (DLM and ray caster)
+  bool jitter{};                             ///< per-pixel start offset against banding
+  bool shadows{};                            ///< cloud shadows on the basemap
+  int samples_per_pixel{};                   ///< parsed; the ray caster takes one jittered sample for now
+  int reconstruction{};                      ///< scene::Reconstruction: 0 trilinear, 1 cubic B-spline
+  int detail{};                              ///< scene::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
 
   bool operator==(const QualitySettings&) const = default;
 };
@@ -73,7 +73,7 @@ inline scene::Detail detailOf(const QualitySettings& quality) {
 
 /// One component of a vector field (ambient_r = component 0 of StyleSettings::ambient).
 struct Vec3Component {
-  glm::dvec3 StyleSettings::* vector;
+  glm::dvec3 StyleSettings::*vector;
   int component;
 };
 
@@ -92,8 +92,8 @@ struct Knob {
   double min = 0.0;       ///< accepted range, inclusive (booleans: 0 and 1)
   double max = 0.0;
   KnobField field;
-  std::array<double, 3> preset{};  ///< quality knobs: the value in draft, broadcast, reference
-  std::string_view doc;            ///< one line for the docs tables
+  std::array<double, 3> preset{};               ///< quality knobs: the value in draft, broadcast, reference
+  std::string_view doc;                         ///< one line for the docs tables
   std::span<const std::string_view> choices{};  ///< names of the values 0 … n − 1 (choice knobs)
 
   KnobGroup group() const;

@@ -59,7 +59,8 @@ double evaluateLightFunction(const LightNode* nodes, int count, double s) {
   int lo = 0, hi = count - 1;  // invariant: depth[lo] <= s < depth[hi]
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    if (double(nodes[mid].depth_m) <= s) lo = mid; else hi = mid;
+    if (double(nodes[mid].depth_m) <= s) lo = mid;
+    else hi = mid;
   }
   const double s0 = nodes[lo].depth_m, s1 = nodes[hi].depth_m;
   const double t = s1 > s0 ? (s - s0) / (s1 - s0) : 0.0;

@@ -38,8 +38,8 @@ class LightFunctionCompressor {
   bool haveBounds_ = false;
 };
 
-std::vector<LightNode> compressLightFunction(const std::vector<double>& depth_m,
-                                             const std::vector<double>& intensity, double epsilon);
+std::vector<LightNode> compressLightFunction(const std::vector<double>& depth_m, const std::vector<double>& intensity,
+                                             double epsilon);
 
 /// I(s) of a node list (binary search + linear interpolation; clamped at both ends).
 double evaluateLightFunction(const LightNode* nodes, int count, double depth_m);

@@ -10,7 +10,8 @@ namespace nph::scene {
 
 void lightBasis(const glm::dvec3& lightDirection, glm::dvec3& u, glm::dvec3& v, glm::dvec3& w) {
   const double len = glm::length(lightDirection);
-  if (!(len > 0.0) || !std::isfinite(len)) throw UsageError("lightBasis: light direction must be a finite non-zero vector");
+  if (!(len > 0.0) || !std::isfinite(len))
+    throw UsageError("lightBasis: light direction must be a finite non-zero vector");
   w = lightDirection / len;
   // Reference "up" for u: world z unless the light is (nearly) vertical, then world y.
   const glm::dvec3 ref = std::abs(w.z) < 0.999 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
@@ -20,7 +21,8 @@ void lightBasis(const glm::dvec3& lightDirection, glm::dvec3& u, glm::dvec3& v, 
 
 LightSpace fitLightSpace(const glm::dvec3& lightDirection, const glm::dvec3& boxMin, const glm::dvec3& boxMax,
                          glm::dvec2 texelSize_m, int maxTexels) {
-  if (!(texelSize_m.x > 0.0) || !(texelSize_m.y > 0.0) || maxTexels < 1) throw UsageError("fitLightSpace: texel size and count must be positive");
+  if (!(texelSize_m.x > 0.0) || !(texelSize_m.y > 0.0) || maxTexels < 1)
+    throw UsageError("fitLightSpace: texel size and count must be positive");
   LightSpace ls;
   lightBasis(lightDirection, ls.u, ls.v, ls.w);
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());

@@ -15,10 +15,10 @@ namespace nph::scene {
 
 struct LightSpace {
   glm::dvec3 u{1, 0, 0}, v{0, 1, 0}, w{0, 0, -1};  ///< orthonormal, w = light travel direction
-  glm::dvec3 origin_m{0.0};   ///< world position of light-space (0, 0, 0): corner of the fitted box
-  glm::dvec2 extent_m{0.0};   ///< size of the map along u and v
-  double depth_m = 0.0;       ///< length of every light ray through the fitted box
-  glm::ivec2 texels{1, 1};    ///< nu, nv
+  glm::dvec3 origin_m{0.0};  ///< world position of light-space (0, 0, 0): corner of the fitted box
+  glm::dvec2 extent_m{0.0};  ///< size of the map along u and v
+  double depth_m = 0.0;      ///< length of every light ray through the fitted box
+  glm::ivec2 texels{1, 1};   ///< nu, nv
 
   glm::dvec2 texelSize_m() const { return extent_m / glm::dvec2(texels); }
   /// World -> light space (metres along u, v, w from origin).
@@ -53,7 +53,8 @@ double blendTexels(const LightSpace& ls, const glm::dvec3& l, TexelValue&& texel
     return double(texelValue(a, b, l.z));
   };
   const int a = int(t0.x), b = int(t0.y);
-  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) + f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
+  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) +
+         f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
 }
 
 /// Orthonormal basis with w = `lightDirection` (normalised here). u is horizontal whenever the

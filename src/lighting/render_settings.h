@@ -14,8 +14,8 @@ namespace nph::lighting {
 /// Appearance: the eye phase functions and the ambient light. The knob table (lighting/knobs.h)
 /// exposes some fields by name; these defaults are the knobs' defaults.
 struct StyleSettings {
-  double g_ice = 0.75;                   ///< HG asymmetry of ice crystals (physics/phase.h)
-  double g_water = 0.85;                 ///< HG asymmetry of droplets (physics/phase.h)
+  double g_ice = 0.75;    ///< HG asymmetry of ice crystals (physics/phase.h)
+  double g_water = 0.85;  ///< HG asymmetry of droplets (physics/phase.h)
   /// Sky light per channel, × the analytic clear sky at the sun's elevation (lighting/cloud_light.h;
   /// 1 = physical, 0 = no sky light). Issue 12 replaced the former constant ambient radiance.
   glm::dvec3 ambient{1.0, 1.0, 1.0};
@@ -23,8 +23,10 @@ struct StyleSettings {
   double ground_albedo = 0.1;
   /// The lower hemisphere is sky too (the accuracy scenes, whose path-traced truth has no ground).
   bool sky_below = false;
-  glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};   ///< ground outside the basemap
-  glm::dvec3 limb_radiance{0.053, 0.080, 0.141};  ///< globe: sky glow at the limb (cosmetic; × sun intensity; the pre-issue-12 look at +2.5 EV)
+  glm::dvec3 ocean_albedo{0.02, 0.04, 0.07};  ///< ground outside the basemap
+  glm::dvec3 limb_radiance{
+      0.053, 0.080,
+      0.141};  ///< globe: sky glow at the limb (cosmetic; × sun intensity; the pre-issue-12 look at +2.5 EV)
   /// The physically based atmosphere (issue 14; atmosphere/atmosphere.h): sky radiance, sunlight
   /// through the air, sky irradiance of the ground, aerial perspective. Off: the uniform ambient
   /// sky, the navy flat-view background and the cosmetic limb of before.
@@ -38,11 +40,11 @@ struct StyleSettings {
 /// The ray caster's settings: sampling (from QualitySettings, lighting::renderSettingsFor) and
 /// style. The sampling defaults equal the broadcast preset (tests/lighting holds them equal).
 struct RenderSettings : StyleSettings {
-  double step_voxels = 0.5;              ///< view-ray step Δ in units of the smallest voxel side
-  double min_transmittance = 0.01;       ///< early ray termination
-  bool jitter = true;                    ///< per-pixel start offset against banding
+  double step_voxels = 0.5;         ///< view-ray step Δ in units of the smallest voxel side
+  double min_transmittance = 0.01;  ///< early ray termination
+  bool jitter = true;               ///< per-pixel start offset against banding
   bool empty_space_skipping = true;
-  bool shadows = true;                   ///< cloud shadows on the ground (DLM at z = 0)
+  bool shadows = true;  ///< cloud shadows on the ground (DLM at z = 0)
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer
   /// (docs/accuracy.md, `nephele bench accuracy --fit-octaves`); {1, …} = single scattering only.
   OctaveSeries octaves{3, 0.65, 0.75, 0.0, {}};

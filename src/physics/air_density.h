@@ -19,7 +19,6 @@ double dryAirDensity(double pressure_pa, double temperature_k, double vapour_mix
 
 /// ρ [kg/m³] of moist air with condensate from p, T, specific humidity q_v and the specific
 /// condensate content q_c = Σ q_x [kg/kg moist air] (ICON).
-double moistAirDensity(double pressure_pa, double temperature_k, double specific_humidity,
-                       double specific_condensate);
+double moistAirDensity(double pressure_pa, double temperature_k, double specific_humidity, double specific_condensate);
 
 }  // namespace nph::physics

@@ -13,8 +13,7 @@ namespace nph::physics {
 
 /// r_eff [m] for mass q [kg/kg] and number N [1/kg]; returns `fallback_m` when q or N is not
 /// positive (no information), else the result clamped to [min_m, max_m].
-double effectiveRadiusFromNumber(double q_kg_per_kg, double number_per_kg,
-                                 double particle_density_kg_per_m3, double gamma_shape,
-                                 double fallback_m, double min_m, double max_m);
+double effectiveRadiusFromNumber(double q_kg_per_kg, double number_per_kg, double particle_density_kg_per_m3,
+                                 double gamma_shape, double fallback_m, double min_m, double max_m);
 
 }  // namespace nph::physics

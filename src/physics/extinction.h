@@ -57,7 +57,6 @@ struct ModelLevelExtinction {
 
 /// Validates the timestep's fields (sizes, required fields, finite values; InputError naming
 /// ts.source_file and the variable) and computes β at every voxel (parallel over rows).
-ModelLevelExtinction modelLevelExtinction(const io::ModelTimestep& ts,
-                                          const OpticsSettings& settings);
+ModelLevelExtinction modelLevelExtinction(const io::ModelTimestep& ts, const OpticsSettings& settings);
 
 }  // namespace nph::physics

@@ -26,7 +26,7 @@ struct IconCellCondensate {
 };
 
 /// Applies the enabled corrections to one cell. `cloud_cover` is CLC as a fraction [0, 1].
-IconCellCondensate correctIconCell(double qc, double qi, double cloud_cover, double temperature_k,
-                                   double pressure_pa, const IconCorrections& settings);
+IconCellCondensate correctIconCell(double qc, double qi, double cloud_cover, double temperature_k, double pressure_pa,
+                                   const IconCorrections& settings);
 
 }  // namespace nph::physics

@@ -35,29 +35,23 @@ OpticsSettings defaultOptics() {
   // Verlinde & Clothiaux 2000, J. Atmos. Sci. 57; Stephens 1978); Muth 2026 §3.3.1 clamps to
   // [4, 15] µm. μ = 5 gives (r_vol/r_eff)^3 = 0.66, the continental k of Martin, Johnson & Spice
   // (1994, J. Atmos. Sci. 51).
-  s[Hydrometeor::Cloud] = make(10 * kMicrometre, kDensityWater, 5.0, 2 * kMicrometre,
-                               50 * kMicrometre, false);
+  s[Hydrometeor::Cloud] = make(10 * kMicrometre, kDensityWater, 5.0, 2 * kMicrometre, 50 * kMicrometre, false);
   // Rain: exponential (Marshall & Palmer 1948, J. Meteor. 5) with λ = 4.1 R^-0.21 mm⁻¹; at
   // R = 5 mm/h λ ≈ 2.9 mm⁻¹ and r_eff = 3/(2λ) ≈ 0.5 mm.
-  s[Hydrometeor::Rain] = make(0.5 * kMillimetre, kDensityWater, 0.0, 50 * kMicrometre,
-                              3 * kMillimetre, false);
+  s[Hydrometeor::Rain] = make(0.5 * kMillimetre, kDensityWater, 0.0, 50 * kMicrometre, 3 * kMillimetre, false);
   // Cloud ice: r_eff ≈ 30 µm, typical of cirrus and anvils (Heymsfield & Platt 1984, J. Atmos.
   // Sci. 41; Muth 2026 §3.3.1 clamps Sun & Rikus radii to [10, 150] µm); solid-ice spheres.
-  s[Hydrometeor::Ice] = make(30 * kMicrometre, kDensityIce, 0.0, 5 * kMicrometre,
-                             250 * kMicrometre, true);
+  s[Hydrometeor::Ice] = make(30 * kMicrometre, kDensityIce, 0.0, 5 * kMicrometre, 250 * kMicrometre, true);
   // Snow: aggregates of bulk density ≈ 100 kg/m³ (Rutledge & Hobbs 1983, J. Atmos. Sci. 40;
   // Locatelli & Hobbs 1974 measure 0.05-0.2 g/cm³), exponential sizes (Gunn & Marshall 1958)
   // with r_eff of a few hundred µm: 0.5 mm.
-  s[Hydrometeor::Snow] = make(0.5 * kMillimetre, 100.0, 0.0, 50 * kMicrometre,
-                              5 * kMillimetre, true);
+  s[Hydrometeor::Snow] = make(0.5 * kMillimetre, 100.0, 0.0, 50 * kMicrometre, 5 * kMillimetre, true);
   // Graupel: bulk density 400 kg/m³ and N0 = 4e6 m⁻⁴ (Rutledge & Hobbs 1984, J. Atmos. Sci. 41);
   // at 1 g/m³ λ = (π ρ_g N0 / C)^(1/4) ≈ 1.5 mm⁻¹, so r_eff = 3/(2λ) ≈ 1 mm.
-  s[Hydrometeor::Graupel] = make(1.0 * kMillimetre, 400.0, 0.0, 100 * kMicrometre,
-                                 5 * kMillimetre, true);
+  s[Hydrometeor::Graupel] = make(1.0 * kMillimetre, 400.0, 0.0, 100 * kMicrometre, 5 * kMillimetre, true);
   // Hail: density 900 kg/m³ (Milbrandt & Yau 2005, J. Atmos. Sci. 62), diameters of 5-10 mm:
   // r_eff 2.5 mm.
-  s[Hydrometeor::Hail] = make(2.5 * kMillimetre, 900.0, 0.0, 0.5 * kMillimetre,
-                              25 * kMillimetre, true);
+  s[Hydrometeor::Hail] = make(2.5 * kMillimetre, 900.0, 0.0, 0.5 * kMillimetre, 25 * kMillimetre, true);
   return s;
 }
 
@@ -74,8 +68,7 @@ OpticsSettings nes2008Optics() {
   s[Hydrometeor::Snow].effective_radius_m = 2.0 * kMillimetre;
   s[Hydrometeor::Graupel].effective_radius_m = 2.5 * kMillimetre;
   s[Hydrometeor::Hail].effective_radius_m = 2.5 * kMillimetre;
-  for (Hydrometeor h : {Hydrometeor::Ice, Hydrometeor::Snow, Hydrometeor::Graupel,
-                        Hydrometeor::Hail}) {
+  for (Hydrometeor h : {Hydrometeor::Ice, Hydrometeor::Snow, Hydrometeor::Graupel, Hydrometeor::Hail}) {
     s[h].particle_density_kg_per_m3 = kDensityIce;
   }
   return s;
@@ -105,8 +98,7 @@ Hydrometeor hydrometeorFromName(const std::string& name) {
   for (Hydrometeor h : io::kAllHydrometeors) {
     if (name == hydrometeorName(h)) return h;
   }
-  throw UsageError(fmt::format(
-      "unknown hydrometeor class '{}' (known: cloud, rain, ice, snow, graupel, hail)", name));
+  throw UsageError(fmt::format("unknown hydrometeor class '{}' (known: cloud, rain, ice, snow, graupel, hail)", name));
 }
 
 void applyRadiusOverride(OpticsSettings& settings, const std::string& assignment) {
@@ -125,9 +117,8 @@ void applyRadiusOverride(OpticsSettings& settings, const std::string& assignment
   else if (unit == "um" || unit == "µm") factor = kMicrometre;
   const double radius = number * factor;
   if (end == value.c_str() || factor == 0.0 || !(radius > 0.0) || radius > 0.1) {
-    throw UsageError(fmt::format(
-        "radius override '{}': expected a radius between 0 and 10 cm with unit um, mm or m",
-        assignment));
+    throw UsageError(
+        fmt::format("radius override '{}': expected a radius between 0 and 10 cm with unit um, mm or m", assignment));
   }
   settings[h].effective_radius_m = radius;
   settings.preset += "+" + assignment;

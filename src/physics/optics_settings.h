@@ -16,7 +16,7 @@ using io::Hydrometeor;
 /// Optical model of one hydrometeor class: spheres of bulk density ρ_f and effective radius r_f
 /// in the geometric-optics limit (Q_ext = 2, Nes 2008 §2.2.2 eq. 2.4).
 struct HydrometeorOptics {
-  double effective_radius_m = 0.0;   ///< used when no number concentration is available
+  double effective_radius_m = 0.0;  ///< used when no number concentration is available
   double particle_density_kg_per_m3 = 0.0;
   /// Shape parameter μ of the gamma size distribution n(D) ∝ D^μ exp(-λD) assumed when r_eff is
   /// derived from mass and number (effective_radius.h).
@@ -53,9 +53,7 @@ struct OpticsSettings {
   IconCorrections icon;
 
   HydrometeorOptics& operator[](Hydrometeor h) { return classes[static_cast<std::size_t>(h)]; }
-  const HydrometeorOptics& operator[](Hydrometeor h) const {
-    return classes[static_cast<std::size_t>(h)];
-  }
+  const HydrometeorOptics& operator[](Hydrometeor h) const { return classes[static_cast<std::size_t>(h)]; }
 
   /// The settings as a JSON object (stored in the .nph index as provenance).
   std::string toJson() const;

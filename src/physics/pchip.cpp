@@ -45,8 +45,8 @@ void pchipSlopes(std::span<const double> x, std::span<const double> y, std::span
   d[n - 1] = endSlope(h(n - 2), h(n - 3), del(n - 2), del(n - 3));
 }
 
-double pchipEvaluate(std::span<const double> x, std::span<const double> y,
-                     std::span<const double> d, std::size_t k, double xq) {
+double pchipEvaluate(std::span<const double> x, std::span<const double> y, std::span<const double> d, std::size_t k,
+                     double xq) {
   if (x.size() == 1) return y[0];
   const double hk = x[k + 1] - x[k];
   const double t = (xq - x[k]) / hk;

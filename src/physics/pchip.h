@@ -22,7 +22,7 @@ namespace nph::physics {
 void pchipSlopes(std::span<const double> x, std::span<const double> y, std::span<double> d);
 
 /// Evaluates the interpolant on interval [x_k, x_{k+1}] at xq.
-double pchipEvaluate(std::span<const double> x, std::span<const double> y,
-                     std::span<const double> d, std::size_t k, double xq);
+double pchipEvaluate(std::span<const double> x, std::span<const double> y, std::span<const double> d, std::size_t k,
+                     double xq);
 
 }  // namespace nph::physics

@@ -17,16 +17,13 @@ constexpr double kInv4Pi = 1.0 / (4.0 * std::numbers::pi);
 
 void checkAsymmetry(double g, const char* who) {
   if (!(g > -1.0 && g < 1.0)) {
-    throw UsageError(std::string(who) + ": asymmetry parameter g = " + std::to_string(g) +
-                     ", expected -1 < g < 1");
+    throw UsageError(std::string(who) + ": asymmetry parameter g = " + std::to_string(g) + ", expected -1 < g < 1");
   }
 }
 
 // 8-point Gauss–Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun 1964, Table 25.4).
-constexpr std::array<double, 4> kGaussX{0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
-                                        0.9602898564975363};
-constexpr std::array<double, 4> kGaussW{0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
-                                        0.1012285362903763};
+constexpr std::array<double, 4> kGaussX{0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+constexpr std::array<double, 4> kGaussW{0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
 
 template <class F>
 double gauss8(F&& f, double a, double b) {
@@ -47,8 +44,7 @@ double henyeyGreenstein(double cos_psi, double g) {
 
 double cornetteShanks(double cos_psi, double g) {
   const double denom = 1.0 + g * g - 2.0 * g * cos_psi;
-  return kInv4Pi * 3.0 * (1.0 - g * g) / (2.0 * (2.0 + g * g)) * (1.0 + cos_psi * cos_psi) /
-         (denom * std::sqrt(denom));
+  return kInv4Pi * 3.0 * (1.0 - g * g) / (2.0 * (2.0 + g * g)) * (1.0 + cos_psi * cos_psi) / (denom * std::sqrt(denom));
 }
 
 // CP_HG(θ) = 2π ∫_c^1 p_HG(μ) dμ with c = cos θ. Since d/dμ (1 + g² − 2gμ)^{-1/2} = g (…)^{-3/2},

@@ -43,9 +43,9 @@ namespace nph::physics {
 enum class PhaseModel { HenyeyGreenstein, CornetteShanks };
 
 /// Documented defaults (see the header comment for the sources).
-inline constexpr double kWaterEyeAsymmetry = 0.85;    ///< HG g of cloud droplets
-inline constexpr double kIceEyeAsymmetry = 0.75;      ///< HG g of ice crystals
-inline constexpr double kTransportAsymmetry = 0.9;    ///< Cornette–Shanks g for light transport
+inline constexpr double kWaterEyeAsymmetry = 0.85;  ///< HG g of cloud droplets
+inline constexpr double kIceEyeAsymmetry = 0.75;    ///< HG g of ice crystals
+inline constexpr double kTransportAsymmetry = 0.9;  ///< Cornette–Shanks g for light transport
 
 /// p_HG(cos ψ) [1/sr]; g in (−1, 1).
 double henyeyGreenstein(double cos_psi, double g);
@@ -100,9 +100,9 @@ class CumulativePhaseTable {
  private:
   double derivative(double theta_rad) const;  // dCP/dθ
   PhaseFunction phase_;
-  double h_ = 0.0;            // node spacing [rad]
-  std::vector<double> cp_;    // CP at nodes
-  std::vector<double> dcp_;   // dCP/dθ at nodes
+  double h_ = 0.0;           // node spacing [rad]
+  std::vector<double> cp_;   // CP at nodes
+  std::vector<double> dcp_;  // dCP/dθ at nodes
   double max_error_ = 0.0;
 };
 

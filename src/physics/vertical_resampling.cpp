@@ -19,14 +19,13 @@ namespace {
 
 void requireHeights(const io::ModelTimestep& ts) {
   if (ts.height_m.size() != ts.voxelCount()) {
-    throw InputError(fmt::format("{}: timestep {}: height has {} values, expected {} ({}x{}x{})",
-                                 ts.source_file, ts.time_index, ts.height_m.size(),
-                                 ts.voxelCount(), ts.nx, ts.ny, ts.nz));
+    throw InputError(fmt::format("{}: timestep {}: height has {} values, expected {} ({}x{}x{})", ts.source_file,
+                                 ts.time_index, ts.height_m.size(), ts.voxelCount(), ts.nx, ts.ny, ts.nz));
   }
   const std::size_t columns = std::size_t(ts.nx) * std::size_t(ts.ny);
   if (!ts.terrain_height_m.empty() && ts.terrain_height_m.size() != columns) {
-    throw InputError(fmt::format("{}: terrain height has {} values, expected {} ({}x{})",
-                                 ts.source_file, ts.terrain_height_m.size(), columns, ts.nx, ts.ny));
+    throw InputError(fmt::format("{}: terrain height has {} values, expected {} ({}x{})", ts.source_file,
+                                 ts.terrain_height_m.size(), columns, ts.nx, ts.ny));
   }
 }
 
@@ -74,14 +73,14 @@ double defaultBottomHeight_m(const io::ModelTimestep& ts, double dz_m) {
   // terrain (a -1e7 m terrain planned a 40 026-level grid).
   constexpr double kLowestSurface_m = -1000.0;
   if (lowest < kLowestSurface_m) {
-    throw InputError(fmt::format("{}: timestep {}: surface height {} m, expected terrain above {} m",
-                                 ts.source_file, ts.time_index, lowest, kLowestSurface_m));
+    throw InputError(fmt::format("{}: timestep {}: surface height {} m, expected terrain above {} m", ts.source_file,
+                                 ts.time_index, lowest, kLowestSurface_m));
   }
   return dz_m * std::floor(lowest / dz_m);
 }
 
-std::optional<double> condensateTopHeight_m(const io::ModelTimestep& ts,
-                                            const ModelLevelExtinction& beta, double threshold) {
+std::optional<double> condensateTopHeight_m(const io::ModelTimestep& ts, const ModelLevelExtinction& beta,
+                                            double threshold) {
   requireHeights(ts);
   std::optional<double> top;
   for (int j = 0; j < ts.ny; ++j) {
@@ -115,8 +114,7 @@ VerticalGrid planVerticalGrid(const io::ModelTimestep& ts, const ModelLevelExtin
   g.z_bottom_m = o.z_bottom_m ? *o.z_bottom_m : defaultBottomHeight_m(ts, o.dz_m);
   if (o.z_top_m) {
     if (!(*o.z_top_m > g.z_bottom_m)) {
-      throw UsageError(fmt::format("top height {} m is not above the bottom {} m", *o.z_top_m,
-                                   g.z_bottom_m));
+      throw UsageError(fmt::format("top height {} m is not above the bottom {} m", *o.z_top_m, g.z_bottom_m));
     }
     g.nz = checkedLevels(ts, g, std::ceil((*o.z_top_m - g.z_bottom_m) / o.dz_m), "the top height");
     return g;
@@ -128,8 +126,8 @@ VerticalGrid planVerticalGrid(const io::ModelTimestep& ts, const ModelLevelExtin
   return g;
 }
 
-void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction& beta,
-                        const VerticalGrid& grid, ExtinctionVolumes& out) {
+void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction& beta, const VerticalGrid& grid,
+                        ExtinctionVolumes& out) {
   requireHeights(ts);
   out.nx = ts.nx;
   out.ny = ts.ny;
@@ -152,10 +150,9 @@ void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction&
           water[k] = double(beta.water_per_m[m]);
           any = any || ice[k] > 0.0 || water[k] > 0.0;
           if (!std::isfinite(h[k]) || (k > 0 && !(h[k] > h[k - 1]))) {
-            throw InputError(fmt::format(
-                "{}: timestep {}: heights of column (i={}, j={}) do not increase at level {} "
-                "({} m after {} m)",
-                ts.source_file, ts.time_index, i, j, k, h[k], k > 0 ? h[k - 1] : 0.0));
+            throw InputError(fmt::format("{}: timestep {}: heights of column (i={}, j={}) do not increase at level {} "
+                                         "({} m after {} m)",
+                                         ts.source_file, ts.time_index, i, j, k, h[k], k > 0 ? h[k - 1] : 0.0));
           }
         }
         if (!any) continue;  // clear column: stays 0

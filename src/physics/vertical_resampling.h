@@ -42,8 +42,7 @@ struct VerticalGrid {
 double defaultBottomHeight_m(const io::ModelTimestep& ts, double dz_m);
 
 /// Height of the highest non-empty level (crop rule above); nullopt when all is empty.
-std::optional<double> condensateTopHeight_m(const io::ModelTimestep& ts,
-                                            const ModelLevelExtinction& beta,
+std::optional<double> condensateTopHeight_m(const io::ModelTimestep& ts, const ModelLevelExtinction& beta,
                                             double threshold_per_m);
 
 VerticalGrid planVerticalGrid(const io::ModelTimestep& ts, const ModelLevelExtinction& beta,
@@ -51,8 +50,8 @@ VerticalGrid planVerticalGrid(const io::ModelTimestep& ts, const ModelLevelExtin
 
 /// Resamples `beta` onto `grid` into out.ice_per_m / out.water_per_m (sets nx, ny, nz, dz_m,
 /// z_bottom_m; leaves the other fields). InputError when a column's heights do not increase.
-void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction& beta,
-                        const VerticalGrid& grid, ExtinctionVolumes& out);
+void resampleVertically(const io::ModelTimestep& ts, const ModelLevelExtinction& beta, const VerticalGrid& grid,
+                        ExtinctionVolumes& out);
 
 /// A model-level field other than β (the sub-grid detail's TKE, cloud fraction, W; issue 13) on
 /// `grid`: linear in height between mass levels (these fields only steer the procedural detail,

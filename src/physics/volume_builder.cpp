@@ -4,8 +4,7 @@
 
 namespace nph::physics {
 
-ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts,
-                                         const OpticsSettings& optics,
+ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts, const OpticsSettings& optics,
                                          const VerticalGridOptions& vertical) {
   const ModelLevelExtinction beta = modelLevelExtinction(ts, optics);
   const VerticalGrid grid = planVerticalGrid(ts, beta, vertical);

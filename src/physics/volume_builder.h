@@ -10,8 +10,7 @@
 
 namespace nph::physics {
 
-ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts,
-                                         const OpticsSettings& optics,
+ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts, const OpticsSettings& optics,
                                          const VerticalGridOptions& vertical);
 
 }  // namespace nph::physics

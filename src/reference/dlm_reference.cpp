@@ -10,8 +10,8 @@
 namespace nph::reference {
 
 DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-                           const scene::LightSpace& lightSpace, const scene::DlmSettings& settings,
-                           double step_m, int steps, int refine, scene::Reconstruction reconstruction)
+                           const scene::LightSpace& lightSpace, const scene::DlmSettings& settings, double step_m,
+                           int steps, int refine, scene::Reconstruction reconstruction)
     : ls_(lightSpace), settings_(settings) {
   const scene::ExtinctionSampler sampler(volumes, frame, reconstruction);
   const scene::ForwardFractions cp = scene::forwardFractions(settings);
@@ -40,7 +40,8 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
 
   // Pass 2: scatter map, slice by slice (same geometry as render/dlm/deep_light_map.cpp).
   const int ds = std::max(1, settings.scatter_downsample);
-  cells_ = {(nu + ds - 1) / ds, (nv + ds - 1) / ds, (steps + settings.scatter_slice_steps - 1) / settings.scatter_slice_steps + 1};
+  cells_ = {(nu + ds - 1) / ds, (nv + ds - 1) / ds,
+            (steps + settings.scatter_slice_steps - 1) / settings.scatter_slice_steps + 1};
   slice_m_ = step_m * settings.scatter_slice_steps;
   scatter_.assign(std::size_t(cells_.x) * std::size_t(cells_.y) * std::size_t(cells_.z), 0.0);
   const glm::dvec2 extent = ls_.texelSize_m() * glm::dvec2(ls_.texels);
@@ -89,7 +90,8 @@ double DlmReference::peripheralAt(double u, double v, double s) const {
         const int y = std::clamp(int(f0.y) + dy, 0, cells_.y - 1);
         const int z = std::clamp(int(f0.z) + dz, 0, cells_.z - 1);
         const double w = (dx ? t.x : 1 - t.x) * (dy ? t.y : 1 - t.y) * (dz ? t.z : 1 - t.z);
-        r += w * scatter_[(std::size_t(z) * std::size_t(cells_.y) + std::size_t(y)) * std::size_t(cells_.x) + std::size_t(x)];
+        r += w * scatter_[(std::size_t(z) * std::size_t(cells_.y) + std::size_t(y)) * std::size_t(cells_.x) +
+                          std::size_t(x)];
       }
   return r;
 }

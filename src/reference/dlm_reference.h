@@ -20,9 +20,9 @@ class DlmReference {
  public:
   /// Integrates every texel of `lightSpace` (use the GPU map's, so texels coincide) with the GPU
   /// step `step_m` divided into `refine` sub-steps over `steps` GPU steps.
-  DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-               const scene::LightSpace& lightSpace, const scene::DlmSettings& settings, double step_m,
-               int steps, int refine, scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
+  DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::LightSpace& lightSpace,
+               const scene::DlmSettings& settings, double step_m, int steps, int refine,
+               scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
 
   /// Final light (central + peripheral) of texel (a, b) at depth s [m] from the ray entry
   /// (linear between sub-samples, constant beyond the ends) — what the DLM stores for that texel.
@@ -43,13 +43,13 @@ class DlmReference {
   scene::LightSpace ls_;
   scene::DlmSettings settings_;
   double sub_m_ = 0.0;
-  int samples_ = 0;                 // per ray: steps·refine + 1
-  std::vector<double> central_;     // [texel][sample]
-  std::vector<double> final_;       // central + peripheral
+  int samples_ = 0;              // per ray: steps·refine + 1
+  std::vector<double> central_;  // [texel][sample]
+  std::vector<double> final_;    // central + peripheral
   // scatter map (same geometry as the GPU's)
   glm::ivec3 cells_{0};
   double slice_m_ = 0.0;
-  std::vector<double> scatter_;     // [(k·cy + y)·cx + x]
+  std::vector<double> scatter_;  // [(k·cy + y)·cx + x]
 };
 
 }  // namespace nph::reference

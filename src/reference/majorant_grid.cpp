@@ -18,9 +18,8 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
     for (std::size_t i = 0; i < total.size(); ++i) {
       const float x = (*a)[i];
       if (!std::isfinite(x) || x < 0.0f) {
-        throw InputError("MajorantGrid: " + std::string(a == &v.ice_per_m ? "ice_per_m" : "water_per_m") +
-                         " voxel " + std::to_string(i) + " is " + std::to_string(x) +
-                         ", expected a finite extinction >= 0 1/m");
+        throw InputError("MajorantGrid: " + std::string(a == &v.ice_per_m ? "ice_per_m" : "water_per_m") + " voxel " +
+                         std::to_string(i) + " is " + std::to_string(x) + ", expected a finite extinction >= 0 1/m");
       }
       total[i] += double(x);
     }
@@ -53,7 +52,8 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
         range(by, 1, lo, hi);
         double m = 0.0;
         for (int j = lo; j <= hi; ++j)
-          m = std::max(m, mx[(std::size_t(k) * std::size_t(v.ny) + std::size_t(j)) * std::size_t(bricks_.x) + std::size_t(bx)]);
+          m = std::max(
+              m, mx[(std::size_t(k) * std::size_t(v.ny) + std::size_t(j)) * std::size_t(bricks_.x) + std::size_t(bx)]);
         my[(std::size_t(k) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) + std::size_t(bx)] = m;
       }
   majorant_.assign(std::size_t(bricks_.x) * std::size_t(bricks_.y) * std::size_t(bricks_.z), 0.0);
@@ -64,10 +64,11 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
         range(bz, 2, lo, hi);
         double m = 0.0;
         for (int k = lo; k <= hi; ++k)
-          m = std::max(m, my[(std::size_t(k) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) + std::size_t(bx)]);
+          m = std::max(m, my[(std::size_t(k) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) +
+                             std::size_t(bx)]);
         // Round up by a few ulps so float→double interpolation rounding can never exceed μ̄.
-        majorant_[(std::size_t(bz) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) + std::size_t(bx)] =
-            m * (1.0 + 1e-12);
+        majorant_[(std::size_t(bz) * std::size_t(bricks_.y) + std::size_t(by)) * std::size_t(bricks_.x) +
+                  std::size_t(bx)] = m * (1.0 + 1e-12);
       }
 }
 

@@ -186,7 +186,9 @@ class PathTracer::Path {
 
 PathTracer::PathTracer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Sun& sun,
                        PathTracerSettings settings)
-    : field_(volumes, frame, settings.reconstruction), majorants_(field_, settings.brick_voxels), sun_(sun),
+    : field_(volumes, frame, settings.reconstruction),
+      majorants_(field_, settings.brick_voxels),
+      sun_(sun),
       settings_(std::move(settings)) {
   if (settings_.samples_per_pixel < 1) throw UsageError("PathTracer: samples_per_pixel must be at least 1");
   if (settings_.max_events < 1) throw UsageError("PathTracer: max_events must be at least 1");
@@ -307,7 +309,8 @@ PathTracedImage PathTracer::render(const scene::Camera& camera) const {
               "{:.2f} collisions/path",
               camera.width, camera.height, settings_.samples_per_pixel, img.stats.seconds, img.stats.paths,
               img.stats.truncated_paths, img.stats.rouletted_paths,
-              double(img.stats.medium_collisions + img.stats.ground_hits) / double(std::max<std::uint64_t>(1, img.stats.paths)));
+              double(img.stats.medium_collisions + img.stats.ground_hits) /
+                  double(std::max<std::uint64_t>(1, img.stats.paths)));
   }
   return img;
 }

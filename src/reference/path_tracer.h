@@ -72,24 +72,24 @@ struct PathTracerSettings {
   SunTransmittance sun_transmittance = SunTransmittance::RatioTracking;
   glm::dvec3 sky_radiance{0.0};  ///< uniform sky radiance (linear RGB)
   bool ground_enabled = false;
-  double ground_height_m = 0.0;  ///< world z of the ground plane (0 = mean sea level)
+  double ground_height_m = 0.0;   ///< world z of the ground plane (0 = mean sea level)
   glm::dvec3 ground_albedo{0.1};  ///< Lambertian albedo, used when ground_albedo_at is empty
   /// Optional per-point albedo (world x, y in metres) — e.g. the reprojected basemap.
   std::function<glm::dvec3(double x_m, double y_m)> ground_albedo_at;
   bool include_background = false;  ///< add T·L_bg (uncollided primary paths) to RGB
-  bool pixel_jitter = false;  ///< false: every sample through the pixel centre, like the GPU
+  bool pixel_jitter = false;        ///< false: every sample through the pixel centre, like the GPU
   int brick_voxels = kDefaultBrickVoxels;
   /// The extinction filter (volume/reconstruction.h), as in the GPU renderer; the majorants and
   /// the exact optical depth follow it.
   scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
-  int threads = 0;  ///< 0 = TBB's default
+  int threads = 0;        ///< 0 = TBB's default
   bool progress = false;  ///< progress lines on stderr (through core/log)
 };
 
 struct PathTracerStats {
   std::uint64_t paths = 0;
-  std::uint64_t truncated_paths = 0;   ///< cut by max_events (biased: their energy is lost)
-  std::uint64_t rouletted_paths = 0;   ///< ended by Russian roulette (unbiased)
+  std::uint64_t truncated_paths = 0;  ///< cut by max_events (biased: their energy is lost)
+  std::uint64_t rouletted_paths = 0;  ///< ended by Russian roulette (unbiased)
   std::uint64_t medium_collisions = 0;
   std::uint64_t ground_hits = 0;
   double seconds = 0.0;
@@ -129,8 +129,7 @@ class PathTracer {
   /// One pixel of `camera` with the same RNG stream as render() uses for it.
   PixelEstimate renderPixel(const scene::Camera& camera, int x, int y) const;
   /// `samples` paths along one explicit ray (unit dir), RNG stream `stream`.
-  PixelEstimate estimateRay(const glm::dvec3& origin_m, const glm::dvec3& dir, int samples,
-                            std::uint64_t stream) const;
+  PixelEstimate estimateRay(const glm::dvec3& origin_m, const glm::dvec3& dir, int samples, std::uint64_t stream) const;
   /// 1 − exp(−τ) along a ray, τ exact, to the ground plane when it is on.
   double alpha(const glm::dvec3& origin_m, const glm::dvec3& dir) const;
   /// The exact alpha of every pixel-centre ray of `camera` (row 0 = top), without tracing paths:
@@ -143,8 +142,8 @@ class PathTracer {
 
  private:
   class Path;
-  PixelEstimate estimate(const scene::Camera* camera, int px, int py, glm::dvec3 origin, glm::dvec3 dir,
-                         int samples, std::uint64_t stream) const;
+  PixelEstimate estimate(const scene::Camera* camera, int px, int py, glm::dvec3 origin, glm::dvec3 dir, int samples,
+                         std::uint64_t stream) const;
   double groundDistance(const glm::dvec3& origin_m, const glm::dvec3& dir) const;
 
   ExtinctionField field_;

@@ -77,12 +77,14 @@ double ExtinctionField::opticalDepth(const glm::dvec3& origin_m, const glm::dvec
     const double a = std::sqrt(5.0 - 2.0 * std::sqrt(10.0 / 7.0)) / 3.0;  // Abramowitz & Stegun 25.4.30
     const double b = std::sqrt(5.0 + 2.0 * std::sqrt(10.0 / 7.0)) / 3.0;
     const double wa = (322.0 + 13.0 * std::sqrt(70.0)) / 900.0, wb = (322.0 - 13.0 * std::sqrt(70.0)) / 900.0;
-    return std::array<Node, 5>{{{-0.5 * b, 0.5 * wb}, {-0.5 * a, 0.5 * wa}, {0.0, 0.5 * 128.0 / 225.0},
-                                {0.5 * a, 0.5 * wa}, {0.5 * b, 0.5 * wb}}};
+    return std::array<Node, 5>{{{-0.5 * b, 0.5 * wb},
+                                {-0.5 * a, 0.5 * wa},
+                                {0.0, 0.5 * 128.0 / 225.0},
+                                {0.5 * a, 0.5 * wa},
+                                {0.5 * b, 0.5 * wb}}};
   }();
-  const std::span<const Node> nodes = reconstruction() == scene::Reconstruction::Cubic
-                                          ? std::span<const Node>(kGauss5)
-                                          : std::span<const Node>(kGauss2);
+  const std::span<const Node> nodes = reconstruction() == scene::Reconstruction::Cubic ? std::span<const Node>(kGauss5)
+                                                                                       : std::span<const Node>(kGauss2);
   double tau = 0.0;
   for (double t = t0;;) {
     int axis = -1;

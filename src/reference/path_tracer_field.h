@@ -35,8 +35,12 @@ class ExtinctionField {
   Extinction at(const glm::dvec3& world_m) const { return sampler_.at(world_m); }
   scene::Reconstruction reconstruction() const { return sampler_.reconstruction(); }
   /// The support of β: the volume box grown by supportVoxels(reconstruction) on every side [world m].
-  glm::dvec3 supportMin() const { return frame_.min_m() - scene::supportVoxels(reconstruction()) * frame_.voxel_size_m; }
-  glm::dvec3 supportMax() const { return frame_.max_m() + scene::supportVoxels(reconstruction()) * frame_.voxel_size_m; }
+  glm::dvec3 supportMin() const {
+    return frame_.min_m() - scene::supportVoxels(reconstruction()) * frame_.voxel_size_m;
+  }
+  glm::dvec3 supportMax() const {
+    return frame_.max_m() + scene::supportVoxels(reconstruction()) * frame_.voxel_size_m;
+  }
   /// The parameter range [t0, t1] (t0 ≥ t_min) where origin + t·dir lies in the support box;
   /// false when the ray misses it. `dir` need not be unit length (t is then in units of |dir|).
   bool clipToBox(const glm::dvec3& origin_m, const glm::dvec3& dir, double t_min, double t_max, double& t0,

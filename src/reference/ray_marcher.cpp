@@ -12,9 +12,8 @@
 namespace nph::reference {
 
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
-                  double step_voxels, double min_transmittance, const SampleVisitor& visit,
-                  const RayEndVisitor& end, scene::Reconstruction reconstruction,
-                  const scene::TerrainField* terrain, scene::Detail detail) {
+                  double step_voxels, double min_transmittance, const SampleVisitor& visit, const RayEndVisitor& end,
+                  scene::Reconstruction reconstruction, const scene::TerrainField* terrain, scene::Detail detail) {
   const scene::ExtinctionSampler sampler(volumes, frame, reconstruction, detail);
   const glm::dvec3 voxel = frame.voxel_size_m;
   const double step = step_voxels * std::min({voxel.x, voxel.y, voxel.z});
@@ -60,7 +59,8 @@ glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& dep
                           const RaySample& sample, const RayMarchSettings& s) {
   const glm::dvec2 tau = columnDepthAt(depths, frame, sample.position_m);
   const double g = s.g_water + (s.g_ice - s.g_water) * sample.ice_weight;
-  return 0.5 * (sky.above * lighting::diffuseTransmittance(tau.x, g) + sky.below * lighting::diffuseTransmittance(tau.y, g));
+  return 0.5 *
+         (sky.above * lighting::diffuseTransmittance(tau.x, g) + sky.below * lighting::diffuseTransmittance(tau.y, g));
 }
 
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,

@@ -35,13 +35,12 @@ using SampleVisitor = std::function<void(int x, int y, const glm::dvec3& dir, co
 using RayEndVisitor = std::function<void(int x, int y, double transmittance)>;
 
 /// The eye pass's march (pixel-centre rays, step × the smallest voxel side, midpoint samples,
-/// stop below `min_transmittance`, β by `reconstruction` and `detail`): `visit` for every sample front to back, `end` once per ray
-/// with its final transmittance. Rows run in parallel (TBB): the visitors must only touch their
-/// own pixel's data. With `terrain` (present) a ray ends where it meets the displaced ground, as
-/// the GPU's does (glsl/common/terrain.glsl, the same code compiled as C++).
+/// stop below `min_transmittance`, β by `reconstruction` and `detail`): `visit` for every sample front to back, `end`
+/// once per ray with its final transmittance. Rows run in parallel (TBB): the visitors must only touch their own
+/// pixel's data. With `terrain` (present) a ray ends where it meets the displaced ground, as the GPU's does
+/// (glsl/common/terrain.glsl, the same code compiled as C++).
 void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
-                  double step_voxels, double min_transmittance, const SampleVisitor& visit,
-                  const RayEndVisitor& end,
+                  double step_voxels, double min_transmittance, const SampleVisitor& visit, const RayEndVisitor& end,
                   scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
                   const scene::TerrainField* terrain = nullptr, scene::Detail detail = scene::Detail::None);
 

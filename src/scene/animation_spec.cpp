@@ -66,8 +66,8 @@ std::vector<CameraKeyframe> parseKeyframes(Object& o, std::string_view key) {
     if (!at) k.fail(k.at("at_s"), "required (video time of the keyframe in seconds)");
     kf.at_s = *at;
     if (!keys.empty() && kf.at_s <= keys.back().at_s) {
-      k.fail(k.at("at_s"), fmt::format("keyframes must be in increasing time order ({} s follows {} s)", kf.at_s,
-                                       keys.back().at_s));
+      k.fail(k.at("at_s"),
+             fmt::format("keyframes must be in increasing time order ({} s follows {} s)", kf.at_s, keys.back().at_s));
     }
     json_detail::parseCameraObject(k, kf.camera);
     keys.push_back(kf);
@@ -142,7 +142,8 @@ AnimationSpec parseAnimation(const SceneDescription& scene) {
   a.from = parseTimePoint(o, "from");
   a.to = parseTimePoint(o, "to");
   if (const json* f = o.get("fps")) {
-    if (!f->is_number() && !f->is_string()) o.fail(o.at("fps"), "expected a number or a string like \"60000/1001\", got " + typeName(*f));
+    if (!f->is_number() && !f->is_string())
+      o.fail(o.at("fps"), "expected a number or a string like \"60000/1001\", got " + typeName(*f));
     try {
       a.fps = FrameRate::parse(f->is_string() ? f->get<std::string>() : f->dump());
     } catch (const InputError& e) {
@@ -162,7 +163,8 @@ AnimationSpec parseAnimation(const SceneDescription& scene) {
   a.keyframes = parseKeyframes(o, "camera_keyframes");
   const std::string file = o.path("keyframes_file", false);
   if (!file.empty()) {
-    if (!a.keyframes.empty()) o.fail(o.at("keyframes_file"), "give either camera_keyframes or keyframes_file, not both");
+    if (!a.keyframes.empty())
+      o.fail(o.at("keyframes_file"), "give either camera_keyframes or keyframes_file, not both");
     a.keyframes = loadCameraKeyframes(file);
     a.keyframes_file = file;
   }

@@ -8,17 +8,15 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/error.h"
 #include "core/input_file.h"
 #include "core/limits.h"
-#include "core/error.h"
 #include "core/log.h"
 
 namespace nph::scene {
 
 // IEC 61966-2-1 (sRGB): linear segment below 0.04045 (encoded) / 0.0031308 (linear).
-float srgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 namespace {
 
 void requireTwoToOne(int w, int h, const std::string& name) {
@@ -35,8 +33,7 @@ EquirectangularImage::EquirectangularImage(LinearRgbImage image, std::string nam
     : image_(std::move(image)), name_(std::move(name)) {
   requireTwoToOne(image_.width, image_.height, name_);
   if (image_.rgb.size() != std::size_t(image_.width) * std::size_t(image_.height) * 3) {
-    throw UsageError(fmt::format("{}: {} floats for {}x{} RGB", name_, image_.rgb.size(),
-                                 image_.width, image_.height));
+    throw UsageError(fmt::format("{}: {} floats for {}x{} RGB", name_, image_.rgb.size(), image_.width, image_.height));
   }
 }
 
@@ -58,9 +55,9 @@ EquirectangularImage EquirectangularImage::load(const std::string& path) {
     throw InputError(fmt::format("{}: basemap has {} channels, expected 1-4 (grey, RGB, RGBA)", path, nc));
   }
   // The header's size is checked before the decode buffers are allocated.
-  limits::requireProductWithin(path, "basemap width x height", {std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))},
-                               limits::kMaxBasemapPixels,
-                               "limits::kMaxBasemapPixels; downsample the image, e.g. to 8192x4096");
+  limits::requireProductWithin(
+      path, "basemap width x height", {std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))},
+      limits::kMaxBasemapPixels, "limits::kMaxBasemapPixels; downsample the image, e.g. to 8192x4096");
   requireTwoToOne(w, h, path);
   const std::size_t n = std::size_t(w) * std::size_t(h);
   LinearRgbImage img{w, h, std::vector<float>(n * 3)};
@@ -68,9 +65,9 @@ EquirectangularImage EquirectangularImage::load(const std::string& path) {
   if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data())) {
     throw InputError(fmt::format("{}: cannot decode the basemap image: {}", path, in->geterror()));
   }
-  const bool encoded = !(spec.format.basetype == OIIO::TypeDesc::HALF ||
-                         spec.format.basetype == OIIO::TypeDesc::FLOAT ||
-                         spec.format.basetype == OIIO::TypeDesc::DOUBLE);
+  const bool encoded =
+      !(spec.format.basetype == OIIO::TypeDesc::HALF || spec.format.basetype == OIIO::TypeDesc::FLOAT ||
+        spec.format.basetype == OIIO::TypeDesc::DOUBLE);
   // 8-bit sources (Blue Marble JPEG): exact table of the 256 codes instead of 3·w·h pow() calls.
   std::array<float, 256> lut{};
   for (int c = 0; c < 256; ++c) lut[std::size_t(c)] = srgbToLinear(float(c) / 255.0f);
@@ -90,9 +87,7 @@ EquirectangularImage EquirectangularImage::load(const std::string& path) {
   return EquirectangularImage(std::move(img), path);
 }
 
-glm::dvec2 equirectUv(double lon_deg, double lat_deg) {
-  return {(lon_deg + 180.0) / 360.0, (90.0 - lat_deg) / 180.0};
-}
+glm::dvec2 equirectUv(double lon_deg, double lat_deg) { return {(lon_deg + 180.0) / 360.0, (90.0 - lat_deg) / 180.0}; }
 
 glm::vec3 EquirectangularImage::sampleLonLat(double lon_deg, double lat_deg) const {
   const int w = image_.width, h = image_.height;
@@ -133,8 +128,8 @@ constexpr double kInterpolationTolerance_deg = 1e-4;
 
 }  // namespace
 
-LinearRgbImage reprojectBasemap(const EquirectangularImage& source, const SceneGeoreference& geo,
-                                const WorldRect& rect, int width, int height) {
+LinearRgbImage reprojectBasemap(const EquirectangularImage& source, const SceneGeoreference& geo, const WorldRect& rect,
+                                int width, int height) {
   if (width <= 0 || height <= 0 || !(rect.max_m.x > rect.min_m.x) || !(rect.max_m.y > rect.min_m.y)) {
     throw UsageError(fmt::format("reprojectBasemap: empty request ({}x{} pixels)", width, height));
   }
@@ -238,9 +233,8 @@ LinearRgbImage reprojectBasemap(const EquirectangularImage& source, const SceneG
     log::debug("basemap {}: {} of {} cells projected pixel by pixel", source.name(), exactCells, cellCount);
   }
   if (failed > 0) {
-    log::warn("basemap {}: {} of {} pixels lie outside the projection '{}' and are black",
-              source.name(), failed, std::size_t(width) * std::size_t(height),
-              geo.projection().definition());
+    log::warn("basemap {}: {} of {} pixels lie outside the projection '{}' and are black", source.name(), failed,
+              std::size_t(width) * std::size_t(height), geo.projection().definition());
   }
   return out;
 }

@@ -77,7 +77,7 @@ glm::dvec2 worldFromBasemapPixel(const WorldRect& rect, int width, int height, d
 /// Resamples `source` into the data's projection: pixel centres -> world -> lon/lat (through
 /// `geo`, offset included) -> bilinear lookup. Points PROJ cannot invert become black; their count
 /// is logged. Throws UsageError for an empty rectangle or size.
-LinearRgbImage reprojectBasemap(const EquirectangularImage& source, const SceneGeoreference& geo,
-                                const WorldRect& rect, int width, int height);
+LinearRgbImage reprojectBasemap(const EquirectangularImage& source, const SceneGeoreference& geo, const WorldRect& rect,
+                                int width, int height);
 
 }  // namespace nph::scene

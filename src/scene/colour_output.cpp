@@ -24,7 +24,11 @@ struct DisplayOutput::Impl {
 
 DisplayOutput::DisplayOutput(std::shared_ptr<const Impl> impl, std::string config, std::string display,
                              std::string view, bool hdr)
-    : impl_(std::move(impl)), config_(std::move(config)), display_(std::move(display)), view_(std::move(view)), hdr_(hdr) {}
+    : impl_(std::move(impl)),
+      config_(std::move(config)),
+      display_(std::move(display)),
+      view_(std::move(view)),
+      hdr_(hdr) {}
 
 std::string defaultOcioConfig() {
   if (const char* env = std::getenv("NEPHELE_OCIO_CONFIG"); env != nullptr && *env != '\0') return env;
@@ -45,7 +49,8 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
-std::shared_ptr<const DisplayOutput> build(const std::string& path, const std::string& display, const std::string& view) {
+std::shared_ptr<const DisplayOutput> build(const std::string& path, const std::string& display,
+                                           const std::string& view) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(fmt::format("{}: OpenColorIO config not found (output.ocio_config / NEPHELE_OCIO_CONFIG)", path));
@@ -61,7 +66,8 @@ std::shared_ptr<const DisplayOutput> build(const std::string& path, const std::s
     for (int i = 0; i < cfg->getNumViews(display.c_str()); ++i) views.emplace_back(cfg->getView(display.c_str(), i));
     const std::string v = view.empty() ? std::string(cfg->getDefaultView(display.c_str())) : view;
     if (std::find(views.begin(), views.end(), v) == views.end()) {
-      throw InputError(fmt::format("{}: display \"{}\" has no view \"{}\"; it has {}", path, display, v, joined(views)));
+      throw InputError(
+          fmt::format("{}: display \"{}\" has no view \"{}\"; it has {}", path, display, v, joined(views)));
     }
     const OCIO::DisplayViewTransformRcPtr t = OCIO::DisplayViewTransform::Create();
     t->setSrc(OCIO::ROLE_SCENE_LINEAR);

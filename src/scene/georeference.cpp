@@ -24,14 +24,14 @@ std::string projectionFor(const geo::GridGeoreference& grid, const std::optional
     throw InputError("the volume's grid is Cartesian (no map projection in the model file): give "
                      "the lon/lat of its centre to place it on the Earth");
   }
-  return fmt::format("+proj=aeqd +lat_0={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs",
-                     centre->lat_deg, centre->lon_deg, kEarthRadius_m);
+  return fmt::format("+proj=aeqd +lat_0={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs", centre->lat_deg,
+                     centre->lon_deg, kEarthRadius_m);
 }
 
 }  // namespace
 
-SceneGeoreference::SceneGeoreference(const geo::GridGeoreference& grid, const VolumeFrame& frame,
-                                     LonLatOffset offset, std::optional<LonLat> centre_if_cartesian)
+SceneGeoreference::SceneGeoreference(const geo::GridGeoreference& grid, const VolumeFrame& frame, LonLatOffset offset,
+                                     std::optional<LonLat> centre_if_cartesian)
     : frame_(frame), offset_(offset), projection_(projectionFor(grid, centre_if_cartesian)) {
   if (!std::isfinite(offset.lon_deg) || !std::isfinite(offset.lat_deg)) {
     throw UsageError("SceneGeoreference: lon/lat offset must be finite");
@@ -99,8 +99,8 @@ void SceneGeoreference::footprintBounds(LonLat& lo, LonLat& hi) const {
   hi = {-lo.lon_deg, -lo.lat_deg};
   for (int k = 0; k <= kSamplesPerEdge; ++k) {
     const double t = double(k) / kSamplesPerEdge;
-    for (glm::dvec2 w : {glm::dvec2{t * s.x, 0.0}, glm::dvec2{t * s.x, s.y}, glm::dvec2{0.0, t * s.y},
-                         glm::dvec2{s.x, t * s.y}}) {
+    for (glm::dvec2 w :
+         {glm::dvec2{t * s.x, 0.0}, glm::dvec2{t * s.x, s.y}, glm::dvec2{0.0, t * s.y}, glm::dvec2{s.x, t * s.y}}) {
       const LonLat ll = lonLatFromWorld(w);
       lo = {std::min(lo.lon_deg, ll.lon_deg), std::min(lo.lat_deg, ll.lat_deg)};
       hi = {std::max(hi.lon_deg, ll.lon_deg), std::max(hi.lat_deg, ll.lat_deg)};

@@ -46,8 +46,8 @@ class SceneGeoreference {
   /// an azimuthal equidistant projection on WRF's sphere; without it they throw InputError.
   SceneGeoreference(const geo::GridGeoreference& grid, const VolumeFrame& frame, LonLatOffset offset = {},
                     std::optional<LonLat> centre_if_cartesian = std::nullopt);
-  SceneGeoreference(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
-                    LonLatOffset offset = {}, std::optional<LonLat> centre_if_cartesian = std::nullopt)
+  SceneGeoreference(const ExtinctionVolumes& volumes, const VolumeFrame& frame, LonLatOffset offset = {},
+                    std::optional<LonLat> centre_if_cartesian = std::nullopt)
       : SceneGeoreference(volumes.georef, frame, offset, centre_if_cartesian) {}
 
   /// World x/y [m] -> lon/lat (offset applied). Throws InputError where PROJ cannot invert.
@@ -85,8 +85,8 @@ class SceneGeoreference {
   VolumeFrame frame_;
   LonLatOffset offset_;
   MapProjection projection_;
-  glm::dvec2 origin_{0.0};         ///< projected coordinates of world (0, 0)
-  glm::dvec2 scale_{1.0};          ///< projected units per world metre (x, y)
+  glm::dvec2 origin_{0.0};  ///< projected coordinates of world (0, 0)
+  glm::dvec2 scale_{1.0};   ///< projected units per world metre (x, y)
 };
 
 /// Globe: Earth-centred, Earth-fixed coordinates [m] of lon/lat at height h above a sphere of

@@ -72,9 +72,7 @@ class Object {
     }
     return d;
   }
-  double number(std::string_view key, double def, double lo, double hi) {
-    return optNumber(key, lo, hi).value_or(def);
-  }
+  double number(std::string_view key, double def, double lo, double hi) { return optNumber(key, lo, hi).value_or(def); }
   int integer(std::string_view key, int def, int lo, int hi) {
     const json* v = get(key);
     if (!v) return def;

@@ -29,8 +29,8 @@ void checkImage(const RgbaImage& img, const std::string& path) {
   const bool depthOnly = img.rgba.empty() && img.depth_m.size() == n;
   if (img.width <= 0 || img.height <= 0 || (img.rgba.size() != 4 * n && !depthOnly) ||
       !(img.depth_m.empty() || img.depth_m.size() == n)) {
-    throw UsageError(fmt::format("{}: inconsistent image {}x{} with {} RGBA floats and {} depths",
-                                 path, img.width, img.height, img.rgba.size(), img.depth_m.size()));
+    throw UsageError(fmt::format("{}: inconsistent image {}x{} with {} RGBA floats and {} depths", path, img.width,
+                                 img.height, img.rgba.size(), img.depth_m.size()));
   }
   for (const ImageLayer& l : img.layers) {
     if (l.name.empty() || l.channels.empty() || l.values.size() != n * l.channels.size()) {
@@ -111,9 +111,7 @@ std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOpt
   const auto scale = static_cast<float>(std::exp2(o.exposure_ev));
   const std::size_t n = std::size_t(img.width) * std::size_t(img.height);
   std::vector<std::uint8_t> out(4 * n);
-  auto code = [](float v) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-  };
+  auto code = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
   for (std::size_t p = 0; p < n; ++p) {
     const float* src = &img.rgba[4 * p];
     const float alpha = std::isfinite(src[3]) ? std::clamp(src[3], 0.0f, 1.0f) : 0.0f;
@@ -205,7 +203,8 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
   std::vector<Channel> channels;
   if (!img.rgba.empty()) {
     for (int c = 0; c < 4; ++c) {
-      channels.push_back({std::string(1, "RGBA"[c]), OIIO::TypeDesc::HALF, img.rgba.data() + c, 4, c < 3 ? colourScale : 1.0f});
+      channels.push_back(
+          {std::string(1, "RGBA"[c]), OIIO::TypeDesc::HALF, img.rgba.data() + c, 4, c < 3 ? colourScale : 1.0f});
     }
   }
   if (depth) channels.push_back({"Z", OIIO::TypeDesc::FLOAT, img.depth_m.data(), 1, 1.0f});
@@ -245,8 +244,7 @@ void writeImage(const RgbaImage& img, const std::string& path, const ImageOutput
   const std::string ext = lowerExtension(path);
   if (ext == ".exr") return writeExr(img, path, o);
   if (ext == ".png") return writePng(img, path, o);
-  throw InputError(fmt::format("{}: output image type '{}' is not supported, expected .exr or .png",
-                               path, ext));
+  throw InputError(fmt::format("{}: output image type '{}' is not supported, expected .exr or .png", path, ext));
 }
 
 }  // namespace nph::scene

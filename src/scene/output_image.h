@@ -71,7 +71,7 @@ inline constexpr double kDefaultExposureEv = 2.5;
 struct ImageOutputOptions {
   double exposure_ev = 0.0;  ///< radiance scale 2^ev (EXR and PNG alike); scenes default to kDefaultExposureEv
   ToneCurve tone_curve = ToneCurve::AcesFitted;  ///< PNG only; EXR stays linear
-  bool write_depth = true;                   ///< EXR: add Z when the image has depth
+  bool write_depth = true;                       ///< EXR: add Z when the image has depth
   /// EXR capDate ("YYYY:MM:DD hh:mm:ss"). Empty: OpenImageIO writes the wall-clock time, so two
   /// writes of one image differ; animations give the model time shown, for identical bytes.
   std::string date_time;

@@ -10,11 +10,11 @@ namespace nph::scene {
 namespace {
 
 constexpr std::array<std::pair<Pass, std::string_view>, 6> kPassNames{{{Pass::Beauty, "beauty"},
-                                                                        {Pass::Cloud, "cloud"},
-                                                                        {Pass::Ground, "ground"},
-                                                                        {Pass::Sky, "sky"},
-                                                                        {Pass::Shadow, "shadow"},
-                                                                        {Pass::Depth, "depth"}}};
+                                                                       {Pass::Cloud, "cloud"},
+                                                                       {Pass::Ground, "ground"},
+                                                                       {Pass::Sky, "sky"},
+                                                                       {Pass::Shadow, "shadow"},
+                                                                       {Pass::Depth, "depth"}}};
 
 void checkPasses(const RgbaImage& frame, const RgbaImage& cloud, const FramePasses& p) {
   const std::size_t n = std::size_t(frame.width) * std::size_t(frame.height);

@@ -12,8 +12,8 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
-#include "core/limits.h"
 #include "core/json_limits.h"
+#include "core/limits.h"
 #include "core/log.h"
 #include "scene/colour_output.h"
 #include "scene/json_object.h"
@@ -25,7 +25,7 @@ namespace {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-constexpr int kMaxImageSide = 16384;   ///< largest output/basemap side accepted (GL_MAX_TEXTURE_SIZE on llvmpipe)
+constexpr int kMaxImageSide = 16384;  ///< largest output/basemap side accepted (GL_MAX_TEXTURE_SIZE on llvmpipe)
 constexpr double kMaxExaggeration = 1000.0;
 /// Explicit camera coordinates beyond 1e9 m leave float positions without precision in the ray
 /// caster (a position of 1e300 m rendered a blank image).
@@ -176,7 +176,8 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
       if (col->x < 0.0 || col->y < 0.0 || col->z < 0.0 || col->x > kMaxSunColour || col->y > kMaxSunColour ||
           col->z > kMaxSunColour) {
         u->fail(u->at("colour"), fmt::format("expected components in [0, {}] (a tint; intensity sets the "
-                                             "brightness)", kMaxSunColour));
+                                             "brightness)",
+                                             kMaxSunColour));
       }
       sun.colour = *col;
     }
@@ -235,14 +236,18 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     const auto imagePath = [&](const std::string& where, const json& e) {
       if (!e.is_string()) o->fail(where, "expected a string, got " + typeName(e));
       std::string ext = fs::path(e.get<std::string>()).extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-      if (ext != ".png" && ext != ".exr") o->fail(where, "expected a .png or .exr file, got \"" + e.get<std::string>() + "\"");
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      if (ext != ".png" && ext != ".exr")
+        o->fail(where, "expected a .png or .exr file, got \"" + e.get<std::string>() + "\"");
       const fs::path path(e.get<std::string>());
-      return path.is_absolute() || base_dir.empty() ? path.string() : (fs::path(base_dir) / path).lexically_normal().string();
+      return path.is_absolute() || base_dir.empty() ? path.string()
+                                                    : (fs::path(base_dir) / path).lexically_normal().string();
     };
     if (const json* p = o->get("paths")) {
       if (!p->is_array()) o->fail(o->at("paths"), "expected an array of file paths, got " + typeName(*p));
-      for (std::size_t i = 0; i < p->size(); ++i) out.paths.push_back(imagePath(fmt::format("{}[{}]", o->at("paths"), i), (*p)[i]));
+      for (std::size_t i = 0; i < p->size(); ++i)
+        out.paths.push_back(imagePath(fmt::format("{}[{}]", o->at("paths"), i), (*p)[i]));
     }
     out.passes = o->boolean("passes", false);
     if (const json* p = o->get("pass_files")) {
@@ -277,12 +282,14 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     // Output colour through OpenColorIO (docs/colour.md); checked now, so a typo fails before rendering.
     if (const auto config = o->optString("ocio_config")) {
       const fs::path p(*config);
-      out.image.ocio_config = p.is_absolute() || base_dir.empty() ? p.string() : (fs::path(base_dir) / p).lexically_normal().string();
+      out.image.ocio_config =
+          p.is_absolute() || base_dir.empty() ? p.string() : (fs::path(base_dir) / p).lexically_normal().string();
     }
     if (const auto display = o->optString("display")) out.image.display = *display;
     if (const auto view = o->optString("view")) out.image.view = *view;
     if (out.image.display.empty() && (!out.image.view.empty() || !out.image.ocio_config.empty())) {
-      o->fail(o->at(out.image.view.empty() ? "ocio_config" : "view"), "needs output.display (e.g. \"sRGB\", \"Rec.2100-PQ\")");
+      o->fail(o->at(out.image.view.empty() ? "ocio_config" : "view"),
+              "needs output.display (e.g. \"sRGB\", \"Rec.2100-PQ\")");
     }
     if (!out.image.display.empty()) {
       try {
@@ -381,9 +388,8 @@ Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, in
   if (elevation > 89.0) {
     // Looking (almost) straight down: "up" in the image is the horizontal direction away from
     // the camera's azimuth (north for the default), never the view direction itself.
-    up = *spec.preset == CameraPreset::Top && !spec.azimuth_deg
-             ? glm::dvec3{0.0, 1.0, 0.0}
-             : glm::dvec3{-std::sin(az), -std::cos(az), 0.0};
+    up = *spec.preset == CameraPreset::Top && !spec.azimuth_deg ? glm::dvec3{0.0, 1.0, 0.0}
+                                                                : glm::dvec3{-std::sin(az), -std::cos(az), 0.0};
   }
   cam.up = up;
   cam.near_m = std::max(10.0, 0.01 * distance);
@@ -416,7 +422,8 @@ Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view d
   s.elevation_deg = geographic.elevation_deg;
   if (s.elevation_deg <= 0.0) {
     log::warn("sun at {} over lon {:.2f} lat {:.2f} is {:.1f}° below the horizon: the clouds will be "
-              "lit only by the ambient sky", time, ll.lon_deg, ll.lat_deg, -s.elevation_deg);
+              "lit only by the ambient sky",
+              time, ll.lon_deg, ll.lat_deg, -s.elevation_deg);
   }
   return geo->sunInWorld(s, centre);
 }

@@ -40,10 +40,10 @@ struct CameraSpec {
   std::optional<glm::dvec3> position_m;
   std::optional<glm::dvec3> target_m;
   glm::dvec3 up{0.0, 0.0, 1.0};
-  double fov_deg = 40.0;                 ///< vertical field of view
-  std::optional<double> azimuth_deg;     ///< preset: compass direction from the target to the camera
-  std::optional<double> elevation_deg;   ///< preset: angle of the camera above the horizon
-  double distance_scale = 1.0;           ///< preset: 1 frames the volume, < 1 moves closer
+  double fov_deg = 40.0;                ///< vertical field of view
+  std::optional<double> azimuth_deg;    ///< preset: compass direction from the target to the camera
+  std::optional<double> elevation_deg;  ///< preset: angle of the camera above the horizon
+  double distance_scale = 1.0;          ///< preset: 1 frames the volume, < 1 moves closer
 };
 
 struct SunSpec {
@@ -56,17 +56,17 @@ struct SunSpec {
 };
 
 struct BasemapSpec {
-  std::string path;            ///< equirectangular image
-  double margin = 0.25;        ///< around the footprint, fraction of its larger side
-  int pixels_long_side = 2048; ///< resolution of the reprojected basemap
+  std::string path;             ///< equirectangular image
+  double margin = 0.25;         ///< around the footprint, fraction of its larger side
+  int pixels_long_side = 2048;  ///< resolution of the reprojected basemap
 };
-
 
 struct OutputSpec {
   std::vector<std::string> paths;  ///< .png and/or .exr; may be empty when the CLI gives them
   int width = 1920;
   int height = 1080;
-  ImageOutputOptions image{kDefaultExposureEv, ToneCurve::AcesFitted, /*write_depth=*/false, /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
+  ImageOutputOptions image{kDefaultExposureEv, ToneCurve::AcesFitted, /*write_depth=*/false,
+                           /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
   bool passes = false;  ///< "passes": .exr outputs carry the compositing passes as layers (scene/passes.h)
   std::vector<std::pair<Pass, std::string>> pass_files;  ///< "pass_files": {"shadow": "matte.png", ...}
   /// Whether the renderer must produce the passes (Z, layers or pass files).
@@ -91,17 +91,16 @@ struct SceneDescription {
   OutputSpec output;
   double height_exaggeration = 1.0;  ///< Nes 2008 §5.5.2
   ViewMode view = ViewMode::Flat;
-  LonLatOffset lonlat_offset;        ///< Nes 2008 §5.5.1
+  LonLatOffset lonlat_offset;                 ///< Nes 2008 §5.5.1
   std::optional<LonLat> centre_if_cartesian;  ///< placement of idealised (Cartesian) grids
-  std::string base_dir;        ///< folder relative paths were resolved against
+  std::string base_dir;                       ///< folder relative paths were resolved against
   std::string animation_json;  ///< the "animation" section as JSON text, "" when absent (engine/animation.h)
 };
 
 /// Reads and parses a scene file; InputError on a missing file, bad JSON or a bad value.
 SceneDescription loadSceneFile(const std::string& path);
 /// Parses JSON text; `name` appears in messages, relative paths are resolved against `base_dir`.
-SceneDescription parseSceneText(std::string_view text, const std::string& name,
-                                const std::string& base_dir = "");
+SceneDescription parseSceneText(std::string_view text, const std::string& name, const std::string& base_dir = "");
 
 /// The camera of `spec` for a volume: presets frame the volume's bounding box so it fills the
 /// view at `distance_scale` = 1. Overview: from the south, 55° above the horizon; oblique: from

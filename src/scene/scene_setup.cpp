@@ -15,8 +15,8 @@ std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string
   if (times.empty()) throw InputError(fmt::format("{}: has no timesteps", file));
   if (!data.time_utc) {
     if (data.timestep < 0 || std::size_t(data.timestep) >= times.size()) {
-      throw InputError(fmt::format("{}: timestep {} requested, the file has {} (0 to {})", file,
-                                   data.timestep, times.size(), times.size() - 1));
+      throw InputError(fmt::format("{}: timestep {} requested, the file has {} (0 to {})", file, data.timestep,
+                                   times.size(), times.size() - 1));
     }
     return std::size_t(data.timestep);
   }
@@ -26,8 +26,8 @@ std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string
     if (times[t].empty()) continue;
     if (std::abs(UtcTime::parse(times[t]).julian_day - wanted) < kSameTime_days) return t;
   }
-  throw InputError(fmt::format("{}: no timestep at {} (the file has {} timesteps, {} to {})", file,
-                               *data.time_utc, times.size(), times.front(), times.back()));
+  throw InputError(fmt::format("{}: no timestep at {} (the file has {} timesteps, {} to {})", file, *data.time_utc,
+                               times.size(), times.front(), times.back()));
 }
 
 WorldRect farBasemapRectangle(const VolumeFrame& frame) {
@@ -79,8 +79,8 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
       p.far_basemap = reprojectBasemap(source, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
     }
     p.basemap_rect = rect;
-    log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h,
-              extent.x / 1000.0, extent.y / 1000.0);
+    log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h, extent.x / 1000.0,
+              extent.y / 1000.0);
   }
   return p;
 }

@@ -20,19 +20,18 @@ namespace nph::scene {
 /// Index of the timestep `data` asks for among `times_utc` (the file's times, ISO 8601 or WRF):
 /// data.time_utc must match one to within a second; otherwise data.timestep must be in range.
 /// InputError names `file`, what was asked and what the file has.
-std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string>& times_utc,
-                             const std::string& file);
+std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string>& times_utc, const std::string& file);
 
 struct PreparedScene {
   VolumeFrame frame;
-  std::optional<SceneGeoreference> geo;  ///< none for Cartesian grids without centre_lonlat_deg
-  Camera flat_camera;                    ///< world frame (volume_frame.h)
-  Camera camera;                         ///< = flat_camera, or carried onto the globe (ECEF)
-  Sun sun;                               ///< world frame: azimuth from grid north
-  std::optional<glm::dvec3> to_sun_ecef; ///< globe: direction to the sun (needs geo)
-  std::optional<WorldRect> basemap_rect; ///< world rectangle the basemap covers
-  LinearRgbImage basemap;                ///< reprojected linear RGB (empty without a basemap)
-  LinearRgbImage basemap_equirect;       ///< globe: the whole source image by lon/lat (else empty)
+  std::optional<SceneGeoreference> geo;   ///< none for Cartesian grids without centre_lonlat_deg
+  Camera flat_camera;                     ///< world frame (volume_frame.h)
+  Camera camera;                          ///< = flat_camera, or carried onto the globe (ECEF)
+  Sun sun;                                ///< world frame: azimuth from grid north
+  std::optional<glm::dvec3> to_sun_ecef;  ///< globe: direction to the sun (needs geo)
+  std::optional<WorldRect> basemap_rect;  ///< world rectangle the basemap covers
+  LinearRgbImage basemap;                 ///< reprojected linear RGB (empty without a basemap)
+  LinearRgbImage basemap_equirect;        ///< globe: the whole source image by lon/lat (else empty)
   /// Flat view (issue 14 item 4, no void): the same source reprojected, coarser, over a square of
   /// farBasemapRectangle() around the footprint, so the ground goes on to the horizon (where the
   /// atmosphere's aerial perspective fades it into the sky) instead of ending at the near one.

@@ -14,7 +14,7 @@ namespace nph::scene {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kJ2000 = 2451545.0;               ///< JD of 2000-01-01T12:00:00 (TT ≈ UT here)
+constexpr double kJ2000 = 2451545.0;  ///< JD of 2000-01-01T12:00:00 (TT ≈ UT here)
 constexpr double kDaysPerJulianCentury = 36525.0;
 
 double wrap360(double deg) {
@@ -30,7 +30,7 @@ double wrap180(double deg) {  // (-180, 180]
 
 // NOAA solar calculator = Meeus (1998) ch. 25, low accuracy. Symbols as in Meeus.
 SolarCoordinates solarCoordinates(const UtcTime& time) {
-  const double T = (time.julian_day - kJ2000) / kDaysPerJulianCentury;  // Julian centuries
+  const double T = (time.julian_day - kJ2000) / kDaysPerJulianCentury;       // Julian centuries
   const double L0 = wrap360(280.46646 + T * (36000.76983 + T * 0.0003032));  // mean longitude, 25.2
   const double M = 357.52911 + T * (35999.05029 - T * 0.0001537);            // mean anomaly, 25.3
   const double e = 0.016708634 - T * (0.000042037 + T * 0.0000001267);       // eccentricity, 25.4
@@ -39,24 +39,22 @@ SolarCoordinates solarCoordinates(const UtcTime& time) {
                    std::sin(2.0 * Mr) * (0.019993 - T * 0.000101) +
                    std::sin(3.0 * Mr) * 0.000289;  // equation of centre
   const double trueLongitude = L0 + C;
-  const double v = M + C;  // true anomaly
+  const double v = M + C;                                                         // true anomaly
   const double R = 1.000001018 * (1.0 - e * e) / (1.0 + e * std::cos(v * kDeg));  // 25.5
   const double omega = 125.04 - 1934.136 * T;  // longitude of the Moon's ascending node
   const double lambda = trueLongitude - 0.00569 - 0.00478 * std::sin(omega * kDeg);  // apparent
-  const double eps0 =
-      23.0 + (26.0 + (21.448 - T * (46.8150 + T * (0.00059 - T * 0.001813))) / 60.0) / 60.0;  // 22.2
+  const double eps0 = 23.0 + (26.0 + (21.448 - T * (46.8150 + T * (0.00059 - T * 0.001813))) / 60.0) / 60.0;  // 22.2
   const double eps = eps0 + 0.00256 * std::cos(omega * kDeg);  // corrected for apparent position
   const double lr = lambda * kDeg, er = eps * kDeg;
   SolarCoordinates c;
   c.apparent_longitude_deg = wrap360(lambda);
   c.right_ascension_deg = wrap360(std::atan2(std::cos(er) * std::sin(lr), std::cos(lr)) / kDeg);  // 25.6
-  c.declination_deg = std::asin(std::sin(er) * std::sin(lr)) / kDeg;                             // 25.7
+  c.declination_deg = std::asin(std::sin(er) * std::sin(lr)) / kDeg;                              // 25.7
   c.earth_sun_distance_au = R;
   // Equation of time (Meeus eq. 28.3, Smart's series), in minutes of time (4 min per degree).
   const double y = std::pow(std::tan(er / 2.0), 2.0);
   const double L0r = L0 * kDeg;
-  const double E = y * std::sin(2.0 * L0r) - 2.0 * e * std::sin(Mr) +
-                   4.0 * e * y * std::sin(Mr) * std::cos(2.0 * L0r) -
+  const double E = y * std::sin(2.0 * L0r) - 2.0 * e * std::sin(Mr) + 4.0 * e * y * std::sin(Mr) * std::cos(2.0 * L0r) -
                    0.5 * y * y * std::sin(4.0 * L0r) - 1.25 * e * e * std::sin(2.0 * Mr);
   c.equation_of_time_min = 4.0 * E / kDeg;
   return c;
@@ -75,8 +73,8 @@ SolarPosition solarPosition(const UtcTime& time, double lon_deg, double lat_deg,
   const double sinElevation = std::sin(phi) * std::sin(d) + std::cos(phi) * std::cos(d) * std::cos(Hr);
   SolarPosition p;
   p.elevation_deg = std::asin(std::clamp(sinElevation, -1.0, 1.0)) / kDeg;
-  p.azimuth_deg = wrap360(
-      std::atan2(std::sin(Hr), std::cos(Hr) * std::sin(phi) - std::tan(d) * std::cos(phi)) / kDeg + 180.0);
+  p.azimuth_deg =
+      wrap360(std::atan2(std::sin(Hr), std::cos(Hr) * std::sin(phi) - std::tan(d) * std::cos(phi)) / kDeg + 180.0);
   p.hour_angle_deg = H;
   p.declination_deg = c.declination_deg;
   if (refracted) p.elevation_deg += refractionCorrection_deg(p.elevation_deg);

@@ -25,26 +25,25 @@ namespace nph::scene {
 using geo::UtcTime;
 
 struct SolarCoordinates {
-  double declination_deg = 0.0;           ///< apparent declination δ
-  double right_ascension_deg = 0.0;       ///< apparent right ascension α, [0, 360)
-  double equation_of_time_min = 0.0;      ///< apparent − mean solar time [minutes]
-  double apparent_longitude_deg = 0.0;    ///< λ, [0, 360)
-  double earth_sun_distance_au = 1.0;     ///< R
+  double declination_deg = 0.0;         ///< apparent declination δ
+  double right_ascension_deg = 0.0;     ///< apparent right ascension α, [0, 360)
+  double equation_of_time_min = 0.0;    ///< apparent − mean solar time [minutes]
+  double apparent_longitude_deg = 0.0;  ///< λ, [0, 360)
+  double earth_sun_distance_au = 1.0;   ///< R
 };
 
 /// Sun's apparent geocentric coordinates at `time` (Meeus ch. 25, low accuracy; NOAA).
 SolarCoordinates solarCoordinates(const UtcTime& time);
 
 struct SolarPosition {
-  double azimuth_deg = 0.0;    ///< clockwise from geographic north, [0, 360)
-  double elevation_deg = 0.0;  ///< above the horizon; geometric unless refracted
-  double hour_angle_deg = 0.0; ///< local hour angle, (-180, 180], 0 at local solar noon
+  double azimuth_deg = 0.0;     ///< clockwise from geographic north, [0, 360)
+  double elevation_deg = 0.0;   ///< above the horizon; geometric unless refracted
+  double hour_angle_deg = 0.0;  ///< local hour angle, (-180, 180], 0 at local solar noon
   double declination_deg = 0.0;
 };
 
 /// Azimuth and elevation of the sun seen from (lon, lat) at `time`. Longitude east positive.
-SolarPosition solarPosition(const UtcTime& time, double lon_deg, double lat_deg,
-                            bool refracted = false);
+SolarPosition solarPosition(const UtcTime& time, double lon_deg, double lat_deg, bool refracted = false);
 
 /// Atmospheric refraction added to a geometric elevation [deg] (NREL SPA, Reda & Andreas 2004,
 /// eq. 42, after Bennett's formula), for pressure [hPa] and temperature [°C]; 0 below −0.8°.

@@ -7,8 +7,8 @@
 namespace nph::scene {
 
 struct Sun {
-  double azimuth_deg = 135.0;   ///< 0 = north, 90 = east
-  double elevation_deg = 45.0;  ///< 90 = zenith; ≤ 0 is below the horizon
+  double azimuth_deg = 135.0;        ///< 0 = north, 90 = east
+  double elevation_deg = 45.0;       ///< 90 = zenith; ≤ 0 is below the horizon
   glm::dvec3 colour{1.0, 1.0, 1.0};  ///< linear RGB irradiance scale
   double intensity = 1.0;
 

@@ -54,7 +54,8 @@ glm::dvec2 columnDepthAt(const ColumnDepths& d, const scene::VolumeFrame& frame,
     const glm::ivec3 o(c & 1, (c >> 1) & 1, (c >> 2) & 1);
     const glm::ivec3 idx = glm::clamp(glm::ivec3(lo) + o, glm::ivec3(0), n - 1);
     const double w = (o.x ? f.x : 1.0 - f.x) * (o.y ? f.y : 1.0 - f.y) * (o.z ? f.z : 1.0 - f.z);
-    const std::size_t k = (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);
+    const std::size_t k =
+        (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);
     out += w * glm::dvec2(d.up[k], d.down[k]);
   }
   return out;

@@ -39,7 +39,8 @@ glm::dvec4 DetailControls::at(const glm::dvec3& g) const {
         if (w == 0.0) continue;
         const int i = std::clamp(i0.x + dx, 0, nx - 1), j = std::clamp(i0.y + dy, 0, ny - 1),
                   k = std::clamp(i0.z + dz, 0, nz - 1);
-        const std::size_t q = 4 * ((std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i));
+        const std::size_t q =
+            4 * ((std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i));
         r += w * glm::dvec4(rgba[q], rgba[q + 1], rgba[q + 2], rgba[q + 3]);
       }
   return r / 255.0;
@@ -133,7 +134,8 @@ std::vector<float> solveDetailCorrection(const HalfColumnMasses& m) {
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       double p = 0.0;
-      for (int q = 0; q < 4; ++q) p += m.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
+      for (int q = 0; q < 4; ++q)
+        p += m.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
       plain[std::size_t(j) * std::size_t(nx) + std::size_t(i)] = p;
       maxPlain = std::max(maxPlain, p);
     }
@@ -150,8 +152,8 @@ std::vector<float> solveDetailCorrection(const HalfColumnMasses& m) {
         double d = 0.0;
         for (int q = 0; q < 4; ++q) {
           const int sx = q % 2 ? 1 : -1, sy = q / 2 ? 1 : -1;  // the quadrant's side
-          const double w = 9.0 / 16.0 * at(i, j) + 3.0 / 16.0 * (at(i + sx, j) + at(i, j + sy)) +
-                           1.0 / 16.0 * at(i + sx, j + sy);
+          const double w =
+              9.0 / 16.0 * at(i, j) + 3.0 / 16.0 * (at(i + sx, j) + at(i, j + sy)) + 1.0 / 16.0 * at(i + sx, j + sy);
           d += m.detailed[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)] * w;
         }
         if (d > 0.0) next[J] = std::clamp(c[J] * plain[J] / d, 0.5, 2.0);

@@ -55,10 +55,10 @@ inline constexpr std::array<std::string_view, 3> kDetailNames{"none", "subtle", 
 /// What the shaders and the CPU twin need besides the controls and the noise.
 struct DetailParameters {
   Detail detail = Detail::None;
-  double amplitude = 0.0;         ///< density modulation strength: 0, ½, 1
-  glm::dvec3 period_m{1.0};       ///< world metres per noise tile (density noise)
-  glm::dvec3 reach_m{0.0};        ///< displacement cap per axis [world m]
-  int reach_voxels = 0;           ///< ceil of the cap in voxels: the occupancy's extra dilation
+  double amplitude = 0.0;    ///< density modulation strength: 0, ½, 1
+  glm::dvec3 period_m{1.0};  ///< world metres per noise tile (density noise)
+  glm::dvec3 reach_m{0.0};   ///< displacement cap per axis [world m]
+  int reach_voxels = 0;      ///< ceil of the cap in voxels: the occupancy's extra dilation
   bool on() const { return detail != Detail::None; }
 };
 DetailParameters detailParameters(Detail detail, const VolumeFrame& frame);
@@ -87,7 +87,7 @@ DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
 /// c ∈ [½, 2], columns without plain mass fixed at 1. Measured by the GPU (glsl/render/
 /// detail_mass.comp) for rendering and by ExtinctionSampler for the CPU twin, same pattern.
 struct HalfColumnMasses {
-  int nx = 0, ny = 0;                 ///< model columns (the arrays hold 2nx × 2ny, x fastest)
+  int nx = 0, ny = 0;                   ///< model columns (the arrays hold 2nx × 2ny, x fastest)
   std::vector<double> plain, detailed;  ///< Σ β·Δz over the half-column's rays (any common unit)
 };
 /// Rays per half-column and axis, and the vertical step in layers, of the measurement.

@@ -1,7 +1,7 @@
 #include "volume/extinction_sampler.h"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -32,8 +32,8 @@ ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool c
   const NoiseVolume& noise = noiseVolume();
   const glm::dvec3 g = f_.gridFromWorld(world_m);
   const glm::dvec4 c = controls_->at(g);
-  const glm::dvec3 q = world_m + detailDisplacement(noise.sample(world_m / (2.0 * detail_.period_m)), c.x,
-                                                     detail_.reach_m, noise.stats);
+  const glm::dvec3 q =
+      world_m + detailDisplacement(noise.sample(world_m / (2.0 * detail_.period_m)), c.x, detail_.reach_m, noise.stats);
   ExtinctionSample s = plainAt(q);
   if (!(s.total() > 0.0)) return s;
   const glm::dvec3 qn = q / detail_.period_m;

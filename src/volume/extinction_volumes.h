@@ -43,13 +43,11 @@ struct ExtinctionVolumes {
   /// detail uses the documented proxies of volume/detail.h. Carried from model files
   /// (physics/volume_builder.h) and blended between timesteps; a .nph cache does not store them
   /// (its format has no optional variable), so cached data always uses the proxies.
-  std::vector<float> tke_m2_per_s2;     ///< turbulent kinetic energy (WRF TKE_PBL or QKE/2)
-  std::vector<float> cloud_fraction;    ///< WRF CLDFRA, ICON clc/100, in [0, 1]
-  std::vector<float> wind_w_m_per_s;    ///< vertical wind
+  std::vector<float> tke_m2_per_s2;   ///< turbulent kinetic energy (WRF TKE_PBL or QKE/2)
+  std::vector<float> cloud_fraction;  ///< WRF CLDFRA, ICON clc/100, in [0, 1]
+  std::vector<float> wind_w_m_per_s;  ///< vertical wind
 
-  std::size_t voxelCount() const {
-    return std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
-  }
+  std::size_t voxelCount() const { return std::size_t(nx) * std::size_t(ny) * std::size_t(nz); }
   std::size_t index(int i, int j, int k) const {
     return (std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i);
   }

@@ -63,9 +63,7 @@ NoiseStats measure(const std::vector<std::uint8_t>& rgba) {
     sumRG += v.r * v.g;
   }
   const glm::dvec4 mean = sum / double(n);
-  const auto term = [](double m, double a, double b) {
-    return NoiseTermStats{m, std::max({m - a, b - m, 1e-6})};
-  };
+  const auto term = [](double m, double a, double b) { return NoiseTermStats{m, std::max({m - a, b - m, 1e-6})}; };
   NoiseStats s;
   s.r = term(mean.r, lo.r, hi.r);
   s.g = term(mean.g, lo.g, hi.g);
@@ -83,7 +81,8 @@ NoiseVolume compute() {
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const glm::vec4 c = noiseTexelFloat(i, j, k);
-        const std::size_t t = 4 * ((std::size_t(k) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
+        const std::size_t t =
+            4 * ((std::size_t(k) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
         for (int ch = 0; ch < 4; ++ch) v.rgba[t + std::size_t(ch)] = unormCode(c[ch]);
       }
   });

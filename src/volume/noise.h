@@ -25,7 +25,7 @@ struct NoiseTermStats {
 };
 
 struct NoiseStats {
-  NoiseTermStats r, g, a;  ///< single channels (the displacement's three axes)
+  NoiseTermStats r, g, a;     ///< single channels (the displacement's three axes)
   NoiseTermStats stratiform;  ///< n1.r + n2.a (detail.glsl detailDensity)
   NoiseTermStats convective;  ///< n1.r · n1.g · n2.b
 };

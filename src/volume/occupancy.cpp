@@ -29,7 +29,9 @@ OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstructi
         for (int bk = lo.z; bk <= hi.z; ++bk)
           for (int bj = lo.y; bj <= hi.y; ++bj)
             for (int bi = lo.x; bi <= hi.x; ++bi) {
-              float& m = g.max_per_m[(std::size_t(bk) * std::size_t(g.bricks.y) + std::size_t(bj)) * std::size_t(g.bricks.x) + std::size_t(bi)];
+              float& m =
+                  g.max_per_m[(std::size_t(bk) * std::size_t(g.bricks.y) + std::size_t(bj)) * std::size_t(g.bricks.x) +
+                              std::size_t(bi)];
               m = std::max(m, b);
             }
       }

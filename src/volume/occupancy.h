@@ -16,14 +16,15 @@
 namespace nph::scene {
 
 struct OccupancyGrid {
-  int brick = 8;                 ///< voxels per brick side
-  int dilation_voxels = 1;       ///< the reach the bricks were dilated by
-  glm::ivec3 bricks{0};          ///< brick counts
-  std::vector<float> max_per_m;  ///< per brick, x fastest
+  int brick = 8;                                         ///< voxels per brick side
+  int dilation_voxels = 1;                               ///< the reach the bricks were dilated by
+  glm::ivec3 bricks{0};                                  ///< brick counts
+  std::vector<float> max_per_m;                          ///< per brick, x fastest
   glm::ivec3 nonEmptyMinVoxel{0}, nonEmptyMaxVoxel{-1};  ///< inclusive voxel bounds of β > 0
   bool empty() const { return nonEmptyMaxVoxel.x < nonEmptyMinVoxel.x; }
   float at(int i, int j, int k) const {
-    return max_per_m[(std::size_t(k) * std::size_t(bricks.y) + std::size_t(j)) * std::size_t(bricks.x) + std::size_t(i)];
+    return max_per_m[(std::size_t(k) * std::size_t(bricks.y) + std::size_t(j)) * std::size_t(bricks.x) +
+                     std::size_t(i)];
   }
 };
 

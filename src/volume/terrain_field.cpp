@@ -77,8 +77,10 @@ TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame) {
       }
       lo = std::min(lo, h);
       hi = std::max(hi, h);
-      if (i + 1 < v.nx) sx = std::max(sx, std::abs(double(t.height_m[std::size_t(j) * std::size_t(v.nx) + std::size_t(i + 1)]) - h));
-      if (j + 1 < v.ny) sy = std::max(sy, std::abs(double(t.height_m[std::size_t(j + 1) * std::size_t(v.nx) + std::size_t(i)]) - h));
+      if (i + 1 < v.nx)
+        sx = std::max(sx, std::abs(double(t.height_m[std::size_t(j) * std::size_t(v.nx) + std::size_t(i + 1)]) - h));
+      if (j + 1 < v.ny)
+        sy = std::max(sy, std::abs(double(t.height_m[std::size_t(j + 1) * std::size_t(v.nx) + std::size_t(i)]) - h));
     }
   }
   const double e = t.exaggeration;

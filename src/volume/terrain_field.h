@@ -15,14 +15,14 @@
 namespace nph::scene {
 
 struct TerrainField {
-  glm::ivec2 size{0};          ///< mass points nx, ny
-  glm::dvec2 cell_m{0.0};      ///< world dx, dy
-  double exaggeration = 1.0;   ///< heights in world metres are height_m × this
-  double fade_m = 0.0;         ///< outside the footprint, heights fall linearly to 0 over this distance
-  double max_m = 0.0;          ///< highest world height, ≥ 0 (the ground beyond the fade is at 0)
-  double min_m = 0.0;          ///< lowest world height, ≤ 0
-  double lipschitz = 0.0;      ///< upper bound of |∇(e·h)| of the bilinear, faded surface
-  std::vector<float> height_m; ///< nx·ny heights above MSL, x fastest (not exaggerated)
+  glm::ivec2 size{0};           ///< mass points nx, ny
+  glm::dvec2 cell_m{0.0};       ///< world dx, dy
+  double exaggeration = 1.0;    ///< heights in world metres are height_m × this
+  double fade_m = 0.0;          ///< outside the footprint, heights fall linearly to 0 over this distance
+  double max_m = 0.0;           ///< highest world height, ≥ 0 (the ground beyond the fade is at 0)
+  double min_m = 0.0;           ///< lowest world height, ≤ 0
+  double lipschitz = 0.0;       ///< upper bound of |∇(e·h)| of the bilinear, faded surface
+  std::vector<float> height_m;  ///< nx·ny heights above MSL, x fastest (not exaggerated)
 
   /// false: no terrain (absent field or sea level everywhere): the ground is the plane z = 0.
   bool present() const { return max_m > 0.0 || min_m < 0.0; }

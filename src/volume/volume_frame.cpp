@@ -11,8 +11,8 @@ namespace nph::scene {
 
 VolumeFrame frameOf(const ExtinctionVolumes& v, double height_exaggeration) {
   if (v.nx <= 0 || v.ny <= 0 || v.nz <= 0) {
-    throw UsageError("frameOf: empty extinction volume (" + std::to_string(v.nx) + "x" +
-                     std::to_string(v.ny) + "x" + std::to_string(v.nz) + ")");
+    throw UsageError("frameOf: empty extinction volume (" + std::to_string(v.nx) + "x" + std::to_string(v.ny) + "x" +
+                     std::to_string(v.nz) + ")");
   }
   if (!(height_exaggeration > 0.0) || !std::isfinite(height_exaggeration)) {
     throw UsageError("frameOf: height exaggeration must be a positive number");

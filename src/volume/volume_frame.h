@@ -26,9 +26,7 @@ struct VolumeFrame {
   glm::dvec3 min_m() const { return {0.0, 0.0, z_bottom_m}; }
   glm::dvec3 max_m() const { return min_m() + size_m(); }
   /// World position -> continuous grid coordinates (voxel centres at integer + 0.5).
-  glm::dvec3 gridFromWorld(const glm::dvec3& world_m) const {
-    return (world_m - min_m()) / voxel_size_m;
-  }
+  glm::dvec3 gridFromWorld(const glm::dvec3& world_m) const { return (world_m - min_m()) / voxel_size_m; }
   glm::dvec3 worldFromGrid(const glm::dvec3& grid) const { return min_m() + grid * voxel_size_m; }
   /// Height exaggeration keeps the data's optical depth (issue 12; docs/rendering.md
   /// "Conventions"): a world path of length ℓ along the unit direction `dir` has the optical depth

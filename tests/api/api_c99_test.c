@@ -6,8 +6,8 @@
  * usage: nephele_api_c99_test DATASET   (a wrfout / ICON / .nph file with >= 2 timesteps)
  * The host context is OSMesa (4.5 core, llvmpipe), GL functions are libOSMesa's exports. */
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>
 #include <GL/glext.h>
+#include <GL/osmesa.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -18,14 +18,14 @@
 #include "nephele/nephele.h"
 
 /* GL 4.5 entry points libOSMesa does not export: loaded through OSMesaGetProcAddress. */
-#define GL45_FUNCTIONS(X)                                                                        \
-  X(PFNGLCLIPCONTROLPROC, glClipControl) X(PFNGLCREATEBUFFERSPROC, glCreateBuffers)              \
-  X(PFNGLCREATEFRAMEBUFFERSPROC, glCreateFramebuffers) X(PFNGLCREATESAMPLERSPROC, glCreateSamplers) \
-  X(PFNGLCREATETEXTURESPROC, glCreateTextures) X(PFNGLCREATEVERTEXARRAYSPROC, glCreateVertexArrays) \
-  X(PFNGLNAMEDBUFFERDATAPROC, glNamedBufferData)                                                 \
-  X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, glNamedFramebufferTexture)                                 \
-  X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D)   \
-  X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage)
+#define GL45_FUNCTIONS(X)                                                                                           \
+  X(PFNGLCLIPCONTROLPROC, glClipControl)                                                                            \
+  X(PFNGLCREATEBUFFERSPROC, glCreateBuffers) X(PFNGLCREATEFRAMEBUFFERSPROC, glCreateFramebuffers)                   \
+      X(PFNGLCREATESAMPLERSPROC, glCreateSamplers) X(PFNGLCREATETEXTURESPROC, glCreateTextures)                     \
+          X(PFNGLCREATEVERTEXARRAYSPROC, glCreateVertexArrays) X(PFNGLNAMEDBUFFERDATAPROC, glNamedBufferData)       \
+              X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, glNamedFramebufferTexture)                                        \
+                  X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D) \
+                      X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage)
 #define DECLARE(type, name) static type p_##name;
 GL45_FUNCTIONS(DECLARE)
 #undef DECLARE
@@ -59,12 +59,12 @@ static const nph_api_v1* api;
 static const nph_api_v2* api2; /* version 2: the same calls, plus the compositing passes */
 static int failures = 0;
 
-#define CHECK(cond)                                                  \
-  do {                                                               \
-    if (!(cond)) {                                                   \
+#define CHECK(cond)                                                            \
+  do {                                                                         \
+    if (!(cond)) {                                                             \
       fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
-      ++failures;                                                    \
-    }                                                                \
+      ++failures;                                                              \
+    }                                                                          \
   } while (0)
 
 /* `call` must return `want`; on a failure, the handle's (or thread's) last error is non-empty. */
@@ -84,8 +84,17 @@ static void expect_status(nph_status want, nph_status got, const void* handle, c
 static nph_get_proc_address_fn osmesa_proc(void) { return (nph_get_proc_address_fn)OSMesaGetProcAddress; }
 
 static OSMesaContext create_context(void) {
-  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_DEPTH_BITS,
+                         24,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         4,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         5,
+                         0};
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
   if (ctx == NULL) {
     fprintf(stderr, "OSMesaCreateContextAttribs(4.5 core) failed\n");
@@ -478,10 +487,10 @@ int main(int argc, char** argv) {
   gl_state_snapshot before, after;
   gl_state_take(&before);
   printf("GL state snapshot: %zu values, compared around each call below\n", before.count);
-#define STATE_KEPT(want, handle, call)                 \
-  do {                                                 \
-    EXPECT(want, handle, call);                        \
-    gl_state_take(&after);                             \
+#define STATE_KEPT(want, handle, call)                    \
+  do {                                                    \
+    EXPECT(want, handle, call);                           \
+    gl_state_take(&after);                                \
     failures += gl_state_compare(&before, &after, #call); \
   } while (0)
   nph_renderer* r2 = NULL;

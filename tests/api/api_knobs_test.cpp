@@ -18,8 +18,17 @@ class ApiKnobs : public ::testing::Test {
   void SetUp() override {
     api_ = static_cast<const nph_api_v1*>(nph_get_api(NPH_API_VERSION));
     ASSERT_NE(api_, nullptr);
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           4,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           5,
+                           0};
     ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
     ASSERT_NE(ctx_, nullptr) << "OSMesaCreateContextAttribs(4.5 core) failed";
     buffer_.resize(std::size_t(kSize) * kSize * 4);

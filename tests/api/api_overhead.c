@@ -11,8 +11,15 @@
 int main(int argc, char** argv) {
   if (argc != 2) return 2;
   const nph_api_v1* api = (const nph_api_v1*)nph_get_api(NPH_API_VERSION);
-  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         4,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         5,
+                         0};
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
   static unsigned char pixels[1280 * 720 * 4];
   if (api == NULL || ctx == NULL || !OSMesaMakeCurrent(ctx, pixels, GL_UNSIGNED_BYTE, 1280, 720)) return 1;
@@ -43,7 +50,8 @@ int main(int argc, char** argv) {
       composite += st.composite_ms;
     }
     glFinish();
-    printf("%dx%d: render call %.2f ms = ray cast %.2f + composite %.3f + checks and GL state save/restore %.3f (DLM %s)\n",
+    printf("%dx%d: render call %.2f ms = ray cast %.2f + composite %.3f + checks and GL state save/restore %.3f (DLM "
+           "%s)\n",
            sizes[s][0], sizes[s][1], total / kCalls, raycast / kCalls, composite / kCalls,
            (total - raycast - composite) / kCalls, st.dlm_rebuilt ? "rebuilt" : "reused");
   }

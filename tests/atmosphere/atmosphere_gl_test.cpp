@@ -88,9 +88,8 @@ TEST_F(AtmosphereGlTest, TransmittanceTableMatchesTheCpuModel) {
     const glm::dvec3 cpu = atm::transmittanceToTop(p, rm[i].x, rm[i].y, 4096);
     const double e = glm::length(gpu[i].a - cpu);  // absolute: T ∈ [0, 1]
     worst = std::max(worst, e);
-    EXPECT_LT(e, 4e-3) << fmt::format("h {} m, mu {}: gpu ({}, {}, {}) cpu ({}, {}, {})",
-                                      rm[i].x - p.bottom_radius_m, rm[i].y, gpu[i].a.x, gpu[i].a.y, gpu[i].a.z,
-                                      cpu.x, cpu.y, cpu.z);
+    EXPECT_LT(e, 4e-3) << fmt::format("h {} m, mu {}: gpu ({}, {}, {}) cpu ({}, {}, {})", rm[i].x - p.bottom_radius_m,
+                                      rm[i].y, gpu[i].a.x, gpu[i].a.y, gpu[i].a.z, cpu.x, cpu.y, cpu.z);
   }
   RecordProperty("worst_abs_error", fmt::format("{:.2e}", worst));
 }
@@ -132,8 +131,7 @@ TEST_F(AtmosphereGlTest, SkyViewMatchesTheCpuModel) {
   render::AtmosphereLuts luts(p);
   const double altitude_m = 200.0;
   const glm::dvec3 x = atm::observerAt(p, altitude_m);
-  const std::vector<glm::dvec2> views = {{90, 0}, {45, 0},  {30, 90}, {20, 180}, {10, 120},
-                                         {3, 0},  {3, 180}, {-10, 0}};
+  const std::vector<glm::dvec2> views = {{90, 0}, {45, 0}, {30, 90}, {20, 180}, {10, 120}, {3, 0}, {3, 180}, {-10, 0}};
   atm::Quadrature cpuQuadrature;
   cpuQuadrature.view_steps = 96;
   double worst = 0.0;
@@ -158,13 +156,14 @@ TEST_F(AtmosphereGlTest, SkyViewMatchesTheCpuModel) {
       // at sunset (0°) 8 %, twilight (−4°) 3 % of that sun's brightest sky: there Ψ_ms and the
       // sunlight change by orders of magnitude across a few rows of the tables (1.8° of μ_s each).
       const bool lit = sun_elevation >= 5.0;
-      const double e = relativeError(gpu[i].a, cpu[i], lit ? 0.02 * brightest : (sun_elevation < 0.0 ? brightest : 0.02 * brightest));
+      const double e = relativeError(gpu[i].a, cpu[i],
+                                     lit ? 0.02 * brightest : (sun_elevation < 0.0 ? brightest : 0.02 * brightest));
       const double tolerance = lit ? 0.02 : (sun_elevation < 0.0 ? 0.03 : 0.08);
       if (lit) worst = std::max(worst, e);
       std::printf("sun %5.1f view (%5.1f, %5.1f) gpu %.4e %.4e %.4e cpu %.4e %.4e %.4e rel %.3f\n", sun_elevation,
                   views[i].x, views[i].y, gpu[i].a.x, gpu[i].a.y, gpu[i].a.z, cpu[i].x, cpu[i].y, cpu[i].z, e);
       EXPECT_LT(e, tolerance) << fmt::format("sun {}°, view elevation {}° azimuth {}°", sun_elevation, views[i].x,
-                                        views[i].y);
+                                             views[i].y);
     }
   }
   RecordProperty("worst_rel_error", fmt::format("{:.3f}", worst));
@@ -187,8 +186,8 @@ TEST_F(AtmosphereGlTest, SkyIrradianceTableMatchesTheCpuModel) {
   for (std::size_t i = 0; i < hs.size(); ++i) {
     const glm::dvec3 cpu = atm::skyIrradiance(p, hs[i].x, hs[i].y * kPi / 180.0, q);
     const double e = relativeError(gpu[i].a, cpu, 1e-4);
-    std::printf("E_sky h %5.0f el %5.1f gpu %.4e %.4e %.4e cpu %.4e %.4e %.4e rel %.3f\n", hs[i].x, hs[i].y,
-                gpu[i].a.x, gpu[i].a.y, gpu[i].a.z, cpu.x, cpu.y, cpu.z, e);
+    std::printf("E_sky h %5.0f el %5.1f gpu %.4e %.4e %.4e cpu %.4e %.4e %.4e rel %.3f\n", hs[i].x, hs[i].y, gpu[i].a.x,
+                gpu[i].a.y, gpu[i].a.z, cpu.x, cpu.y, cpu.z, e);
     EXPECT_LT(e, 0.05) << fmt::format("h {} m, sun elevation {}°", hs[i].x, hs[i].y);
   }
 }

@@ -28,7 +28,8 @@ struct ClosedForm {
 };
 
 /// A horizontal segment of length d at altitude h, plane-parallel, so that the sun's path is the
-/// same from every point of it (T_sun = e^{−σ_t·ℓ}, ℓ the chord from R + h to the top sphere): T = e^{−σ_t d}, L_in = (σ_R p_R + σ_M p_M)/σ_t · T_sun · (1 − T).
+/// same from every point of it (T_sun = e^{−σ_t·ℓ}, ℓ the chord from R + h to the top sphere): T = e^{−σ_t d}, L_in =
+/// (σ_R p_R + σ_M p_M)/σ_t · T_sun · (1 − T).
 inline ClosedForm homogeneousClosedForm(const Parameters& p, double altitude_m, const glm::dvec3& to_sun,
                                         const glm::dvec3& dir, double d) {
   const Medium m = mediumAt(p, altitude_m);
@@ -39,9 +40,9 @@ inline ClosedForm homogeneousClosedForm(const Parameters& p, double altitude_m, 
     const double sigma = m.extinction_per_m[k];
     const double sun = std::exp(-sigma * path);
     out.transmittance[k] = std::exp(-sigma * d);
-    out.inscattered[k] = (m.rayleigh_scattering_per_m[k] * rayleighPhase(c) +
-                          m.mie_scattering_per_m[k] * miePhase(c, p.mie_g)) /
-                         sigma * sun * (1.0 - out.transmittance[k]);
+    out.inscattered[k] =
+        (m.rayleigh_scattering_per_m[k] * rayleighPhase(c) + m.mie_scattering_per_m[k] * miePhase(c, p.mie_g)) / sigma *
+        sun * (1.0 - out.transmittance[k]);
   }
   return out;
 }

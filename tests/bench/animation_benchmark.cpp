@@ -51,8 +51,8 @@ using namespace nph;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kTimesteps = 3;        ///< hourly timesteps animated (0 → 2)
-constexpr int kFrames = 6;           ///< frames per variant
+constexpr int kTimesteps = 3;  ///< hourly timesteps animated (0 → 2)
+constexpr int kFrames = 6;     ///< frames per variant
 constexpr const char* kBlueMarble = "/usr/share/marble/data/maps/earth/bluemarble/bluemarble.jpg";
 
 bool tiny() {
@@ -79,7 +79,8 @@ const Data& data() {
     out.nph = (dir / "hurricane-realistic.nph").string();
     if (!fs::exists(out.wrfout)) {
       std::fprintf(stderr, "animation benchmark: generating %s (once)\n", out.wrfout.c_str());
-      datagen::WrfHurricaneSpec spec = datagen::wrfPreset(tiny() ? datagen::SampleSize::Tiny : datagen::SampleSize::Realistic);
+      datagen::WrfHurricaneSpec spec =
+          datagen::wrfPreset(tiny() ? datagen::SampleSize::Tiny : datagen::SampleSize::Realistic);
       spec.ntimes = kTimesteps;
       datagen::writeWrfHurricane(spec, out.wrfout + ".partial");
       fs::rename(out.wrfout + ".partial", out.wrfout);
@@ -137,8 +138,10 @@ scene::SceneDescription benchScene(const std::string& path) {
   const int w = tiny() ? 320 : 1920, h = tiny() ? 180 : 1080;
   return scene::parseSceneText(R"({ "data": { "path": ")" + path + R"(" }, "camera": { "preset": "oblique" },
       "sun": { "azimuth_deg": 140, "elevation_deg": 35 }, "quality": "draft", "height_exaggeration": 8,
-      "output": { "width": )" + std::to_string(w) + R"(, "height": )" + std::to_string(h) + "}" + basemap + R"(,
-      "animation": { "from": 0, "to": )" + std::to_string(kTimesteps - 1) + R"(, "fps": 25, "duration_s": )" +
+      "output": { "width": )" + std::to_string(w) +
+                                   R"(, "height": )" + std::to_string(h) + "}" + basemap + R"(,
+      "animation": { "from": 0, "to": )" +
+                                   std::to_string(kTimesteps - 1) + R"(, "fps": 25, "duration_s": )" +
                                    std::to_string(double(kFrames - 1) / 25.0) + R"(, "interpolation": "step",
         "camera_keyframes": [ { "at_s": 0, "preset": "oblique", "azimuth_deg": 200 },
                               { "at_s": 0.2, "preset": "oblique", "azimuth_deg": 215, "distance_scale": 0.9 } ] } })",
@@ -195,10 +198,26 @@ void BM_Animation(benchmark::State& state, bool from_wrfout, bool prefetch) {
 }
 
 // Side by side: each source with prefetch on and off, two runs each (≈ 7 min on 2 llvmpipe cores).
-BENCHMARK_CAPTURE(BM_Animation, nph_prefetch_on, false, true)->Iterations(1)->Repetitions(2)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Animation, nph_prefetch_off, false, false)->Iterations(1)->Repetitions(2)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Animation, wrfout_prefetch_on, true, true)->Iterations(1)->Repetitions(2)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Animation, wrfout_prefetch_off, true, false)->Iterations(1)->Repetitions(2)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Animation, nph_prefetch_on, false, true)
+    ->Iterations(1)
+    ->Repetitions(2)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Animation, nph_prefetch_off, false, false)
+    ->Iterations(1)
+    ->Repetitions(2)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Animation, wrfout_prefetch_on, true, true)
+    ->Iterations(1)
+    ->Repetitions(2)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Animation, wrfout_prefetch_off, true, false)
+    ->Iterations(1)
+    ->Repetitions(2)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 
 }  // namespace
 

@@ -49,7 +49,8 @@ Fixture& fixture() {
     fx->ctx = bench::hiddenContext();
     fx->volumes = bench::realisticHurricane("nephele-atmosphere-bench.nc");
     fx->frame = scene::frameOf(fx->volumes, 8.0);
-    fx->textures = std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, fx->frame, "bench"));
+    fx->textures =
+        std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, fx->frame, "bench"));
     fx->dlm = std::make_unique<render::DeepLightMap>();
     fx->dlm->build(*fx->textures, -fx->sun.toSun(), scene::DlmSettings{});
     scene::CameraSpec cs;

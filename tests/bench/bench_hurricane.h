@@ -26,8 +26,8 @@ inline ExtinctionVolumes generatedVolumes(const datagen::WrfHurricaneSpec& spec,
   const auto path = (std::filesystem::temp_directory_path() / scratch_name).string();
   datagen::writeWrfHurricane(spec, path);
   const auto file = io::openModelFile(path);
-  ExtinctionVolumes v = physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(),
-                                                        physics::VerticalGridOptions{});
+  ExtinctionVolumes v =
+      physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
   std::filesystem::remove(path);
   return v;
 }

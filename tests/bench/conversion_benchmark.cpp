@@ -146,8 +146,7 @@ void BM_CacheRead(benchmark::State& state) {
   }
   const cache::NphReader r(out);
   for (auto _ : state) benchmark::DoNotOptimize(r.read(0));
-  state.SetBytesProcessed(std::int64_t(state.iterations()) *
-                          std::int64_t(v.voxelCount() * 2 * sizeof(float)));
+  state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(v.voxelCount() * 2 * sizeof(float)));
 }
 BENCHMARK(BM_CacheRead)->Unit(benchmark::kMillisecond)->UseRealTime();
 

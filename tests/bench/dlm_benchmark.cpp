@@ -50,10 +50,12 @@ Fixture& fixture() {
     const auto path = (std::filesystem::temp_directory_path() / "nephele-dlm-bench.nc").string();
     datagen::writeWrfHurricane(spec, path);
     const auto file = io::openModelFile(path);
-    fx->volumes = physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
+    fx->volumes =
+        physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
     std::filesystem::remove(path);
     const auto frame = scene::frameOf(fx->volumes);
-    fx->textures = std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
+    fx->textures =
+        std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
     fx->light = -scene::Sun{135.0, 45.0}.toSun();
     glm::dvec3 lo, hi;
     fx->textures->nonEmptyBox(lo, hi);
@@ -123,21 +125,31 @@ void BM_DlmBuild(benchmark::State& state) {
   state.counters["MB"] = double(st.bytes) / 1e6;
   state.counters["compression"] = st.compression_ratio;
   state.counters["unbounded"] = st.unbounded_texels;
-  static const char* names[] = {"baseline", "epsilon", "texel_voxels", "step_voxels", "no_skipping", "no_scatter_map", "scatter_downsample", "max_nodes"};
-  state.SetLabel(knob == Baseline || knob == NoSkip || knob == NoScatter ? names[knob] : fmt::format("{}={:g}", names[knob], value));
+  static const char* names[] = {"baseline",    "epsilon",        "texel_voxels",       "step_voxels",
+                                "no_skipping", "no_scatter_map", "scatter_downsample", "max_nodes"};
+  state.SetLabel(knob == Baseline || knob == NoSkip || knob == NoScatter ? names[knob]
+                                                                         : fmt::format("{}={:g}", names[knob], value));
 }
 
 BENCHMARK(BM_DlmBuild)
     ->ArgNames({"knob", "value_x1000"})
     ->Args({Baseline, 0})
-    ->Args({Epsilon, 2})->Args({Epsilon, 5})->Args({Epsilon, 20})->Args({Epsilon, 50})
-    ->Args({Texel, 500})->Args({Texel, 2000})
-    ->Args({Step, 250})->Args({Step, 1000})
+    ->Args({Epsilon, 2})
+    ->Args({Epsilon, 5})
+    ->Args({Epsilon, 20})
+    ->Args({Epsilon, 50})
+    ->Args({Texel, 500})
+    ->Args({Texel, 2000})
+    ->Args({Step, 250})
+    ->Args({Step, 1000})
     ->Args({NoSkip, 0})
     ->Args({NoScatter, 0})
-    ->Args({ScatterCoarse, 2000})->Args({ScatterCoarse, 8000})
+    ->Args({ScatterCoarse, 2000})
+    ->Args({ScatterCoarse, 8000})
     ->Args({Nodes, 8000})
-    ->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 // Pass 1 against a plain fixed-step light volume of the same light space and step: every sample
 // stored (no compression, no empty-space skipping), as a non-DLM renderer would precompute it.

@@ -17,11 +17,11 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "fetch_kernel.h"
 #include "render/gl/context.h"
 #include "render/gl/debug.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
-#include "fetch_kernel.h"
 
 namespace {
 
@@ -67,7 +67,7 @@ void BM_Fetch3D(benchmark::State& state) {
   volume.sampling(filter, GL_REPEAT);
   const bench::FetchKernel kernel({kRays, kRays}, kSteps);
   const float step = 1.0f / float(kSteps);
-  const glm::vec3 dir = direction == AlongX ? glm::vec3(step, 0, 0)
+  const glm::vec3 dir = direction == AlongX   ? glm::vec3(step, 0, 0)
                         : direction == AlongZ ? glm::vec3(0, 0, step)
                                               : glm::vec3(step, step, step) * 0.57735f;
   gl::GpuTimer timer;

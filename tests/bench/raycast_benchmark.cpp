@@ -19,10 +19,10 @@
 #include <memory>
 
 #include "bench_hurricane.h"
+#include "fetch_kernel.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/context.h"
 #include "render/raycast/cloud_renderer.h"
-#include "fetch_kernel.h"
 #include "scene/scene_file.h"
 #include "scene/sun.h"
 
@@ -46,7 +46,8 @@ Fixture& fixture() {
     fx->ctx = bench::hiddenContext();
     fx->volumes = bench::realisticHurricane("nephele-raycast-bench.nc");
     const auto frame = scene::frameOf(fx->volumes, 8.0);
-    fx->textures = std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
+    fx->textures =
+        std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
     fx->dlm = std::make_unique<render::DeepLightMap>();
     fx->dlm->build(*fx->textures, -fx->sun.toSun(), scene::DlmSettings{});
     fx->renderer = std::make_unique<render::CloudRenderer>();
@@ -73,7 +74,7 @@ void BM_FetchLimit(benchmark::State& state) {
   constexpr int kSteps = 128;
   const bench::FetchKernel kernel({1920, 1080}, kSteps);
   const glm::vec3 step = glm::vec3(1.0f / kSteps) * 0.57735f;  // oblique, like the camera's rays
-  kernel.dispatch(volume, step);  // warm-up
+  kernel.dispatch(volume, step);                               // warm-up
   glFinish();
   double seconds = 0.0;
   for (auto _ : state) {
@@ -115,7 +116,8 @@ void BM_RaycastFrame(benchmark::State& state) {
   state.counters["samples"] = samples;
   if (frameSeconds > 0.0) {
     state.counters["samples_per_s"] = samples / frameSeconds;
-    if (g_fetch_limit_per_s > 0.0) state.counters["fraction_of_fetch_limit"] = samples / frameSeconds / g_fetch_limit_per_s;
+    if (g_fetch_limit_per_s > 0.0)
+      state.counters["fraction_of_fetch_limit"] = samples / frameSeconds / g_fetch_limit_per_s;
   }
   state.SetLabel(std::string(rs.empty_space_skipping ? "skipping" : "no skipping") + ", " +
                  (rs.min_transmittance > 0.0 ? "early termination" : "no early termination"));
@@ -123,8 +125,13 @@ void BM_RaycastFrame(benchmark::State& state) {
 
 BENCHMARK(BM_RaycastFrame)
     ->ArgNames({"skip", "early"})
-    ->Args({1, 1})->Args({0, 1})->Args({1, 0})->Args({0, 0})
-    ->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(2);
+    ->Args({1, 1})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({0, 0})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(2);
 
 }  // namespace
 

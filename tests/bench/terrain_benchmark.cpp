@@ -45,8 +45,8 @@ void BM_TerrainFrame(benchmark::State& state) {
   camera.vertical_fov_deg = 40.0;
   camera.position_m = {-90000.0, 160000.0, 24000.0};
   camera.target_m = {220000.0, 320000.0, 2000.0};
-  std::fprintf(stderr, "terrain benchmark: %dx%dx%d voxels, terrain max %.0f m (world) on %s\n", volumes.nx,
-               volumes.ny, volumes.nz, textures.terrain().max_m, ctx->info().renderer.c_str());
+  std::fprintf(stderr, "terrain benchmark: %dx%dx%d voxels, terrain max %.0f m (world) on %s\n", volumes.nx, volumes.ny,
+               volumes.nz, textures.terrain().max_m, ctx->info().renderer.c_str());
   render::CloudRenderer renderer;
   render::RenderSettings off, on;
   off.terrain = false;

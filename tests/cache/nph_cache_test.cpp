@@ -82,8 +82,7 @@ ExtinctionVolumes randomVolumes(const NphMetadata& m, int nz, unsigned seed, flo
   return v;
 }
 
-fs::path writeFile(const fs::path& path, const NphMetadata& m,
-                   const std::vector<ExtinctionVolumes>& steps) {
+fs::path writeFile(const fs::path& path, const NphMetadata& m, const std::vector<ExtinctionVolumes>& steps) {
   NphWriter w(path, m);
   for (const auto& s : steps) w.append(s);
   w.commit();
@@ -92,8 +91,7 @@ fs::path writeFile(const fs::path& path, const NphMetadata& m,
 
 TEST_F(NphCacheTest, RoundTripWithinDocumentedBoundAndPadsToCommonNz) {
   const NphMetadata m = smallMetadata();
-  const std::vector<ExtinctionVolumes> steps = {randomVolumes(m, 4, 1, 0.01f),
-                                                randomVolumes(m, 9, 2, 2e-5f),
+  const std::vector<ExtinctionVolumes> steps = {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 9, 2, 2e-5f),
                                                 randomVolumes(m, 0, 3, 1.0f)};
   const fs::path file = writeFile(dir_ / "storm.nph", m, steps);
   EXPECT_EQ(filesInDir(), std::vector<fs::path>{file});  // no temporary left over
@@ -149,8 +147,7 @@ TEST_F(NphCacheTest, RoundTripWithinDocumentedBoundAndPadsToCommonNz) {
   EXPECT_EQ(q.nz, 9);
   EXPECT_EQ(q.max_water_per_m, f.max_water_per_m);
   for (std::size_t n = 0; n < f.voxelCount(); n += 13) {
-    EXPECT_EQ(f.water_per_m[n],
-              static_cast<float>(double(q.water_codes[n]) * double(q.max_water_per_m) / 65535.0));
+    EXPECT_EQ(f.water_per_m[n], static_cast<float>(double(q.water_codes[n]) * double(q.max_water_per_m) / 65535.0));
   }
 }
 
@@ -213,8 +210,7 @@ std::string inputErrorOf(F&& fn) {
 
 TEST_F(NphCacheTest, FlippedByteInAChunkNamesFileAndChunk) {
   const NphMetadata m = smallMetadata();
-  const fs::path file =
-      writeFile(dir_ / "s.nph", m, {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 4, 2, 0.01f)});
+  const fs::path file = writeFile(dir_ / "s.nph", m, {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 4, 2, 0.01f)});
   std::uint64_t offset = 0;
   {
     NphReader r(file);
@@ -234,8 +230,7 @@ TEST_F(NphCacheTest, TruncatedAndForeignFilesAreInputErrors) {
   const NphMetadata m = smallMetadata();
   const fs::path good = writeFile(dir_ / "good.nph", m, {randomVolumes(m, 4, 1, 0.01f)});
   const std::string bytes = readAll(good);
-  for (std::size_t keep : {std::size_t{0}, std::size_t{10}, std::size_t{64}, bytes.size() / 2,
-                           bytes.size() - 1}) {
+  for (std::size_t keep : {std::size_t{0}, std::size_t{10}, std::size_t{64}, bytes.size() / 2, bytes.size() - 1}) {
     const fs::path cut = dir_ / ("cut" + std::to_string(keep) + ".nph");
     writeAll(cut, bytes.substr(0, keep));
     const std::string msg = inputErrorOf([&] { NphReader r(cut); });
@@ -245,8 +240,7 @@ TEST_F(NphCacheTest, TruncatedAndForeignFilesAreInputErrors) {
   writeAll(text, std::string(200, 'x'));
   EXPECT_FALSE(NphReader::sniff(text));
   EXPECT_NE(inputErrorOf([&] { NphReader r(text); }).find("not a nephele"), std::string::npos);
-  EXPECT_NE(inputErrorOf([&] { NphReader r(dir_ / "missing.nph"); }).find("missing.nph"),
-            std::string::npos);
+  EXPECT_NE(inputErrorOf([&] { NphReader r(dir_ / "missing.nph"); }).find("missing.nph"), std::string::npos);
 
   // a corrupt index (flip a byte in the JSON at the end of the file)
   std::string bad = bytes;
@@ -272,8 +266,8 @@ TEST_F(NphCacheTest, EveryFlippedByteAndEveryTruncationIsDetected) {
   m.ny = 2;
   m.georef.lat_deg.resize(6);
   m.georef.lon_deg.resize(6);
-  const fs::path good = writeFile(dir_ / "small.nph", m,
-                                  {randomVolumes(m, 2, 1, 0.01f), randomVolumes(m, 3, 2, 0.02f)});
+  const fs::path good =
+      writeFile(dir_ / "small.nph", m, {randomVolumes(m, 2, 1, 0.01f), randomVolumes(m, 3, 2, 0.02f)});
   const std::string bytes = readAll(good);
   const fs::path bad = dir_ / "bad.nph";
   auto openAndReadAll = [&] {

@@ -60,7 +60,9 @@ TEST_P(ViewTest, ScreenshotMatchesRender) {
   const std::string view = file("view.png"), render = file("render.png");
   const std::string nephele = NEPHELE_EXECUTABLE;
   ASSERT_EQ(std::system(fmt::format("xvfb-run -a '{}' view '{}' --width 200 --height 120 --frames 3 --screenshot '{}'",
-                                    nephele, scene, view).c_str()), 0);
+                                    nephele, scene, view)
+                            .c_str()),
+            0);
   ASSERT_EQ(std::system(fmt::format("'{}' render '{}' --gl auto -o '{}'", nephele, scene, render).c_str()), 0);
   const Image shot = readImage(view);
   ASSERT_EQ(shot.width, 200);

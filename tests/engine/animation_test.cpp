@@ -53,7 +53,8 @@ TEST(CatmullRom, PassesThroughTheKeysAndIsSmoothBetweenThem) {
 scene::SceneDescription sceneWith(const std::string& animation) {
   return scene::parseSceneText(R"({ "data": { "path": ")" + tinyStormFile() +
                                    R"(" }, "sun": { "from_time": true }, "output": { "width": 64, "height": 36 },
-                                   "animation": )" + animation + "}",
+                                   "animation": )" +
+                                   animation + "}",
                                "anim.json");
 }
 
@@ -92,8 +93,8 @@ TEST(AnimationSection, KeyframesFromAFileRelativeToTheScene) {
                                                            { "at_s": 2, "preset": "top", "fov_deg": 30 } ] })";
     std::ofstream(dir / "bad.json") << R"({ "keyframes": [ { "at_s": 0, "preset": "sideways" } ] })";
   }
-  const auto s = scene::parseSceneText(R"({ "animation": { "keyframes_file": "orbit.json" } })", "anim.json",
-                                       dir.string());
+  const auto s =
+      scene::parseSceneText(R"({ "animation": { "keyframes_file": "orbit.json" } })", "anim.json", dir.string());
   const auto a = scene::parseAnimation(s);
   ASSERT_EQ(a.keyframes.size(), 2u);
   EXPECT_EQ(a.keyframes[1].camera.fov_deg, 30.0);
@@ -142,7 +143,7 @@ TEST_F(PlanFixture, UtcRangeAndSpeed) {
   EXPECT_NEAR(p.frame(0).time_index, 0.5, 1e-9);
   EXPECT_NEAR(p.frame(100).time_index, 1.5, 1e-6);
   EXPECT_THROW(plan(R"({ "from": "2026-09-01T10:00:00Z" })"), InputError);  // before the data
-  EXPECT_THROW(plan(R"({ "from": 0, "to": 7 })"), InputError);               // past the last timestep
+  EXPECT_THROW(plan(R"({ "from": 0, "to": 7 })"), InputError);              // past the last timestep
 }
 
 TEST_F(PlanFixture, StepInterpolationHoldsEachTimestep) {

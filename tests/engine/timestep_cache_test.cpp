@@ -25,7 +25,8 @@ constexpr std::size_t kStepBytes = 8 * 8 * 4 * 2 * sizeof(float);
 
 /// Waits until the worker has decoded `n` timesteps (or a second has passed).
 void waitForPrefetched(const engine::TimestepCache& cache, std::uint64_t n) {
-  for (int i = 0; i < 1000 && cache.stats().prefetched < n; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  for (int i = 0; i < 1000 && cache.stats().prefetched < n; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
 
 TEST(TimestepCache, ReadsAheadInThePlaybackDirectionSoPlaybackNeverWaits) {

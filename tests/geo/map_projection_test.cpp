@@ -63,7 +63,8 @@ TEST(MapProjection, ErrorsNameTheDefinitionAndThePoint) {
     ADD_FAILURE() << "projected the antipode";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'+proj=ortho +lat_0=0 +lon_0=0 +R=6370000' cannot project lon 180 lat 0"),
-              std::string::npos) << e.what();
+              std::string::npos)
+        << e.what();
   }
   EXPECT_THROW((void)ortho.inverse({2.0 * kR_m, 0.0}), InputError);
   double xy[4] = {0.0, 0.0, 2.0 * kR_m, 0.0};

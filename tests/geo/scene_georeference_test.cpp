@@ -65,8 +65,8 @@ TEST(SceneGeoreference, RoundTripAndVoxelCentres) {
   const auto v = test::lambertVolumes();
   const VolumeFrame frame = frameOf(v, 10.0);
   const SceneGeoreference geo(v, frame);
-  for (glm::dvec2 w : {glm::dvec2{0, 0}, glm::dvec2{12345.6, 200000.0}, glm::dvec2{3e5, 2.4e5},
-                       glm::dvec2{-50000.0, 400000.0}}) {
+  for (glm::dvec2 w :
+       {glm::dvec2{0, 0}, glm::dvec2{12345.6, 200000.0}, glm::dvec2{3e5, 2.4e5}, glm::dvec2{-50000.0, 400000.0}}) {
     const glm::dvec2 back = geo.worldFromLonLat(geo.lonLatFromWorld(w));
     EXPECT_NEAR(back.x, w.x, 1e-6);
     EXPECT_NEAR(back.y, w.y, 1e-6);

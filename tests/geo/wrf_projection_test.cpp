@@ -43,8 +43,8 @@ TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
 
   const geo::MapProjection projection(ts.georef.proj_definition);
   constexpr double kToleranceDeg = 1e-3;
-  for (const auto& [i, j] : {std::pair{0, 0}, std::pair{ts.nx - 1, 0}, std::pair{0, ts.ny - 1}, std::pair{ts.nx - 1, ts.ny - 1},
-                             std::pair{ts.nx / 2, ts.ny / 3}}) {
+  for (const auto& [i, j] : {std::pair{0, 0}, std::pair{ts.nx - 1, 0}, std::pair{0, ts.ny - 1},
+                             std::pair{ts.nx - 1, ts.ny - 1}, std::pair{ts.nx / 2, ts.ny / 3}}) {
     const auto [lon, lat] = geo::gridLonLat(projection, ts.georef, i, j);
     const std::size_t p = std::size_t(j) * std::size_t(ts.nx) + std::size_t(i);
     EXPECT_NEAR(lat, truth.lat_deg[p], kToleranceDeg) << c.name << " corner " << i << "," << j;
@@ -86,7 +86,8 @@ TEST(WrfGeoreference, MercatorSpacingMatchesClosedForm) {
   const double lon_b = geo::gridLonLat(p, g, 51, 25).lon_deg;
   EXPECT_NEAR(lon_a, 12.0, 1e-9);  // the centre point is at CEN_LON/CEN_LAT
   EXPECT_NEAR(lat_a, 40.0, 1e-9);
-  const double expected_dlon_deg = 10000.0 / (kWrfEarthRadius_m * std::cos(30.0 * std::numbers::pi / 180.0)) * 180.0 / std::numbers::pi;
+  const double expected_dlon_deg =
+      10000.0 / (kWrfEarthRadius_m * std::cos(30.0 * std::numbers::pi / 180.0)) * 180.0 / std::numbers::pi;
   EXPECT_NEAR(lon_b - lon_a, expected_dlon_deg, 1e-9);
 }
 

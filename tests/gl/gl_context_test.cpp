@@ -32,8 +32,8 @@ TEST_F(GlContextTest, IsTheRequestedBackendWithGl45Core) {
   if (auto expect = env::get("NEPHELE_EXPECT_RENDERER")) {
     EXPECT_NE(info.renderer.find(*expect), std::string::npos) << info.renderer;
   }
-  std::printf("[ backend  ] %s (%s): %s, %s\n", std::string(gl::backendName(info.backend)).c_str(),
-              info.detail.c_str(), info.renderer.c_str(), info.version.c_str());
+  std::printf("[ backend  ] %s (%s): %s, %s\n", std::string(gl::backendName(info.backend)).c_str(), info.detail.c_str(),
+              info.renderer.c_str(), info.version.c_str());
 }
 
 TEST_F(GlContextTest, MakeCurrentIsIdempotentAndDoneCurrentReleases) {
@@ -50,7 +50,8 @@ TEST(GlContextNoFixture, UnknownBackendNameIsAUsageError) {
   const auto saved = env::get("NEPHELE_GL");
   ::setenv("NEPHELE_GL", "vulkan", 1);
   EXPECT_THROW(gl::backendFromEnvironment(), UsageError);
-  if (saved) ::setenv("NEPHELE_GL", saved->c_str(), 1); else ::unsetenv("NEPHELE_GL");
+  if (saved) ::setenv("NEPHELE_GL", saved->c_str(), 1);
+  else ::unsetenv("NEPHELE_GL");
 }
 
 TEST_F(GlContextTest, GlErrorIsReportedByCheckErrors) {

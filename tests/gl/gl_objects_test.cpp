@@ -41,8 +41,8 @@ TEST_F(GlObjectsTest, ComputeGradientInto3DTextureIsExact) {
         const glm::vec4 want = gradientValue(x, y, z, scale);
         const glm::vec4 have = got[std::size_t((z * size.y + y) * size.x + x)];
         if (have != want && ++mismatches < 5) {
-          ADD_FAILURE() << "voxel " << x << "," << y << "," << z << ": got " << have.x << " " << have.y
-                        << " " << have.z << " " << have.w;
+          ADD_FAILURE() << "voxel " << x << "," << y << "," << z << ": got " << have.x << " " << have.y << " " << have.z
+                        << " " << have.w;
         }
       }
   EXPECT_EQ(mismatches, 0);

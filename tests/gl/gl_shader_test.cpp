@@ -82,7 +82,8 @@ TEST_F(GlShaderTest, MisspeltOrInactiveUniformIsAnErrorInStrictMode) {
   }
   const gl::Program unused = gl::Program::fromSources(
       {{GL_COMPUTE_SHADER,
-        {"unused.comp", "#version 450 core\nlayout(local_size_x = 1) in;\nuniform float u_unused;\nvoid main() {}\n"}}});
+        {"unused.comp",
+         "#version 450 core\nlayout(local_size_x = 1) in;\nuniform float u_unused;\nvoid main() {}\n"}}});
   EXPECT_THROW(unused.set("u_unused", 1.0f), GlError);
   gl::setStrictUniforms(false);
   EXPECT_EQ(prog.location("u_sise"), -1);
@@ -143,21 +144,45 @@ TEST_F(GlShaderTest, UniformBlocksMatchTheLinkedPrograms) {
     std::vector<std::pair<const char*, gl::Defines>> programs;
   };
   const std::vector<Case> cases = {
-      {gl::LightSpaceBlock::kGlslName, gl::LightSpaceBlock::kBinding, sizeof(gl::LightSpaceBlock), gl::kLightSpaceMembers,
-       {{"dlm/march.comp", {}}, {"dlm/march.comp", {{"PERIPHERAL", "1"}}}, {"dlm/march.comp", {{"UNCOMPRESSED", "1"}}},
-        {"dlm/scatter.comp", {}}, {"render/clouds.comp", {}}, {"test/dlm_lookup.comp", {}}}},
-      {gl::VolumeBlock::kGlslName, gl::VolumeBlock::kBinding, sizeof(gl::VolumeBlock), gl::kVolumeMembers,
+      {gl::LightSpaceBlock::kGlslName,
+       gl::LightSpaceBlock::kBinding,
+       sizeof(gl::LightSpaceBlock),
+       gl::kLightSpaceMembers,
+       {{"dlm/march.comp", {}},
+        {"dlm/march.comp", {{"PERIPHERAL", "1"}}},
+        {"dlm/march.comp", {{"UNCOMPRESSED", "1"}}},
+        {"dlm/scatter.comp", {}},
+        {"render/clouds.comp", {}},
+        {"test/dlm_lookup.comp", {}}}},
+      {gl::VolumeBlock::kGlslName,
+       gl::VolumeBlock::kBinding,
+       sizeof(gl::VolumeBlock),
+       gl::kVolumeMembers,
        {{"dlm/march.comp", {}}, {"dlm/scatter.comp", {}}, {"render/clouds.comp", {}}}},
-      {gl::RaycastBlock::kGlslName, gl::RaycastBlock::kBinding, sizeof(gl::RaycastBlock), gl::kRaycastMembers,
+      {gl::RaycastBlock::kGlslName,
+       gl::RaycastBlock::kBinding,
+       sizeof(gl::RaycastBlock),
+       gl::kRaycastMembers,
        {{"render/clouds.comp", {}}}},
-      {gl::GlobeBlock::kGlslName, gl::GlobeBlock::kBinding, sizeof(gl::GlobeBlock), gl::kGlobeMembers,
+      {gl::GlobeBlock::kGlslName,
+       gl::GlobeBlock::kBinding,
+       sizeof(gl::GlobeBlock),
+       gl::kGlobeMembers,
        {{"render/clouds.comp", {}}}},
-      {gl::TerrainBlock::kGlslName, gl::TerrainBlock::kBinding, sizeof(gl::TerrainBlock), gl::kTerrainMembers,
+      {gl::TerrainBlock::kGlslName,
+       gl::TerrainBlock::kBinding,
+       sizeof(gl::TerrainBlock),
+       gl::kTerrainMembers,
        {{"render/clouds.comp", {}}}},
-      {gl::AtmosphereBlock::kGlslName, gl::AtmosphereBlock::kBinding, sizeof(gl::AtmosphereBlock),
+      {gl::AtmosphereBlock::kGlslName,
+       gl::AtmosphereBlock::kBinding,
+       sizeof(gl::AtmosphereBlock),
        gl::kAtmosphereMembers,
-       {{"atmosphere/transmittance.comp", {}}, {"atmosphere/multiscattering.comp", {}},
-        {"atmosphere/sky_view.comp", {}}, {"atmosphere/sky_irradiance.comp", {}}, {"test/atmosphere_probe.comp", {}},
+       {{"atmosphere/transmittance.comp", {}},
+        {"atmosphere/multiscattering.comp", {}},
+        {"atmosphere/sky_view.comp", {}},
+        {"atmosphere/sky_irradiance.comp", {}},
+        {"test/atmosphere_probe.comp", {}},
         {"render/clouds.comp", {}}}},
   };
   for (const Case& c : cases) {

@@ -49,9 +49,14 @@ TEST(Datagen, WrfoutCarriesWrfConventions) {
   test::ncCheck(nc_open(dir.file("wrfout.nc").c_str(), NC_NOWRITE, &nc), "open");
   std::size_t len = 0;
   int dim = -1;
-  for (const auto& [name, expected] : {std::pair<const char*, std::size_t>{"Time", 6}, {"DateStrLen", 19}, {"west_east", 40},
-                                       {"west_east_stag", 41}, {"south_north", 36}, {"south_north_stag", 37},
-                                       {"bottom_top", 6}, {"bottom_top_stag", 7}}) {
+  for (const auto& [name, expected] : {std::pair<const char*, std::size_t>{"Time", 6},
+                                       {"DateStrLen", 19},
+                                       {"west_east", 40},
+                                       {"west_east_stag", 41},
+                                       {"south_north", 36},
+                                       {"south_north_stag", 37},
+                                       {"bottom_top", 6},
+                                       {"bottom_top_stag", 7}}) {
     ASSERT_EQ(nc_inq_dimid(nc, name, &dim), NC_NOERR) << name;
     nc_inq_dimlen(nc, dim, &len);
     EXPECT_EQ(len, expected) << name;
@@ -67,8 +72,8 @@ TEST(Datagen, WrfoutCarriesWrfConventions) {
   int field_type = 0;
   nc_get_att_int(nc, var, "FieldType", &field_type);
   EXPECT_EQ(field_type, 104);
-  for (const char* att : {"MAP_PROJ", "TRUELAT1", "TRUELAT2", "STAND_LON", "CEN_LAT", "CEN_LON", "MOAD_CEN_LAT", "DX", "DY",
-                          "MP_PHYSICS", "WEST-EAST_GRID_DIMENSION", "SOUTH-NORTH_GRID_DIMENSION",
+  for (const char* att : {"MAP_PROJ", "TRUELAT1", "TRUELAT2", "STAND_LON", "CEN_LAT", "CEN_LON", "MOAD_CEN_LAT", "DX",
+                          "DY", "MP_PHYSICS", "WEST-EAST_GRID_DIMENSION", "SOUTH-NORTH_GRID_DIMENSION",
                           "BOTTOM-TOP_GRID_DIMENSION", "SIMULATION_START_DATE", "POLE_LAT", "POLE_LON"}) {
     EXPECT_EQ(nc_inq_att(nc, NC_GLOBAL, att, nullptr, nullptr), NC_NOERR) << att;
   }

@@ -37,7 +37,8 @@ TEST(IconLoader, RegularGridLoadsBottomToTop) {
   EXPECT_NEAR(ts.georef.x0, 9.0, 1e-9);
   EXPECT_NEAR(ts.georef.y0, 46.0, 1e-9);
   EXPECT_NEAR(ts.georef.dx_m, 0.1, 1e-9);
-  for (Hydrometeor h : {Hydrometeor::Cloud, Hydrometeor::Ice, Hydrometeor::Rain, Hydrometeor::Snow, Hydrometeor::Graupel}) {
+  for (Hydrometeor h :
+       {Hydrometeor::Cloud, Hydrometeor::Ice, Hydrometeor::Rain, Hydrometeor::Snow, Hydrometeor::Graupel}) {
     EXPECT_EQ(ts.q_kg_per_kg.count(h), 1u);
   }
   ASSERT_EQ(ts.cloud_cover_fraction.size(), ts.voxelCount());
@@ -95,7 +96,8 @@ TEST(IconCorrections, LoaderKeepsBothInconsistenciesAndPhysicsRemovesThemCellByC
     const double clc_eff = std::max(clc, std::min(qw / 3.0e-5, 1.0));  // Muth eq. 3.1
     ASSERT_NEAR(fixed.cloud_cover, clc_eff, 1e-12) << "voxel " << v;
     const double f_ice = std::clamp(-(double(ts.temperature_k[v]) - 273.15) / 38.0, 0.0, 1.0);
-    ASSERT_NEAR(fixed.cloud_kg_per_kg, std::max(double(qc[v]), 3.0e-5 * clc_eff * (1.0 - f_ice)), 1e-15) << "voxel " << v;
+    ASSERT_NEAR(fixed.cloud_kg_per_kg, std::max(double(qc[v]), 3.0e-5 * clc_eff * (1.0 - f_ice)), 1e-15)
+        << "voxel " << v;
     ASSERT_NEAR(fixed.ice_kg_per_kg, std::max(double(qi[v]), 3.0e-5 * clc_eff * f_ice), 1e-15) << "voxel " << v;
     // Neither inconsistency survives.
     const double qw_fixed = fixed.cloud_kg_per_kg + fixed.ice_kg_per_kg;

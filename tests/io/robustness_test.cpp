@@ -21,8 +21,8 @@
 namespace nph::io {
 namespace {
 
-using test::ncCheck;
 using nph::test::ScratchDir;
+using test::ncCheck;
 
 /// A small valid wrfout to start from.
 void writeSmallWrf(const std::string& path) {
@@ -154,31 +154,48 @@ void PrintTo(const BadFileCase& c, std::ostream* os) { *os << c.name; }
 
 const std::vector<BadFileCase>& badFileCases() {
   static const std::vector<BadFileCase> cases = {
-      {"missing_variable", [](const std::string& p) { writeSmallWrf(p); edit(p, [](int nc) { renameVar(nc, "PH", "PH_gone"); }); },
+      {"missing_variable",
+       [](const std::string& p) {
+         writeSmallWrf(p);
+         edit(p, [](int nc) { renameVar(nc, "PH", "PH_gone"); });
+       },
        {"PH", "missing"}},
-      {"wrong_rank", [](const std::string& p) {
+      {"wrong_rank",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) { replaceVar(nc, "QCLOUD", NC_FLOAT, {"Time", "south_north", "west_east"}); });
-       }, {"QCLOUD has 3 dims, expected 4 (Time, bottom_top, south_north, west_east)"}},
-      {"wrong_dimension_order", [](const std::string& p) {
+       },
+       {"QCLOUD has 3 dims, expected 4 (Time, bottom_top, south_north, west_east)"}},
+      {"wrong_dimension_order",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) { replaceVar(nc, "T", NC_FLOAT, {"Time", "south_north", "bottom_top", "west_east"}); });
-       }, {"T has dims (Time, south_north, bottom_top, west_east)", "expected"}},
-      {"char_typed_field", [](const std::string& p) {
+       },
+       {"T has dims (Time, south_north, bottom_top, west_east)", "expected"}},
+      {"char_typed_field",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) { replaceVar(nc, "QRAIN", NC_CHAR, {"Time", "bottom_top", "south_north", "west_east"}); });
-       }, {"QRAIN", "non-numeric"}},
-      {"zero_length_dimension", [](const std::string& p) { writeSkeletonWrf(p, 0, 4, 3, 1, false); }, {"west_east", "length 0"}},
+       },
+       {"QRAIN", "non-numeric"}},
+      {"zero_length_dimension",
+       [](const std::string& p) { writeSkeletonWrf(p, 0, 4, 3, 1, false); },
+       {"west_east", "length 0"}},
       {"no_timesteps", [](const std::string& p) { writeSkeletonWrf(p, 4, 4, 3, 0, false); }, {"Time", "length 0"}},
-      {"nan_in_pressure", [](const std::string& p) {
+      {"nan_in_pressure",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) { putValue(nc, "P", 17, std::numeric_limits<float>::quiet_NaN()); });
-       }, {"P contains NaN", "finite"}},
-      {"inf_in_cloud", [](const std::string& p) {
+       },
+       {"P contains NaN", "finite"}},
+      {"inf_in_cloud",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) { putValue(nc, "QCLOUD", 5, std::numeric_limits<float>::infinity()); });
-       }, {"QCLOUD contains Inf"}},
-      {"missing_value_in_temperature", [](const std::string& p) {
+       },
+       {"QCLOUD contains Inf"}},
+      {"missing_value_in_temperature",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) {
            const float mv = -999.0f;
@@ -187,12 +204,28 @@ const std::vector<BadFileCase>& badFileCases() {
            ncCheck(nc_enddef(nc), "enddef");
            putValue(nc, "T", 3, mv);
          });
-       }, {"T has 1 missing values"}},
-      {"absurd_stand_lon", [](const std::string& p) { writeSmallWrf(p); edit(p, [](int nc) { setGlobalFloat(nc, "STAND_LON", 1e20f); }); },
+       },
+       {"T has 1 missing values"}},
+      {"absurd_stand_lon",
+       [](const std::string& p) {
+         writeSmallWrf(p);
+         edit(p, [](int nc) { setGlobalFloat(nc, "STAND_LON", 1e20f); });
+       },
        {"STAND_LON", "absurd"}},
-      {"zero_dx", [](const std::string& p) { writeSmallWrf(p); edit(p, [](int nc) { setGlobalFloat(nc, "DX", 0.0f); }); }, {"DX"}},
-      {"negative_dy", [](const std::string& p) { writeSmallWrf(p); edit(p, [](int nc) { setGlobalFloat(nc, "DY", -3000.0f); }); }, {"DY"}},
-      {"unknown_map_proj", [](const std::string& p) {
+      {"zero_dx",
+       [](const std::string& p) {
+         writeSmallWrf(p);
+         edit(p, [](int nc) { setGlobalFloat(nc, "DX", 0.0f); });
+       },
+       {"DX"}},
+      {"negative_dy",
+       [](const std::string& p) {
+         writeSmallWrf(p);
+         edit(p, [](int nc) { setGlobalFloat(nc, "DY", -3000.0f); });
+       },
+       {"DY"}},
+      {"unknown_map_proj",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) {
            const int v = 99;
@@ -200,50 +233,78 @@ const std::vector<BadFileCase>& badFileCases() {
            ncCheck(nc_put_att_int(nc, NC_GLOBAL, "MAP_PROJ", NC_INT, 1, &v), "MAP_PROJ");
            ncCheck(nc_enddef(nc), "enddef");
          });
-       }, {"MAP_PROJ = 99"}},
-      {"geopotential_not_increasing", [](const std::string& p) {
+       },
+       {"MAP_PROJ = 99"}},
+      {"geopotential_not_increasing",
+       [](const std::string& p) {
          writeSmallWrf(p);
          edit(p, [](int nc) { putValue(nc, "PHB", 12 * 10 * 4 + 7, 1.0f); });
-       }, {"PH+PHB", "increas"}},
-      {"absurd_temperature", [](const std::string& p) { writeSmallWrf(p); edit(p, [](int nc) { putValue(nc, "T", 9, 5000.0f); }); },
+       },
+       {"PH+PHB", "increas"}},
+      {"absurd_temperature",
+       [](const std::string& p) {
+         writeSmallWrf(p);
+         edit(p, [](int nc) { putValue(nc, "T", 9, 5000.0f); });
+       },
        {"T", "temperature"}},
-      {"declared_size_beyond_memory", [](const std::string& p) { writeSkeletonWrf(p, 200000, 200000, 90, 1, false); },
+      {"declared_size_beyond_memory",
+       [](const std::string& p) { writeSkeletonWrf(p, 200000, 200000, 90, 1, false); },
        {"memory budget", "GiB"}},
-      {"truncated_file", [](const std::string& p) {
+      {"truncated_file",
+       [](const std::string& p) {
          writeSmallWrf(p + ".full");
          const auto size = std::filesystem::file_size(p + ".full");
          std::filesystem::copy_file(p + ".full", p);
          std::filesystem::resize_file(p, size / 2);
-       }, {"truncated"}},
-      {"text_file", [](const std::string& p) { std::ofstream(p) << "This is not NetCDF, it is a README.\n"; }, {"not a NetCDF file"}},
+       },
+       {"truncated"}},
+      {"text_file",
+       [](const std::string& p) { std::ofstream(p) << "This is not NetCDF, it is a README.\n"; },
+       {"not a NetCDF file"}},
       {"empty_file", [](const std::string& p) { std::ofstream{p}; }, {"NetCDF"}},
-      {"netcdf_but_neither_wrf_nor_icon", [](const std::string& p) {
+      {"netcdf_but_neither_wrf_nor_icon",
+       [](const std::string& p) {
          int nc = -1;
          ncCheck(nc_create(p.c_str(), NC_CLOBBER, &nc), "create");
          int d = -1, v = -1;
          ncCheck(nc_def_dim(nc, "station", 3, &d), "dim");
          ncCheck(nc_def_var(nc, "rainfall", NC_FLOAT, 1, &d, &v), "var");
          ncCheck(nc_close(nc), "close");
-       }, {"neither WRF", "ICON"}},
-      {"icon_missing_z_ifc", [](const std::string& p) { writeSmallIcon(p); edit(p, [](int nc) { renameVar(nc, "z_ifc", "z_gone"); }); },
+       },
+       {"neither WRF", "ICON"}},
+      {"icon_missing_z_ifc",
+       [](const std::string& p) {
+         writeSmallIcon(p);
+         edit(p, [](int nc) { renameVar(nc, "z_ifc", "z_gone"); });
+       },
        {"z_ifc", "missing"}},
-      {"icon_clc_wrong_rank", [](const std::string& p) {
+      {"icon_clc_wrong_rank",
+       [](const std::string& p) {
          writeSmallIcon(p);
          edit(p, [](int nc) { replaceVar(nc, "clc", NC_FLOAT, {"time", "lat", "lon"}); });
-       }, {"clc has 3 dims"}},
-      {"icon_uneven_longitudes", [](const std::string& p) {
+       },
+       {"clc has 3 dims"}},
+      {"icon_uneven_longitudes",
+       [](const std::string& p) {
          writeSmallIcon(p);
          edit(p, [](int nc) {
            const double v = 9.95;
            const std::size_t index = 5;
            ncCheck(nc_put_var1_double(nc, varid(nc, "lon"), &index, &v), "lon");
          });
-       }, {"lon is not evenly spaced"}},
-      {"icon_nan_in_qc", [](const std::string& p) {
+       },
+       {"lon is not evenly spaced"}},
+      {"icon_nan_in_qc",
+       [](const std::string& p) {
          writeSmallIcon(p);
          edit(p, [](int nc) { putValue(nc, "qc", 11, std::numeric_limits<float>::quiet_NaN()); });
-       }, {"qc contains NaN"}},
-      {"icon_missing_temperature", [](const std::string& p) { writeSmallIcon(p); edit(p, [](int nc) { renameVar(nc, "temp", "tmp_"); }); },
+       },
+       {"qc contains NaN"}},
+      {"icon_missing_temperature",
+       [](const std::string& p) {
+         writeSmallIcon(p);
+         edit(p, [](int nc) { renameVar(nc, "temp", "tmp_"); });
+       },
        {"temp", "missing"}},
   };
   return cases;
@@ -271,11 +332,11 @@ TEST_P(BadFile, IsAnInputErrorNamingFileAndVariable) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Robustness, BadFile, ::testing::ValuesIn(badFileCases()),
-                         [](const ::testing::TestParamInfo<BadFileCase>& param_info) { return std::string(param_info.param.name); });
+                         [](const ::testing::TestParamInfo<BadFileCase>& param_info) {
+                           return std::string(param_info.param.name);
+                         });
 
-TEST(Robustness, MissingFileIsAnInputError) {
-  EXPECT_THROW(openModelFile("/nonexistent/wrfout_d01.nc"), InputError);
-}
+TEST(Robustness, MissingFileIsAnInputError) { EXPECT_THROW(openModelFile("/nonexistent/wrfout_d01.nc"), InputError); }
 
 TEST(Robustness, NegativeMixingRatiosAreClampedAndCounted) {
   ScratchDir dir("io");

@@ -68,7 +68,7 @@ TEST(WrfLoader, AtmosphereIsPhysicallyPlausible) {
         EXPECT_LT(ts.pressure_pa[ts.index(i, j, k)], ts.pressure_pa[ts.index(i, j, k - 1)]);
       }
       const std::size_t top = ts.index(i, j, ts.nz - 1);
-      EXPECT_GT(ts.height_m[top], 17000.0f);   // model top at 50 hPa is ~20.6 km
+      EXPECT_GT(ts.height_m[top], 17000.0f);     // model top at 50 hPa is ~20.6 km
       EXPECT_LT(ts.temperature_k[top], 225.0f);  // lower stratosphere
     }
   }

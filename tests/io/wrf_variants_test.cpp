@@ -176,8 +176,8 @@ struct Files {
   ScratchDir dir{"io"};
   std::string original;
   explicit Files(int ntimes, datagen::WrfCase weather = datagen::WrfCase::Hurricane) {
-    datagen::WrfHurricaneSpec s = weather == datagen::WrfCase::CoarseStorm ? datagen::coarseStormSpec()
-                                                                            : datagen::WrfHurricaneSpec{};
+    datagen::WrfHurricaneSpec s =
+        weather == datagen::WrfCase::CoarseStorm ? datagen::coarseStormSpec() : datagen::WrfHurricaneSpec{};
     s.ntimes = ntimes;
     if (weather == datagen::WrfCase::Hurricane) {
       s.nx = 30;
@@ -282,8 +282,8 @@ TEST(WrfVariants, CroppedWindowIsPlacedByXlatXlong) {
 TEST(WrfVariants, SubgridFieldsAreReadWhenPresent) {
   Files f(1, datagen::WrfCase::CoarseStorm);
   const ModelTimestep ts = loadWrfTimestep(f.original, 0);
-  for (const auto* field : {&ts.cloud_fraction, &ts.tke_m2_per_s2, &ts.wind_u_m_per_s, &ts.wind_v_m_per_s,
-                            &ts.wind_w_m_per_s}) {
+  for (const auto* field :
+       {&ts.cloud_fraction, &ts.tke_m2_per_s2, &ts.wind_u_m_per_s, &ts.wind_v_m_per_s, &ts.wind_w_m_per_s}) {
     ASSERT_EQ(field->size(), ts.voxelCount());
   }
   EXPECT_GT(*std::max_element(ts.wind_w_m_per_s.begin(), ts.wind_w_m_per_s.end()), 3.0f);

@@ -137,17 +137,17 @@ TEST(Knobs, SceneFileOverridesAreTheQualityRows) {
       (void)scene::parseSceneText(bad, "q.json");
       ADD_FAILURE() << "no error for " << bad;
     } catch (const InputError& e) {
-      const std::string want = k.type() == KnobType::Boolean
-                                   ? fmt::format("q.json: quality.overrides.{}: expected true or false", k.name)
-                               : choice ? fmt::format("q.json: quality.overrides.{}: expected {}, got \"no-such-choice\"",
-                                                      k.name, choiceList(k, " or "))
-                                   : fmt::format("q.json: quality.overrides.{}: expected {} in [{}, {}]", k.name,
-                                                 k.type() == KnobType::Integer ? "an integer" : "a number", k.min, k.max);
+      const std::string want =
+          k.type() == KnobType::Boolean ? fmt::format("q.json: quality.overrides.{}: expected true or false", k.name)
+          : choice ? fmt::format("q.json: quality.overrides.{}: expected {}, got \"no-such-choice\"", k.name,
+                                 choiceList(k, " or "))
+                   : fmt::format("q.json: quality.overrides.{}: expected {} in [{}, {}]", k.name,
+                                 k.type() == KnobType::Integer ? "an integer" : "a number", k.min, k.max);
       EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what() << "\nexpected: " << want;
     }
   }
-  const scene::SceneDescription s =
-      scene::parseSceneText(fmt::format(R"({{"quality": {{"preset": "draft", "overrides": {{{}}}}}}})", overrides), "q.json");
+  const scene::SceneDescription s = scene::parseSceneText(
+      fmt::format(R"({{"quality": {{"preset": "draft", "overrides": {{{}}}}}}})", overrides), "q.json");
   EXPECT_EQ(s.quality, expected);
   // style knobs are no scene-file keys (yet): the API sets them
   EXPECT_THROW((void)scene::parseSceneText(R"({"quality": {"overrides": {"g_ice": 0.5}}})", "q.json"), InputError);
@@ -155,7 +155,8 @@ TEST(Knobs, SceneFileOverridesAreTheQualityRows) {
 
 // The docs tables are generated from the table; NEPHELE_UPDATE_DOCS=1 rewrites them in place.
 // `table` names a second generated table of a file ("style": markers "generated style table").
-void checkGeneratedSection(const std::string& relativePath, const std::string& generated, const std::string& table = "") {
+void checkGeneratedSection(const std::string& relativePath, const std::string& generated,
+                           const std::string& table = "") {
   const std::string path = std::string(NEPHELE_SOURCE_DIR) + "/" + relativePath;
   std::ifstream in(path, std::ios::binary);
   ASSERT_TRUE(in) << "cannot read " << path;

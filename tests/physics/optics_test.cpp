@@ -60,9 +60,8 @@ TEST(VoxelExtinction, ClassesSumIntoIceAndWater) {
   const VoxelExtinction e = voxelExtinction(v, s);
   const double rho = 1.0256157797141403;
   const double water = 1.5 * rho * (1e-3 / (1000 * 10e-6) + 2e-3 / (1000 * 0.5e-3));
-  const double ice = 1.5 * rho *
-                     (1e-4 / (917 * 30e-6) + 3e-4 / (100 * 0.5e-3) + 5e-4 / (400 * 1e-3) +
-                      7e-4 / (900 * 2.5e-3));
+  const double ice =
+      1.5 * rho * (1e-4 / (917 * 30e-6) + 3e-4 / (100 * 0.5e-3) + 5e-4 / (400 * 1e-3) + 7e-4 / (900 * 2.5e-3));
   EXPECT_NEAR(e.water_per_m, water, 1e-12);
   EXPECT_NEAR(e.ice_per_m, ice, 1e-12);
 }
@@ -110,8 +109,8 @@ TEST(EffectiveRadius, MatchesNumericallyIntegratedGammaDistribution) {
   for (double mu : {0.0, 2.0, 5.0}) {
     for (double lambda : {2e3, 5e4, 2e5}) {
       const Moments m = integrateGamma(1e10, mu, lambda, 1000.0);
-      const double r = effectiveRadiusFromNumber(m.q_per_m3 / rho_air, m.number_per_m3 / rho_air,
-                                                 1000.0, mu, 1.0, 0.0, 1.0);
+      const double r =
+          effectiveRadiusFromNumber(m.q_per_m3 / rho_air, m.number_per_m3 / rho_air, 1000.0, mu, 1.0, 0.0, 1.0);
       EXPECT_NEAR(r / m.r_eff_m, 1.0, 1e-4) << "mu " << mu << " lambda " << lambda;
       EXPECT_NEAR(r, (mu + 3.0) / (2.0 * lambda), 1e-6 * r);
     }

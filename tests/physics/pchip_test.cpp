@@ -8,8 +8,7 @@
 namespace nph::physics {
 namespace {
 
-double evalAt(const std::vector<double>& x, const std::vector<double>& y,
-              const std::vector<double>& d, double xq) {
+double evalAt(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& d, double xq) {
   std::size_t k = 0;
   while (k + 2 < x.size() && xq >= x[k + 1]) ++k;
   return pchipEvaluate(x, y, d, k, xq);

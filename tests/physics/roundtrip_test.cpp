@@ -24,8 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// One timestep of a 4-D WRF variable (Time, bottom_top, south_north, west_east), raw.
-std::vector<float> readWrf(const std::string& path, const char* var, std::size_t t,
-                           const datagen::WrfTruth& truth) {
+std::vector<float> readWrf(const std::string& path, const char* var, std::size_t t, const datagen::WrfTruth& truth) {
   int nc = -1, id = -1;
   EXPECT_EQ(nc_open(path.c_str(), NC_NOWRITE, &nc), NC_NOERR);
   if (nc_inq_varid(nc, var, &id) != NC_NOERR) {
@@ -51,8 +50,7 @@ struct ClassRef {
 
 /// β [1/m] of one voxel from raw values: Nes 2008 eq. 5.3 with ρ_d = p/(R_d T (1 + r_v/ε)) and
 /// r_eff = (μ+3)/(2λ), λ³ = (π/6) ρ_p (N/q)(μ+1)(μ+2)(μ+3), clamped (the default preset).
-std::pair<double, double> expectedBeta(double p, double t, double qv,
-                                       const std::map<std::string, double>& q,
+std::pair<double, double> expectedBeta(double p, double t, double qv, const std::map<std::string, double>& q,
                                        const std::map<std::string, double>& n) {
   const ClassRef classes[] = {
       {"QCLOUD", "QNCLOUD", 1000.0, 10e-6, 5.0, 2e-6, 50e-6, false},
@@ -69,8 +67,8 @@ std::pair<double, double> expectedBeta(double p, double t, double qv,
     double r = c.r_default;
     const auto ni = n.find(c.n_name);
     if (ni != n.end() && ni->second > 0.0) {
-      const double lambda = std::cbrt(kPi / 6.0 * c.rho * (ni->second / qi->second) * (c.mu + 1) *
-                                      (c.mu + 2) * (c.mu + 3));
+      const double lambda =
+          std::cbrt(kPi / 6.0 * c.rho * (ni->second / qi->second) * (c.mu + 1) * (c.mu + 2) * (c.mu + 3));
       r = std::clamp((c.mu + 3.0) / (2.0 * lambda), c.r_min, c.r_max);
     }
     (c.ice ? ice : water) += 1.5 * rho_d * qi->second / (c.rho * r);
@@ -112,8 +110,7 @@ TEST(RoundTrip, ThompsonWrfChosenVoxels) {
     std::map<std::string, double> q, n;
     for (const char* name : q_names) q[name] = double(raw[name][m]);
     for (const char* name : n_names) n[name] = double(raw[name][m]);
-    const auto [ice, water] = expectedBeta(truth.pressure_pa[t][m], truth.temperature_k[t][m],
-                                           double(qv[m]), q, n);
+    const auto [ice, water] = expectedBeta(truth.pressure_pa[t][m], truth.temperature_k[t][m], double(qv[m]), q, n);
     // float storage of p, θ and the Exner function in the file: ~1e-5 relative
     EXPECT_NEAR(double(b.ice_per_m[m]), ice, 2e-4 * ice + 1e-12) << "voxel " << m;
     EXPECT_NEAR(double(b.water_per_m[m]), water, 2e-4 * water + 1e-12) << "voxel " << m;

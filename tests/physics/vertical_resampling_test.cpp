@@ -53,10 +53,10 @@ TEST(VerticalGrid, CropJustAboveHighestCondensate) {
 
   ExtinctionVolumes v;
   resampleVertically(ts, b, g, v);
-  EXPECT_GT(v.ice_per_m[v.index(1, 0, 11)], 0.0f);  // 2875 m lies in (h_5, h_6) of column 1
+  EXPECT_GT(v.ice_per_m[v.index(1, 0, 11)], 0.0f);                   // 2875 m lies in (h_5, h_6) of column 1
   EXPECT_EQ(v.ice_per_m[v.index(1, 0, 12)], 0.0f) << "guard layer";  // 3125 m
-  EXPECT_GT(v.water_per_m[v.index(0, 0, 5)], 0.0f);  // 1375 m: between h_3 = 1250, h_4 = 1650
-  EXPECT_EQ(v.water_per_m[v.index(0, 0, 7)], 0.0f);  // 1875 m: above h_4, column 0 is clear
+  EXPECT_GT(v.water_per_m[v.index(0, 0, 5)], 0.0f);                  // 1375 m: between h_3 = 1250, h_4 = 1650
+  EXPECT_EQ(v.water_per_m[v.index(0, 0, 7)], 0.0f);                  // 1875 m: above h_4, column 0 is clear
 }
 
 TEST(VerticalGrid, EmptySceneKeepsOneLayerAndFixedTopOverrides) {
@@ -80,7 +80,7 @@ TEST(VerticalGrid, BottomFromLowestTerrain) {
   EXPECT_EQ(defaultBottomHeight_m(ts, 250.0), 500.0);
   ts.terrain_height_m = {-30.0f, 880.0f};  // below sea level
   EXPECT_EQ(defaultBottomHeight_m(ts, 250.0), -250.0);
-  ts.terrain_height_m.clear();  // idealized run without HGT: half a layer below h_0
+  ts.terrain_height_m.clear();                          // idealized run without HGT: half a layer below h_0
   EXPECT_EQ(defaultBottomHeight_m(ts, 100.0), -200.0);  // column 0: 50 - 200 = -150
 }
 

@@ -20,7 +20,8 @@ TEST(OctaveSeries, OneOctaveIsSingleScatteringWithTheNesMix) {
   const OctaveSeries one{};
   for (double cosPsi : {-1.0, -0.3, 0.0, 0.5, 0.99, 1.0})
     for (double w : {0.0, 0.25, 1.0}) {
-      const double pv = w * physics::henyeyGreenstein(cosPsi, 0.75) + (1.0 - w) * physics::henyeyGreenstein(cosPsi, 0.85);
+      const double pv =
+          w * physics::henyeyGreenstein(cosPsi, 0.75) + (1.0 - w) * physics::henyeyGreenstein(cosPsi, 0.85);
       EXPECT_NEAR(octaveSunFactor(one, 0.37, cosPsi, w, 0.75, 0.85), 0.37 * pv, 1e-9 * pv)
           << "cos psi " << cosPsi << ", ice weight " << w;
     }
@@ -32,7 +33,8 @@ TEST(OctaveSeries, OctavesScaleOpticalDepthEnergyAndAnisotropy) {
   double expected = 0.0;
   for (int n = 0; n < 4; ++n) {
     const double g = std::pow(0.5, n);
-    const double pv = w * physics::henyeyGreenstein(cosPsi, g * 0.75) + (1.0 - w) * physics::henyeyGreenstein(cosPsi, g * 0.85);
+    const double pv =
+        w * physics::henyeyGreenstein(cosPsi, g * 0.75) + (1.0 - w) * physics::henyeyGreenstein(cosPsi, g * 0.85);
     expected += std::pow(0.6, n) * std::exp(-std::pow(0.3, n) * tau) * pv;
   }
   EXPECT_NEAR(octaveSunFactor(s, sunlight, cosPsi, w, 0.75, 0.85), expected, 1e-12 * expected);

@@ -61,8 +61,8 @@ struct SlabView {
   }
   double exact(const Slab& slab, const physics::PhaseFunction& phase) const {
     const glm::dvec3 toSun = sun.toSun();
-    return slabSingleScattering(slab.sigma_per_m * Slab::kThickness_m, sun.intensity,
-                                phase.eval(glm::dot(toSun, dir)), toSun.z, -dir.z);
+    return slabSingleScattering(slab.sigma_per_m * Slab::kThickness_m, sun.intensity, phase.eval(glm::dot(toSun, dir)),
+                                toSun.z, -dir.z);
   }
 };
 
@@ -148,8 +148,8 @@ TEST(PathTracer, AlphaOfHomogeneousSlabIsBeerLambert) {
   s.ground_enabled = true;
   s.ground_height_m = 1600.0;
   const PathTracer withGround(slab.volumes, scene::frameOf(slab.volumes), scene::Sun{}, s);
-  EXPECT_NEAR(withGround.alpha({50000.0, 50000.0, 3000.0}, {0.0, 0.0, -1.0}),
-              1.0 - std::exp(-slab.sigma_per_m * 400.0), 1e-12);
+  EXPECT_NEAR(withGround.alpha({50000.0, 50000.0, 3000.0}, {0.0, 0.0, -1.0}), 1.0 - std::exp(-slab.sigma_per_m * 400.0),
+              1e-12);
 }
 
 TEST(PathTracer, AlphaOfSphereIsBeerLambertWithinVoxelisation) {
@@ -197,9 +197,12 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
   }
   const scene::VolumeFrame frame = scene::frameOf(v);
   // Both filters (volume/reconstruction.h): the cubic B-spline reads 2 voxels past a brick.
-  for (const auto& [brick, rec] : {std::pair{1, scene::Reconstruction::Trilinear}, {4, scene::Reconstruction::Trilinear},
-                                  {8, scene::Reconstruction::Trilinear}, {1, scene::Reconstruction::Cubic},
-                                  {4, scene::Reconstruction::Cubic}, {8, scene::Reconstruction::Cubic}}) {
+  for (const auto& [brick, rec] : {std::pair{1, scene::Reconstruction::Trilinear},
+                                   {4, scene::Reconstruction::Trilinear},
+                                   {8, scene::Reconstruction::Trilinear},
+                                   {1, scene::Reconstruction::Cubic},
+                                   {4, scene::Reconstruction::Cubic},
+                                   {8, scene::Reconstruction::Cubic}}) {
     SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
     const ExtinctionField field(v, frame, rec);
     const MajorantGrid grid(field, brick);
@@ -244,25 +247,26 @@ TEST(PathTracer, OpticalDepthIsExactForTheTrilinearAndCubicFields) {
   }
   const scene::VolumeFrame frame = scene::frameOf(v);
   for (const scene::Reconstruction rec : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
-  SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
-  const ExtinctionField field(v, frame, rec);
-  for (int r = 0; r < 40; ++r) {
-    // Origins inside the box, in the half-voxel rim around it (β fading to the zero border) and
-    // outside; the brute force spans the whole support.
-    const glm::dvec3 o = frame.min_m() + glm::dvec3(1.4 * u(rng) - 0.2, 1.4 * u(rng) - 0.2, 1.4 * u(rng) - 0.2) * frame.size_m();
-    glm::dvec3 d = glm::normalize(glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
-    if (r % 10 == 0) d = glm::dvec3(0.0, 0.0, r % 20 == 0 ? 1.0 : -1.0);  // along a grid axis
-    double t0 = 0.0, t1 = 0.0;
-    if (!field.clipToBox(o, d, 0.0, 1e9, t0, t1)) {
-      EXPECT_EQ(field.opticalDepth(o, d, 0.0, 1e9), 0.0);
-      continue;
+    SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
+    const ExtinctionField field(v, frame, rec);
+    for (int r = 0; r < 40; ++r) {
+      // Origins inside the box, in the half-voxel rim around it (β fading to the zero border) and
+      // outside; the brute force spans the whole support.
+      const glm::dvec3 o =
+          frame.min_m() + glm::dvec3(1.4 * u(rng) - 0.2, 1.4 * u(rng) - 0.2, 1.4 * u(rng) - 0.2) * frame.size_m();
+      glm::dvec3 d = glm::normalize(glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
+      if (r % 10 == 0) d = glm::dvec3(0.0, 0.0, r % 20 == 0 ? 1.0 : -1.0);  // along a grid axis
+      double t0 = 0.0, t1 = 0.0;
+      if (!field.clipToBox(o, d, 0.0, 1e9, t0, t1)) {
+        EXPECT_EQ(field.opticalDepth(o, d, 0.0, 1e9), 0.0);
+        continue;
+      }
+      const int n = 200000;
+      double brute = 0.0;
+      for (int i = 0; i < n; ++i) brute += field.at(o + (t0 + (i + 0.5) * (t1 - t0) / n) * d).total();
+      brute *= (t1 - t0) / n;
+      EXPECT_NEAR(field.opticalDepth(o, d, 0.0, 1e9), brute, 1e-7 * brute + 1e-12) << "ray " << r;
     }
-    const int n = 200000;
-    double brute = 0.0;
-    for (int i = 0; i < n; ++i) brute += field.at(o + (t0 + (i + 0.5) * (t1 - t0) / n) * d).total();
-    brute *= (t1 - t0) / n;
-    EXPECT_NEAR(field.opticalDepth(o, d, 0.0, 1e9), brute, 1e-7 * brute + 1e-12) << "ray " << r;
-  }
   }
 }
 
@@ -460,7 +464,8 @@ TEST(PathTracer, ErrorFallsAsInverseSquareRootOfSamples) {
   for (int n : {64, 256, 1024, 4096, 16384}) {
     double sq = 0.0;
     for (int r = 0; r < repeats; ++r) {
-      const double d = pt.estimateRay(view.origin, view.dir, n, 1000u * std::uint64_t(n) + std::uint64_t(r)).rgb.x - exact;
+      const double d =
+          pt.estimateRay(view.origin, view.dir, n, 1000u * std::uint64_t(n) + std::uint64_t(r)).rgb.x - exact;
       sq += d * d;
     }
     logN.push_back(std::log(double(n)));
@@ -472,7 +477,8 @@ TEST(PathTracer, ErrorFallsAsInverseSquareRootOfSamples) {
   mx /= double(logN.size());
   my /= double(logN.size());
   double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < logN.size(); ++i) sxy += (logN[i] - mx) * (logErr[i] - my), sxx += (logN[i] - mx) * (logN[i] - mx);
+  for (std::size_t i = 0; i < logN.size(); ++i)
+    sxy += (logN[i] - mx) * (logErr[i] - my), sxx += (logN[i] - mx) * (logN[i] - mx);
   const double slope = sxy / sxx;
   RecordProperty("slope", std::to_string(slope));
   EXPECT_NEAR(slope, -0.5, 0.15);

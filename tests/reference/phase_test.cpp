@@ -37,7 +37,8 @@ long double csCumulativeExact(long double theta, long double g) {
   const long double a = 1 + g * g, b = 2 * g;
   const long double k = 3 * (1 - g * g) / (2 * (2 + g * g));
   auto F = [&](long double u) {
-    return -2 / std::sqrt(u) + (-2 * a * a / std::sqrt(u) - 4 * a * std::sqrt(u) + 2.0L / 3.0L * u * std::sqrt(u)) / (b * b);
+    return -2 / std::sqrt(u) +
+           (-2 * a * a / std::sqrt(u) - 4 * a * std::sqrt(u) + 2.0L / 3.0L * u * std::sqrt(u)) / (b * b);
   };
   const long double uc = a - b * std::cos(theta), u1 = (1 - g) * (1 - g);
   return 0.5L * k * (F(uc) - F(u1)) / b;
@@ -45,9 +46,7 @@ long double csCumulativeExact(long double theta, long double g) {
 
 class PhaseParam : public ::testing::TestWithParam<PhaseFunction> {};
 
-TEST_P(PhaseParam, NormalisedOverTheSphere) {
-  EXPECT_NEAR(sphereIntegral(GetParam()), 1.0, 1e-6);
-}
+TEST_P(PhaseParam, NormalisedOverTheSphere) { EXPECT_NEAR(sphereIntegral(GetParam()), 1.0, 1e-6); }
 
 TEST_P(PhaseParam, CumulativeEndPointsAndMonotone) {
   const CumulativePhaseTable cp(GetParam());
@@ -70,9 +69,8 @@ TEST_P(PhaseParam, TableAgreesWithExactCumulative) {
   double worst = 0.0;
   for (int i = 0; i <= 7919; ++i) {  // a prime count so the points fall between the nodes
     const double t = kPi * i / 7919.0;
-    const double exact = p.model == PhaseModel::HenyeyGreenstein
-                             ? henyeyGreensteinCumulative(t, p.g)
-                             : double(csCumulativeExact(t, p.g));
+    const double exact = p.model == PhaseModel::HenyeyGreenstein ? henyeyGreensteinCumulative(t, p.g)
+                                                                 : double(csCumulativeExact(t, p.g));
     worst = std::max(worst, std::abs(cp(t) - exact));
   }
   EXPECT_LT(worst, 1e-6);
@@ -98,17 +96,20 @@ TEST_P(PhaseParam, SamplingMatchesTheDensity) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Models, PhaseParam,
-    ::testing::Values(PhaseFunction{PhaseModel::HenyeyGreenstein, 0.0}, PhaseFunction{PhaseModel::HenyeyGreenstein, 0.85},
-                      PhaseFunction{PhaseModel::HenyeyGreenstein, 0.75}, PhaseFunction{PhaseModel::HenyeyGreenstein, -0.4},
-                      PhaseFunction{PhaseModel::HenyeyGreenstein, 0.95}, PhaseFunction{PhaseModel::CornetteShanks, 0.9},
-                      PhaseFunction{PhaseModel::CornetteShanks, 0.5}, PhaseFunction{PhaseModel::CornetteShanks, 0.95}),
-    [](const ::testing::TestParamInfo<PhaseFunction>& param_info) {
-      std::string name = param_info.param.model == PhaseModel::HenyeyGreenstein ? "HG_g" : "CS_g";
-      const int milli = int(std::lround(param_info.param.g * 1000.0));
-      return name + (milli < 0 ? "minus" : "") + std::to_string(std::abs(milli));
-    });
+INSTANTIATE_TEST_SUITE_P(Models, PhaseParam,
+                         ::testing::Values(PhaseFunction{PhaseModel::HenyeyGreenstein, 0.0},
+                                           PhaseFunction{PhaseModel::HenyeyGreenstein, 0.85},
+                                           PhaseFunction{PhaseModel::HenyeyGreenstein, 0.75},
+                                           PhaseFunction{PhaseModel::HenyeyGreenstein, -0.4},
+                                           PhaseFunction{PhaseModel::HenyeyGreenstein, 0.95},
+                                           PhaseFunction{PhaseModel::CornetteShanks, 0.9},
+                                           PhaseFunction{PhaseModel::CornetteShanks, 0.5},
+                                           PhaseFunction{PhaseModel::CornetteShanks, 0.95}),
+                         [](const ::testing::TestParamInfo<PhaseFunction>& param_info) {
+                           std::string name = param_info.param.model == PhaseModel::HenyeyGreenstein ? "HG_g" : "CS_g";
+                           const int milli = int(std::lround(param_info.param.g * 1000.0));
+                           return name + (milli < 0 ? "minus" : "") + std::to_string(std::abs(milli));
+                         });
 
 TEST(Phase, HenyeyGreensteinClosedFormAgainstQuadrature) {
   for (double g : {-0.5, 0.0, 1e-9, 0.3, 0.85, 0.99}) {

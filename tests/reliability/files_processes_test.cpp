@@ -86,7 +86,8 @@ TEST(TempFiles, PlantedSymlinkCannotRedirectAnImageWrite) {
   const fs::path victim = dir.path() / "victim.txt";
   std::ofstream(victim) << "precious";
   for (int n = 0; n < 4; ++n) {
-    fs::create_symlink(victim, dir.path() / (".frame.partial-" + std::to_string(::getpid()) + "-" + std::to_string(n) + ".png"));
+    fs::create_symlink(
+        victim, dir.path() / (".frame.partial-" + std::to_string(::getpid()) + "-" + std::to_string(n) + ".png"));
   }
   scene::writeImage(grey(8, 4), (dir.path() / "frame.png").string());
   EXPECT_EQ(contents(victim), "precious");

@@ -32,7 +32,8 @@ std::string smallWrf(const Scratch& dir) {
 }
 
 void putGlobalDouble(const std::string& path, const char* name, double value) {
-  ncEdit(path, true, [&](int nc) { ASSERT_EQ(nc_put_att_double(nc, NC_GLOBAL, name, NC_DOUBLE, 1, &value), NC_NOERR); });
+  ncEdit(path, true,
+         [&](int nc) { ASSERT_EQ(nc_put_att_double(nc, NC_GLOBAL, name, NC_DOUBLE, 1, &value), NC_NOERR); });
 }
 
 void putElement(const std::string& path, const char* var, std::size_t element, float value) {
@@ -104,9 +105,8 @@ TEST(HostileNetcdf, TerrainOfMinus1e7IsRefused) {
 TEST(HostileNetcdf, CharScaleFactorIsRefusedNotIgnored) {
   const Scratch dir;
   const std::string path = smallWrf(dir);
-  ncEdit(path, true, [](int nc) {
-    ASSERT_EQ(nc_put_att_text(nc, ncVar(nc, "QCLOUD"), "scale_factor", 3, "100"), NC_NOERR);
-  });
+  ncEdit(path, true,
+         [](int nc) { ASSERT_EQ(nc_put_att_text(nc, ncVar(nc, "QCLOUD"), "scale_factor", 3, "100"), NC_NOERR); });
   expectLoadError(path, {path, "QCLOUD:scale_factor is text", "expected one number"});
 }
 
@@ -193,7 +193,8 @@ TEST(HostileNetcdf, FifoAndDirectoryAreRefusedByFileTypeWithoutBlocking) {
   const Scratch dir;
   const std::string fifo = dir.file("pipe.nc");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  expectError<InputError>([&] { (void)io::openModelFile(fifo); }, {fifo, "is a FIFO (named pipe)", "expected a NetCDF file"});
+  expectError<InputError>([&] { (void)io::openModelFile(fifo); },
+                          {fifo, "is a FIFO (named pipe)", "expected a NetCDF file"});
   expectError<InputError>([&] { (void)engine::Dataset::open(fifo); }, {fifo, "is a FIFO (named pipe)"});
   expectError<InputError>([&] { (void)engine::Dataset::openSeries({fifo, fifo}); }, {fifo, "is a FIFO"});
   const std::string folder = dir.file("folder.nc");
@@ -209,7 +210,8 @@ TEST(HostileNetcdf, EscapeSequencesInTimesAreShownNotSent) {
   const Scratch dir;
   const std::string path = smallWrf(dir);
   ncEdit(path, false, [](int nc) {
-    const std::string evil = "\x1b]0;pwned\x07\x1b[2J\xc2\x9b" "1m";  // OSC, CSI, C1 CSI
+    const std::string evil = "\x1b]0;pwned\x07\x1b[2J\xc2\x9b"
+                             "1m";  // OSC, CSI, C1 CSI
     std::size_t len = 0;
     int dims[2] = {};
     nc_inq_vardimid(nc, ncVar(nc, "Times"), dims);

@@ -94,7 +94,8 @@ TEST(HostileNph, IndexNested100000DeepIsRefusedWithoutStackOverflow) {
   const std::string path = writeValidNph(dir);
   const std::string deep = std::string(100000, '[') + std::string(100000, ']');
   rewriteIndex(path, [&](std::string s) { return replaced(s, "\"optics\": {}", "\"optics\": " + deep); });
-  expectError<InputError>([&] { (void)cache::NphReader(path); }, {path, "the .nph index", "nests deeper than 64 levels"});
+  expectError<InputError>([&] { (void)cache::NphReader(path); },
+                          {path, "the .nph index", "nests deeper than 64 levels"});
 }
 
 TEST(HostileNph, DuplicateKeyInTheIndexIsRefused) {
@@ -117,8 +118,8 @@ TEST(HostileNph, ChunkClaimingMoreBytesThanItsFrameHoldsIsRefusedBeforeAllocatin
   const Scratch dir;
   const std::string path = writeValidNph(dir);
   rewriteIndex(path, [](std::string s) {
-    s = replaced(s, "\"nz\": 4,", "\"nz\": 40,");                 // the grid
-    s = replaced(s, "\"nz\": 4,", "\"nz\": 40,");                 // the timestep
+    s = replaced(s, "\"nz\": 4,", "\"nz\": 40,");                     // the grid
+    s = replaced(s, "\"nz\": 4,", "\"nz\": 40,");                     // the timestep
     return replaced(s, "\"raw_bytes\": 768", "\"raw_bytes\": 7680");  // 2 x 2 bytes x 8 x 6 x 40
   });
   const cache::NphReader r(path);

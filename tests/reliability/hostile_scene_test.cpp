@@ -29,14 +29,16 @@ TEST(HostileScene, AnimationNested100000DeepIsRefusedWithoutStackOverflow) {
   // The "animation" section is kept as JSON text (dump) and parsed again later: dump() recursed
   // once per level and overflowed the stack.
   const std::string deep = std::string(100000, '[') + std::string(100000, ']');
-  expectSceneError(R"({"animation": {"keys": )" + deep + "}}", {"hostile.json", "the scene file", "nests deeper than 64 levels"});
+  expectSceneError(R"({"animation": {"keys": )" + deep + "}}",
+                   {"hostile.json", "the scene file", "nests deeper than 64 levels"});
 }
 
 TEST(HostileScene, DuplicateKeysAreRefusedNotSilentlyOverwritten) {
   expectSceneError(R"({"camera": {"fov_deg": 30, "fov_deg": 90}})", {"hostile.json", "key \"fov_deg\" appears twice"});
   expectSceneError(R"({"sun": {}, "sun": {}})", {"hostile.json", "key \"sun\" appears twice"});
   // The same key in two different objects is fine.
-  EXPECT_NO_THROW((void)scene::parseSceneText(R"({"camera": {"fov_deg": 30}, "output": {"width": 30}})", "ok.json", "."));
+  EXPECT_NO_THROW(
+      (void)scene::parseSceneText(R"({"camera": {"fov_deg": 30}, "output": {"width": 30}})", "ok.json", "."));
 }
 
 TEST(HostileScene, DegenerateCamerasAreRefused) {
@@ -48,11 +50,13 @@ TEST(HostileScene, DegenerateCamerasAreRefused) {
   expectSceneError(R"({"camera": {"position_m": [1e300, 0, 0], "target_m": [0, 0, 0], "up": [0, 0, 1]}})",
                    {"hostile.json", "camera.position_m", "expected coordinates within +-1000000000 m"});
   // Nearly vertical but not parallel stays allowed (the animation tests use it).
-  EXPECT_NO_THROW((void)scene::parseSceneText(R"({"camera": {"position_m": [0, 0, 9000], "target_m": [1, 1, 0]}})", "ok.json", "."));
+  EXPECT_NO_THROW((void)scene::parseSceneText(R"({"camera": {"position_m": [0, 0, 9000], "target_m": [1, 1, 0]}})",
+                                              "ok.json", "."));
 }
 
 TEST(HostileScene, SunColourBeyondATintIsRefused) {
-  expectSceneError(R"({"sun": {"colour": [1e300, 1, 1]}})", {"hostile.json", "sun.colour", "expected components in [0, 100]"});
+  expectSceneError(R"({"sun": {"colour": [1e300, 1, 1]}})",
+                   {"hostile.json", "sun.colour", "expected components in [0, 100]"});
 }
 
 TEST(HostileScene, OutputLargerThanTheImageLimitIsRefusedBeforeRendering) {
@@ -70,7 +74,8 @@ TEST(HostileScene, AbsurdGridSpacingNamesTheFile) {
     ExtinctionVolumes v = ExtinctionVolumes::zeros(4, 4, 4, 1000.0, 250.0, 0.0);
     v.georef.dx_m = dx;
     v.source_file = "storm.nph";
-    expectError<InputError>([&] { (void)scene::frameOf(v, 1.0); }, {"storm.nph", "grid spacing", "expected spacings in"});
+    expectError<InputError>([&] { (void)scene::frameOf(v, 1.0); },
+                            {"storm.nph", "grid spacing", "expected spacings in"});
   }
 }
 
@@ -150,7 +155,7 @@ TEST(SeriesBlend, TimestepsCroppedDifferentlyBlendOnTheUnionOfTheirColumns) {
   ExtinctionVolumes a = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 250.0, 0.0);
   ExtinctionVolumes b = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 250.0, 500.0);
   for (std::size_t i = 0; i < a.ice_per_m.size(); ++i) {
-    a.ice_per_m[i] = float(i + 1);     // 1..8
+    a.ice_per_m[i] = float(i + 1);         // 1..8
     b.ice_per_m[i] = float(10 * (i + 1));  // 10..80
   }
   for (const bool swapped : {false, true}) {

@@ -17,7 +17,10 @@ TEST(Limits, ProductsOverflowingSixtyFourBitsAreDetected) {
   // nx = ny = 2^30, nz = 4, 4 bytes per voxel: 2^64 wrapped to 0 before.
   EXPECT_FALSE(limits::checkedProduct({1u << 30, 1u << 30, 4, 4}).has_value());
   expectError<InputError>(
-      [] { (void)limits::requireProductWithin("f.nph", "grid", {1u << 30, 1u << 30, 16}, limits::kMaxGridPoints, "raise it"); },
+      [] {
+        (void)limits::requireProductWithin("f.nph", "grid", {1u << 30, 1u << 30, 16}, limits::kMaxGridPoints,
+                                           "raise it");
+      },
       {"f.nph: grid = 1073741824 x 1073741824 x 16 (overflows 64 bits) exceeds the limit of 2147483648 (raise it)"});
   EXPECT_EQ(limits::requireProductWithin("f", "g", {1000, 1000}, 1000000, ""), 1000000u);
 }
@@ -49,8 +52,8 @@ TEST(Limits, MemoryBudgetFromTheEnvironmentIsParsedStrictly) {
   }
   EXPECT_EQ(limits::memoryBudgetBytesFromEnv(), limits::kDefaultMemoryBudgetBytes);
   // Huge values overflowed to 0 (MiB << 20), garbage was ignored: both are errors now.
-  for (const char* bad : {"abc", "12abc", "0", "-5", " 5", "1e3", "99999999999999999999999",
-                          "18446744073709551615", "16777217"}) {
+  for (const char* bad :
+       {"abc", "12abc", "0", "-5", " 5", "1e3", "99999999999999999999999", "18446744073709551615", "16777217"}) {
     SCOPED_TRACE(bad);
     const ScopedEnv env("NEPHELE_IO_MEMORY_BUDGET_MB", bad);
     expectError<UsageError>([] { (void)limits::memoryBudgetBytesFromEnv(); },

@@ -4,11 +4,11 @@
 #include <gtest/gtest.h>
 #include <netcdf.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
 #include <string>
-#include <unistd.h>
 
 #include "cache/nph_cache.h"
 #include "support/scratch_dir.h"
@@ -66,7 +66,8 @@ void expectError(const std::function<void()>& fn, std::initializer_list<std::str
     ADD_FAILURE() << "no exception; expected one mentioning " << *mentions.begin();
   } catch (const E& e) {
     const std::string what = e.what();
-    for (const std::string& m : mentions) EXPECT_NE(what.find(m), std::string::npos) << "\"" << m << "\" not in: " << what;
+    for (const std::string& m : mentions)
+      EXPECT_NE(what.find(m), std::string::npos) << "\"" << m << "\" not in: " << what;
   } catch (const std::exception& e) {
     ADD_FAILURE() << "wrong exception type: " << e.what();
   }

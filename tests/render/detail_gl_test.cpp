@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "dlm_scenes.h"
-#include "render_scenes.h"
 #include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/dlm/noise_texture.h"
 #include "render/raycast/cloud_renderer.h"
+#include "render_scenes.h"
 #include "scene/scene_file.h"
 #include "scene/sun.h"
 #include "support/gl_fixture.h"
@@ -67,7 +67,8 @@ TEST_F(DetailTest, GpuNoiseTileMatchesTheCpuTwin) {
 TEST_F(DetailTest, GpuDetailMatchesTheCpuReferenceRayMarcher) {
   const ExtinctionVolumes v = coarseStorm();
   const DemoView d = demoView(v, 96, 54);
-  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
+  auto tex =
+      render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
   EXPECT_EQ(tex.occupancy().dilation_voxels, 1 + tex.detail().reach_voxels);
   render::DeepLightMap dlm;
   dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
@@ -117,7 +118,8 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   const ExtinctionVolumes v = coarseStorm();
   const DemoView d = demoView(v, 96, 54);
   render::RenderSettings rs;
-  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
+  auto tex =
+      render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
   render::DeepLightMap dlm;
   dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
   render::CloudRenderer renderer;
@@ -125,7 +127,8 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   const auto b = renderer.render(tex, dlm, d.camera, d.sun, rs);
   EXPECT_EQ(a.cloud_layer.rgba, b.cloud_layer.rgba);
   // A second upload regenerating the tile gives the same frame too.
-  auto tex2 = render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
+  auto tex2 =
+      render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
   render::DeepLightMap dlm2;
   dlm2.build(tex2, -d.sun.toSun(), scene::DlmSettings{});
   const auto c = renderer.render(tex2, dlm2, d.camera, d.sun, rs);

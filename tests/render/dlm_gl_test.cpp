@@ -7,12 +7,12 @@
 
 #include <fmt/format.h>
 
+#include "dlm_scenes.h"
 #include "reference/dlm_reference.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
 #include "scene/sun.h"
-#include "dlm_scenes.h"
 #include "support/gl_fixture.h"
 
 namespace nph::test {
@@ -154,14 +154,16 @@ TEST_F(DlmTest, NodeBudgetOverflowIsCountedAndTheBoundKeptByDoublingEpsilon) {
       double maxErr = 0.0;
       for (int n = 0; n <= st.steps; ++n) {
         const double s_m = n * st.step_m;
-        maxErr = std::max(maxErr, std::abs(scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s_m) -
-                                           ref.texelIntensity(a, b, s_m)));
+        maxErr =
+            std::max(maxErr, std::abs(scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s_m) -
+                                      ref.texelIntensity(a, b, s_m)));
       }
       if (maxErr > double(rb.texel_epsilon[t]) + kFloatSlack) {
         std::string dump;
         for (const auto& nd : rb.nodes[t]) dump += fmt::format(" ({:.0f},{:.4f})", nd.depth_m, nd.intensity);
         dump += "\n ref:";
-        for (int n = 0; n <= st.steps; n += 4) dump += fmt::format(" ({:.0f},{:.4f})", n * st.step_m, ref.texelIntensity(a, b, n * st.step_m));
+        for (int n = 0; n <= st.steps; n += 4)
+          dump += fmt::format(" ({:.0f},{:.4f})", n * st.step_m, ref.texelIntensity(a, b, n * st.step_m));
         FAIL() << "texel " << a << "," << b << " err " << maxErr << " eps " << rb.texel_epsilon[t] << " nodes" << dump;
       }
     }
@@ -194,8 +196,9 @@ TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
     for (std::size_t t = 0; t < ra.nodes.size(); ++t) {
       for (int n = 0; n <= a.stats().steps; ++n) {
         const double sm = n * a.stats().step_m;
-        maxDiff = std::max(maxDiff, std::abs(scene::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), sm) -
-                                             scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), sm)));
+        maxDiff =
+            std::max(maxDiff, std::abs(scene::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), sm) -
+                                       scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), sm)));
       }
     }
     EXPECT_LE(maxDiff, 2 * s.epsilon + 1e-6);
@@ -255,9 +258,13 @@ TEST(DlmScenes, GeneratedHurricaneHasCloud) {
   const ExtinctionVolumes v = generatedHurricane();
   float mx = 0.0f;
   std::size_t nans = 0;
-  for (float x : v.water_per_m) { if (std::isnan(x)) ++nans; else mx = std::max(mx, x); }
-  std::printf("hurricane %dx%dx%d dz %g zb %g water max %g (stored %g), nans %zu, sizes %zu %zu\n", v.nx, v.ny, v.nz, v.dz_m,
-              v.z_bottom_m, double(mx), double(v.max_water_per_m), nans, v.water_per_m.size(), v.ice_per_m.size());
+  for (float x : v.water_per_m) {
+    if (std::isnan(x)) ++nans;
+    else mx = std::max(mx, x);
+  }
+  std::printf("hurricane %dx%dx%d dz %g zb %g water max %g (stored %g), nans %zu, sizes %zu %zu\n", v.nx, v.ny, v.nz,
+              v.dz_m, v.z_bottom_m, double(mx), double(v.max_water_per_m), nans, v.water_per_m.size(),
+              v.ice_per_m.size());
   EXPECT_GT(mx, 1e-3f);
 }
 }  // namespace nph::test

@@ -12,10 +12,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dlm_scenes.h"
 #include "reference/dlm_reference.h"
 #include "render/dlm/deep_light_map.h"
 #include "scene/sun.h"
-#include "dlm_scenes.h"
 #include "support/gl_fixture.h"
 
 namespace nph::test {
@@ -82,7 +82,8 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene:
           const double s_m = n * st.step_m;
           const double g = scene::evaluateLightFunction(nodes.data(), int(nodes.size()), s_m);
           const double r1 = ref1.texelIntensity(a, b, s_m);
-          if (std::abs(g - r1) > 0.005) dump += " n" + std::to_string(n) + ":" + std::to_string(g) + "/" + std::to_string(r1);
+          if (std::abs(g - r1) > 0.005)
+            dump += " n" + std::to_string(n) + ":" + std::to_string(g) + "/" + std::to_string(r1);
           if (dump.size() > 1500) break;
         }
         ADD_FAILURE() << what << ": texel " << a << "," << b << " |GPU-ref1| " << texelErr << " > " << tol << dump;
@@ -90,10 +91,13 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene:
       e.gpu_vs_ref1 = std::max(e.gpu_vs_ref1, texelErr);
     }
   std::printf("[ dlm      ] %-28s %4dx%-4d texels %5d steps, nodes mean %.2f max %d, ratio %.0fx, "
-              "max|GPU-ref1| %.2e, max|ref1-ref8| %.2e, max|GPU-ref8| %.2e, mean|GPU-ref8| %.1e, min I %.3f, max beta %.2e/%.2e\n",
+              "max|GPU-ref1| %.2e, max|ref1-ref8| %.2e, max|GPU-ref8| %.2e, mean|GPU-ref8| %.1e, min I %.3f, max beta "
+              "%.2e/%.2e\n",
               what, ls.texels.x, ls.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, st.compression_ratio,
-              e.gpu_vs_ref1, e.ref1_vs_ref8, e.gpu_vs_ref8, e.sum_gpu_vs_ref8 / double(std::max(e.samples, 1L)), minLight, double(v.max_ice_per_m), double(v.max_water_per_m));
-  EXPECT_LE(e.gpu_vs_ref8, (s.peripheral ? 2.0 : 1.0) * s.epsilon * (1 << s.max_epsilon_doublings) + e.ref1_vs_ref8 + kFloatSlack);
+              e.gpu_vs_ref1, e.ref1_vs_ref8, e.gpu_vs_ref8, e.sum_gpu_vs_ref8 / double(std::max(e.samples, 1L)),
+              minLight, double(v.max_ice_per_m), double(v.max_water_per_m));
+  EXPECT_LE(e.gpu_vs_ref8,
+            (s.peripheral ? 2.0 : 1.0) * s.epsilon * (1 << s.max_epsilon_doublings) + e.ref1_vs_ref8 + kFloatSlack);
   return e;
 }
 
@@ -118,13 +122,12 @@ TEST_P(DlmReferenceTest, IconWithScatterMap) {
   compare(v, GetParam().lightDirection, s, (std::string("icon/full/") + GetParam().name).c_str());
 }
 
-INSTANTIATE_TEST_SUITE_P(Suns, DlmReferenceTest, ::testing::ValuesIn(kSuns),
-                         [](const auto& param_info) {
-                           std::string n = param_info.param.name;
-                           for (char& c : n)
-                             if (c == '-') c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Suns, DlmReferenceTest, ::testing::ValuesIn(kSuns), [](const auto& param_info) {
+  std::string n = param_info.param.name;
+  for (char& c : n)
+    if (c == '-') c = '_';
+  return n;
+});
 
 }  // namespace
 }  // namespace nph::test

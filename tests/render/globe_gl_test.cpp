@@ -23,7 +23,8 @@ struct GlobeScene {
   std::unique_ptr<engine::Session> session(const std::string& preset) const {
     return openSession(R"({"data": {"path": "x"}, "camera": {"preset": ")" + preset + R"(", "fov_deg": 40},
       "sun": {"azimuth_deg": 100, "elevation_deg": 25},
-      "basemap": {"path": ")" + basemap + R"(", "margin": 0.4, "pixels_long_side": 256},
+      "basemap": {"path": ")" +
+                           basemap + R"(", "margin": 0.4, "pixels_long_side": 256},
       "quality": {"preset": "broadcast"}, "output": {"width": 160, "height": 90},
       "height_exaggeration": 8, "view": "globe"})",
                        data);

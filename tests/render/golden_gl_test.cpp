@@ -37,13 +37,16 @@ namespace {
 // to ≈ 0.4): both bounds scaled with them.
 constexpr Tolerance kGoldenTolerance{0.015, 6e-4};
 
-std::string goldenPath(const std::string& name) { return std::string(NEPHELE_SOURCE_DIR) + "/tests/golden/" + name + ".exr"; }
+std::string goldenPath(const std::string& name) {
+  return std::string(NEPHELE_SOURCE_DIR) + "/tests/golden/" + name + ".exr";
+}
 
 void writeHalfExr(const Image& image, const std::string& path) {
   auto out = OIIO::ImageOutput::create(path);
   OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::HALF);
   spec.attribute("compression", "zip");
-  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !out->close()) {
+  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
+      !out->close()) {
     throw std::runtime_error("writeHalfExr: " + path);
   }
 }
@@ -71,11 +74,14 @@ struct GoldenScenes {
       "camera": {"preset": "overview", "fov_deg": 40, "distance_scale": )" +
            std::string(view == "globe" ? "3" : "1") + R"(},
       "sun": {"azimuth_deg": 100, "elevation_deg": 25},
-      "basemap": {"path": ")" + basemap + R"(", "margin": 0.4, "pixels_long_side": 256},
-      "quality": {"preset": "broadcast", "overrides": {"shadows": )" + (shadows ? "true" : "false") + R"(}},
+      "basemap": {"path": ")" +
+           basemap + R"(", "margin": 0.4, "pixels_long_side": 256},
+      "quality": {"preset": "broadcast", "overrides": {"shadows": )" +
+           (shadows ? "true" : "false") + R"(}},
       "output": {"width": 160, "height": 90},
       "height_exaggeration": 8,
-      "view": ")" + view + R"("})";
+      "view": ")" +
+           view + R"("})";
   }
   // `atmosphere` off pins the look from before the atmosphere (issue 14) for the four frames that
   // guard the clouds, shadows and placement; flat-atmosphere.exr guards the atmosphere's look.
@@ -120,13 +126,15 @@ TEST_F(GoldenAtmosphereTest, FlatMatchesTheCheckedInFrame) {
     std::printf("[ golden   ] updated %s\n", goldenPath("flat-atmosphere").c_str());
     return;
   }
-  const CompareResult r = compareToFile(actual, goldenPath("flat-atmosphere"), kGoldenTolerance, "golden-flat-atmosphere");
+  const CompareResult r =
+      compareToFile(actual, goldenPath("flat-atmosphere"), kGoldenTolerance, "golden-flat-atmosphere");
   std::printf("[ golden   ] flat-atmosphere 160x90: max |diff| %.2e, mean %.2e\n", r.max_abs, r.mean_abs);
   EXPECT_TRUE(r.pass) << r.message;
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GoldenTest,
-                         ::testing::Combine(::testing::Values(std::string("flat"), std::string("globe")), ::testing::Bool()),
+                         ::testing::Combine(::testing::Values(std::string("flat"), std::string("globe")),
+                                            ::testing::Bool()),
                          [](const auto& param) {
                            return std::get<0>(param.param) + (std::get<1>(param.param) ? "Shadows" : "NoShadows");
                          });

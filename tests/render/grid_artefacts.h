@@ -34,8 +34,8 @@ namespace nph::test {
 /// hits lie over the grid; each run gets its own mean and Hann window.
 inline std::vector<double> gridPowerSpectrum(const scene::RgbaImage& layer, const scene::Camera& camera,
                                              const scene::VolumeFrame& frame, double z_plane_m,
-                                             const std::vector<double>& freqs, int channel = 0,
-                                             double min_alpha = 0.98, std::size_t min_run = 24) {
+                                             const std::vector<double>& freqs, int channel = 0, double min_alpha = 0.98,
+                                             std::size_t min_run = 24) {
   const int w = layer.width, h = layer.height;
   std::vector<double> power(freqs.size(), 0.0);
   std::vector<glm::dvec2> g;
@@ -72,7 +72,8 @@ inline std::vector<double> gridPowerSpectrum(const scene::RgbaImage& layer, cons
       const glm::dvec3 d = camera.rayDirection(x + 0.5, y + 0.5);
       const double t = d.z < 0.0 ? (z_plane_m - camera.position_m.z) / d.z : -1.0;
       const glm::dvec3 grid = frame.gridFromWorld(camera.position_m + t * d);
-      const bool over = t > 0.0 && grid.x >= 0.0 && grid.y >= 0.0 && grid.x <= frame.voxels.x && grid.y <= frame.voxels.y;
+      const bool over =
+          t > 0.0 && grid.x >= 0.0 && grid.y >= 0.0 && grid.x <= frame.voxels.x && grid.y <= frame.voxels.y;
       if (!over || double(layer.rgba[px + 3]) < min_alpha) {  // (min_alpha 0: every pixel over the grid)
         flush();
         continue;

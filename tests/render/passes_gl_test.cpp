@@ -10,8 +10,8 @@
 #include <numbers>
 
 #include "dlm_scenes.h"
-#include "render/dlm/deep_light_map.h"
 #include "reference/dlm_reference.h"
+#include "render/dlm/deep_light_map.h"
 #include "render/raycast/cloud_renderer.h"
 #include "render_scenes.h"
 #include "scene/passes.h"
@@ -174,7 +174,8 @@ TEST_P(PassesRecombine, IntoTheBeautyInMemoryAndFromTheExr) {
   const std::string data = dir.file("storm.nc");
   datagen::writeWrfHurricane(smallStormSpec(), data);
   auto session = openSession(R"({"data": {"path": "x"}, "view": ")" + view + R"(",
-      "camera": {"preset": "overview", "fov_deg": 40, "distance_scale": )" + (view == "globe" ? "3" : "1") + R"(},
+      "camera": {"preset": "overview", "fov_deg": 40, "distance_scale": )" +
+                                 (view == "globe" ? "3" : "1") + R"(},
       "sun": {"azimuth_deg": 100, "elevation_deg": 25}, "height_exaggeration": 8,
       "output": {"width": 96, "height": 54, "passes": true}})",
                              data);
@@ -191,7 +192,8 @@ TEST_P(PassesRecombine, IntoTheBeautyInMemoryAndFromTheExr) {
     sumAlpha += double(a);
     minShadow = std::min(minShadow, double(p.shadow[i]));
     for (std::size_t c = 0; c < 3; ++c) {
-      const float rebuilt = out.cloud_layer.rgba[4 * i + c] + (1.0f - a) * (p.ground_rgb[3 * i + c] + p.sky_rgb[3 * i + c]);
+      const float rebuilt =
+          out.cloud_layer.rgba[4 * i + c] + (1.0f - a) * (p.ground_rgb[3 * i + c] + p.sky_rgb[3 * i + c]);
       maxErr = std::max(maxErr, double(std::abs(rebuilt - out.frame.rgba[4 * i + c])));
       sumSky += double(p.sky_rgb[3 * i + c]);
       sumGround += double(p.ground_rgb[3 * i + c]);
@@ -214,10 +216,9 @@ TEST_P(PassesRecombine, IntoTheBeautyInMemoryAndFromTheExr) {
   auto in = OIIO::ImageInput::open(exr);
   ASSERT_TRUE(in) << OIIO::geterror();
   const OIIO::ImageSpec& s = in->spec();
-  const std::vector<std::string> expectedNames{"R",       "G",       "B",       "A",        "Z",
-                                               "cloud.R", "cloud.G", "cloud.B", "cloud.A",  "ground.R",
-                                               "ground.G", "ground.B", "sky.R",  "sky.G",    "sky.B",
-                                               "shadow.Y"};
+  const std::vector<std::string> expectedNames{"R",       "G",       "B",       "A",        "Z",        "cloud.R",
+                                               "cloud.G", "cloud.B", "cloud.A", "ground.R", "ground.G", "ground.B",
+                                               "sky.R",   "sky.G",   "sky.B",   "shadow.Y"};
   // OpenEXR stores channels sorted by name; OIIO reads them back in its own order: compare as sets.
   std::vector<std::string> names(s.channelnames.begin(), s.channelnames.end());
   std::vector<std::string> want = expectedNames;

@@ -14,8 +14,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <cstdio>
+#include <numbers>
 
 #include "lighting/cloud_light.h"
 #include "reference/path_tracer_field.h"
@@ -47,7 +47,8 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
   writeCodedBasemap(basemap);
   const std::string json = R"({"data": {"path": "x"}, "camera": {"preset": "top", "fov_deg": 40},
     "sun": {"azimuth_deg": 180, "elevation_deg": 60},
-    "basemap": {"path": ")" + basemap + R"(", "margin": 0.1, "pixels_long_side": 1024},
+    "basemap": {"path": ")" +
+                           basemap + R"(", "margin": 0.1, "pixels_long_side": 1024},
     "quality": {"preset": "broadcast", "overrides": {"shadows": false}},
     "output": {"width": 320, "height": 240}, "height_exaggeration": 1, "view": "flat"})";
   auto session = openSession(json, data);
@@ -103,8 +104,10 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
   const glm::dvec3 sky = lighting::skyLightFor(rs, 60.0, glm::dvec3(1.0), 1.0).above;
   const glm::dvec3 light = (glm::dvec3(cosSun) + std::numbers::pi * sky) / std::numbers::pi;  // ρ/π·(E cos θ + π L_sky)
   double lon = 0.0, lat = 0.0;
-  decodeBasemapColour(float(double(ground.frame.rgba[o]) / light.r), float(double(ground.frame.rgba[o + 1]) / light.g), lon, lat);
-  std::printf("[ placement] basemap at that pixel: %.4f, %.4f (truth %.4f, %.4f)\n", lon, lat, stormLl.lon_deg, stormLl.lat_deg);
+  decodeBasemapColour(float(double(ground.frame.rgba[o]) / light.r), float(double(ground.frame.rgba[o + 1]) / light.g),
+                      lon, lat);
+  std::printf("[ placement] basemap at that pixel: %.4f, %.4f (truth %.4f, %.4f)\n", lon, lat, stormLl.lon_deg,
+              stormLl.lat_deg);
   EXPECT_NEAR(lon, stormLl.lon_deg, 0.05);
   EXPECT_NEAR(lat, stormLl.lat_deg, 0.05);
 }

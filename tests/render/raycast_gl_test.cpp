@@ -4,10 +4,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "atmosphere/atmosphere.h"
 #include "dlm_scenes.h"
 #include "lighting/cloud_light.h"
 #include "render/dlm/deep_light_map.h"
-#include "atmosphere/atmosphere.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/sun.h"
 #include "support/gl_fixture.h"
@@ -83,9 +83,9 @@ TEST_F(RaycastTest, EmptyVolumeRendersTheBasemapUnchanged) {
 
 // The same empty scene with the atmosphere (issue 14): the frame's ground pixel at the image
 // centre, 50 km straight below the camera, is what the CPU double model says —
-// albedo/π·E·(T_sun(0, μ_s)·μ_s + E_sky(0, μ_s))·T + E·L_in (Lambertian, issue 12's units), the segment's T and L_in from the
-// plane-parallel march of atmosphere::integrateSegment. Tolerance 5 %: the sky-irradiance table
-// is within 3 % of the CPU's hemisphere integral (tests/atmosphere), the rest is bilinear look-ups.
+// albedo/π·E·(T_sun(0, μ_s)·μ_s + E_sky(0, μ_s))·T + E·L_in (Lambertian, issue 12's units), the segment's T and L_in
+// from the plane-parallel march of atmosphere::integrateSegment. Tolerance 5 %: the sky-irradiance table is within 3 %
+// of the CPU's hemisphere integral (tests/atmosphere), the rest is bilinear look-ups.
 TEST_F(RaycastTest, EmptyVolumeGroundSeenThroughTheAtmosphereMatchesTheCpuModel) {
   const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
   const scene::LinearRgbImage map = uniformBasemap();
@@ -175,7 +175,8 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   const auto cpu = reference::marchCloudLayer(
       v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, ref);
   const LayerDifference d = layerDifference(gpu.cloud_layer, cpu);
-  std::printf("[ raycast  ] 96x54 hurricane: coverage %.2f, max |GPU-CPU| %.2e, mean %.2e\n", d.coverage, d.max, d.mean);
+  std::printf("[ raycast  ] 96x54 hurricane: coverage %.2f, max |GPU-CPU| %.2e, mean %.2e\n", d.coverage, d.max,
+              d.mean);
   EXPECT_GT(d.coverage, 0.1) << "the camera must see the storm";
   EXPECT_LE(d.mean, 1e-5);
   EXPECT_LE(d.max, 0.02);

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "dlm_scenes.h"
-#include "render_scenes.h"
 #include "grid_artefacts.h"
 #include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/raycast/cloud_renderer.h"
+#include "render_scenes.h"
 #include "scene/scene_file.h"
 #include "scene/sun.h"
 #include "support/gl_fixture.h"

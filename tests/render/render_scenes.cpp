@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <random>
 
-#include <nlohmann/json.hpp>
 #include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
 
 #include "engine/dataset.h"
 #include "scene/scene_file.h"

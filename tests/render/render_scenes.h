@@ -7,10 +7,10 @@
 #include "engine/session.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/camera.h"
-#include "scene/sun.h"
-#include "volume/extinction_volumes.h"
 #include "scene/output_image.h"
+#include "scene/sun.h"
 #include "support/scratch_dir.h"
+#include "volume/extinction_volumes.h"
 #include "wrf_hurricane.h"
 
 namespace nph::test {

@@ -57,9 +57,11 @@ class TerrainRender : public GlTest {
   std::unique_ptr<engine::Session> open(int width, int height) const {
     const std::string json = R"({"data": {"path": "x"}, "camera": {"preset": "top", "fov_deg": 30},
       "sun": {"azimuth_deg": 200, "elevation_deg": 60},
-      "basemap": {"path": ")" + basemap_ + R"(", "margin": 0.1, "pixels_long_side": 2048},
+      "basemap": {"path": ")" +
+                             basemap_ + R"(", "margin": 0.1, "pixels_long_side": 2048},
       "quality": {"preset": "broadcast", "overrides": {"shadows": false}},
-      "output": {"width": )" + std::to_string(width) + R"(, "height": )" + std::to_string(height) + R"(},
+      "output": {"width": )" +
+                             std::to_string(width) + R"(, "height": )" + std::to_string(height) + R"(},
       "height_exaggeration": 4, "view": "flat"})";
     return openSession(json, data_);
   }
@@ -90,7 +92,8 @@ TEST_F(TerrainRender, SummitLandsAtItsProjectedPixel) {
   const double az = glm::radians(225.0), el = glm::radians(25.0), distance_m = 150000.0;
   // Aimed off the summit, so that its pixel is neither the image centre nor a pixel centre.
   cam.target_m = summit + glm::dvec3(3170.0, -4310.0, -2270.0);
-  cam.position_m = summit + distance_m * glm::dvec3(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
+  cam.position_m =
+      summit + distance_m * glm::dvec3(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
   const glm::dvec2 expected = pixelOf(cam, summit);
 
   // The sub-pixel image position of the ground point at the mountain's lon/lat.
@@ -165,7 +168,7 @@ TEST_F(TerrainRender, MountainHidesTheCloudBehindIt) {
       if (ground < 0.0) continue;
       const glm::dvec3 hit = cam.position_m + ground * d;
       if (glm::length(glm::dvec2(hit) - summitXy) > 2.0 * kMountainSigma_m) continue;  // the mountain itself
-      if (field.opticalDepth(cam.position_m, d, 0.0, 1e300) < 2.0) continue;      // thick cloud behind it
+      if (field.opticalDepth(cam.position_m, d, 0.0, 1e300) < 2.0) continue;           // thick cloud behind it
       const double inFront = -std::expm1(-field.opticalDepth(cam.position_m, d, 0.0, ground));
       const std::size_t o = (std::size_t(y) * std::size_t(cam.width) + std::size_t(x)) * 4 + 3;
       ++hidden;

@@ -26,7 +26,7 @@ void writeLonLatImage(const std::string& path, int w) {
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t o = (std::size_t(y) * std::size_t(w) + std::size_t(x)) * 3;
-      px[o] = static_cast<float>((x + 0.5) / w);        // (lon + 180) / 360
+      px[o] = static_cast<float>((x + 0.5) / w);            // (lon + 180) / 360
       px[o + 1] = static_cast<float>(1.0 - (y + 0.5) / h);  // (lat + 90) / 180
       px[o + 2] = 0.25f;
     }
@@ -102,9 +102,10 @@ TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) 
     }
   }
   const EquirectangularImage src(std::move(img));
-  for (const char* proj : {"+proj=stere +lat_0=90 +lat_ts=60 +lon_0=-100 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs",
-                           "+proj=lcc +lat_1=40 +lat_2=60 +lat_0=50 +lon_0=180 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs",
-                           "+proj=merc +lat_ts=0 +lon_0=179 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs"}) {
+  for (const char* proj :
+       {"+proj=stere +lat_0=90 +lat_ts=60 +lon_0=-100 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs",
+        "+proj=lcc +lat_1=40 +lat_2=60 +lat_0=50 +lon_0=180 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs",
+        "+proj=merc +lat_ts=0 +lon_0=179 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs"}) {
     auto v = test::lambertVolumes(100, 100, 2, 20000.0);  // 2000 km square centred on (0, 0)
     v.georef.proj_definition = proj;
     const VolumeFrame frame = frameOf(v);
@@ -117,8 +118,8 @@ TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) 
       for (int px = 0; px < W; ++px) {
         const LonLat ll = geo.lonLatFromWorld(worldFromBasemapPixel(rect, W, H, px, py));
         const glm::vec3 e = src.sampleLonLat(ll.lon_deg, ll.lat_deg), f = fast.at(px, py);
-        maxDiff = std::max({maxDiff, double(std::abs(e.r - f.r)), double(std::abs(e.g - f.g)),
-                            double(std::abs(e.b - f.b))});
+        maxDiff =
+            std::max({maxDiff, double(std::abs(e.r - f.r)), double(std::abs(e.g - f.g)), double(std::abs(e.b - f.b))});
       }
     }
     // 1e-4° of lon/lat error moves this image's colour by < 1e-5.
@@ -164,7 +165,7 @@ TEST(Basemap, EightBitImagesAreSrgbDecoded) {
   nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("codes.png");
   const unsigned char codes[4 * 2 * 3] = {0, 128, 255, 10, 20, 30, 200, 100, 50, 255, 255, 255,
-                                          1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13};
+                                          1, 2,   3,   4,  5,  6,  7,   8,   9,  11,  12,  13};
   {
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out);
@@ -194,9 +195,7 @@ TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
     }
   };
   expectInputError(dir.file("no-such-bluemarble.jpg"), "not found");
-  {
-    std::ofstream(dir.file("notanimage.jpg")) << "this is not a JPEG";
-  }
+  { std::ofstream(dir.file("notanimage.jpg")) << "this is not a JPEG"; }
   expectInputError(dir.file("notanimage.jpg"), "cannot read");
   const unsigned char px[3 * 3 * 3] = {};
   auto out = OIIO::ImageOutput::create(dir.file("square.png"));
@@ -213,8 +212,8 @@ TEST(Basemap, BlueMarbleFromMarbleQtData) {
   ASSERT_TRUE(std::filesystem::exists(path)) << path << " is missing: install Debian package marble-qt-data";
   const EquirectangularImage e = EquirectangularImage::load(path);
   EXPECT_EQ(e.image().width, 2 * e.image().height);
-  const glm::vec3 atlantic = e.sampleLonLat(-30.0, 0.0);  // open ocean: blue dominates red
-  const glm::vec3 sahara = e.sampleLonLat(10.0, 23.0);    // desert: red dominates blue, bright
+  const glm::vec3 atlantic = e.sampleLonLat(-30.0, 0.0);    // open ocean: blue dominates red
+  const glm::vec3 sahara = e.sampleLonLat(10.0, 23.0);      // desert: red dominates blue, bright
   const glm::vec3 antarctica = e.sampleLonLat(0.0, -85.0);  // ice: bright, near grey
   EXPECT_GT(atlantic.b, atlantic.r);
   EXPECT_GT(sahara.r, sahara.b);

@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -97,7 +97,7 @@ TEST(ColourOutput, AcesHdrOnPqPutsMidGreyAtFifteenNits) {
   o.view = "ACES HDR video";
   const std::vector<float> v = encodeDisplay(img, o);
   EXPECT_NEAR(v[0], pqEncode(15.0), 0.5 / 1023.0) << "PQ(15 nits) = " << pqEncode(15.0);
-  EXPECT_NEAR(v[1], v[2], 1e-5);  // grey stays grey
+  EXPECT_NEAR(v[1], v[2], 1e-5);   // grey stays grey
   EXPECT_LT(v[4], pqEncode(0.1));  // black: below 0.1 nit
   EXPECT_LE(v[8], pqEncode(1000.0) + 0.5 / 1023.0);
   EXPECT_GT(v[8], pqEncode(900.0));
@@ -115,17 +115,23 @@ TEST(ColourOutput, EveryDisplayViewMatchesOpenImageIOsConversion) {
   const RgbaImage img = rampImage();
   OIIO::ColorConfig config(defaultOcioConfig());
   ASSERT_FALSE(config.has_error()) << config.geterror();
-  for (const auto& [display, view] : std::vector<std::pair<std::string, std::string>>{
-           {"sRGB", "nephele"}, {"sRGB", "ACES SDR video"}, {"Rec.1886 Rec.709", "nephele"},
-           {"Rec.1886 Rec.709", "ACES SDR video"}, {"Rec.2100-PQ", "ACES HDR video"}, {"Rec.2100-HLG", "ACES HDR video"}}) {
+  for (const auto& [display, view] :
+       std::vector<std::pair<std::string, std::string>>{{"sRGB", "nephele"},
+                                                        {"sRGB", "ACES SDR video"},
+                                                        {"Rec.1886 Rec.709", "nephele"},
+                                                        {"Rec.1886 Rec.709", "ACES SDR video"},
+                                                        {"Rec.2100-PQ", "ACES HDR video"},
+                                                        {"Rec.2100-HLG", "ACES HDR video"}}) {
     SCOPED_TRACE(display + " / " + view);
     ImageOutputOptions o;
     o.display = display;
     o.view = view;
     const std::vector<float> ours = encodeDisplay(img, o);
-    OIIO::ImageBuf src(OIIO::ImageSpec(img.width, img.height, 4, OIIO::TypeDesc::FLOAT), const_cast<float*>(img.rgba.data()));
+    OIIO::ImageBuf src(OIIO::ImageSpec(img.width, img.height, 4, OIIO::TypeDesc::FLOAT),
+                       const_cast<float*>(img.rgba.data()));
     OIIO::ImageBuf dst;
-    ASSERT_TRUE(OIIO::ImageBufAlgo::ociodisplay(dst, src, display, view, "Linear Rec.709 (sRGB)", "", true, "", "", &config))
+    ASSERT_TRUE(
+        OIIO::ImageBufAlgo::ociodisplay(dst, src, display, view, "Linear Rec.709 (sRGB)", "", true, "", "", &config))
         << dst.geterror();
     std::vector<float> theirs(ours.size());
     ASSERT_TRUE(dst.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, theirs.data()));

@@ -77,12 +77,13 @@ TEST(OutputImage, KnownValuesGiveKnownSrgbCodes) {
   const auto L = static_cast<float>(l100);
   ImageOutputOptions clamp;
   clamp.tone_curve = ToneCurve::Clamp;
-  const RgbaImage img = image(4, 1, {
-      0.25f * L, 0.25f, 0.0f, 0.25f,  // α = ¼: straight colour (L, 1, 0)
-      0.3f, 0.3f, 0.3f, 0.0f,         // α = 0 with "colour" (additive glow): dropped
-      2.0f, 0.5f, 0.0f, 1.0f,         // opaque, over-range red
-      1e-4f, 1e-4f, 1e-4f, 1e-3f,     // α below half a code: fully transparent, black
-  });
+  const RgbaImage img = image(4, 1,
+                              {
+                                  0.25f * L, 0.25f, 0.0f, 0.25f,  // α = ¼: straight colour (L, 1, 0)
+                                  0.3f, 0.3f, 0.3f, 0.0f,         // α = 0 with "colour" (additive glow): dropped
+                                  2.0f, 0.5f, 0.0f, 1.0f,         // opaque, over-range red
+                                  1e-4f, 1e-4f, 1e-4f, 1e-3f,     // α below half a code: fully transparent, black
+                              });
   const std::vector<std::uint8_t> c = encodeSrgb8(img, clamp);
   EXPECT_EQ((std::vector<int>(c.begin(), c.begin() + 4)), (std::vector<int>{100, 255, 0, 64}));
   EXPECT_EQ((std::vector<int>(c.begin() + 4, c.begin() + 8)), (std::vector<int>{0, 0, 0, 0}));
@@ -124,10 +125,11 @@ TEST(OutputImage, PngRoundTripKeepsStraightAlphaCodes) {
   nph::test::ScratchDir dir("scene");
   const std::string path = dir.file("clouds.png");
   const auto L = static_cast<float>(srgbDecode(100.0 / 255.0));
-  const RgbaImage img = image(2, 2, {0.25f * L, 0.25f * L, 0.25f * L, 0.25f,  //
-                                     0.0f, 0.0f, 0.0f, 0.0f,                    //
-                                     1.0f, 1.0f, 1.0f, 1.0f,                    //
-                                     0.5f * L, 0.0f, 0.5f, 0.5f});
+  const RgbaImage img = image(2, 2,
+                              {0.25f * L, 0.25f * L, 0.25f * L, 0.25f,  //
+                               0.0f, 0.0f, 0.0f, 0.0f,                  //
+                               1.0f, 1.0f, 1.0f, 1.0f,                  //
+                               0.5f * L, 0.0f, 0.5f, 0.5f});
   ImageOutputOptions o;
   o.tone_curve = ToneCurve::Clamp;
   writePng(img, path, o);
@@ -166,9 +168,7 @@ TEST(OutputImage, FailedWritesLeaveNoPartialFile) {
   // A missing folder: IoError naming the file.
   EXPECT_THROW(writeExr(img, dir.file("no/such/folder/x.exr")), IoError);
   // An inconsistent image never touches an existing file.
-  {
-    std::ofstream(dir.file("keep.exr")) << "previous frame";
-  }
+  { std::ofstream(dir.file("keep.exr")) << "previous frame"; }
   EXPECT_THROW(writeExr(image(2, 2, {1.0f}), dir.file("keep.exr")), UsageError);
   std::ifstream kept(dir.file("keep.exr"));
   std::string content;

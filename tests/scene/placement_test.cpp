@@ -40,8 +40,8 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   spec.projection = GetParam();
   const std::string path = dir.file("wrfout.nc");
   const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, path);
-  const ExtinctionVolumes v = physics::buildExtinctionVolumes(
-      io::openModelFile(path).load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
+  const ExtinctionVolumes v = physics::buildExtinctionVolumes(io::openModelFile(path).load(0), physics::defaultOptics(),
+                                                              physics::VerticalGridOptions{});
   const VolumeFrame frame = frameOf(v, 10.0);
   const SceneGeoreference geo(v, frame);
 
@@ -104,7 +104,8 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   const int py = static_cast<int>((rect.max_m.y - stormWorld.y) / (rect.max_m.y - rect.min_m.y) * H);
   const glm::vec3 c = map.at(px, py);
   const double pixelDeg = (rect.max_m.x - rect.min_m.x) / W / 111000.0;  // pixel size in degrees, roughly
-  EXPECT_NEAR(double(c.r) * 360.0 - 180.0, stormLl.lon_deg, pixelDeg / std::cos(stormLl.lat_deg * 3.14159265358979 / 180.0));
+  EXPECT_NEAR(double(c.r) * 360.0 - 180.0, stormLl.lon_deg,
+              pixelDeg / std::cos(stormLl.lat_deg * 3.14159265358979 / 180.0));
   EXPECT_NEAR(double(c.g) * 180.0 - 90.0, stormLl.lat_deg, pixelDeg);
 }
 

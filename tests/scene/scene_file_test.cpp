@@ -70,7 +70,8 @@ TEST(SceneFile, ValuesAndOverrides) {
     "quality": {"preset": "draft", "overrides": {"step_voxels": 0.75, "shadows": false, "dlm_max_nodes": 12}},
     "output": {"paths": ["a.PNG"], "width": 640, "height": 360, "exposure_ev": -1.5, "tone_curve": "reinhard"},
     "view": "globe", "lonlat_offset_deg": [0.3, -0.1], "centre_lonlat_deg": [10, 50]
-  })", "inline.json", "/scenes");
+  })",
+                                            "inline.json", "/scenes");
   EXPECT_EQ(*s.data->time_utc, "2026-09-01_18:00:00");
   EXPECT_FALSE(s.camera.preset);
   EXPECT_EQ(*s.camera.position_m, glm::dvec3(1, 2, 3000));
@@ -103,7 +104,8 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
       {R"({"camera": {"fvo_deg": 30}})", "scene.json: camera.fvo_deg: unknown key (expected one of: preset,"},
       {R"({"camera": {"preset": "closeup"}})", "scene.json: camera.preset: expected \"overview\""},
       {R"({"camera": {"position_m": [0, 0, 1]}})", "scene.json: camera.target_m: required"},
-      {R"({"camera": {"preset": "top", "position_m": [0, 0, 1], "target_m": [0, 0, 0]}})", "camera.preset: give either"},
+      {R"({"camera": {"preset": "top", "position_m": [0, 0, 1], "target_m": [0, 0, 0]}})",
+       "camera.preset: give either"},
       {R"({"camera": {"preset": "oblique", "up": [0, 1, 0]}})", "camera.up: only used with position_m/target_m"},
       {R"({"camera": {"fov_deg": 200}})", "camera.fov_deg: expected a number in [1, 170], got 200"},
       {R"({"output": {"width": 1920.5}})", "scene.json: output.width: expected an integer, got 1920.5"},
@@ -113,7 +115,8 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
       {R"({"output": {"depth": "yes"}})", "output.depth: expected true or false, got a string"},
       {R"({"output": {"tone_curve": "filmic"}})", "output.tone_curve: tone curve 'filmic'"},
       {R"({"quality": "ultra"})", "scene.json: quality: quality preset 'ultra'"},
-      {R"({"quality": {"preset": "draft", "overrides": {"step_voxel": 1}}})", "quality.overrides.step_voxel: unknown key"},
+      {R"({"quality": {"preset": "draft", "overrides": {"step_voxel": 1}}})",
+       "quality.overrides.step_voxel: unknown key"},
       {R"({"quality": 3})", "quality: expected an object, got a number"},
       {R"({"style": {"atmosfere": false}})", "scene.json: style.atmosfere: unknown key"},
       {R"({"style": {"g_ice": 2}})", "style.g_ice: expected a number in"},
@@ -130,7 +133,8 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
       {R"({"lonlat_offset_deg": [1]})", "lonlat_offset_deg: expected an array of 2 numbers, got 1 elements"},
       {R"({"data": {"timestep": 2}})", "scene.json: data.path: required"},
       {R"({"data": {"path": ""}})", "data.path: expected a file path, got an empty string"},
-      {R"({"data": {"path": "a.nph", "timestep": 1, "time_utc": "2026-09-01T00:00:00Z"}})", "data.time_utc: give either"},
+      {R"({"data": {"path": "a.nph", "timestep": 1, "time_utc": "2026-09-01T00:00:00Z"}})",
+       "data.time_utc: give either"},
       {R"({"data": {"path": "a.nph", "timestep": -1}})", "data.timestep: expected an integer in [0,"},
       {R"({"basemap": {"margin": 0.1}})", "basemap.path: required"},
       {R"({"height_exaggeration": 0})", "height_exaggeration: expected a number in [0.01, 1000], got 0"},
@@ -152,7 +156,8 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
 // Output colour and passes keys land in OutputSpec.
 TEST(SceneFile, StyleAndOutputPassesAndColour) {
   const SceneDescription s = parseSceneText(R"({"style": {"atmosphere": false, "g_ice": 0.7, "ambient_b": 1.2},
-      "output": {"display": "Rec.2100-PQ", "passes": true, "pass_files": {"shadow": "m.png"}}})", "style.json");
+      "output": {"display": "Rec.2100-PQ", "passes": true, "pass_files": {"shadow": "m.png"}}})",
+                                            "style.json");
   EXPECT_FALSE(s.style.atmosphere);
   EXPECT_EQ(s.style.g_ice, 0.7);
   EXPECT_EQ(s.style.ambient.z, 1.2);
@@ -273,7 +278,8 @@ TEST(SceneFile, SunFromTheDataTime) {
   // The manual offset moves the domain 20° east: the same instant is later in the local day.
   const SceneGeoreference east(v, frame, LonLatOffset{20.0, 0.0});
   const Sun later = sunFor(spec, &east, "2026-09-01_17:00:00");
-  EXPECT_NEAR(later.elevation_deg, solarPosition(UtcTime::parse("2026-09-01T17:00:00Z"), -60.0, 25.0).elevation_deg, 1e-9);
+  EXPECT_NEAR(later.elevation_deg, solarPosition(UtcTime::parse("2026-09-01T17:00:00Z"), -60.0, 25.0).elevation_deg,
+              1e-9);
   // time_utc overrides the data's time.
   spec.time_utc = "2026-09-01T12:00:00Z";
   const double morning = sunFor(spec, &geo, "2026-09-01_17:00:00").elevation_deg;  // 07:00 local

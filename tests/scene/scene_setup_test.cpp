@@ -93,7 +93,8 @@ TEST(SceneSetup, CartesianGridsNeedACentreForMapsAndTimedSuns) {
   EXPECT_NEAR(p.sun.elevation_deg, solarPosition(UtcTime::parse(v.time_utc), 10.0, 50.0).elevation_deg, 1e-6);
   // A missing basemap file is reported with its name.
   try {
-    (void)prepareScene(parseSceneText(R"({"basemap": {"path": "/no/such/map.jpg"}, "centre_lonlat_deg": [10, 50]})", "s.json"), v);
+    (void)prepareScene(
+        parseSceneText(R"({"basemap": {"path": "/no/such/map.jpg"}, "centre_lonlat_deg": [10, 50]})", "s.json"), v);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/no/such/map.jpg"), std::string::npos) << e.what();

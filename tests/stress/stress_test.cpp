@@ -13,26 +13,27 @@
 // (NaN, ±Inf, negative, absurd) are rejected by the uploader and the path tracer; GPU alpha
 // against the path tracer's exact alpha, and its second-order convergence as the step shrinks.
 //
-// | case                  | volume                         | sun           | settings               | extra expectation          |
+// | case                  | volume                         | sun           | settings               | extra expectation
+// |
 // |-----------------------|--------------------------------|---------------|------------------------|----------------------------|
-// | extinction_1e-9       | 8×8×8 slab, β = 1e-9 /m        | 45°           | default                | α < 1e-5, DLM light ≈ 1    |
-// | extinction_1e3        | 8×8×8 slab, β = 1e3 /m (τ 2e6) | 45°           | default                | centre α = 1               |
-// | optical_depth_2e4     | 8×8×8 slab, β = 10 /m          | 45°           | default                | centre α = 1               |
-// | mixed_1e-9_to_1e3     | 12³ log-uniform 1e-9…1e3 /m    | 30°           | default                |                            |
-// | sun_zenith            | 12³ noisy                      | 90°           | default                |                            |
-// | sun_along_x           | 12³ noisy                      | az 90°, el 0° | default                | light exactly along +x grid|
-// | sun_along_y           | 12³ noisy                      | az 180°, el 0°| default                | light exactly along +y grid|
-// | sun_0.1deg            | 12³ noisy                      | 0.1°          | default                |                            |
-// | sun_below_horizon     | 12³ noisy                      | −10°          | default                |                            |
-// | volume_1x1x1          | one voxel, β = 1e-3 /m         | 45°           | default                |                            |
-// | volume_1xNx1          | 1×16×1, β = 1e-3 /m            | 30°           | default                |                            |
-// | thin_layer            | 32×32×1, dz = 2 m, β = 0.05 /m | 20°           | default                |                            |
-// | domain_1km            | 16×16×8 of 62.5 m, noisy       | 40°           | default                |                            |
-// | domain_10000km        | 64×64×4 of 156 km × 250 m      | 40°           | default                |                            |
-// | step_huge             | 12³ noisy                      | 45°           | Δ = 20 voxels (both)   |                            |
-// | step_tiny             | 12³ noisy                      | 45°           | Δ = 0.02 / 0.05 voxel  |                            |
-// | node_budget_overflow  | 12³ noisy                      | 30°           | 2 nodes, ε 1e-4, no ×2 | overflow counted, flagged  |
-// | epsilon_0             | 12³ noisy                      | 30°           | ε = 0                  |                            |
+// | extinction_1e-9       | 8×8×8 slab, β = 1e-9 /m        | 45°           | default                | α < 1e-5, DLM
+// light ≈ 1    | | extinction_1e3        | 8×8×8 slab, β = 1e3 /m (τ 2e6) | 45°           | default                |
+// centre α = 1               | | optical_depth_2e4     | 8×8×8 slab, β = 10 /m          | 45°           | default |
+// centre α = 1               | | mixed_1e-9_to_1e3     | 12³ log-uniform 1e-9…1e3 /m    | 30°           | default | |
+// | sun_zenith            | 12³ noisy                      | 90°           | default                | | | sun_along_x
+// | 12³ noisy                      | az 90°, el 0° | default                | light exactly along +x grid| |
+// sun_along_y           | 12³ noisy                      | az 180°, el 0°| default                | light exactly along
+// +y grid| | sun_0.1deg            | 12³ noisy                      | 0.1°          | default                | | |
+// sun_below_horizon     | 12³ noisy                      | −10°          | default                | | | volume_1x1x1 |
+// one voxel, β = 1e-3 /m         | 45°           | default                |                            | | volume_1xNx1
+// | 1×16×1, β = 1e-3 /m            | 30°           | default                |                            | | thin_layer
+// | 32×32×1, dz = 2 m, β = 0.05 /m | 20°           | default                |                            | | domain_1km
+// | 16×16×8 of 62.5 m, noisy       | 40°           | default                |                            | |
+// domain_10000km        | 64×64×4 of 156 km × 250 m      | 40°           | default                | | | step_huge | 12³
+// noisy                      | 45°           | Δ = 20 voxels (both)   |                            | | step_tiny | 12³
+// noisy                      | 45°           | Δ = 0.02 / 0.05 voxel  |                            | |
+// node_budget_overflow  | 12³ noisy                      | 30°           | 2 nodes, ε 1e-4, no ×2 | overflow counted,
+// flagged  | | epsilon_0             | 12³ noisy                      | 30°           | ε = 0                  | |
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,7 +92,8 @@ struct StressCase {
   double sun_azimuth_deg;
   double sun_elevation_deg;
   std::function<void(scene::DlmSettings&, render::RenderSettings&)> settings;
-  std::function<void(const render::RenderOutput&, const render::DlmStats&, const render::DeepLightMap::Readback&)> expect;
+  std::function<void(const render::RenderOutput&, const render::DlmStats&, const render::DeepLightMap::Readback&)>
+      expect;
 };
 
 void defaults(scene::DlmSettings&, render::RenderSettings&) {}
@@ -144,7 +146,8 @@ const StressCase kCases[] = {
      },
      [](const render::RenderOutput&, const render::DlmStats& st, const render::DeepLightMap::Readback& map) {
        EXPECT_GT(st.unbounded_texels, 0) << "overflow must be counted";
-       EXPECT_EQ(std::size_t(std::count(map.unbounded.begin(), map.unbounded.end(), true)), std::size_t(st.unbounded_texels));
+       EXPECT_EQ(std::size_t(std::count(map.unbounded.begin(), map.unbounded.end(), true)),
+                 std::size_t(st.unbounded_texels));
        for (const auto& texel : map.nodes) EXPECT_LE(texel.size(), 2u);
      }},
     {"epsilon_0", [] { return noisy(12, 3000.0, 250.0); }, 200.0, 30.0,
@@ -225,8 +228,8 @@ TEST_P(StressTest, InvariantsHold) {
         ok = ok && double(L[ch]) <= bound * (1.0 + 1e-4) + 1e-6;
       }
       if (!ok && ++bad <= 3) {
-        ADD_FAILURE() << c.name << " pixel (" << x << ", " << y << "): rgba " << L[0] << " " << L[1] << " " << L[2] << " "
-                      << L[3] << ", frame " << F[0] << " " << F[1] << " " << F[2];
+        ADD_FAILURE() << c.name << " pixel (" << x << ", " << y << "): rgba " << L[0] << " " << L[1] << " " << L[2]
+                      << " " << L[3] << ", frame " << F[0] << " " << F[1] << " " << F[2];
       }
     }
   EXPECT_EQ(bad, 0) << "pixels violating finite/range/energy bounds";
@@ -247,7 +250,8 @@ TEST_P(StressTest, InvariantsHold) {
   const auto map = dlm.readBack();
   for (std::size_t t = 0; t < map.nodes.size(); ++t)
     for (std::size_t k = 1; k < map.nodes[t].size(); ++k) {
-      ASSERT_LE(map.nodes[t][k].intensity, map.nodes[t][k - 1].intensity + 1e-7f) << c.name << " texel " << t << " node " << k;
+      ASSERT_LE(map.nodes[t][k].intensity, map.nodes[t][k - 1].intensity + 1e-7f)
+          << c.name << " texel " << t << " node " << k;
       ASSERT_GE(map.nodes[t][k].depth_m, map.nodes[t][k - 1].depth_m) << c.name << " texel " << t;
     }
   c.expect(a.out, a.stats, a.map);
@@ -256,7 +260,9 @@ TEST_P(StressTest, InvariantsHold) {
 INSTANTIATE_TEST_SUITE_P(Cases, StressTest, ::testing::ValuesIn(kCases),
                          [](const ::testing::TestParamInfo<StressCase>& i) {
                            std::string n = i.param.name;
-                           std::replace_if(n.begin(), n.end(), [](char ch) { return !std::isalnum(static_cast<unsigned char>(ch)); }, '_');
+                           std::replace_if(
+                               n.begin(), n.end(),
+                               [](char ch) { return !std::isalnum(static_cast<unsigned char>(ch)); }, '_');
                            return n;
                          });
 

@@ -42,13 +42,11 @@ void writeImage(const Image& image, const std::string& path) {
   }
 }
 
-CompareResult compareImages(const Image& actual, const Image& expected, Tolerance tolerance,
-                            const std::string& name) {
+CompareResult compareImages(const Image& actual, const Image& expected, Tolerance tolerance, const std::string& name) {
   CompareResult r;
-  if (actual.width != expected.width || actual.height != expected.height ||
-      actual.channels != expected.channels) {
-    r.message = fmt::format("{}: size mismatch: actual {}x{}x{}, expected {}x{}x{}", name, actual.width,
-                            actual.height, actual.channels, expected.width, expected.height, expected.channels);
+  if (actual.width != expected.width || actual.height != expected.height || actual.channels != expected.channels) {
+    r.message = fmt::format("{}: size mismatch: actual {}x{}x{}, expected {}x{}x{}", name, actual.width, actual.height,
+                            actual.channels, expected.width, expected.height, expected.channels);
     return r;
   }
   Image diff = actual;
@@ -68,8 +66,8 @@ CompareResult compareImages(const Image& actual, const Image& expected, Toleranc
   }
   r.mean_abs = actual.pixels.empty() ? 0.0 : sum / double(actual.pixels.size());
   r.pass = nonFinite == 0 && r.max_abs <= tolerance.max_abs && r.mean_abs <= tolerance.mean_abs;
-  r.message = fmt::format("{}: max |diff| {:.3g} (tolerance {:.3g}), mean |diff| {:.3g} (tolerance {:.3g}){}",
-                          name, r.max_abs, tolerance.max_abs, r.mean_abs, tolerance.mean_abs,
+  r.message = fmt::format("{}: max |diff| {:.3g} (tolerance {:.3g}), mean |diff| {:.3g} (tolerance {:.3g}){}", name,
+                          r.max_abs, tolerance.max_abs, r.mean_abs, tolerance.mean_abs,
                           nonFinite ? fmt::format(", {} non-finite", nonFinite) : std::string());
   if (!r.pass) {
     const std::string base = testOutputDir() + "/" + name;

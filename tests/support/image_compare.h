@@ -14,8 +14,12 @@ namespace nph::test {
 struct Image {
   int width = 0, height = 0, channels = 0;
   std::vector<float> pixels;
-  float& at(int x, int y, int c) { return pixels[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * std::size_t(channels) + std::size_t(c)]; }
-  float at(int x, int y, int c) const { return pixels[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * std::size_t(channels) + std::size_t(c)]; }
+  float& at(int x, int y, int c) {
+    return pixels[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * std::size_t(channels) + std::size_t(c)];
+  }
+  float at(int x, int y, int c) const {
+    return pixels[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * std::size_t(channels) + std::size_t(c)];
+  }
 };
 
 struct Tolerance {
@@ -27,13 +31,12 @@ struct CompareResult {
   bool pass = false;
   double max_abs = 0.0;
   double mean_abs = 0.0;
-  std::string message;   ///< human-readable summary (and where the files went on failure)
-  std::string diff_path; ///< empty when nothing was written
+  std::string message;    ///< human-readable summary (and where the files went on failure)
+  std::string diff_path;  ///< empty when nothing was written
 };
 
 /// Compares two in-memory images.
-CompareResult compareImages(const Image& actual, const Image& expected, Tolerance tolerance,
-                            const std::string& name);
+CompareResult compareImages(const Image& actual, const Image& expected, Tolerance tolerance, const std::string& name);
 
 /// Compares against an image file (EXR, PNG, ...) read with OpenImageIO. PNG data is in [0, 1].
 CompareResult compareToFile(const Image& actual, const std::string& expectedPath, Tolerance tolerance,

@@ -21,8 +21,7 @@ TEST(ScratchDir, IsFreshNamedAfterTheTestAndRemovedWithItsContents) {
     EXPECT_NE(a.path(), b.path());
     EXPECT_EQ(a.path().parent_path(), fs::temp_directory_path());
     const std::string name = a.path().filename().string();
-    EXPECT_EQ(name.rfind("nephele-unit-ScratchDir-IsFreshNamedAfterTheTestAndRemovedWithItsContents-", 0), 0u)
-        << name;
+    EXPECT_EQ(name.rfind("nephele-unit-ScratchDir-IsFreshNamedAfterTheTestAndRemovedWithItsContents-", 0), 0u) << name;
     EXPECT_EQ(fs::path(a.file("x.nc")), a.path() / "x.nc");
     fs::create_directories(a.path() / "sub");
     std::ofstream(a.file("sub/f.txt")) << "data";

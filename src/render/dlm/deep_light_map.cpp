@@ -44,7 +44,8 @@ DeepLightMap::DeepLightMap()
       march_peripheral_(gl::Program::compute("dlm/march.comp", {{"PERIPHERAL", "1"}})),
       scatter_(gl::Program::compute("dlm/scatter.comp")),
       uncompressed_(gl::Program::compute("dlm/march.comp", {{"UNCOMPRESSED", "1"}})),
-      light_space_block_(gl::UniformBuffer<gl::LightSpaceBlock>::create(lightSpaceBlock(light_space_), "light space block")) {}
+      light_space_block_(
+          gl::UniformBuffer<gl::LightSpaceBlock>::create(lightSpaceBlock(light_space_), "light space block")) {}
 
 double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, std::size_t& bytes) {
   const glm::ivec2 n = light_space_.texels;
@@ -152,7 +153,9 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     march(volume, program, settings.epsilon, false);
     for (int d = 1; d <= settings.max_epsilon_doublings; ++d) {
       const auto counts = readCounts(counts_, n);
-      if (std::none_of(counts.begin(), counts.end(), [](std::uint32_t c) { return (c & gl::binding::DLM_COUNT_UNBOUNDED) != 0; })) break;
+      if (std::none_of(counts.begin(), counts.end(),
+                       [](std::uint32_t c) { return (c & gl::binding::DLM_COUNT_UNBOUNDED) != 0; }))
+        break;
       march(volume, program, settings.epsilon * std::ldexp(1.0, d), true);
     }
   };
@@ -273,7 +276,8 @@ DeepLightMap::Readback DeepLightMap::readBack() const {
   const auto counts = readCounts(counts_, n);
   Readback r;
   r.texel_epsilon.resize(counts.size());
-  glGetTextureImage(texel_eps_.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(counts.size() * 4), r.texel_epsilon.data());
+  glGetTextureImage(texel_eps_.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(counts.size() * 4),
+                    r.texel_epsilon.data());
   r.nodes.resize(counts.size());
   r.unbounded.resize(counts.size());
   for (std::size_t t = 0; t < counts.size(); ++t) {

@@ -31,7 +31,7 @@ namespace nph::render {
 
 struct DlmStats {
   glm::ivec2 texels{0};
-  int steps = 0;                  ///< samples per ray N
+  int steps = 0;  ///< samples per ray N
   double step_m = 0.0;
   double mean_nodes = 0.0;
   int max_nodes_used = 0;
@@ -40,7 +40,7 @@ struct DlmStats {
   double compression_ratio = 0.0;   ///< uncompressed light volume (nu·nv·(N+1) floats) / bytes of used nodes
   int overflowed_texels = 0;        ///< needed more than max_nodes at the requested ε
   std::vector<int> texels_per_epsilon_doubling;  ///< [d] = texels built with ε·2^d
-  int unbounded_texels = 0;         ///< still overflowing after all doublings
+  int unbounded_texels = 0;                      ///< still overflowing after all doublings
   glm::ivec3 scatter_cells{0};
   double pass1_ms = 0.0, pass2_ms = 0.0, pass3_ms = 0.0;  ///< wall time incl. glFinish
   bool rebuilt = false;

@@ -28,8 +28,9 @@ constexpr float kMaxExtinction_per_m = 1e6f;
 void checkVoxels(const std::vector<float>& a, const char* name) {
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (!(a[i] >= 0.0f && a[i] <= kMaxExtinction_per_m)) {
-      throw InputError(fmt::format("VolumeTextures::upload: {} voxel {} is {}, expected a finite extinction in [0, {:g}] 1/m",
-                                   name, i, a[i], kMaxExtinction_per_m));
+      throw InputError(
+          fmt::format("VolumeTextures::upload: {} voxel {} is {}, expected a finite extinction in [0, {:g}] 1/m", name,
+                      i, a[i], kMaxExtinction_per_m));
     }
   }
 }
@@ -40,9 +41,8 @@ bool anyPositive(const std::vector<float>& a) {
 }
 }  // namespace
 
-VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame,
-                                      std::string identity, scene::Reconstruction reconstruction,
-                                      int brickVoxels, scene::Detail detail,
+VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame, std::string identity,
+                                      scene::Reconstruction reconstruction, int brickVoxels, scene::Detail detail,
                                       std::shared_ptr<const NoiseTexture> noise) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   checkVoxels(v.ice_per_m, "ice_per_m");

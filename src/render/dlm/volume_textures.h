@@ -28,8 +28,7 @@ class VolumeTextures {
   /// noise tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by
   /// the displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
   /// measured on the GPU and solved (volume/detail.h), and the identity gets "|detail=<name>".
-  static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-                               std::string identity,
+  static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, std::string identity,
                                scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
                                int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
                                std::shared_ptr<const NoiseTexture> noise = {});

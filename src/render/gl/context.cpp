@@ -51,8 +51,7 @@ void Context::ensureEntryPoints() {
   }
 }
 
-void Context::finishInit(Backend backend, std::string detail, bool debug,
-                         void* (*getProc)(const char*)) {
+void Context::finishInit(Backend backend, std::string detail, bool debug, void* (*getProc)(const char*)) {
   getProc_ = getProc;
   info_.backend = backend;
   info_.detail = std::move(detail);
@@ -65,13 +64,13 @@ void Context::finishInit(Backend backend, std::string detail, bool debug,
   glGetIntegerv(GL_MAJOR_VERSION, &info_.major);
   glGetIntegerv(GL_MINOR_VERSION, &info_.minor);
   if (info_.major * 10 + info_.minor < 45) {
-    throw GlError(std::string(backendName(backend)) + ": got OpenGL " + info_.version + " on " +
-                  info_.renderer + ", nephele needs 4.5 core");
+    throw GlError(std::string(backendName(backend)) + ": got OpenGL " + info_.version + " on " + info_.renderer +
+                  ", nephele needs 4.5 core");
   }
   info_.debug = debug;
   installDebugOutput(debug);
-  log::info("OpenGL backend {} ({}): GL_RENDERER={} GL_VERSION={}", backendName(backend),
-            info_.detail, info_.renderer, info_.version);
+  log::info("OpenGL backend {} ({}): GL_RENDERER={} GL_VERSION={}", backendName(backend), info_.detail, info_.renderer,
+            info_.version);
 }
 
 std::unique_ptr<Context> createContext(ContextOptions options) {

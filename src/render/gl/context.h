@@ -28,7 +28,7 @@ struct ContextOptions {
   /// Debug context + synchronous KHR_debug output routed to the log. Defaults: on in debug
   /// builds, and whenever NEPHELE_GL_DEBUG is set.
   std::optional<bool> debug;
-  int width = 1280;   ///< window size (Glfw) or OSMesa's colour buffer
+  int width = 1280;  ///< window size (Glfw) or OSMesa's colour buffer
   int height = 720;
   bool visible = true;  ///< Glfw only
   std::string title = "nephele";

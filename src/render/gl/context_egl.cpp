@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/limits.h"
 #include "core/env.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/log.h"
 #include "render/gl/context.h"
 #include "render/gl/gl.h"
@@ -42,9 +42,7 @@ std::string eglErrorString(EGLint e) {
   }
 }
 
-void* eglProc(const char* name) {
-  return reinterpret_cast<void*>(eglGetProcAddress(name));
-}
+void* eglProc(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
 
 class EglContext final : public Context {
  public:
@@ -90,18 +88,21 @@ EGLContext createOnDisplay(EGLDisplay dpy, bool debug, std::string& why) {
   }
   EGLConfig config = nullptr;
   if (!hasExtension(ext, "EGL_KHR_no_config_context")) {
-    const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                                    EGL_OPENGL_BIT, EGL_NONE};
+    const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
     EGLint count = 0;
     if (eglChooseConfig(dpy, configAttribs, &config, 1, &count) != EGL_TRUE || count < 1) {
       why = "no EGL config with EGL_OPENGL_BIT";
       return EGL_NO_CONTEXT;
     }
   }
-  const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                               EGL_CONTEXT_MINOR_VERSION, 5,
-                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                               EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE,
+  const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                               4,
+                               EGL_CONTEXT_MINOR_VERSION,
+                               5,
+                               EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                               EGL_CONTEXT_OPENGL_DEBUG,
+                               debug ? EGL_TRUE : EGL_FALSE,
                                EGL_NONE};
   EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctxAttribs);
   if (ctx == EGL_NO_CONTEXT) {
@@ -126,8 +127,8 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
   const bool debug = options.debug.value_or(false);
   const char* clientExt = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (clientExt == nullptr) throw GlError("egl: libEGL has no client extensions (EGL 1.5 needed)");
-  auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-      eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  auto getPlatformDisplay =
+      reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (getPlatformDisplay == nullptr) throw GlError("egl: eglGetPlatformDisplayEXT is missing");
   std::string reasons;
   // NEPHELE_EGL_PLATFORM=device|surfaceless restricts the search to one platform (tests use it to
@@ -144,8 +145,7 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
     reasons += "\n    EGL_EXT_platform_device: skipped (NEPHELE_EGL_PLATFORM)";
   } else if (hasExtension(clientExt, "EGL_EXT_platform_device") &&
              hasExtension(clientExt, "EGL_EXT_device_enumeration")) {
-    auto queryDevices =
-        reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
     EGLint count = 0;
     if (queryDevices != nullptr && queryDevices(0, nullptr, &count) == EGL_TRUE && count > 0) {
       std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
@@ -153,7 +153,8 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
       // NEPHELE_EGL_DEVICE picks one device; by default the first that gives a 4.5 context.
       int only = -1;
       if (auto v = env::get("NEPHELE_EGL_DEVICE")) {
-        only = static_cast<int>(limits::parseUnsignedStrict("NEPHELE_EGL_DEVICE", *v, 0, 1023));  // std::stoi named nothing
+        only = static_cast<int>(
+            limits::parseUnsignedStrict("NEPHELE_EGL_DEVICE", *v, 0, 1023));  // std::stoi named nothing
       }
       for (EGLint i = 0; i < count; ++i) {
         if (only >= 0 && i != only) continue;
@@ -169,10 +170,8 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
           reasons += fmt::format("\n    device {}: {}", i, why);
           continue;
         }
-        return makeContext(dpy, ctx,
-                           fmt::format("EGL {}.{} EGL_EXT_platform_device, device {} of {}", major,
-                                       minor, i, count),
-                           debug);
+        return makeContext(
+            dpy, ctx, fmt::format("EGL {}.{} EGL_EXT_platform_device, device {} of {}", major, minor, i, count), debug);
       }
     } else {
       reasons += "\n    EGL_EXT_platform_device: no devices";
@@ -191,8 +190,7 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
       std::string why;
       EGLContext ctx = createOnDisplay(dpy, debug, why);
       if (ctx != EGL_NO_CONTEXT) {
-        return makeContext(dpy, ctx, fmt::format("EGL {}.{} EGL_MESA_platform_surfaceless", major, minor),
-                           debug);
+        return makeContext(dpy, ctx, fmt::format("EGL {}.{} EGL_MESA_platform_surfaceless", major, minor), debug);
       }
       reasons += "\n    surfaceless: " + why;
     } else {

@@ -13,9 +13,7 @@
 namespace nph::gl {
 namespace {
 
-void glfwErrorToLog(int code, const char* description) {
-  log::warn("GLFW error 0x{:x}: {}", code, description);
-}
+void glfwErrorToLog(int code, const char* description) { log::warn("GLFW error 0x{:x}: {}", code, description); }
 
 void* glfwProc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 

@@ -72,8 +72,7 @@ const OSMesaLibrary& library() {
     l.destroyContext = symbol<DestroyContextFn>(l.handle, "OSMesaDestroyContext");
     l.getProcAddress = symbol<GetProcAddressFn>(l.handle, "OSMesaGetProcAddress");
     l.getCurrentContext = symbol<GetCurrentContextFn>(l.handle, "OSMesaGetCurrentContext");
-    if (!l.createContextAttribs || !l.makeCurrent || !l.destroyContext || !l.getProcAddress ||
-        !l.getCurrentContext) {
+    if (!l.createContextAttribs || !l.makeCurrent || !l.destroyContext || !l.getProcAddress || !l.getCurrentContext) {
       throw GlError("osmesa: " + l.path + " lacks OSMesaCreateContextAttribs or another entry point");
     }
     return l;
@@ -81,15 +80,12 @@ const OSMesaLibrary& library() {
   return lib;
 }
 
-void* osmesaProc(const char* name) {
-  return reinterpret_cast<void*>(library().getProcAddress(name));
-}
+void* osmesaProc(const char* name) { return reinterpret_cast<void*>(library().getProcAddress(name)); }
 
 class OSMesaGlContext final : public Context {
  public:
   OSMesaGlContext(OSMesaContext ctx, int width, int height, bool debug)
-      : ctx_(ctx), width_(width), height_(height),
-        buffer_(std::size_t(width) * std::size_t(height) * 4u) {
+      : ctx_(ctx), width_(width), height_(height), buffer_(std::size_t(width) * std::size_t(height) * 4u) {
     makeCurrentRaw();
     finishInit(Backend::OSMesa, "OSMesa (" + library().path + "), dlopen", debug, &osmesaProc);
   }
@@ -119,12 +115,18 @@ class OSMesaGlContext final : public Context {
 std::unique_ptr<Context> createOSMesaContext(const ContextOptions& options) {
   const auto& lib = library();
   const bool debug = options.debug.value_or(false);
-  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA,
-                         OSMESA_DEPTH_BITS, 24,
-                         OSMESA_STENCIL_BITS, 8,
-                         OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION, 4,
-                         OSMESA_CONTEXT_MINOR_VERSION, 5,
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_DEPTH_BITS,
+                         24,
+                         OSMESA_STENCIL_BITS,
+                         8,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         4,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         5,
                          0};
   OSMesaContext ctx = lib.createContextAttribs(attribs, nullptr);
   if (ctx == nullptr) {

@@ -32,11 +32,10 @@ int loadGlFunctions(GetProcAddressFn getProc, const std::string& backendName) {
     }
   }
   if (!missing45.empty()) {
-    throw GlError("OpenGL loader (" + backendName + "): entry points of GL <= 4.5 core are missing: " +
-                  missing45.substr(0, 400));
+    throw GlError("OpenGL loader (" + backendName +
+                  "): entry points of GL <= 4.5 core are missing: " + missing45.substr(0, 400));
   }
-  log::debug("OpenGL loader ({}): {} of {} entry points resolved", backendName, resolved,
-             detail::kGlFunctionCount);
+  log::debug("OpenGL loader ({}): {} of {} entry points resolved", backendName, resolved, detail::kGlFunctionCount);
   return resolved;
 }
 

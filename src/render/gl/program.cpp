@@ -65,8 +65,7 @@ std::string infoLog(GLuint object, bool isProgram) {
 
 }  // namespace
 
-Program Program::fromSources(
-    const std::vector<std::pair<GLenum, std::pair<std::string, std::string>>>& stages) {
+Program Program::fromSources(const std::vector<std::pair<GLenum, std::pair<std::string, std::string>>>& stages) {
   std::vector<ObjectHandle<&detail::deleteShader>> shaders;
   std::string labels;
   for (const auto& [type, labelled] : stages) {
@@ -99,9 +98,9 @@ Program Program::compute(std::string_view name, const Defines& defines) {
 }
 
 Program Program::graphics(std::string_view vertexName, std::string_view fragmentName, const Defines& defines) {
-  return fromSources({{GL_VERTEX_SHADER, {std::string(vertexName), injectDefines(shaderSource(vertexName), defines)}},
-                      {GL_FRAGMENT_SHADER,
-                       {std::string(fragmentName), injectDefines(shaderSource(fragmentName), defines)}}});
+  return fromSources(
+      {{GL_VERTEX_SHADER, {std::string(vertexName), injectDefines(shaderSource(vertexName), defines)}},
+       {GL_FRAGMENT_SHADER, {std::string(fragmentName), injectDefines(shaderSource(fragmentName), defines)}}});
 }
 
 void Program::set(const char* name, const glm::mat3& m) const {

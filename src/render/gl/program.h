@@ -26,8 +26,7 @@ class Program {
   /// Compute program from an embedded stage file, e.g. "test/gradient3d.comp".
   static Program compute(std::string_view name, const Defines& defines = {});
   /// Vertex + fragment program from embedded stage files.
-  static Program graphics(std::string_view vertexName, std::string_view fragmentName,
-                          const Defines& defines = {});
+  static Program graphics(std::string_view vertexName, std::string_view fragmentName, const Defines& defines = {});
   /// Compiles and links explicit sources (stage type, label, source). Throws nph::GlError with
   /// the label and the driver's info log on failure.
   static Program fromSources(const std::vector<std::pair<GLenum, std::pair<std::string, std::string>>>& stages);
@@ -47,9 +46,7 @@ class Program {
   void set(const char* name, float v) const { glProgramUniform1f(id(), location(name), v); }
   void set(const char* name, const glm::vec2& v) const { glProgramUniform2f(id(), location(name), v.x, v.y); }
   void set(const char* name, const glm::vec3& v) const { glProgramUniform3f(id(), location(name), v.x, v.y, v.z); }
-  void set(const char* name, const glm::vec4& v) const {
-    glProgramUniform4f(id(), location(name), v.x, v.y, v.z, v.w);
-  }
+  void set(const char* name, const glm::vec4& v) const { glProgramUniform4f(id(), location(name), v.x, v.y, v.z, v.w); }
   void set(const char* name, const glm::ivec2& v) const { glProgramUniform2i(id(), location(name), v.x, v.y); }
   void set(const char* name, const glm::ivec3& v) const { glProgramUniform3i(id(), location(name), v.x, v.y, v.z); }
   void set(const char* name, const glm::mat3& m) const;

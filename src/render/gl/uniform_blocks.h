@@ -40,42 +40,44 @@ struct LightSpaceBlock {
   float depth_m = 0.0f;      ///< u_ls_depth_m: length of every light ray
   glm::vec3 u{0.0f};         ///< u_ls_u
   float pad_u = 0.0f;
-  glm::vec3 v{0.0f};         ///< u_ls_v
+  glm::vec3 v{0.0f};  ///< u_ls_v
   float pad_v = 0.0f;
-  glm::vec3 w{0.0f};         ///< u_ls_w: the direction the sunlight travels
+  glm::vec3 w{0.0f};  ///< u_ls_w: the direction the sunlight travels
   float pad_w = 0.0f;
-  glm::vec2 texel_m{0.0f};   ///< u_ls_texel_m: du, dv
-  glm::ivec2 texels{0};      ///< u_ls_texels: nu, nv
+  glm::vec2 texel_m{0.0f};  ///< u_ls_texel_m: du, dv
+  glm::ivec2 texels{0};     ///< u_ls_texels: nu, nv
 };
 static_assert(offsetof(LightSpaceBlock, origin_m) == 0 && offsetof(LightSpaceBlock, depth_m) == 12);
 static_assert(offsetof(LightSpaceBlock, u) == 16 && offsetof(LightSpaceBlock, v) == 32 &&
               offsetof(LightSpaceBlock, w) == 48);
 static_assert(offsetof(LightSpaceBlock, texel_m) == 64 && offsetof(LightSpaceBlock, texels) == 72);
 static_assert(sizeof(LightSpaceBlock) == 80, "std140 size of LightSpaceBlock");
-inline constexpr BlockMember kLightSpaceMembers[] = {
-    {"u_ls_origin_m", offsetof(LightSpaceBlock, origin_m)}, {"u_ls_depth_m", offsetof(LightSpaceBlock, depth_m)},
-    {"u_ls_u", offsetof(LightSpaceBlock, u)},               {"u_ls_v", offsetof(LightSpaceBlock, v)},
-    {"u_ls_w", offsetof(LightSpaceBlock, w)},               {"u_ls_texel_m", offsetof(LightSpaceBlock, texel_m)},
-    {"u_ls_texels", offsetof(LightSpaceBlock, texels)}};
+inline constexpr BlockMember kLightSpaceMembers[] = {{"u_ls_origin_m", offsetof(LightSpaceBlock, origin_m)},
+                                                     {"u_ls_depth_m", offsetof(LightSpaceBlock, depth_m)},
+                                                     {"u_ls_u", offsetof(LightSpaceBlock, u)},
+                                                     {"u_ls_v", offsetof(LightSpaceBlock, v)},
+                                                     {"u_ls_w", offsetof(LightSpaceBlock, w)},
+                                                     {"u_ls_texel_m", offsetof(LightSpaceBlock, texel_m)},
+                                                     {"u_ls_texels", offsetof(LightSpaceBlock, texels)}};
 
 /// glsl/dlm/volume.glsl `VolumeBlock`: where the extinction volumes sit and what they hold
 /// (render/dlm/volume_textures.h), read by every pass that samples them.
 struct VolumeBlock {
   static constexpr unsigned kBinding = binding::UBO_VOLUME;
   static constexpr const char* kGlslName = "VolumeBlock";
-  glm::vec3 box_min_m{0.0f};   ///< u_box_min_m: world AABB of the volume
-  std::int32_t brick_voxels = 0;  ///< u_brick_voxels: occupancy brick side [voxels]
-  glm::vec3 box_size_m{0.0f};  ///< u_box_size_m
-  std::uint32_t has_ice = 0;   ///< u_has_ice (bool): absent phases are never fetched
-  glm::ivec3 voxels{0};        ///< u_voxels
-  std::uint32_t has_water = 0; ///< u_has_water (bool)
+  glm::vec3 box_min_m{0.0f};        ///< u_box_min_m: world AABB of the volume
+  std::int32_t brick_voxels = 0;    ///< u_brick_voxels: occupancy brick side [voxels]
+  glm::vec3 box_size_m{0.0f};       ///< u_box_size_m
+  std::uint32_t has_ice = 0;        ///< u_has_ice (bool): absent phases are never fetched
+  glm::ivec3 voxels{0};             ///< u_voxels
+  std::uint32_t has_water = 0;      ///< u_has_water (bool)
   std::int32_t reconstruction = 0;  ///< u_reconstruction: scene::Reconstruction (0 trilinear, 1 cubic)
   float reach_voxels = 1.0f;        ///< u_reach_voxels: reachVoxels(reconstruction) + the detail's reach
   std::int32_t detail = 0;          ///< u_detail: scene::Detail (0 none, 1 subtle, 2 full)
   float detail_amplitude = 0.0f;    ///< u_detail_amplitude (volume/detail.h)
   glm::vec3 noise_period_m{1.0f};   ///< u_noise_period_m: world metres per noise tile
   std::uint32_t pad0_ = 0;
-  glm::vec3 displacement_m{0.0f};   ///< u_displacement_m: displacement cap per axis
+  glm::vec3 displacement_m{0.0f};  ///< u_displacement_m: displacement cap per axis
   std::uint32_t pad1_ = 0;
   glm::vec4 noise_stats_ra{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_ra: (mean, half range) of r, a
   glm::vec4 noise_stats_gs{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_gs: of g, the stratiform term
@@ -90,19 +92,21 @@ static_assert(offsetof(VolumeBlock, noise_period_m) == 64 && offsetof(VolumeBloc
 static_assert(offsetof(VolumeBlock, noise_stats_ra) == 96 && offsetof(VolumeBlock, noise_stats_gs) == 112);
 static_assert(offsetof(VolumeBlock, noise_stats_c) == 128);
 static_assert(sizeof(VolumeBlock) == 144, "std140 size of VolumeBlock");
-inline constexpr BlockMember kVolumeMembers[] = {
-    {"u_box_min_m", offsetof(VolumeBlock, box_min_m)}, {"u_brick_voxels", offsetof(VolumeBlock, brick_voxels)},
-    {"u_box_size_m", offsetof(VolumeBlock, box_size_m)}, {"u_has_ice", offsetof(VolumeBlock, has_ice)},
-    {"u_voxels", offsetof(VolumeBlock, voxels)},         {"u_has_water", offsetof(VolumeBlock, has_water)},
-    {"u_reconstruction", offsetof(VolumeBlock, reconstruction)},
-    {"u_reach_voxels", offsetof(VolumeBlock, reach_voxels)},
-    {"u_detail", offsetof(VolumeBlock, detail)},
-    {"u_detail_amplitude", offsetof(VolumeBlock, detail_amplitude)},
-    {"u_noise_period_m", offsetof(VolumeBlock, noise_period_m)},
-    {"u_displacement_m", offsetof(VolumeBlock, displacement_m)},
-    {"u_noise_stats_ra", offsetof(VolumeBlock, noise_stats_ra)},
-    {"u_noise_stats_gs", offsetof(VolumeBlock, noise_stats_gs)},
-    {"u_noise_stats_c", offsetof(VolumeBlock, noise_stats_c)}};
+inline constexpr BlockMember kVolumeMembers[] = {{"u_box_min_m", offsetof(VolumeBlock, box_min_m)},
+                                                 {"u_brick_voxels", offsetof(VolumeBlock, brick_voxels)},
+                                                 {"u_box_size_m", offsetof(VolumeBlock, box_size_m)},
+                                                 {"u_has_ice", offsetof(VolumeBlock, has_ice)},
+                                                 {"u_voxels", offsetof(VolumeBlock, voxels)},
+                                                 {"u_has_water", offsetof(VolumeBlock, has_water)},
+                                                 {"u_reconstruction", offsetof(VolumeBlock, reconstruction)},
+                                                 {"u_reach_voxels", offsetof(VolumeBlock, reach_voxels)},
+                                                 {"u_detail", offsetof(VolumeBlock, detail)},
+                                                 {"u_detail_amplitude", offsetof(VolumeBlock, detail_amplitude)},
+                                                 {"u_noise_period_m", offsetof(VolumeBlock, noise_period_m)},
+                                                 {"u_displacement_m", offsetof(VolumeBlock, displacement_m)},
+                                                 {"u_noise_stats_ra", offsetof(VolumeBlock, noise_stats_ra)},
+                                                 {"u_noise_stats_gs", offsetof(VolumeBlock, noise_stats_gs)},
+                                                 {"u_noise_stats_c", offsetof(VolumeBlock, noise_stats_c)}};
 
 /// std140 mat3: three columns, each padded to a vec4 (GL 4.5 §7.6.2.2 rules 5 and 4).
 struct Std140Mat3 {
@@ -196,17 +200,17 @@ inline constexpr BlockMember kRaycastMembers[] = {
 struct GlobeBlock {
   static constexpr unsigned kBinding = binding::UBO_GLOBE;
   static constexpr const char* kGlslName = "GlobeBlock";
-  Std140Mat3 local_from_ecef;            ///< u_local_from_ecef: rows east, north, up
-  glm::vec3 cap_axis{0.0f};              ///< u_cap_axis: unit ECEF of the footprint centre
-  float cap_min_dot_m = 0.0f;            ///< u_cap_min_dot_m: (R + z_min)·cos α
-  glm::vec3 sphere_c_m2{0.0f};           ///< u_sphere_c_m2: |o|² − r² (ground, lens top) [m²]
-  float lipschitz_h = 0.0f;              ///< u_lipschitz_h: world-xy m per ECEF m, upper bound
-  glm::vec3 limb_radiance{0.0f};         ///< u_limb_radiance
-  float earth_radius_m = 0.0f;           ///< u_earth_radius_m
-  glm::vec2 ab_min_rad{0.0f};            ///< u_ab_min_rad: rotated lon/lat box of the table
-  glm::vec2 ab_max_rad{0.0f};            ///< u_ab_max_rad
-  std::uint32_t has_globe_basemap = 0;   ///< u_has_globe_basemap (bool)
-  std::uint32_t pad[3] = {0, 0, 0};      ///< to a multiple of 16 bytes (std140 block rounding)
+  Std140Mat3 local_from_ecef;           ///< u_local_from_ecef: rows east, north, up
+  glm::vec3 cap_axis{0.0f};             ///< u_cap_axis: unit ECEF of the footprint centre
+  float cap_min_dot_m = 0.0f;           ///< u_cap_min_dot_m: (R + z_min)·cos α
+  glm::vec3 sphere_c_m2{0.0f};          ///< u_sphere_c_m2: |o|² − r² (ground, lens top) [m²]
+  float lipschitz_h = 0.0f;             ///< u_lipschitz_h: world-xy m per ECEF m, upper bound
+  glm::vec3 limb_radiance{0.0f};        ///< u_limb_radiance
+  float earth_radius_m = 0.0f;          ///< u_earth_radius_m
+  glm::vec2 ab_min_rad{0.0f};           ///< u_ab_min_rad: rotated lon/lat box of the table
+  glm::vec2 ab_max_rad{0.0f};           ///< u_ab_max_rad
+  std::uint32_t has_globe_basemap = 0;  ///< u_has_globe_basemap (bool)
+  std::uint32_t pad[3] = {0, 0, 0};     ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(GlobeBlock, cap_axis) == 48 && offsetof(GlobeBlock, cap_min_dot_m) == 60 &&
               offsetof(GlobeBlock, sphere_c_m2) == 64 && offsetof(GlobeBlock, lipschitz_h) == 76);
@@ -214,17 +218,16 @@ static_assert(offsetof(GlobeBlock, limb_radiance) == 80 && offsetof(GlobeBlock, 
               offsetof(GlobeBlock, ab_min_rad) == 96 && offsetof(GlobeBlock, ab_max_rad) == 104 &&
               offsetof(GlobeBlock, has_globe_basemap) == 112);
 static_assert(sizeof(GlobeBlock) == 128, "std140 size of GlobeBlock, rounded to 16");
-inline constexpr BlockMember kGlobeMembers[] = {
-    {"u_local_from_ecef", offsetof(GlobeBlock, local_from_ecef)},
-    {"u_cap_axis", offsetof(GlobeBlock, cap_axis)},
-    {"u_cap_min_dot_m", offsetof(GlobeBlock, cap_min_dot_m)},
-    {"u_sphere_c_m2", offsetof(GlobeBlock, sphere_c_m2)},
-    {"u_lipschitz_h", offsetof(GlobeBlock, lipschitz_h)},
-    {"u_limb_radiance", offsetof(GlobeBlock, limb_radiance)},
-    {"u_earth_radius_m", offsetof(GlobeBlock, earth_radius_m)},
-    {"u_ab_min_rad", offsetof(GlobeBlock, ab_min_rad)},
-    {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
-    {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)}};
+inline constexpr BlockMember kGlobeMembers[] = {{"u_local_from_ecef", offsetof(GlobeBlock, local_from_ecef)},
+                                                {"u_cap_axis", offsetof(GlobeBlock, cap_axis)},
+                                                {"u_cap_min_dot_m", offsetof(GlobeBlock, cap_min_dot_m)},
+                                                {"u_sphere_c_m2", offsetof(GlobeBlock, sphere_c_m2)},
+                                                {"u_lipschitz_h", offsetof(GlobeBlock, lipschitz_h)},
+                                                {"u_limb_radiance", offsetof(GlobeBlock, limb_radiance)},
+                                                {"u_earth_radius_m", offsetof(GlobeBlock, earth_radius_m)},
+                                                {"u_ab_min_rad", offsetof(GlobeBlock, ab_min_rad)},
+                                                {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
+                                                {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)}};
 
 /// glsl/render/clouds.comp `TerrainBlock` (issue 14): the ground's height field
 /// (volume/terrain_field.h; the march of glsl/common/terrain.glsl) and the far basemap that
@@ -232,63 +235,64 @@ inline constexpr BlockMember kGlobeMembers[] = {
 struct TerrainBlock {
   static constexpr unsigned kBinding = binding::UBO_TERRAIN;
   static constexpr const char* kGlslName = "TerrainBlock";
-  glm::ivec2 size{1};                   ///< u_terrain_size: mass points nx, ny
-  glm::vec2 cell_m{1.0f};               ///< u_terrain_cell_m: world dx, dy
-  float exaggeration = 1.0f;            ///< u_terrain_exaggeration
-  float fade_m = 1.0f;                  ///< u_terrain_fade_m
-  float max_m = 0.0f;                   ///< u_terrain_max_m: highest world height (≥ 0)
-  float min_m = 0.0f;                   ///< u_terrain_min_m: lowest world height (≤ 0)
-  float lipschitz = 0.0f;               ///< u_terrain_lipschitz: slope bound
-  std::uint32_t has_terrain = 0;        ///< u_has_terrain (bool): displaced ground
-  glm::vec2 far_basemap_min_m{0.0f};    ///< u_far_basemap_min_m
-  glm::vec2 far_basemap_max_m{0.0f};    ///< u_far_basemap_max_m
-  std::uint32_t has_far_basemap = 0;    ///< u_has_far_basemap (bool)
-  std::uint32_t pad[1] = {0};           ///< to a multiple of 16 bytes (std140 block rounding)
+  glm::ivec2 size{1};                 ///< u_terrain_size: mass points nx, ny
+  glm::vec2 cell_m{1.0f};             ///< u_terrain_cell_m: world dx, dy
+  float exaggeration = 1.0f;          ///< u_terrain_exaggeration
+  float fade_m = 1.0f;                ///< u_terrain_fade_m
+  float max_m = 0.0f;                 ///< u_terrain_max_m: highest world height (≥ 0)
+  float min_m = 0.0f;                 ///< u_terrain_min_m: lowest world height (≤ 0)
+  float lipschitz = 0.0f;             ///< u_terrain_lipschitz: slope bound
+  std::uint32_t has_terrain = 0;      ///< u_has_terrain (bool): displaced ground
+  glm::vec2 far_basemap_min_m{0.0f};  ///< u_far_basemap_min_m
+  glm::vec2 far_basemap_max_m{0.0f};  ///< u_far_basemap_max_m
+  std::uint32_t has_far_basemap = 0;  ///< u_has_far_basemap (bool)
+  std::uint32_t pad[1] = {0};         ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(TerrainBlock, cell_m) == 8 && offsetof(TerrainBlock, exaggeration) == 16 &&
               offsetof(TerrainBlock, lipschitz) == 32 && offsetof(TerrainBlock, has_terrain) == 36);
 static_assert(offsetof(TerrainBlock, far_basemap_min_m) == 40 && offsetof(TerrainBlock, far_basemap_max_m) == 48 &&
               offsetof(TerrainBlock, has_far_basemap) == 56);
 static_assert(sizeof(TerrainBlock) == 64, "std140 size of TerrainBlock, rounded to 16");
-inline constexpr BlockMember kTerrainMembers[] = {
-    {"u_terrain_size", offsetof(TerrainBlock, size)},
-    {"u_terrain_cell_m", offsetof(TerrainBlock, cell_m)},
-    {"u_terrain_exaggeration", offsetof(TerrainBlock, exaggeration)},
-    {"u_terrain_fade_m", offsetof(TerrainBlock, fade_m)},
-    {"u_terrain_max_m", offsetof(TerrainBlock, max_m)},
-    {"u_terrain_min_m", offsetof(TerrainBlock, min_m)},
-    {"u_terrain_lipschitz", offsetof(TerrainBlock, lipschitz)},
-    {"u_has_terrain", offsetof(TerrainBlock, has_terrain)},
-    {"u_far_basemap_min_m", offsetof(TerrainBlock, far_basemap_min_m)},
-    {"u_far_basemap_max_m", offsetof(TerrainBlock, far_basemap_max_m)},
-    {"u_has_far_basemap", offsetof(TerrainBlock, has_far_basemap)}};
+inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(TerrainBlock, size)},
+                                                  {"u_terrain_cell_m", offsetof(TerrainBlock, cell_m)},
+                                                  {"u_terrain_exaggeration", offsetof(TerrainBlock, exaggeration)},
+                                                  {"u_terrain_fade_m", offsetof(TerrainBlock, fade_m)},
+                                                  {"u_terrain_max_m", offsetof(TerrainBlock, max_m)},
+                                                  {"u_terrain_min_m", offsetof(TerrainBlock, min_m)},
+                                                  {"u_terrain_lipschitz", offsetof(TerrainBlock, lipschitz)},
+                                                  {"u_has_terrain", offsetof(TerrainBlock, has_terrain)},
+                                                  {"u_far_basemap_min_m", offsetof(TerrainBlock, far_basemap_min_m)},
+                                                  {"u_far_basemap_max_m", offsetof(TerrainBlock, far_basemap_max_m)},
+                                                  {"u_has_far_basemap", offsetof(TerrainBlock, has_far_basemap)}};
 
 /// glsl/atmosphere/model.glsl `AtmosphereBlock`: the atmosphere's constants (atmosphere/atmosphere.h
 /// Parameters) and the sky-view table's observer and sun (render/atmosphere/atmosphere_luts.h).
 struct AtmosphereBlock {
   static constexpr unsigned kBinding = binding::UBO_ATMOSPHERE;
   static constexpr const char* kGlslName = "AtmosphereBlock";
-  glm::vec3 rayleigh_scattering_per_m{0.0f};  ///< u_rayleigh_scattering_per_m
-  float bottom_radius_m = 0.0f;               ///< u_bottom_radius_m
-  glm::vec3 mie_scattering_per_m{0.0f};       ///< u_mie_scattering_per_m
-  float top_radius_m = 0.0f;                  ///< u_top_radius_m
-  glm::vec3 mie_extinction_per_m{0.0f};       ///< u_mie_extinction_per_m
-  float rayleigh_scale_height_m = 0.0f;       ///< u_rayleigh_scale_height_m
-  glm::vec3 ozone_absorption_per_m{0.0f};     ///< u_ozone_absorption_per_m
-  float mie_scale_height_m = 0.0f;            ///< u_mie_scale_height_m
-  glm::vec3 ground_albedo{0.0f};              ///< u_ground_albedo
-  float mie_g = 0.0f;                         ///< u_mie_g
+  glm::vec3 rayleigh_scattering_per_m{0.0f};    ///< u_rayleigh_scattering_per_m
+  float bottom_radius_m = 0.0f;                 ///< u_bottom_radius_m
+  glm::vec3 mie_scattering_per_m{0.0f};         ///< u_mie_scattering_per_m
+  float top_radius_m = 0.0f;                    ///< u_top_radius_m
+  glm::vec3 mie_extinction_per_m{0.0f};         ///< u_mie_extinction_per_m
+  float rayleigh_scale_height_m = 0.0f;         ///< u_rayleigh_scale_height_m
+  glm::vec3 ozone_absorption_per_m{0.0f};       ///< u_ozone_absorption_per_m
+  float mie_scale_height_m = 0.0f;              ///< u_mie_scale_height_m
+  glm::vec3 ground_albedo{0.0f};                ///< u_ground_albedo
+  float mie_g = 0.0f;                           ///< u_mie_g
   glm::vec3 sky_view_to_sun{0.0f, 0.0f, 1.0f};  ///< u_sky_view_to_sun
-  float ozone_center_m = 0.0f;                ///< u_ozone_center_m
-  float ozone_half_width_m = 0.0f;            ///< u_ozone_half_width_m
-  float sun_angular_radius_rad = 0.0f;        ///< u_sun_angular_radius_rad
-  float sky_view_radius_m = 0.0f;             ///< u_sky_view_radius_m
-  std::uint32_t multiple_scattering = 0;      ///< u_multiple_scattering (bool)
+  float ozone_center_m = 0.0f;                  ///< u_ozone_center_m
+  float ozone_half_width_m = 0.0f;              ///< u_ozone_half_width_m
+  float sun_angular_radius_rad = 0.0f;          ///< u_sun_angular_radius_rad
+  float sky_view_radius_m = 0.0f;               ///< u_sky_view_radius_m
+  std::uint32_t multiple_scattering = 0;        ///< u_multiple_scattering (bool)
 };
-static_assert(offsetof(AtmosphereBlock, bottom_radius_m) == 12 && offsetof(AtmosphereBlock, mie_scattering_per_m) == 16 &&
-              offsetof(AtmosphereBlock, top_radius_m) == 28 && offsetof(AtmosphereBlock, mie_extinction_per_m) == 32);
-static_assert(offsetof(AtmosphereBlock, ozone_absorption_per_m) == 48 && offsetof(AtmosphereBlock, ground_albedo) == 64 &&
-              offsetof(AtmosphereBlock, sky_view_to_sun) == 80 && offsetof(AtmosphereBlock, ozone_half_width_m) == 96 &&
+static_assert(offsetof(AtmosphereBlock, bottom_radius_m) == 12 &&
+              offsetof(AtmosphereBlock, mie_scattering_per_m) == 16 && offsetof(AtmosphereBlock, top_radius_m) == 28 &&
+              offsetof(AtmosphereBlock, mie_extinction_per_m) == 32);
+static_assert(offsetof(AtmosphereBlock, ozone_absorption_per_m) == 48 &&
+              offsetof(AtmosphereBlock, ground_albedo) == 64 && offsetof(AtmosphereBlock, sky_view_to_sun) == 80 &&
+              offsetof(AtmosphereBlock, ozone_half_width_m) == 96 &&
               offsetof(AtmosphereBlock, multiple_scattering) == 108);
 static_assert(sizeof(AtmosphereBlock) == 112, "std140 size of AtmosphereBlock");
 inline constexpr BlockMember kAtmosphereMembers[] = {

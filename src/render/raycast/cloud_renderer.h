@@ -57,8 +57,8 @@ struct HostDepth {
 };
 
 struct RenderOutput {
-  scene::RgbaImage cloud_layer;  ///< premultiplied linear RGBA: the clouds alone
-  scene::RgbaImage frame;        ///< clouds composited over the lit ground, alpha 1
+  scene::RgbaImage cloud_layer;              ///< premultiplied linear RGBA: the clouds alone
+  scene::RgbaImage frame;                    ///< clouds composited over the lit ground, alpha 1
   std::optional<scene::FramePasses> passes;  ///< ground, sky, shadow matte, depth (setPasses(true))
   double milliseconds = 0.0;
 };
@@ -119,7 +119,7 @@ class CloudRenderer {
   gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
   gl::UniformBuffer<gl::GlobeBlock> globe_block_;      // globe.glsl's mapping
   gl::UniformBuffer<gl::TerrainBlock> terrain_block_;  // the ground's height field, the far basemap
-  std::unique_ptr<AtmosphereLuts> atmosphere_;          // built on the first frame that wants it
+  std::unique_ptr<AtmosphereLuts> atmosphere_;         // built on the first frame that wants it
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
 };
 

@@ -114,9 +114,10 @@ GlobeMapping buildGlobeMapping(const scene::SceneGeoreference& geo, int long_sid
       m.max_interpolation_error_m = std::max(m.max_interpolation_error_m, glm::length(t - exact(ab)));
     }
   }
-  log::debug("globe: look-up table {}x{} over {:.2f}x{:.2f} deg, interpolation error <= {:.2f} m, L_h {:.4f}, cap {:.2f} deg",
-             m.width, m.height, glm::degrees(extent.x), glm::degrees(extent.y), m.max_interpolation_error_m,
-             m.horizontal_lipschitz, glm::degrees(std::acos(m.cap_cos)));
+  log::debug(
+      "globe: look-up table {}x{} over {:.2f}x{:.2f} deg, interpolation error <= {:.2f} m, L_h {:.4f}, cap {:.2f} deg",
+      m.width, m.height, glm::degrees(extent.x), glm::degrees(extent.y), m.max_interpolation_error_m,
+      m.horizontal_lipschitz, glm::degrees(std::acos(m.cap_cos)));
   return m;
 }
 

@@ -34,16 +34,16 @@
 namespace nph::render {
 
 struct GlobeMapping {
-  glm::dmat3 local_from_ecef{1.0};   ///< rows east, north, up at the footprint centre
-  glm::dvec2 ab_min_rad{0.0};        ///< rotated lon/lat box the table covers (texel edges)
+  glm::dmat3 local_from_ecef{1.0};  ///< rows east, north, up at the footprint centre
+  glm::dvec2 ab_min_rad{0.0};       ///< rotated lon/lat box the table covers (texel edges)
   glm::dvec2 ab_max_rad{0.0};
-  int width = 0, height = 0;         ///< table size; world_xy is RG, row 0 at ab_min.y
+  int width = 0, height = 0;  ///< table size; world_xy is RG, row 0 at ab_min.y
   std::vector<float> world_xy_m;
-  glm::dvec3 cap_axis{0.0, 0.0, 1.0};  ///< unit ECEF of the footprint centre
-  double cap_cos = 1.0;                ///< cos α of the grown footprint's cone
-  double shell_min_m = 0.0;            ///< R + z_min (grown box bottom)
-  double shell_max_m = 0.0;            ///< R + z_max (grown box top)
-  double horizontal_lipschitz = 1.0;   ///< L_h: world-xy metres per ECEF metre, upper bound
+  glm::dvec3 cap_axis{0.0, 0.0, 1.0};      ///< unit ECEF of the footprint centre
+  double cap_cos = 1.0;                    ///< cos α of the grown footprint's cone
+  double shell_min_m = 0.0;                ///< R + z_min (grown box bottom)
+  double shell_max_m = 0.0;                ///< R + z_max (grown box top)
+  double horizontal_lipschitz = 1.0;       ///< L_h: world-xy metres per ECEF metre, upper bound
   double max_interpolation_error_m = 0.0;  ///< table vs PROJ at texel-cell centres (measured)
 };
 
