@@ -6,8 +6,9 @@
  * usage: nephele_api_c99_test DATASET   (a wrfout / ICON / .nph file with >= 2 timesteps)
  * The host context is OSMesa (4.5 core, llvmpipe), GL functions are libOSMesa's exports. */
 #define GL_GLEXT_PROTOTYPES 1
+#include <GL/osmesa.h>  // first: it includes GL/gl.h, which glext.h needs
+
 #include <GL/glext.h>
-#include <GL/osmesa.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -18,14 +19,17 @@
 #include "nephele/nephele.h"
 
 /* GL 4.5 entry points libOSMesa does not export: loaded through OSMesaGetProcAddress. */
-#define GL45_FUNCTIONS(X)                                                                                           \
-  X(PFNGLCLIPCONTROLPROC, glClipControl)                                                                            \
-  X(PFNGLCREATEBUFFERSPROC, glCreateBuffers) X(PFNGLCREATEFRAMEBUFFERSPROC, glCreateFramebuffers)                   \
-      X(PFNGLCREATESAMPLERSPROC, glCreateSamplers) X(PFNGLCREATETEXTURESPROC, glCreateTextures)                     \
-          X(PFNGLCREATEVERTEXARRAYSPROC, glCreateVertexArrays) X(PFNGLNAMEDBUFFERDATAPROC, glNamedBufferData)       \
-              X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, glNamedFramebufferTexture)                                        \
-                  X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D) \
-                      X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage)
+/* Hand-aligned: clang-format reflows this X-macro differently on every run. */
+// clang-format off
+#define GL45_FUNCTIONS(X)                                                                        \
+  X(PFNGLCLIPCONTROLPROC, glClipControl) X(PFNGLCREATEBUFFERSPROC, glCreateBuffers)              \
+  X(PFNGLCREATEFRAMEBUFFERSPROC, glCreateFramebuffers) X(PFNGLCREATESAMPLERSPROC, glCreateSamplers) \
+  X(PFNGLCREATETEXTURESPROC, glCreateTextures) X(PFNGLCREATEVERTEXARRAYSPROC, glCreateVertexArrays) \
+  X(PFNGLNAMEDBUFFERDATAPROC, glNamedBufferData)                                                 \
+  X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, glNamedFramebufferTexture)                                 \
+  X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D)   \
+  X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage)
+// clang-format on
 #define DECLARE(type, name) static type p_##name;
 GL45_FUNCTIONS(DECLARE)
 #undef DECLARE
