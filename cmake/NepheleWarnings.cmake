@@ -9,20 +9,15 @@ function(nephele_warnings target)
 endfunction()
 
 # nephele_module(<name> SOURCES ... DEPS ...): one library target per module, nephele::<name>.
+# Modules are internal static libraries and are not installed: the installed interface is the
+# plugin C API alone (libnephele.so.0 + include/nephele/nephele.h, src/api; issue 17).
 function(nephele_module name)
   cmake_parse_arguments(M "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
   add_library(nephele_${name} ${M_SOURCES})
   add_library(nephele::${name} ALIAS nephele_${name})
   set_target_properties(nephele_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME nephele_${name})
-  target_include_directories(nephele_${name} PUBLIC
-    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
-    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/nephele>)
+  target_include_directories(nephele_${name} PUBLIC ${PROJECT_SOURCE_DIR}/src)
   target_link_libraries(nephele_${name} PUBLIC ${M_PUBLIC_DEPS} PRIVATE ${M_PRIVATE_DEPS})
   target_compile_features(nephele_${name} PUBLIC cxx_std_20)
   nephele_warnings(nephele_${name})
-  install(TARGETS nephele_${name} EXPORT nepheleTargets
-          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/nephele/${name}
-          FILES_MATCHING PATTERN "*.h")
 endfunction()

@@ -29,7 +29,7 @@ Number mixedPhase(Number cosPsi, Number iceWeight, Number gIce, Number gWater) {
 
 // Multiple scattering of sunlight as an octave series (Wrenninge, Kulla & Lundqvist 2013, "Oz:
 // the great and volumetric"; Hillaire 2016 §5.9.3; Muth 2026 §3.4.6; fitted to the path tracer
-// by `nephele bench accuracy --fit-octaves`, docs/accuracy.md):
+// by `nephele-bench accuracy --fit-octaves`, docs/accuracy.md):
 //   F = Σ_{n<N} bⁿ · I^{aⁿ} · p_v(ψ; cⁿ·g_ice, cⁿ·g_water)        [1/sr]
 // where I ∈ [0, 1] is the deep light map's sunlight at the sample. For pure attenuation
 // I = T(τ) = e^{−τ}, and I^{aⁿ} = T(aⁿ·τ): octave n sees the optical depth scaled by aⁿ from the

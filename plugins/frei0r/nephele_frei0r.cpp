@@ -12,6 +12,7 @@
 // lit ground, display-transformed exactly like `nephele render`'s PNG (ACES, sRGB, alpha 1);
 // with clouds_only the cloud layer alone with straight alpha, for keying over other video.
 extern "C" {
+#include <dlfcn.h>
 #include <frei0r.h>  // has no extern "C" of its own
 }
 
@@ -73,8 +74,24 @@ double frameTimestep(const Params& p, double stream_time_s, int32_t timesteps) {
   return std::clamp(std::clamp(p.time, 0.0, 1.0) * last + clock, 0.0, last);
 }
 
+// libnephele is loaded on first use, not when the host loads this module: hosts scan every
+// plugin at start-up (a GStreamer registry probe calls f0r_init and f0r_get_plugin_info of each),
+// and libnephele brings the image, colour and NetCDF libraries with it (~265 shared objects). The
+// module itself needs only libEGL and the C++ runtime (nephele::headless). libnephele.so.0 is
+// found through this module's RUNPATH (the build tree, or $ORIGIN/.. once installed next to
+// lib/frei0r-1), then the usual dlopen search.
 const nph_api_v1* api() {
-  static const auto* table = static_cast<const nph_api_v1*>(nph_get_api(1));
+  static const nph_api_v1* table = []() -> const nph_api_v1* {
+    void* lib = dlopen("libnephele.so.0", RTLD_NOW | RTLD_LOCAL);
+    if (lib == nullptr) {
+      std::fprintf(stderr, "nephele_clouds: cannot load libnephele.so.0: %s\n", dlerror());
+      return nullptr;
+    }
+    const auto get = reinterpret_cast<nph_get_api_fn>(dlsym(lib, "nph_get_api"));
+    const auto* t = get != nullptr ? static_cast<const nph_api_v1*>(get(1)) : nullptr;
+    if (t == nullptr) std::fprintf(stderr, "nephele_clouds: libnephele.so.0 has no API version 1\n");
+    return t;
+  }();
   return table;
 }
 
@@ -136,7 +153,7 @@ class Instance {
       o.visible = false;
       o.width = width_;
       o.height = height_;
-      context_ = nph::gl::createContext(o);
+      context_ = nph::gl::createHeadlessContext(o);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "nephele_clouds: no OpenGL 4.5 context: %s\n", e.what());
       return false;
@@ -246,7 +263,7 @@ class Instance {
 
 extern "C" {
 
-int f0r_init(void) { return api() != nullptr ? 1 : 0; }
+int f0r_init(void) { return 1; }  // libnephele is loaded by the first instance (api())
 void f0r_deinit(void) {}
 
 void f0r_get_plugin_info(f0r_plugin_info_t* info) {
@@ -266,6 +283,7 @@ void f0r_get_param_info(f0r_param_info_t* info, int index) {
 }
 
 f0r_instance_t f0r_construct(unsigned int width, unsigned int height) {
+  if (api() == nullptr) return nullptr;  // the message is on stderr
   try {
     return new Instance(int(width), int(height));
   } catch (...) {

@@ -100,9 +100,9 @@ std::vector<Variant> sweepVariants(bool quick) {
   auto knob = [&](std::string_view name, const std::vector<double>& values) {
     const lighting::Knob* k = lighting::findKnob(name);
     if (k == nullptr || k->group() != lighting::KnobGroup::Quality)
-      throw UsageError(fmt::format("bench accuracy: no quality knob {}", name));
+      throw UsageError(fmt::format("accuracy: no quality knob {}", name));
     for (double x : values) {
-      if (!k->accepts(x)) throw UsageError(fmt::format("bench accuracy: {} = {} is outside the knob's range", name, x));
+      if (!k->accepts(x)) throw UsageError(fmt::format("accuracy: {} = {} is outside the knob's range", name, x));
       lighting::QualitySettings q = sweepBase();
       k->set(q, x);
       Variant v = variantOf(q);
@@ -193,7 +193,7 @@ void writeCsv(const std::vector<SweepRow>& rows, const std::string& path) {
 }
 
 std::vector<SweepRow> runSweep(const SweepOptions& o) {
-  if (o.runs < 1) throw UsageError("bench accuracy: --runs must be at least 1");
+  if (o.runs < 1) throw UsageError("accuracy: --runs must be at least 1");
   const std::string cacheDir =
       o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
   const SceneSet set =
@@ -201,7 +201,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
   std::vector<Variant> variants = sweepVariants(o.quick);
   if (!o.knob_filter.empty()) {
     std::erase_if(variants, [&](const Variant& v) { return v.knob.find(o.knob_filter) == std::string::npos; });
-    if (variants.empty()) throw UsageError("bench accuracy: no knob matches --knobs " + o.knob_filter);
+    if (variants.empty()) throw UsageError("accuracy: no knob matches --knobs " + o.knob_filter);
   }
   std::vector<SweepRow> rows;
   for (const AccuracyScene& sc : set.scenes) {

@@ -1,5 +1,5 @@
 #pragma once
-// The knob sweep of `nephele bench accuracy` (issue 6). For every standard scene and every variant
+// The knob sweep of `nephele-bench accuracy` (issue 6). For every standard scene and every variant
 // (the default settings, one knob at a time around them, and the quality presets) it builds the
 // deep light map and ray casts the scene `runs` times on the GPU, keeps the median of each, and
 // measures the cloud layer's error against

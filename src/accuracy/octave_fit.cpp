@@ -153,7 +153,7 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
     data.push_back(std::move(d));
     used.push_back(&sc);
   }
-  if (data.empty()) throw UsageError("bench accuracy --fit-octaves: no scene matches --scenes " + o.scene_filter);
+  if (data.empty()) throw UsageError("accuracy --fit-octaves: no scene matches --scenes " + o.scene_filter);
 
   OctaveFitResult r;
   // 2. Grid search. err[a][c][b][N] summed over scenes (relMSE per scene, then mean).

@@ -1,6 +1,6 @@
 #pragma once
 // Fitting the multiple-scattering octave series (lighting/octave_series.h) to the path tracer
-// (issue 12): `nephele bench accuracy --fit-octaves`.
+// (issue 12): `nephele-bench accuracy --fit-octaves`.
 //
 // For every accuracy scene the CPU reference of the eye pass (reference::marchCloudLayer's rays,
 // step and sampling, no early termination) is marched once through the converged CPU deep light

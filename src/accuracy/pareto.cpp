@@ -102,7 +102,7 @@ bool plotSummary(const std::vector<VariantSummary>& summary, const std::string& 
   }
   {
     std::ofstream g(gp);
-    g << "# nephele bench accuracy: error against time (mean over the standard scenes)\n"
+    g << "# nephele-bench accuracy: error against time (mean over the standard scenes)\n"
          "set terminal pngcairo size 1400,620 font 'DejaVu Sans,10'\n"
          "set output "
       << process::gnuplotQuoted(png)

@@ -25,7 +25,6 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
-#include "cli/headless.h"
 #include "cli/output_options.h"
 #include "cli/progress.h"
 #include "cli/quick_look.h"
@@ -246,7 +245,7 @@ int runAnimate(const AnimateOptions& o) {
                        : o.data.size() > 1 ? engine::Dataset::openSeries(o.data)
                                            : engine::Dataset::open(s.data->path);
 
-  auto ctx = createHeadlessContext(o.gl);
+  auto ctx = gl::createHeadlessContext(o.gl);
 
   if (o.passes) s.output.passes = true;
   applyColourOptions(o.display, o.view, s.output.image);

@@ -1,4 +1,4 @@
-// `nephele bench accuracy`: run time against error of every quality knob (issue 6; the sweep is
+// `nephele-bench accuracy`: run time against error of every quality knob (issue 6; the sweep is
 // src/accuracy/accuracy_sweep.h, its output is described in docs/accuracy.md).
 #include <cstdio>
 #include <filesystem>
@@ -9,7 +9,6 @@
 #include "accuracy/octave_fit.h"
 #include "accuracy/pareto.h"
 #include "cli/commands.h"
-#include "cli/headless.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "render/gl/context.h"
@@ -36,7 +35,7 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
   }
   if (o.spp > 0) s.ground_truth.samples_per_pixel = o.spp;
   std::filesystem::create_directories(s.out_dir);
-  const auto ctx = createHeadlessContext(o.gl);
+  const auto ctx = gl::createHeadlessContext(o.gl);
   if (o.fit_octaves) {
     const accuracy::OctaveFitResult fit = accuracy::fitOctaveSeries(s);
     const std::string md = accuracy::octaveFitMarkdown(fit);
@@ -47,7 +46,7 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
   }
 
   const std::vector<accuracy::SweepRow> rows = accuracy::runSweep(s);
-  if (rows.empty()) throw UsageError("bench accuracy: no scene matches --scenes " + s.scene_filter);
+  if (rows.empty()) throw UsageError("accuracy: no scene matches --scenes " + s.scene_filter);
   const std::filesystem::path dir(s.out_dir);
   accuracy::writeCsv(rows, (dir / "accuracy.csv").string());
   auto summary = accuracy::summarise(rows);
@@ -61,11 +60,9 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
 
 }  // namespace
 
-void addBenchCommand(CLI::App& app, Action& run) {
-  CLI::App* bench = app.add_subcommand("bench", "Benchmarks that need the whole renderer");
-  bench->require_subcommand(1);
+void addBenchAccuracyCommand(CLI::App& app, Action& run) {
   auto o = std::make_shared<BenchAccuracyOptions>();
-  CLI::App* cmd = bench->add_subcommand(
+  CLI::App* cmd = app.add_subcommand(
       "accuracy", "Run time against error: the standard scenes (hurricane above/oblique, stratus, cumulus, cirrus; sun "
                   "high, low, behind the camera) rendered on the GPU with each quality knob swept around the default "
                   "and the presets; error vs a cached path-traced ground truth and vs the CPU reference of the same "

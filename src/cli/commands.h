@@ -20,8 +20,8 @@ void addInfoCommand(CLI::App& app, Action& run);
 void addConvertCommand(CLI::App& app, Action& run);
 void addRenderCommand(CLI::App& app, Action& run);
 void addAnimateCommand(CLI::App& app, Action& run);
-void addBenchCommand(CLI::App& app, Action& run);
-void addExportVdbCommand(CLI::App& app, Action& run);  ///< interop/vdb_export.h
-void addViewCommand(CLI::App& app, Action& run);       ///< only with NEPHELE_HAVE_GLFW
+void addBenchAccuracyCommand(CLI::App& app, Action& run);  ///< nephele-bench only (bench_main.cpp)
+void addExportVdbCommand(CLI::App& app, Action& run);      ///< interop/vdb_export.h
+void addViewCommand(CLI::App& app, Action& run);           ///< only with NEPHELE_HAVE_GLFW
 
 }  // namespace nph::cli

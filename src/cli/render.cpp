@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
-#include "cli/headless.h"
 #include "cli/output_options.h"
 #include "cli/quick_look.h"
 #include "core/error.h"
@@ -75,7 +74,7 @@ int runRender(const RenderOptions& o) {
   }
   if (!dataset) dataset = engine::Dataset::open(s.data->path);
 
-  auto ctx = createHeadlessContext(o.gl);
+  auto ctx = gl::createHeadlessContext(o.gl);
 
   engine::Session session(dataset, s);
   const scene::PreparedScene& prepared = session.prepared();

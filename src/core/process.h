@@ -1,7 +1,7 @@
 #pragma once
 // Running external tools (gnuplot, ffmpeg) without a shell (issue #18): the program gets an
 // argument vector through fork/execvp, so no file name can inject a command
-// (`nephele bench accuracy -o "x';touch PWNED;'"` ran `touch` through std::system before).
+// (`nephele-bench accuracy -o "x';touch PWNED;'"` ran `touch` through std::system before).
 // Tool paths can be pinned with an environment variable instead of trusting PATH.
 #include <string>
 #include <vector>

@@ -30,7 +30,7 @@ using S = StyleSettings;
 //   the sky light's scale up to 10 × the analytic clear sky (issue 12; it was a radiance before).
 //
 // Presets (values in draft, broadcast, reference order) were chosen from the run-time/error sweep
-// of `nephele bench accuracy` (docs/accuracy.md): the DLM step and the view step are the knobs that
+// of `nephele-bench accuracy` (docs/accuracy.md): the DLM step and the view step are the knobs that
 // buy time at a small error against the converged reference of the same model; ε below 0.01 and
 // the scatter-map resolution change little; a node budget under 16 costs time (overflowed texels
 // are re-marched) instead of saving it. Draft is the interactive preview (one-voxel steps in the

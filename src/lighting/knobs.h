@@ -5,7 +5,7 @@
 //   - scene files: the keys of `quality.overrides` (scene/scene_file.cpp),
 //   - the C API: set_parameter / get_parameter names and ranges (api/parameters.cpp),
 //   - the quality presets (qualityPreset below; `nephele view` cycles through kPresetNames),
-//   - `nephele bench accuracy`: the quality knobs it sweeps (accuracy/accuracy_sweep.cpp),
+//   - `nephele-bench accuracy`: the quality knobs it sweeps (accuracy/accuracy_sweep.cpp),
 //   - the docs: the tables in docs/scene-file.md and docs/plugin-api.md are generated from it
 //     (knobsMarkdown; tests/lighting checks that the committed docs match).
 // A new knob is a field in QualitySettings or StyleSettings and a row in the table.

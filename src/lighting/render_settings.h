@@ -46,7 +46,7 @@ struct RenderSettings : StyleSettings {
   bool empty_space_skipping = true;
   bool shadows = true;  ///< cloud shadows on the ground (DLM at z = 0)
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer
-  /// (docs/accuracy.md, `nephele bench accuracy --fit-octaves`); {1, …} = single scattering only.
+  /// (docs/accuracy.md, `nephele-bench accuracy --fit-octaves`); {1, …} = single scattering only.
   OctaveSeries octaves{3, 0.65, 0.75, 0.0, {}};
   /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
   /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.

@@ -9,6 +9,12 @@
 # Allowed: max 2 codes, mean 0.25 codes.
 set -euo pipefail
 ffmpeg=$1 nephele=$2 plugin_dir=$3 diff=$4 work=$5
+# A host's plugin scan must stay cheap (issue 15/17): the module links only libEGL and the C++
+# runtime, and loads libnephele (and its image/NetCDF libraries) on the first instance.
+needed=$(readelf -d "$plugin_dir/nephele_clouds.so" | sed -n 's/.*NEEDED.*\[\(.*\)\]/\1/p' | tr '\n' ' ')
+for lib in libnephele libOpenImageIO libnetcdf libOpenColorIO libtbb libglfw; do
+  case " $needed" in *" $lib"*) echo "nephele_clouds.so links $lib at load time (NEEDED: $needed)"; exit 1;; esac
+done
 out=$work/frei0r
 rm -rf "$out" && mkdir -p "$out"
 w=160 h=90

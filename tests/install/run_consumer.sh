@@ -6,6 +6,10 @@ build=$1 src=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
+# Only the public interface is installed (issue 17): nephele/nephele.h is the one header.
+headers=$(cd "$work/prefix/include" && find . -type f | sort)
+[ "$headers" = "./nephele/nephele.h" ] || { echo "installed headers other than nephele/nephele.h:"; echo "$headers"; exit 1; }
+if find "$work/prefix/lib" -name '*.a' | grep -q .; then echo "static libraries installed:"; find "$work/prefix/lib" -name '*.a'; exit 1; fi
 cmake -S "$src/tests/install/consumer" -B "$work/build" -G Ninja -DCMAKE_PREFIX_PATH="$work/prefix" \
       -DCMAKE_BUILD_TYPE=Release > "$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/build" > "$work/build.log" || { cat "$work/build.log"; exit 1; }

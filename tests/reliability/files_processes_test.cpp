@@ -47,7 +47,7 @@ void inDirectory(const fs::path& dir, const std::function<void()>& fn) {
 }
 
 TEST(Processes, OutputPathCannotInjectAShellCommand) {
-  // `nephele bench accuracy -o "x';touch PWNED;'"` ran `touch PWNED` through std::system.
+  // `nephele-bench accuracy -o "x';touch PWNED;'"` ran `touch PWNED` through std::system.
   const Scratch dir;
   const fs::path out = dir.path() / "x';touch PWNED;'";
   fs::create_directories(out);

@@ -73,18 +73,22 @@ void Context::finishInit(Backend backend, std::string detail, bool debug, void* 
             info_.version);
 }
 
-std::unique_ptr<Context> createContext(ContextOptions options) {
-  if (!options.debug) {
+bool debugContextByDefault() {
 #ifdef NDEBUG
-    options.debug = env::get("NEPHELE_GL_DEBUG").has_value();
+  return env::get("NEPHELE_GL_DEBUG").has_value();
 #else
-    options.debug = true;
+  return true;
 #endif
-  }
+}
+
+std::unique_ptr<Context> createHeadlessContext(ContextOptions options) {
+  options.debug = options.debug.value_or(debugContextByDefault());
   switch (options.backend) {
     case Backend::Egl: return createEglContext(options);
     case Backend::OSMesa: return createOSMesaContext(options);
-    case Backend::Glfw: return createGlfwContext(options);
+    case Backend::Glfw:
+      throw GlError("glfw: a window needs nephele::render's createContext; nephele::headless makes EGL and OSMesa "
+                    "contexts only");
     case Backend::Auto: break;
   }
   // Auto: headless EGL first (GPU or llvmpipe), then OSMesa.
@@ -103,10 +107,18 @@ std::unique_ptr<Context> createContext(ContextOptions options) {
   throw GlError("no OpenGL 4.5 core context could be created:" + reasons);
 }
 
-#ifndef NEPHELE_HAVE_GLFW
-std::unique_ptr<Context> createGlfwContext(const ContextOptions&) {
-  throw GlError("glfw: this build of nephele has no GLFW backend (NEPHELE_BUILD_GLFW=OFF)");
+std::unique_ptr<Context> createHeadlessContext(std::string_view gl_option) {
+  const auto backend = parseBackend(gl_option);
+  if (!backend || *backend == Backend::Glfw) {
+    throw UsageError("--gl " + std::string(gl_option) + ": expected auto, egl or osmesa");
+  }
+  ContextOptions co;
+  co.backend = *backend == Backend::Auto ? backendFromEnvironment() : *backend;
+  if (co.backend == Backend::Glfw) {
+    throw UsageError("NEPHELE_GL=glfw: this command renders headless; expected auto, egl or osmesa");
+  }
+  co.visible = false;
+  return createHeadlessContext(co);
 }
-#endif
 
 }  // namespace nph::gl

@@ -6,6 +6,11 @@
 //           OSMesaCreateContextAttribs with a 4.5 core profile.
 //   Glfw    a GLFW window, for the viewer and examples.
 // Headless contexts have no usable default framebuffer: render into framebuffer objects.
+//
+// Two libraries (issue 17): nephele::headless (context.cpp, the EGL and OSMesa backends, the GL
+// loader, debug output; needs only core, libEGL and dlopen) is what a host such as the frei0r plugin
+// or the CLI links to get a context; createContext() with the GLFW window backend lives in
+// nephele::render (context_factory.cpp), so the headless library never loads GLFW or X11.
 #include <memory>
 #include <optional>
 #include <string>
@@ -74,8 +79,18 @@ class Context {
 
 /// Creates a context for `options.backend`; Auto tries EGL (device, then surfaceless), then
 /// OSMesa. The chosen backend, GL_RENDERER and GL_VERSION are logged. Throws nph::GlError with
-/// every attempt's reason when no context could be created.
+/// every attempt's reason when no context could be created. In nephele::render (it can open a
+/// GLFW window).
 std::unique_ptr<Context> createContext(ContextOptions options = {});
+
+/// Debug contexts: on in debug builds, and whenever NEPHELE_GL_DEBUG is set.
+bool debugContextByDefault();
+
+/// createContext() without the window backend, in nephele::headless: Backend::Glfw is a GlError.
+std::unique_ptr<Context> createHeadlessContext(ContextOptions options = {});
+/// The context of a `--gl` command-line option: "auto" (NEPHELE_GL, else EGL then OSMesa), "egl"
+/// or "osmesa"; invisible. UsageError naming the option for anything else.
+std::unique_ptr<Context> createHeadlessContext(std::string_view gl_option);
 
 // Backend factories (throw nph::GlError with the reason).
 std::unique_ptr<Context> createEglContext(const ContextOptions& options);

@@ -1,20 +1,18 @@
-// Builds against an installed nephele and renders nothing but a context: proves the package
-// config, exported targets, installed headers and generated loader header all fit together.
-#include <cstdio>
-#include <exception>
+// Builds against an installed nephele through find_package(nephele) from C++: the package config
+// imports nephele::api (libnephele.so.0 + include/nephele/nephele.h), the only installed interface
+// (issue 17: no internal module headers or static libraries are installed).
+#include <nephele/nephele.h>
 
-#include "render/gl/context.h"
-#include "render/gl/gl.h"
+#include <cstdio>
 
 int main() {
-  try {
-    auto ctx = nph::gl::createContext({});
-    GLint major = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    std::printf("consumer: %s, GL major %d\n", ctx->info().renderer.c_str(), major);
-    return major == 4 ? 0 : 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "consumer: %s\n", e.what());
+  const auto* api = static_cast<const nph_api_v2*>(nph_get_api(NPH_API_VERSION));
+  if (api == nullptr || api->version != NPH_API_VERSION || api->struct_size != sizeof(nph_api_v2)) {
+    std::fprintf(stderr, "consumer: nph_get_api(%u) gave no matching table\n", NPH_API_VERSION);
     return 1;
   }
+  nph_dataset* ds = nullptr;
+  if (api->dataset_open("/nonexistent.nph", &ds) != NPH_ERROR_INPUT || ds != nullptr) return 1;
+  std::printf("consumer: libnephele %s, API version %u\n", api->library_version(), api->version);
+  return 0;
 }
