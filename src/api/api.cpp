@@ -141,7 +141,7 @@ nph_status datasetTimestepUtc(const nph_dataset* dataset, int32_t index, const c
     if (index < 0 || std::size_t(index) >= n) {
       throw ApiError(NPH_ERROR_INVALID_ARGUMENT, fmt::format("timestep {} out of range 0..{}", index, n - 1));
     }
-    *time_utc = d->dataset->timeUtc(std::size_t(index)).c_str();
+    *time_utc = d->dataset->isoTime(std::size_t(index)).c_str();
   });
 }
 

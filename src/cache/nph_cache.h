@@ -53,7 +53,7 @@ struct NphMetadata {
 
 /// Per-timestep entry of the index.
 struct TimestepInfo {
-  std::string time_utc;
+  geo::OptionalUtcTime time_utc;  ///< stored in the index as ISO 8601, "" for none
   std::string source_file;
   std::int64_t source_time_index = 0;
   int nz = 0;  ///< stored (cropped) layer count of this timestep
@@ -75,7 +75,7 @@ struct WriterOptions {
 /// (Nes 2008 §5.1.2), at half the memory of floats.
 struct QuantisedVolumes {
   int nx = 0, ny = 0, nz = 0;  ///< nz: the file's nz (padded with code 0)
-  std::string time_utc;
+  geo::OptionalUtcTime time_utc;
   std::vector<std::uint16_t> ice_codes;  ///< x fastest, as ExtinctionVolumes
   std::vector<std::uint16_t> water_codes;
   float max_ice_per_m = 0.0f;

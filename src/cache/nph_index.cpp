@@ -72,7 +72,7 @@ json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timestep
   j["inputs"] = m.inputs;
   json steps = json::array();
   for (const auto& t : timesteps) {
-    steps.push_back({{"time_utc", t.time_utc},
+    steps.push_back({{"time_utc", geo::isoOrEmpty(t.time_utc)},
                      {"source_file", t.source_file},
                      {"source_time_index", t.source_time_index},
                      {"nz", t.nz},
@@ -110,7 +110,7 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
     m.inputs = j.at("inputs").get<std::vector<std::string>>();
     for (const json& s : j.at("timesteps")) {
       TimestepInfo t;
-      t.time_utc = s.at("time_utc").get<std::string>();
+      t.time_utc = geo::parseOptional(s.at("time_utc").get<std::string>());
       t.source_file = s.at("source_file").get<std::string>();
       t.source_time_index = s.at("source_time_index").get<std::int64_t>();
       t.nz = s.at("nz").get<int>();
@@ -147,7 +147,7 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
         2u * sizeof(std::uint16_t) * std::uint64_t(m.nx) * std::uint64_t(m.ny) * std::uint64_t(t.nz);
     if (t.nz < 0 || t.nz > d.nz || t.raw_bytes != expected) {
       throw InputError(fmt::format("{}: chunk {} ({}): nz {} / {} bytes do not fit the {}x{}x{} grid", file, n,
-                                   t.time_utc, t.nz, t.raw_bytes, m.nx, m.ny, d.nz));
+                                   geo::isoOrEmpty(t.time_utc), t.nz, t.raw_bytes, m.nx, m.ny, d.nz));
     }
   }
   return d;

@@ -210,7 +210,7 @@ QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
   const NphMetadata& m = s.index.metadata;
   const std::vector<std::byte> raw =
       s.readBlock({info.chunk_offset, info.chunk_bytes, info.raw_bytes, info.chunk_xxh64},
-                  fmt::format("chunk {} (timestep {})", t, info.time_utc));
+                  fmt::format("chunk {} (timestep {})", t, geo::isoOrEmpty(info.time_utc)));
   QuantisedVolumes q;
   q.nx = m.nx;
   q.ny = m.ny;

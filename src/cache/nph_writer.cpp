@@ -148,13 +148,14 @@ void NphWriter::append(const ExtinctionVolumes& v) {
   if (v.nx != m.nx || v.ny != m.ny || v.dz_m != m.dz_m || v.z_bottom_m != m.z_bottom_m) {
     throw UsageError(fmt::format("{}: timestep {} has grid {}x{} (dz {} m, bottom {} m), the file has {}x{} (dz {} m, "
                                  "bottom {} m)",
-                                 s.path.string(), v.time_utc, v.nx, v.ny, v.dz_m, v.z_bottom_m, m.nx, m.ny, m.dz_m,
-                                 m.z_bottom_m));
+                                 s.path.string(), geo::isoOrEmpty(v.time_utc), v.nx, v.ny, v.dz_m, v.z_bottom_m, m.nx,
+                                 m.ny, m.dz_m, m.z_bottom_m));
   }
   const std::size_t n = v.voxelCount();
   if (v.nz < 0 || v.ice_per_m.size() != n || v.water_per_m.size() != n) {
     throw UsageError(fmt::format("{}: timestep {}: {} ice / {} water values for {}x{}x{} voxels", s.path.string(),
-                                 v.time_utc, v.ice_per_m.size(), v.water_per_m.size(), v.nx, v.ny, v.nz));
+                                 geo::isoOrEmpty(v.time_utc), v.ice_per_m.size(), v.water_per_m.size(), v.nx, v.ny,
+                                 v.nz));
   }
   float max_ice = 0.0f, max_water = 0.0f;
   for (std::size_t q = 0; q < n; ++q) {
@@ -162,7 +163,7 @@ void NphWriter::append(const ExtinctionVolumes& v) {
     if (!std::isfinite(a) || !std::isfinite(b) || a < 0.0f || b < 0.0f) {
       throw InputError(fmt::format("{}: timestep {}: extinction at voxel {} is {} (ice) / {} (water); expected finite, "
                                    ">= 0",
-                                   s.path.string(), v.time_utc, q, a, b));
+                                   s.path.string(), geo::isoOrEmpty(v.time_utc), q, a, b));
     }
     max_ice = std::max(max_ice, a);
     max_water = std::max(max_water, b);

@@ -128,7 +128,8 @@ int runConvert(const ConvertOptions& o) {
   geo::GridGeoreference first_georef;
   for (std::size_t t = 0; t < series.size(); ++t) {
     const io::TimestepRef& ref = series.at(t);
-    bar.update(t, fmt::format("{} {}", std::filesystem::path(ref.file).filename().string(), ref.time_utc));
+    bar.update(
+        t, fmt::format("{} {}", std::filesystem::path(ref.file).filename().string(), geo::isoOrEmpty(ref.time_utc)));
     t0 = Clock::now();
     io::ModelTimestep ts = series.load(t);
     seconds_load += secondsSince(t0);
@@ -175,8 +176,8 @@ int runConvert(const ConvertOptions& o) {
     t0 = Clock::now();
     writer->append(volumes);
     seconds_write += secondsSince(t0);
-    log::debug("{}[{}] {}: nz {}, max ice {:.3g} /m, water {:.3g} /m", ref.file, ref.index, volumes.time_utc,
-               volumes.nz, volumes.max_ice_per_m, volumes.max_water_per_m);
+    log::debug("{}[{}] {}: nz {}, max ice {:.3g} /m, water {:.3g} /m", ref.file, ref.index,
+               geo::isoOrEmpty(volumes.time_utc), volumes.nz, volumes.max_ice_per_m, volumes.max_water_per_m);
   }
   t0 = Clock::now();
   writer->commit();

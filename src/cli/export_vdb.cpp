@@ -50,15 +50,15 @@ int runExportVdb(const ExportVdbOptions& o) {
     const std::filesystem::path path = interop::vdbSequencePath(prefix, t);
     const interop::VdbWriteStats s = interop::writeVdb(volumes, path, options);
     log::info("{}: {} {}x{}x{}, {} of {} voxels active ({:.1f} %), {} leaves, {:.2f} MB", path.string(),
-              volumes.time_utc, volumes.nx, volumes.ny, volumes.nz, s.active_voxels, s.dense_voxels,
+              geo::isoOrEmpty(volumes.time_utc), volumes.nx, volumes.ny, volumes.nz, s.active_voxels, s.dense_voxels,
               100.0 * double(s.active_voxels) / double(std::max<std::uint64_t>(s.dense_voxels, 1)), s.leaf_nodes,
               double(s.file_bytes) / 1e6);
     if (o.stats) {
       std::printf("file=%s\ntime_utc=%s\nactive_voxels=%llu\ndense_voxels=%llu\nleaf_nodes=%llu\n"
                   "file_bytes=%llu\n",
-                  path.string().c_str(), volumes.time_utc.c_str(), static_cast<unsigned long long>(s.active_voxels),
-                  static_cast<unsigned long long>(s.dense_voxels), static_cast<unsigned long long>(s.leaf_nodes),
-                  static_cast<unsigned long long>(s.file_bytes));
+                  path.string().c_str(), geo::isoOrEmpty(volumes.time_utc).c_str(),
+                  static_cast<unsigned long long>(s.active_voxels), static_cast<unsigned long long>(s.dense_voxels),
+                  static_cast<unsigned long long>(s.leaf_nodes), static_cast<unsigned long long>(s.file_bytes));
     }
   }
   return kExitOk;

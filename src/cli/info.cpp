@@ -96,9 +96,9 @@ void describeNph(const std::string& path, const InfoOptions& o) {
     const cache::TimestepInfo& s = r.timestep(t);
     out(fmt::format("    {:3d} {:22s} nz {:3d}  max ice {:.4g} /m  max water {:.4g} /m  "
                     "{:.2f} MB ({:.1f}x)  from {}[{}]\n",
-                    t, s.time_utc, s.nz, s.max_ice_per_m, s.max_water_per_m, double(s.chunk_bytes) / 1e6,
-                    s.chunk_bytes > 0 ? double(s.raw_bytes) / double(s.chunk_bytes) : 0.0, s.source_file,
-                    s.source_time_index));
+                    t, geo::isoOrEmpty(s.time_utc), s.nz, s.max_ice_per_m, s.max_water_per_m,
+                    double(s.chunk_bytes) / 1e6, s.chunk_bytes > 0 ? double(s.raw_bytes) / double(s.chunk_bytes) : 0.0,
+                    s.source_file, s.source_time_index));
   }
   if (o.verify) {
     for (std::size_t t = 0; t < r.timestepCount(); ++t) (void)r.read(t);
@@ -113,7 +113,7 @@ void describeModel(const std::string& path, const InfoOptions& o) {
                   double(std::filesystem::file_size(path)) / 1e6));
   out(fmt::format("  timesteps     {}\n", f.timesteps().size()));
   for (const io::TimestepRef& t : f.timesteps()) {
-    out(fmt::format("    {:3d} {}\n", t.index, t.time_utc.empty() ? "(no time)" : t.time_utc));
+    out(fmt::format("    {:3d} {}\n", t.index, t.time_utc ? t.time_utc->iso8601() : "(no time)"));
   }
   if (!o.ranges || f.timesteps().empty()) return;
   if (o.timestep >= f.timesteps().size()) {
@@ -129,7 +129,8 @@ void describeModel(const std::string& path, const InfoOptions& o) {
   if (ts.model == io::ModelKind::Wrf) {
     out(fmt::format("  microphysics  MP_PHYSICS = {}\n", ts.microphysics_scheme));
   }
-  out(fmt::format("  value ranges of timestep {} ({}):\n", o.timestep, ts.time_utc));
+  out(fmt::format("  value ranges of timestep {} ({}):\n", o.timestep,
+                  ts.time_utc ? ts.time_utc->iso8601() : "no time"));
   const char* unit_q = ts.model == io::ModelKind::Wrf ? "kg/kg dry air" : "kg/kg moist air";
   for (const auto& [h, v] : ts.q_kg_per_kg) {
     out(fmt::format("    q {:8s} [{}]  {}\n", physics::hydrometeorName(h), unit_q, rangeText(v)));

@@ -119,7 +119,7 @@ QuickLook makeQuickLook(const QuickLookRequest& r) {
 
   // The sun from the data's own time and place when that gives a daylit picture.
   bool timed_sun = false;
-  if (on_earth && !v.time_utc.empty()) {
+  if (on_earth && v.time_utc) {
     try {
       const scene::VolumeFrame frame = scene::frameOf(v, exaggeration);
       const scene::SceneGeoreference geo(v, frame);
@@ -128,8 +128,8 @@ QuickLook makeQuickLook(const QuickLookRequest& r) {
       const scene::Sun sun = scene::sunFor(spec, &geo, v.time_utc);
       timed_sun = sun.elevation_deg >= kMinTimedSunElevation_deg;
       if (!timed_sun) {
-        log::info("quick look: the sun at {} is {:.1f} deg high there; using a fixed afternoon sun", v.time_utc,
-                  sun.elevation_deg);
+        log::info("quick look: the sun at {} is {:.1f} deg high there; using a fixed afternoon sun",
+                  v.time_utc->iso8601(), sun.elevation_deg);
       }
     } catch (const InputError& e) {
       log::info("quick look: no solar position ({}); using a fixed afternoon sun", e.what());

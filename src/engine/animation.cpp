@@ -45,14 +45,14 @@ AnimationPlan::AnimationPlan(const scene::AnimationSpec& spec, const Dataset& da
     : spec_(spec), scene_(&scene), prepared_(&prepared), timestep_count_(dataset.timestepCount()) {
   const std::string& file = scene.source_file;
   bool timed = true;
-  for (const auto& t : dataset.times()) timed = timed && !t.empty();
+  for (const auto& t : dataset.times()) timed = timed && t.has_value();
   if (timed) {
-    t0_ = scene::UtcTime::parse(dataset.times().front());
-    for (const auto& t : dataset.times()) time_s_.push_back(scene::UtcTime::parse(t).secondsSince(t0_));
+    t0_ = *dataset.times().front();
+    for (const auto& t : dataset.times()) time_s_.push_back(t->secondsSince(t0_));
     for (std::size_t i = 1; i < time_s_.size(); ++i) {
       if (!(time_s_[i] > time_s_[i - 1])) {
         throw InputError(fmt::format("{}: timesteps {} and {} are not in increasing time order ({}, {})",
-                                     dataset.path(), i - 1, i, dataset.timeUtc(i - 1), dataset.timeUtc(i)));
+                                     dataset.path(), i - 1, i, dataset.isoTime(i - 1), dataset.isoTime(i)));
       }
     }
   }
@@ -196,7 +196,7 @@ AnimationFrame AnimationPlan::frame(std::int64_t k) const {
     scene::SunSpec sun = scene_->sun;
     sun.from_time = true;
     sun.time_utc = utcAt(sun_s).iso8601();
-    f.sun = scene::sunFor(sun, &*prepared_->geo, "");
+    f.sun = scene::sunFor(sun, &*prepared_->geo, std::nullopt);
   }
   return f;
 }

@@ -20,7 +20,7 @@ namespace {
 
 class NphDataset final : public Dataset {
  public:
-  NphDataset(const std::string& path, cache::NphReader reader, std::vector<std::string> times)
+  NphDataset(const std::string& path, cache::NphReader reader, std::vector<geo::OptionalUtcTime> times)
       : Dataset(path, std::move(times)), reader_(std::move(reader)) {}
   ExtinctionVolumes load(std::size_t t) const override { return reader_.read(t); }
 
@@ -30,7 +30,7 @@ class NphDataset final : public Dataset {
 
 class ModelDataset final : public Dataset {
  public:
-  ModelDataset(const std::string& path, io::ModelSeries series, std::vector<std::string> times,
+  ModelDataset(const std::string& path, io::ModelSeries series, std::vector<geo::OptionalUtcTime> times,
                std::vector<std::string> sources)
       : Dataset(path, std::move(times), std::move(sources)), series_(std::move(series)) {}
   ExtinctionVolumes load(std::size_t t) const override {
@@ -50,8 +50,9 @@ class ModelDataset final : public Dataset {
 
 }  // namespace
 
-Dataset::Dataset(std::string path, std::vector<std::string> times, std::vector<std::string> sources)
+Dataset::Dataset(std::string path, std::vector<geo::OptionalUtcTime> times, std::vector<std::string> sources)
     : path_(std::move(path)), times_(std::move(times)), sources_(std::move(sources)) {
+  for (const auto& t : times_) iso_times_.push_back(geo::isoOrEmpty(t));
   if (times_.empty()) throw InputError(fmt::format("{}: has no timesteps", path_));
   if (!sources_.empty() && sources_.size() != times_.size()) throw UsageError("Dataset: one source file per timestep");
 }
@@ -65,7 +66,7 @@ std::shared_ptr<const Dataset> Dataset::open(const std::string& path) {
   requireRegularFile(path, "a .nph cache or a WRF/ICON NetCDF file");
   if (cache::NphReader::sniff(path)) {
     cache::NphReader reader(path);
-    std::vector<std::string> times;
+    std::vector<geo::OptionalUtcTime> times;
     for (std::size_t t = 0; t < reader.timestepCount(); ++t) times.push_back(reader.timestep(t).time_utc);
     return std::make_shared<NphDataset>(path, std::move(reader), std::move(times));
   }
@@ -84,7 +85,8 @@ std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string
     }
   }
   io::ModelSeries series = io::ModelSeries::open(paths);
-  std::vector<std::string> times, sources;
+  std::vector<geo::OptionalUtcTime> times;
+  std::vector<std::string> sources;
   for (const auto& ref : series.timesteps()) {
     times.push_back(ref.time_utc);
     sources.push_back(ref.file);
@@ -107,8 +109,8 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
       !(std::abs(shift_layers) < double(limits::kMaxDerivedLevels))) {
     throw UsageError(fmt::format("cannot blend timesteps on different grids: {}x{}x{} (dz {} m from {} m) at {} and "
                                  "{}x{}x{} (dz {} m from {} m) at {}",
-                                 a.nx, a.ny, a.nz, a.dz_m, a.z_bottom_m, a.time_utc, b.nx, b.ny, b.nz, b.dz_m,
-                                 b.z_bottom_m, b.time_utc));
+                                 a.nx, a.ny, a.nz, a.dz_m, a.z_bottom_m, geo::isoOrEmpty(a.time_utc), b.nx, b.ny, b.nz,
+                                 b.dz_m, b.z_bottom_m, geo::isoOrEmpty(b.time_utc)));
   }
   const int shift = static_cast<int>(std::round(shift_layers));  // b's layer 0 is out's layer ob
   const int oa = std::max(-shift, 0), ob = std::max(shift, 0);

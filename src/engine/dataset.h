@@ -32,9 +32,10 @@ class Dataset {
 
   const std::string& path() const { return path_; }
   std::size_t timestepCount() const { return times_.size(); }
-  /// ISO 8601 (or the model's) time of timestep t.
-  const std::string& timeUtc(std::size_t t) const { return times_.at(t); }
-  const std::vector<std::string>& times() const { return times_; }
+  /// The time of every timestep, parsed by the loaders; none where the data does not say.
+  const std::vector<geo::OptionalUtcTime>& times() const { return times_; }
+  /// Timestep t's time as ISO 8601, "" for none; the string lives as long as the dataset (C API).
+  const std::string& isoTime(std::size_t t) const { return iso_times_.at(t); }
   /// Reads (and for model files converts) timestep t; thread-safe. InputError on bad data.
   virtual ExtinctionVolumes load(std::size_t t) const = 0;
   /// Names the content of timestep t (absolute path + index) for the DLM cache key.
@@ -43,11 +44,12 @@ class Dataset {
   const std::string& sourceFile(std::size_t t) const { return sources_.empty() ? path_ : sources_.at(t); }
 
  protected:
-  Dataset(std::string path, std::vector<std::string> times, std::vector<std::string> sources = {});
+  Dataset(std::string path, std::vector<geo::OptionalUtcTime> times, std::vector<std::string> sources = {});
 
  private:
   std::string path_;
-  std::vector<std::string> times_;
+  std::vector<geo::OptionalUtcTime> times_;
+  std::vector<std::string> iso_times_;
   std::vector<std::string> sources_;  ///< per timestep, for series; empty otherwise
 };
 

@@ -184,6 +184,13 @@ double UtcTime::utcHourOfDay() const {
 
 UtcTime UtcTime::plusSeconds(double seconds) const { return UtcTime{julian_day + seconds / kSecondsPerDay}; }
 
+std::string isoOrEmpty(const OptionalUtcTime& time) { return time ? time->iso8601() : std::string(); }
+
+OptionalUtcTime parseOptional(std::string_view text) {
+  if (text.empty()) return std::nullopt;
+  return UtcTime::parse(text);
+}
+
 double UtcTime::secondsSince(const UtcTime& earlier) const {
   return std::round((julian_day - earlier.julian_day) * kSecondsPerDay * 1000.0) / 1000.0;
 }

@@ -11,6 +11,7 @@
 // Calendar: proleptic Gregorian, after H. Hinnant, "chrono-Compatible Low-Level Date Algorithms"
 // (days_from_civil, civil_from_days). No leap seconds (UTC as POSIX time counts it).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -55,6 +56,18 @@ struct UtcTime {
   /// ~40 µs of rounding, which must not move a time that falls exactly on another (a timestep, a
   /// frame) to the other side of it.
   double secondsSince(const UtcTime& earlier) const;
+
+  friend bool operator==(const UtcTime&, const UtcTime&) = default;
+  friend auto operator<=>(const UtcTime&, const UtcTime&) = default;
 };
+
+/// A time that a file may not carry (loaders, volumes, caches store std::optional<UtcTime>).
+using OptionalUtcTime = std::optional<UtcTime>;
+
+/// iso8601() of a present time, "" of an absent one: the form file formats (the .nph index,
+/// OpenVDB metadata, the C API) and messages use.
+std::string isoOrEmpty(const OptionalUtcTime& time);
+/// The inverse: "" is no time, anything else must parse (InputError naming the text otherwise).
+OptionalUtcTime parseOptional(std::string_view text);
 
 }  // namespace nph::geo

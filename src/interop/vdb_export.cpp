@@ -119,7 +119,7 @@ VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& 
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     grid->insertMeta("nephele_quantity", openvdb::StringMetadata(quantity));
     grid->insertMeta("nephele_units", openvdb::StringMetadata("1/m"));
-    grid->insertMeta("nephele_time_utc", openvdb::StringMetadata(v.time_utc));
+    grid->insertMeta("nephele_time_utc", openvdb::StringMetadata(geo::isoOrEmpty(v.time_utc)));
     grid->insertMeta("nephele_source_file", openvdb::StringMetadata(v.source_file));
     grid->insertMeta("nephele_frame_proj", openvdb::StringMetadata(frame.frame_proj_definition));
     grid->insertMeta("nephele_grid_proj", openvdb::StringMetadata(v.georef.proj_definition));
@@ -145,7 +145,7 @@ VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& 
 
   openvdb::MetaMap file_meta;
   file_meta.insertMeta("creator", openvdb::StringMetadata(options.creator));
-  file_meta.insertMeta("nephele_time_utc", openvdb::StringMetadata(v.time_utc));
+  file_meta.insertMeta("nephele_time_utc", openvdb::StringMetadata(geo::isoOrEmpty(v.time_utc)));
 
   const std::filesystem::path partial = path.string() + ".partial";
   try {

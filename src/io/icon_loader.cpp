@@ -226,40 +226,40 @@ class CellLocator {
 
 }  // namespace
 
-std::string isoFromTimeValue(double value, const std::string& units) {
-  if (!std::isfinite(value)) return "";
+geo::OptionalUtcTime timeFromValue(double value, const std::string& units) {
+  if (!std::isfinite(value)) return std::nullopt;
   if (units.rfind("day as %Y%m%d", 0) == 0) {
     const auto ymd = static_cast<std::int64_t>(std::floor(value));
     const double frac = value - double(ymd);
     const std::int64_t y = ymd / 10000, m = (ymd / 100) % 100, d = ymd % 100;
-    if (m < 1 || m > 12 || d < 1 || d > geo::daysInMonth(int(y), int(m))) return "";
-    return geo::UtcTime::fromCivil(int(y), int(m), int(d)).plusSeconds(double(std::llround(frac * 86400.0))).iso8601();
+    if (m < 1 || m > 12 || d < 1 || d > geo::daysInMonth(int(y), int(m))) return std::nullopt;
+    return geo::UtcTime::fromCivil(int(y), int(m), int(d)).plusSeconds(double(std::llround(frac * 86400.0)));
   }
   const auto since = units.find(" since ");
-  if (since == std::string::npos) return "";
+  if (since == std::string::npos) return std::nullopt;
   const std::string unit = units.substr(0, since);
   const double factor = unit == "seconds" || unit == "second" || unit == "s" ? 1.0
                         : unit == "minutes" || unit == "minute"              ? 60.0
                         : unit == "hours" || unit == "hour" || unit == "h"   ? 3600.0
                         : unit == "days" || unit == "day" || unit == "d"     ? 86400.0
                                                                              : 0.0;
-  if (factor == 0.0) return "";
+  if (factor == 0.0) return std::nullopt;
   int y = 0, mo = 0, d = 0, hh = 0, mi = 0, ss = 0;
   const std::string ref = units.substr(since + 7);
   const int got = std::sscanf(ref.c_str(), "%d-%d-%d%*[ T]%d:%d:%d", &y, &mo, &d, &hh, &mi, &ss);
-  if (got < 3 || mo < 1 || mo > 12 || d < 1 || d > geo::daysInMonth(y, mo)) return "";
+  if (got < 3 || mo < 1 || mo > 12 || d < 1 || d > geo::daysInMonth(y, mo)) return std::nullopt;
   const double base_s = double(std::int64_t(hh) * 3600 + std::int64_t(mi) * 60 + ss);
-  return geo::UtcTime::fromCivil(y, mo, d).plusSeconds(base_s + double(std::llround(value * factor))).iso8601();
+  return geo::UtcTime::fromCivil(y, mo, d).plusSeconds(base_s + double(std::llround(value * factor)));
 }
 
-std::vector<std::string> listIconTimes(const std::string& path) {
+std::vector<geo::OptionalUtcTime> listIconTimes(const std::string& path) {
   const NcReader nc(path);
   const IconLayout l = iconLayout(nc);
-  std::vector<std::string> times(l.nt);
+  std::vector<geo::OptionalUtcTime> times(l.nt);
   if (l.has_time && nc.hasVar("time")) {
     const auto values = nc.readDoubles("time");
     const std::string units = nc.varText("time", "units").value_or("");
-    for (std::size_t t = 0; t < l.nt && t < values.size(); ++t) times[t] = isoFromTimeValue(values[t], units);
+    for (std::size_t t = 0; t < l.nt && t < values.size(); ++t) times[t] = timeFromValue(values[t], units);
   }
   return times;
 }
@@ -383,7 +383,7 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
   ts.repairs = src.repairs;
   if (l.has_time && nc.hasVar("time")) {
     const auto values = nc.readDoubles("time");
-    if (t < values.size()) ts.time_utc = isoFromTimeValue(values[t], nc.varText("time", "units").value_or(""));
+    if (t < values.size()) ts.time_utc = timeFromValue(values[t], nc.varText("time", "units").value_or(""));
   }
   ts.georef.proj_definition = fmt::format("+proj=longlat +R={} +no_defs", kIconEarthRadius_m);
   ts.georef.geographic = true;

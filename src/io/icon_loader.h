@@ -19,14 +19,14 @@ namespace nph::io {
 /// ICON's Earth radius [m] (ICON mo_physical_constants: earth_radius = 6.371229e6 m).
 inline constexpr double kIconEarthRadius_m = 6371229.0;
 
-/// Times ("2026-03-18T12:00:00Z") of every timestep in the file ("" when the file has no time axis).
-std::vector<std::string> listIconTimes(const std::string& path);
+/// The time of every timestep in the file (none when the file has no time axis or unknown units).
+std::vector<geo::OptionalUtcTime> listIconTimes(const std::string& path);
 
 /// Loads timestep `time_index` of an ICON file (regular or native; see sniffFormat).
 ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options = {});
 
-/// Converts a CF/ICON time value to ISO 8601: units "<unit> since YYYY-MM-DD[ hh:mm:ss]"
-/// (unit seconds/minutes/hours/days) or ICON's absolute "day as %Y%m%d.%f". "" when unknown.
-std::string isoFromTimeValue(double value, const std::string& units);
+/// Converts a CF/ICON time value to a UTC time: units "<unit> since YYYY-MM-DD[ hh:mm:ss]"
+/// (unit seconds/minutes/hours/days) or ICON's absolute "day as %Y%m%d.%f". None when unknown.
+geo::OptionalUtcTime timeFromValue(double value, const std::string& units);
 
 }  // namespace nph::io

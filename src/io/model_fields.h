@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geo/grid_georeference.h"
+#include "geo/utc_time.h"
 
 namespace nph::io {
 
@@ -33,9 +34,9 @@ struct LoadRepairs {
 
 /// One timestep of model output on model levels.
 struct ModelTimestep {
-  std::string source_file;      ///< path of the file this timestep came from
-  std::int64_t time_index = 0;  ///< index of the timestep inside source_file
-  std::string time_utc;         ///< ISO 8601, e.g. "2026-09-01T12:00:00Z"
+  std::string source_file;        ///< path of the file this timestep came from
+  std::int64_t time_index = 0;    ///< index of the timestep inside source_file
+  geo::OptionalUtcTime time_utc;  ///< parsed from the file (WRF Times, ICON time); none when it does not say
   ModelKind model = ModelKind::Wrf;
   int nx = 0, ny = 0, nz = 0;  ///< mass points
 

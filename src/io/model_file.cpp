@@ -48,7 +48,8 @@ ModelTimestep ModelFile::load(std::size_t i) const {
 
 ModelFile openModelFile(const std::string& path, const LoadOptions& options) {
   const FileFormat format = sniffFormat(path);
-  const std::vector<std::string> times = format == FileFormat::WrfOut ? listWrfTimes(path) : listIconTimes(path);
+  const std::vector<geo::OptionalUtcTime> times =
+      format == FileFormat::WrfOut ? listWrfTimes(path) : listIconTimes(path);
   std::vector<TimestepRef> refs;
   for (std::size_t t = 0; t < times.size(); ++t) refs.push_back({path, std::int64_t(t), times[t], format});
   return ModelFile(path, format, std::move(refs), options);
@@ -67,10 +68,10 @@ ModelSeries ModelSeries::open(const std::vector<std::string>& paths, const LoadO
     series.timesteps_.insert(series.timesteps_.end(), file.timesteps().begin(), file.timesteps().end());
   }
   const bool all_timed = std::all_of(series.timesteps_.begin(), series.timesteps_.end(),
-                                     [](const TimestepRef& r) { return !r.time_utc.empty(); });
+                                     [](const TimestepRef& r) { return r.time_utc.has_value(); });
   if (all_timed) {
     std::stable_sort(series.timesteps_.begin(), series.timesteps_.end(),
-                     [](const TimestepRef& a, const TimestepRef& b) { return a.time_utc < b.time_utc; });
+                     [](const TimestepRef& a, const TimestepRef& b) { return *a.time_utc < *b.time_utc; });
   }
   return series;
 }

@@ -24,8 +24,8 @@ FileFormat sniffFormat(const std::string& path);
 /// One timestep of one file.
 struct TimestepRef {
   std::string file;
-  std::int64_t index = 0;  ///< inside `file`
-  std::string time_utc;    ///< ISO 8601, "" when the file does not say
+  std::int64_t index = 0;         ///< inside `file`
+  geo::OptionalUtcTime time_utc;  ///< none when the file does not say
   FileFormat format = FileFormat::WrfOut;
 };
 

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/terminal_text.h"
 #include "field_checks.h"
 #include "netcdf_reader.h"
 
@@ -39,12 +40,19 @@ constexpr std::array<WrfClass, 6> kWrfClasses = {{{Hydrometeor::Cloud, "QCLOUD",
                                                   {Hydrometeor::Graupel, "QGRAUP", "QNGRAUPEL"},
                                                   {Hydrometeor::Hail, "QHAIL", "QNHAIL"}}};
 
-std::string isoFromWrfTime(const std::string& wrf) {
-  // "2026-09-01_12:00:00" -> "2026-09-01T12:00:00Z"
-  if (wrf.size() < 19) return wrf;
-  std::string iso = wrf.substr(0, 19);
-  iso[10] = 'T';
-  return iso + "Z";
+/// Row t of WRF's `Times` ("2026-09-01_12:00:00", UTC), parsed once here (issue 17: the loaders
+/// store parsed times). A row that is not a time makes the timestep untimed, with a warning naming
+/// the file, the variable and the text (escaped: it may hold terminal control sequences).
+geo::OptionalUtcTime wrfTime(const NcReader& nc, std::size_t t) {
+  if (!nc.hasVar("Times")) return std::nullopt;
+  const std::string text = nc.readTextRow("Times", t);
+  try {
+    return geo::UtcTime::parse(text.substr(0, std::min<std::size_t>(text.size(), 19)));
+  } catch (const InputError&) {
+    log::warn("{}: Times[{}] = \"{}\" is not a time, expected YYYY-MM-DD_hh:mm:ss; the timestep has no time", nc.path(),
+              t, terminalSafe(text, false));
+    return std::nullopt;
+  }
 }
 
 double requireAttribute(const NcReader& nc, const char* name, double lo, double hi, const char* meaning) {
@@ -203,13 +211,11 @@ geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& a, int nx, 
   return g;
 }
 
-std::vector<std::string> listWrfTimes(const std::string& path) {
+std::vector<geo::OptionalUtcTime> listWrfTimes(const std::string& path) {
   const NcReader nc(path);
   const Dims d = wrfDims(nc);
-  std::vector<std::string> times;
-  for (std::size_t t = 0; t < d.nt; ++t) {
-    times.push_back(nc.hasVar("Times") ? isoFromWrfTime(nc.readTextRow("Times", t)) : std::string());
-  }
+  std::vector<geo::OptionalUtcTime> times;
+  for (std::size_t t = 0; t < d.nt; ++t) times.push_back(wrfTime(nc, t));
   return times;
 }
 
@@ -227,7 +233,7 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
   ts.nx = d.nx;
   ts.ny = d.ny;
   ts.nz = d.nz;
-  if (nc.hasVar("Times")) ts.time_utc = isoFromWrfTime(nc.readTextRow("Times", t));
+  ts.time_utc = wrfTime(nc, t);
 
   const std::vector<std::string> mass_dims = {"bottom_top", "south_north", "west_east"};
   const std::vector<std::string> stag_dims = {"bottom_top_stag", "south_north", "west_east"};

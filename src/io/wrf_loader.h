@@ -37,8 +37,9 @@ struct WrfProjectionAttributes {
 geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& attributes, int nx, int ny,
                                       const std::string& path);
 
-/// Times ("2026-09-01T12:00:00Z") of every timestep in the file.
-std::vector<std::string> listWrfTimes(const std::string& path);
+/// The time of every timestep in the file (WRF `Times`); none where the file has no `Times` or a
+/// row is not a time (logged).
+std::vector<geo::OptionalUtcTime> listWrfTimes(const std::string& path);
 
 /// Loads timestep `time_index` of a wrfout file.
 ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options = {});

@@ -79,7 +79,8 @@ void requireSize(const io::ModelTimestep& ts, const std::vector<float>& field, c
   if (optional && field.empty()) return;
   if (field.size() != expected) {
     throw InputError(fmt::format("{}: timestep {} ({}): {} has {} values, expected {} ({}x{}x{})", ts.source_file,
-                                 ts.time_index, ts.time_utc, name, field.size(), expected, ts.nx, ts.ny, ts.nz));
+                                 ts.time_index, geo::isoOrEmpty(ts.time_utc), name, field.size(), expected, ts.nx,
+                                 ts.ny, ts.nz));
   }
 }
 
@@ -89,7 +90,7 @@ void requireSize(const io::ModelTimestep& ts, const std::vector<float>& field, c
   const auto j = (n / std::size_t(ts.nx)) % std::size_t(ts.ny);
   const auto k = n / (std::size_t(ts.nx) * std::size_t(ts.ny));
   throw InputError(fmt::format("{}: timestep {} ({}): {} = {} at (i={}, j={}, k={}), expected {}", ts.source_file,
-                               ts.time_index, ts.time_utc, name, value, i, j, k, expected));
+                               ts.time_index, geo::isoOrEmpty(ts.time_utc), name, value, i, j, k, expected));
 }
 
 std::string qName(const io::ModelTimestep& ts, Hydrometeor h, bool number) {

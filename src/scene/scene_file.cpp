@@ -397,7 +397,7 @@ Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, in
   return cam;
 }
 
-Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view data_time_utc) {
+Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, const geo::OptionalUtcTime& data_time) {
   Sun s;
   s.colour = spec.colour;
   s.intensity = spec.intensity;
@@ -406,8 +406,8 @@ Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view d
     s.elevation_deg = spec.elevation_deg;
     return s;
   }
-  const std::string time = spec.time_utc ? *spec.time_utc : std::string(data_time_utc);
-  if (time.empty()) {
+  const geo::OptionalUtcTime time = spec.time_utc ? UtcTime::parse(*spec.time_utc) : data_time;
+  if (!time) {
     throw InputError("sun.from_time: the data carries no time and sun.time_utc is not given");
   }
   if (geo == nullptr) {
@@ -417,13 +417,13 @@ Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view d
   const glm::dvec3 size = geo->frame().size_m();
   const glm::dvec2 centre{0.5 * size.x, 0.5 * size.y};
   const LonLat ll = geo->lonLatFromWorld(centre);
-  const Sun geographic = sunAt(UtcTime::parse(time), ll.lon_deg, ll.lat_deg);
+  const Sun geographic = sunAt(*time, ll.lon_deg, ll.lat_deg);
   s.azimuth_deg = geographic.azimuth_deg;
   s.elevation_deg = geographic.elevation_deg;
   if (s.elevation_deg <= 0.0) {
     log::warn("sun at {} over lon {:.2f} lat {:.2f} is {:.1f}° below the horizon: the clouds will be "
               "lit only by the ambient sky",
-              time, ll.lon_deg, ll.lat_deg, -s.elevation_deg);
+              time->iso8601(), ll.lon_deg, ll.lat_deg, -s.elevation_deg);
   }
   return geo->sunInWorld(s, centre);
 }

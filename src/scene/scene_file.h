@@ -111,6 +111,6 @@ Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, in
 /// The sun of `spec`: explicit values, or (from_time) the solar position at the footprint centre
 /// at `spec.time_utc` or else `data_time_utc`, turned into the world frame (grid north).
 /// Throws InputError when from_time has no time or no georeference.
-Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, std::string_view data_time_utc);
+Sun sunFor(const SunSpec& spec, const SceneGeoreference* geo, const geo::OptionalUtcTime& data_time);
 
 }  // namespace nph::scene

@@ -11,7 +11,8 @@
 
 namespace nph::scene {
 
-std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string>& times, const std::string& file) {
+std::size_t timestepIndexFor(const DataSpec& data, const std::vector<geo::OptionalUtcTime>& times,
+                             const std::string& file) {
   if (times.empty()) throw InputError(fmt::format("{}: has no timesteps", file));
   if (!data.time_utc) {
     if (data.timestep < 0 || std::size_t(data.timestep) >= times.size()) {
@@ -23,11 +24,10 @@ std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string
   constexpr double kSameTime_days = 1.0 / 86400.0;  // one second
   const double wanted = UtcTime::parse(*data.time_utc).julian_day;
   for (std::size_t t = 0; t < times.size(); ++t) {
-    if (times[t].empty()) continue;
-    if (std::abs(UtcTime::parse(times[t]).julian_day - wanted) < kSameTime_days) return t;
+    if (times[t] && std::abs(times[t]->julian_day - wanted) < kSameTime_days) return t;
   }
   throw InputError(fmt::format("{}: no timestep at {} (the file has {} timesteps, {} to {})", file, *data.time_utc,
-                               times.size(), times.front(), times.back()));
+                               times.size(), geo::isoOrEmpty(times.front()), geo::isoOrEmpty(times.back())));
 }
 
 WorldRect farBasemapRectangle(const VolumeFrame& frame) {

@@ -20,7 +20,8 @@ namespace nph::scene {
 /// Index of the timestep `data` asks for among `times_utc` (the file's times, ISO 8601 or WRF):
 /// data.time_utc must match one to within a second; otherwise data.timestep must be in range.
 /// InputError names `file`, what was asked and what the file has.
-std::size_t timestepIndexFor(const DataSpec& data, const std::vector<std::string>& times_utc, const std::string& file);
+std::size_t timestepIndexFor(const DataSpec& data, const std::vector<geo::OptionalUtcTime>& times,
+                             const std::string& file);
 
 struct PreparedScene {
   VolumeFrame frame;

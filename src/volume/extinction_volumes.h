@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "geo/grid_georeference.h"
+#include "geo/utc_time.h"
 
 namespace nph {
 
@@ -24,8 +25,8 @@ struct ExtinctionVolumes {
   double dz_m = 0.0;        ///< layer thickness
   double z_bottom_m = 0.0;  ///< height of the bottom face of layer 0 above mean sea level
   geo::GridGeoreference georef;
-  std::string time_utc;     ///< ISO 8601
-  std::string source_file;  ///< model file this timestep came from (provenance)
+  geo::OptionalUtcTime time_utc;  ///< none when the data does not say
+  std::string source_file;        ///< model file this timestep came from (provenance)
   std::int64_t source_time_index = 0;
 
   /// Ground elevation above mean sea level [m] at the nx×ny mass points (x fastest, as a layer of

@@ -65,7 +65,7 @@ ExtinctionVolumes randomVolumes(const NphMetadata& m, int nz, unsigned seed, flo
   v.dz_m = m.dz_m;
   v.z_bottom_m = m.z_bottom_m;
   v.georef = m.georef;
-  v.time_utc = "2026-09-01T0" + std::to_string(seed % 10) + ":00:00Z";
+  v.time_utc = nph::geo::UtcTime::parse("2026-09-01T0" + std::to_string(seed % 10) + ":00:00Z");
   v.source_file = "wrfout_d01_a.nc";
   v.source_time_index = seed;
   std::mt19937 rng(seed);

@@ -163,7 +163,7 @@ TEST_F(PlanFixture, TheSunFollowsTheClockOnItsOwnSteps) {
   // Hourly steps of the sun: the sun at 13:00 is the scene's sun for the 13:00 timestep.
   scene::SunSpec at13 = scene.sun;
   at13.time_utc = "2026-09-01T13:00:00Z";
-  EXPECT_NEAR(p.frame(25).sun.elevation_deg, scene::sunFor(at13, &*prepared.geo, "").elevation_deg, 1e-9);
+  EXPECT_NEAR(p.frame(25).sun.elevation_deg, scene::sunFor(at13, &*prepared.geo, std::nullopt).elevation_deg, 1e-9);
   const auto fixed = plan(R"({ "fps": 25, "duration_s": 2, "sun_follows_clock": false })");
   EXPECT_EQ(fixed.frame(50).sun.elevation_deg, prepared.sun.elevation_deg);
 }

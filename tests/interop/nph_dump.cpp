@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     j["nz"] = v.nz;
     j["dz_m"] = v.dz_m;
     j["z_bottom_m"] = v.z_bottom_m;
-    j["time_utc"] = v.time_utc;
+    j["time_utc"] = nph::geo::isoOrEmpty(v.time_utc);
     j["max_ice_per_m"] = v.max_ice_per_m;
     j["max_water_per_m"] = v.max_water_per_m;
     j["proj_definition"] = v.georef.proj_definition;

@@ -26,8 +26,8 @@ TEST(IconLoader, RegularGridLoadsBottomToTop) {
   EXPECT_EQ(sniffFormat(path), FileFormat::IconRegular);
   const ModelFile file = openModelFile(path);
   ASSERT_EQ(file.timesteps().size(), 2u);
-  EXPECT_EQ(file.timesteps()[0].time_utc, "2026-03-18T12:00:00Z");
-  EXPECT_EQ(file.timesteps()[1].time_utc, "2026-03-18T13:00:00Z");
+  EXPECT_EQ(nph::geo::isoOrEmpty(file.timesteps()[0].time_utc), "2026-03-18T12:00:00Z");
+  EXPECT_EQ(nph::geo::isoOrEmpty(file.timesteps()[1].time_utc), "2026-03-18T13:00:00Z");
   const ModelTimestep ts = file.load(1);
   EXPECT_EQ(ts.model, ModelKind::Icon);
   EXPECT_EQ(ts.nx, 40);
@@ -119,7 +119,7 @@ TEST(IconLoader, NativeGridResamplesToNearestCell) {
   EXPECT_EQ(sniffFormat(path), FileFormat::IconNative);
   const ModelFile file = openModelFile(path);
   ASSERT_EQ(file.timesteps().size(), 1u);
-  EXPECT_EQ(file.timesteps()[0].time_utc, "2026-03-18T12:00:00Z");  // "day as %Y%m%d.%f"
+  EXPECT_EQ(nph::geo::isoOrEmpty(file.timesteps()[0].time_utc), "2026-03-18T12:00:00Z");  // "day as %Y%m%d.%f"
   const ModelTimestep ts = loadIconTimestep(path, 0);
   // About one target point per cell.
   const double points = double(ts.nx) * double(ts.ny);
@@ -169,10 +169,10 @@ TEST(IconLoader, NativeGridResamplesToNearestCell) {
 }
 
 TEST(IconTime, UnitsAreParsed) {
-  EXPECT_EQ(isoFromTimeValue(36.0, "hours since 2026-03-18 12:00:00"), "2026-03-20T00:00:00Z");
-  EXPECT_EQ(isoFromTimeValue(90.0, "minutes since 2026-12-31T23:00:00"), "2027-01-01T00:30:00Z");
-  EXPECT_EQ(isoFromTimeValue(20260318.75, "day as %Y%m%d.%f"), "2026-03-18T18:00:00Z");
-  EXPECT_EQ(isoFromTimeValue(1.0, "fortnights since 2026-01-01"), "");
+  EXPECT_EQ(nph::geo::isoOrEmpty(timeFromValue(36.0, "hours since 2026-03-18 12:00:00")), "2026-03-20T00:00:00Z");
+  EXPECT_EQ(nph::geo::isoOrEmpty(timeFromValue(90.0, "minutes since 2026-12-31T23:00:00")), "2027-01-01T00:30:00Z");
+  EXPECT_EQ(nph::geo::isoOrEmpty(timeFromValue(20260318.75, "day as %Y%m%d.%f")), "2026-03-18T18:00:00Z");
+  EXPECT_EQ(nph::geo::isoOrEmpty(timeFromValue(1.0, "fortnights since 2026-01-01")), "");
 }
 
 }  // namespace

@@ -181,7 +181,7 @@ TEST(VoxelExtinction, Wsm3BelowFreezingIsIce) {
 io::ModelTimestep tinyTimestep() {
   io::ModelTimestep ts;
   ts.source_file = "tiny_wrfout.nc";
-  ts.time_utc = "2026-09-01T00:00:00Z";
+  ts.time_utc = nph::geo::UtcTime::parse("2026-09-01T00:00:00Z");
   ts.nx = 3;
   ts.ny = 2;
   ts.nz = 2;

@@ -140,7 +140,7 @@ TEST(Resampling, NonIncreasingHeightsAreInputErrors) {
 
 TEST(VolumeBuilder, WholeTimestepWithGeoreference) {
   io::ModelTimestep ts = twoColumns();
-  ts.time_utc = "2026-09-01T06:00:00Z";
+  ts.time_utc = nph::geo::UtcTime::parse("2026-09-01T06:00:00Z");
   ts.time_index = 6;
   ts.georef.proj_definition = "+proj=merc +R=6370000";
   ts.georef.dx_m = 3000.0;

@@ -269,7 +269,7 @@ TEST(SceneFile, SunFromTheDataTime) {
   spec.colour = {1.0, 0.9, 0.8};
   // Centre of the domain: lon −80 (the central meridian, so grid north = true north), lat 25.
   const SceneGeoreference geo(v, frame);
-  const Sun s = sunFor(spec, &geo, "2026-09-01_17:00:00");
+  const Sun s = sunFor(spec, &geo, UtcTime::parse("2026-09-01_17:00:00"));
   const SolarPosition p = solarPosition(UtcTime::parse("2026-09-01T17:00:00Z"), -80.0, 25.0);
   EXPECT_NEAR(s.azimuth_deg, p.azimuth_deg, 1e-6);
   EXPECT_NEAR(s.elevation_deg, p.elevation_deg, 1e-9);
@@ -277,21 +277,21 @@ TEST(SceneFile, SunFromTheDataTime) {
   EXPECT_GT(s.elevation_deg, 60.0);  // early afternoon sun high over Florida in September
   // The manual offset moves the domain 20° east: the same instant is later in the local day.
   const SceneGeoreference east(v, frame, LonLatOffset{20.0, 0.0});
-  const Sun later = sunFor(spec, &east, "2026-09-01_17:00:00");
+  const Sun later = sunFor(spec, &east, UtcTime::parse("2026-09-01_17:00:00"));
   EXPECT_NEAR(later.elevation_deg, solarPosition(UtcTime::parse("2026-09-01T17:00:00Z"), -60.0, 25.0).elevation_deg,
               1e-9);
   // time_utc overrides the data's time.
   spec.time_utc = "2026-09-01T12:00:00Z";
-  const double morning = sunFor(spec, &geo, "2026-09-01_17:00:00").elevation_deg;  // 07:00 local
+  const double morning = sunFor(spec, &geo, UtcTime::parse("2026-09-01_17:00:00")).elevation_deg;  // 07:00 local
   EXPECT_GT(morning, 5.0);
   EXPECT_LT(morning, 20.0);
   // Explicit suns pass through; from_time without a time or place is an error.
   SunSpec fixed;
   fixed.azimuth_deg = 200.0;
-  EXPECT_EQ(sunFor(fixed, nullptr, "").azimuth_deg, 200.0);
+  EXPECT_EQ(sunFor(fixed, nullptr, std::nullopt).azimuth_deg, 200.0);
   spec.time_utc.reset();
-  EXPECT_THROW(sunFor(spec, &geo, ""), InputError);
-  EXPECT_THROW(sunFor(spec, nullptr, "2026-09-01T12:00:00Z"), InputError);
+  EXPECT_THROW(sunFor(spec, &geo, std::nullopt), InputError);
+  EXPECT_THROW(sunFor(spec, nullptr, UtcTime::parse("2026-09-01T12:00:00Z")), InputError);
 }
 
 }  // namespace

@@ -74,7 +74,7 @@ TEST(SceneSetup, GlobeView) {
   const PreparedScene p = prepareScene(s, v);
   EXPECT_NEAR(glm::length(p.camera.target_m), kEarthRadius_m + p.flat_camera.target_m.z, 1e-3);
   ASSERT_TRUE(p.to_sun_ecef);
-  EXPECT_NEAR(glm::length(*p.to_sun_ecef - sunDirectionEcef(UtcTime::parse(v.time_utc))), 0.0, 1e-6);
+  EXPECT_NEAR(glm::length(*p.to_sun_ecef - sunDirectionEcef(*v.time_utc)), 0.0, 1e-6);
 }
 
 TEST(SceneSetup, CartesianGridsNeedACentreForMapsAndTimedSuns) {
@@ -83,14 +83,14 @@ TEST(SceneSetup, CartesianGridsNeedACentreForMapsAndTimedSuns) {
   v.nz = 2;
   v.dz_m = 100.0;
   v.georef.dx_m = v.georef.dy_m = 1000.0;
-  v.time_utc = "2026-09-01T12:00:00Z";
+  v.time_utc = nph::geo::UtcTime::parse("2026-09-01T12:00:00Z");
   EXPECT_NO_THROW(prepareScene(parseSceneText("{}", "s.json"), v));
   EXPECT_THROW(prepareScene(parseSceneText(R"({"sun": {"from_time": true}})", "s.json"), v), InputError);
   EXPECT_THROW(prepareScene(parseSceneText(R"({"view": "globe"})", "s.json"), v), InputError);
   EXPECT_THROW(prepareScene(parseSceneText(R"({"basemap": {"path": "/x.jpg"}})", "s.json"), v), InputError);
   const PreparedScene p =
       prepareScene(parseSceneText(R"({"sun": {"from_time": true}, "centre_lonlat_deg": [10, 50]})", "s.json"), v);
-  EXPECT_NEAR(p.sun.elevation_deg, solarPosition(UtcTime::parse(v.time_utc), 10.0, 50.0).elevation_deg, 1e-6);
+  EXPECT_NEAR(p.sun.elevation_deg, solarPosition(*v.time_utc, 10.0, 50.0).elevation_deg, 1e-6);
   // A missing basemap file is reported with its name.
   try {
     (void)prepareScene(
@@ -102,7 +102,9 @@ TEST(SceneSetup, CartesianGridsNeedACentreForMapsAndTimedSuns) {
 }
 
 TEST(SceneSetup, TimestepByIndexOrTime) {
-  const std::vector<std::string> times = {"2026-09-01T12:00:00Z", "2026-09-01T13:00:00Z", "2026-09-01T14:00:00Z"};
+  const std::vector<geo::OptionalUtcTime> times = {UtcTime::parse("2026-09-01T12:00:00Z"),
+                                                   UtcTime::parse("2026-09-01T13:00:00Z"),
+                                                   UtcTime::parse("2026-09-01T14:00:00Z")};
   DataSpec d;
   d.timestep = 2;
   EXPECT_EQ(timestepIndexFor(d, times, "h.nph"), 2u);

@@ -25,7 +25,7 @@ inline ExtinctionVolumes lambertVolumes(int nx = 100, int ny = 80, int nz = 10, 
   // (lon0, lat0) projects to (0, 0): the centre of the grid sits there.
   v.georef.x0 = -0.5 * double(nx - 1) * dx_m;
   v.georef.y0 = -0.5 * double(ny - 1) * dx_m;
-  v.time_utc = "2026-09-01T12:00:00Z";
+  v.time_utc = nph::geo::UtcTime::parse("2026-09-01T12:00:00Z");
   v.ice_per_m.assign(v.voxelCount(), 0.0f);
   v.water_per_m.assign(v.voxelCount(), 0.0f);
   return v;
