@@ -3,43 +3,41 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/glsl_cpp.h"
 
 namespace nph::scene {
+
+namespace f64 {  // the DLM pass's window arithmetic in double precision (core/glsl_cpp.h)
+using namespace nph::glsl;
+using Number = double;
+#include "../glsl/common/light_compress.glsl"
+}  // namespace f64
+
+namespace {
+
+f64::CompressorWindow toWindow(const CompressorState& s) {
+  return {s.nodeS, s.nodeI, s.prevS, s.prevI, s.lo, s.hi, s.haveBounds, false};
+}
+CompressorState fromWindow(const f64::CompressorWindow& w) {
+  return {w.nodeS, w.nodeI, w.prevS, w.prevI, w.lo, w.hi, w.haveBounds};
+}
+
+}  // namespace
 
 void LightFunctionCompressor::push(double s, double I) {
   if (nodes_.empty()) {  // the first sample is always a node
     nodes_.push_back({float(s), float(I)});
-    nodeS_ = prevS_ = s;
-    nodeI_ = prevI_ = I;
+    state_ = fromWindow(f64::openWindow(s, I));
     return;
   }
-  const double ds = s - nodeS_;
-  const double slope = (I - nodeI_) / ds;
-  const double up = (I + eps_ - nodeI_) / ds;  // eq. 5.14
-  const double dn = (I - eps_ - nodeI_) / ds;  // eq. 5.15
-  if (!haveBounds_) {
-    lo_ = dn;
-    hi_ = up;
-    haveBounds_ = true;
-  } else if (slope > hi_ || slope < lo_) {  // outside the segment's window: close it at prev
-    nodes_.push_back({float(prevS_), float(prevI_)});
-    nodeS_ = prevS_;
-    nodeI_ = prevI_;
-    const double ds2 = s - nodeS_;
-    lo_ = (I - eps_ - nodeI_) / ds2;
-    hi_ = (I + eps_ - nodeI_) / ds2;
-  } else {
-    lo_ = std::max(lo_, dn);
-    hi_ = std::min(hi_, up);
-  }
-  prevS_ = s;
-  prevI_ = I;
+  const f64::CompressorWindow w = f64::windowPush(toWindow(state_), s, I, eps_);
+  if (w.emitted) nodes_.push_back({float(w.nodeS), float(w.nodeI)});  // closed at the previous sample
+  state_ = fromWindow(w);
   havePrev_ = true;
 }
 
 std::vector<LightNode> LightFunctionCompressor::finish() {
-  const bool flatTail = prevI_ == nodeI_ && (!haveBounds_ || (lo_ <= 0.0 && hi_ >= 0.0));
-  if (havePrev_ && !flatTail) nodes_.push_back({float(prevS_), float(prevI_)});
+  if (havePrev_ && !f64::windowFlatTail(toWindow(state_))) nodes_.push_back({float(state_.prevS), float(state_.prevI)});
   havePrev_ = false;
   return std::move(nodes_);
 }

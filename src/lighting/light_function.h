@@ -8,8 +8,9 @@
 // [(I_c − ε − I_P)/(s_c − s_P), (I_c + ε − I_P)/(s_c − s_P)]. When a sample falls outside, the
 // previous sample becomes the next node. Contract: at every sample the stored function is within
 // ε of the sample; since both the sampled and the stored function are linear between samples,
-// the bound holds for all s. The GLSL implementation (glsl/dlm/compress.glsl) is a line-by-line
-// twin of the one here; the CPU one is the test oracle.
+// the bound holds for all s. The window arithmetic is written once, in
+// glsl/common/light_compress.glsl: the DLM pass (glsl/dlm/compress.glsl) runs it in float, this
+// class (the test oracle) compiles it as C++ in double (core/glsl_cpp.h).
 #include <vector>
 
 namespace nph::scene {
@@ -17,6 +18,13 @@ namespace nph::scene {
 struct LightNode {
   float depth_m;
   float intensity;
+};
+
+/// The compressor's window between samples (glsl/common/light_compress.glsl's CompressorWindow).
+struct CompressorState {
+  double nodeS = 0, nodeI = 0, prevS = 0, prevI = 0;
+  double lo = 0, hi = 0;
+  bool haveBounds = false;
 };
 
 /// Incremental compressor: push samples in increasing depth, then finish(). The final sample is
@@ -33,9 +41,7 @@ class LightFunctionCompressor {
   double eps_;
   std::vector<LightNode> nodes_;
   bool havePrev_ = false;
-  double nodeS_ = 0, nodeI_ = 0, prevS_ = 0, prevI_ = 0;
-  double lo_ = 0, hi_ = 0;
-  bool haveBounds_ = false;
+  CompressorState state_;
 };
 
 std::vector<LightNode> compressLightFunction(const std::vector<double>& depth_m, const std::vector<double>& intensity,
