@@ -33,6 +33,7 @@ TimestepCache::~TimestepCache() {
     queue_.clear();
   }
   work_cv_.notify_all();
+  idle_cv_.notify_all();
   worker_.join();
 }
 
@@ -117,6 +118,7 @@ void TimestepCache::prefetch(const std::vector<std::size_t>& pinned, int directi
     trimLocked();
   }
   work_cv_.notify_one();
+  idle_cv_.notify_all();  // an emptied queue may have made the cache idle
 }
 
 bool TimestepCache::decode(std::unique_lock<std::mutex>& lock, std::size_t t) {
@@ -153,9 +155,13 @@ void TimestepCache::run() {
     const std::size_t t = queue_.front();
     queue_.pop_front();
     Entry& e = entries_[t];
-    if (e.volumes || e.in_flight || e.error) continue;
-    if (decode(lock, t)) ++stats_.prefetched;
-    trimLocked();
+    if (!(e.volumes || e.in_flight || e.error)) {
+      worker_busy_ = true;
+      if (decode(lock, t)) ++stats_.prefetched;
+      worker_busy_ = false;
+      trimLocked();
+    }
+    if (queue_.empty()) idle_cv_.notify_all();
   }
 }
 
@@ -196,6 +202,11 @@ std::shared_ptr<const ExtinctionVolumes> TimestepCache::get(std::size_t t) {
   auto volumes = e.volumes;
   trimLocked();
   return volumes;
+}
+
+void TimestepCache::waitIdle() const {
+  std::unique_lock lock(mutex_);
+  idle_cv_.wait(lock, [this] { return stop_ || (queue_.empty() && !worker_busy_); });
 }
 
 void TimestepCache::setSettings(const PrefetchSettings& settings) {

@@ -74,6 +74,11 @@ class TimestepCache {
   /// and (when enabled) queues the next timesteps after the pinned ones in `direction` (+1 or −1).
   void prefetch(const std::vector<std::size_t>& pinned, int direction);
 
+  /// Blocks until the read-ahead queued so far is decoded (or failed): nothing queued, nothing in
+  /// the worker's hands. For callers that must know the cache's state (tests; a batch renderer
+  /// that wants the next timestep ready before it reports progress).
+  void waitIdle() const;
+
   void setSettings(const PrefetchSettings& settings);
   PrefetchSettings settings() const;
   PrefetchStats stats() const;
@@ -104,6 +109,8 @@ class TimestepCache {
   std::uint64_t clock_ = 0;
   PrefetchStats stats_;
   bool stop_ = false;
+  bool worker_busy_ = false;  ///< the worker holds a queued timestep (decoding it)
+  mutable std::condition_variable idle_cv_;
   std::thread worker_;
 };
 

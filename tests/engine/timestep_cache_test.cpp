@@ -2,7 +2,6 @@
 // to the frame that needs the broken timestep (timestep_cache.h).
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <thread>
 
 #include "engine/timestep_cache.h"
@@ -23,12 +22,6 @@ std::shared_ptr<ScriptedDataset> scripted(std::size_t count) {
 
 constexpr std::size_t kStepBytes = 8 * 8 * 4 * 2 * sizeof(float);
 
-/// Waits until the worker has decoded `n` timesteps (or a second has passed).
-void waitForPrefetched(const engine::TimestepCache& cache, std::uint64_t n) {
-  for (int i = 0; i < 1000 && cache.stats().prefetched < n; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-}
-
 TEST(TimestepCache, ReadsAheadInThePlaybackDirectionSoPlaybackNeverWaits) {
   auto ds = scripted(6);
   engine::TimestepCache cache(ds);
@@ -38,7 +31,7 @@ TEST(TimestepCache, ReadsAheadInThePlaybackDirectionSoPlaybackNeverWaits) {
     cache.prefetch({t, t + 1}, +1);
     EXPECT_FLOAT_EQ(cache.get(t)->ice_per_m[0], float(t + 1));
     EXPECT_FLOAT_EQ(cache.get(t + 1)->ice_per_m[0], float(t + 2));
-    waitForPrefetched(cache, t + 2);  // the render of this frame takes longer than a decode
+    cache.waitIdle();  // the render of this frame takes longer than the read-ahead
   }
   const auto st = cache.stats();
   EXPECT_EQ(st.misses, 2u) << "only the first frame's pair is decoded in the caller";
@@ -53,7 +46,7 @@ TEST(TimestepCache, ReadsBackwardsWhenPlayingBackwards) {
   cache.prefetch({4, 5}, -1);
   (void)cache.get(5);
   (void)cache.get(4);
-  waitForPrefetched(cache, 2);
+  cache.waitIdle();
   const auto before = cache.stats().misses;
   (void)cache.get(3);
   (void)cache.get(2);
@@ -71,7 +64,7 @@ TEST(TimestepCache, MemoryBudgetBoundsTheReadAhead) {
     cache.prefetch({t, t + 1}, +1);
     (void)cache.get(t);
     (void)cache.get(t + 1);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    cache.waitIdle();
     EXPECT_LE(cache.stats().bytes, settings.memory_budget_bytes);
   }
   EXPECT_LE(cache.stats().peak_bytes, settings.memory_budget_bytes);
@@ -100,7 +93,7 @@ TEST(TimestepCache, OffDecodesOnlyWhatIsAskedFor) {
   cache.prefetch({0, 1}, +1);
   (void)cache.get(0);
   (void)cache.get(1);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  cache.waitIdle();
   EXPECT_EQ(ds->loads.load(), 2);
   cache.prefetch({0, 1}, +1);
   (void)cache.get(0);
@@ -115,8 +108,7 @@ TEST(TimestepCache, AReadAheadErrorIsThrownByTheFrameThatNeedsTheTimestep) {
   cache.prefetch({1, 2}, +1);  // the worker decodes 3 (fails) and 4 meanwhile
   EXPECT_NO_THROW((void)cache.get(1));
   EXPECT_NO_THROW((void)cache.get(2));
-  waitForPrefetched(cache, 1);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  cache.waitIdle();
   cache.prefetch({2, 3}, +1);
   EXPECT_NO_THROW((void)cache.get(2));
   try {
@@ -129,13 +121,20 @@ TEST(TimestepCache, AReadAheadErrorIsThrownByTheFrameThatNeedsTheTimestep) {
 
 TEST(TimestepCache, AGetOfATimestepInFlightWaitsForIt) {
   auto ds = scripted(4);
-  ds->delay_ms = 50;
+  ds->hold(1);
   engine::PrefetchSettings one_ahead;
   one_ahead.lookahead = 1;
   engine::TimestepCache cache(ds, one_ahead);
-  cache.prefetch({0}, +1);  // the worker starts on 1
-  std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  cache.prefetch({0}, +1);  // the worker starts on 1 and stays inside its load until released
+  ds->waitUntilHolding();
+  // Released only once get(1) below has found 1 in flight and waits for it (no sleeps: the
+  // order is forced by the gate and the cache's own wait count).
+  std::thread releaser([&] {
+    while (cache.stats().waits == 0) std::this_thread::yield();
+    ds->release();
+  });
   EXPECT_FLOAT_EQ(cache.get(1)->ice_per_m[0], 2.0f);
+  releaser.join();
   EXPECT_EQ(cache.stats().waits, 1u);
   EXPECT_EQ(ds->loads.load(), 1) << "not decoded twice";
 }
