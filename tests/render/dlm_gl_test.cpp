@@ -1,7 +1,9 @@
 // Deep light map: analytic cases and GPU against the CPU reference (issue 4).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 
@@ -208,6 +210,24 @@ TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
   }
 }
 
+// dlmIntensity (glsl/dlm/lookup.glsl) at `points` on the GPU, compiled with `defines`.
+std::vector<float> glslLookup(const render::DeepLightMap& dlm, const std::vector<glm::vec4>& points,
+                              const gl::Defines& defines = {}) {
+  auto in = gl::Buffer::create(points.size() * sizeof(glm::vec4), points.data());
+  auto out = gl::Buffer::create(points.size() * sizeof(float));
+  auto prog = gl::Program::compute("test/dlm_lookup.comp", defines);
+  prog.use();
+  dlm.bindForLookup();
+  prog.set("u_count", int(points.size()));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_TEST_POINTS, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_TEST_RESULTS, out.id());
+  prog.dispatchCovering({int(points.size()), 1, 1});
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<float> gpu(points.size());
+  out.download(0, gpu.size() * sizeof(float), gpu.data());
+  return gpu;
+}
+
 // The GLSL look-up (used by the ray caster and for ground shadows) agrees with the CPU look-up on
 // the read-back map at random points in and around the cloud, including below it (ground shadow:
 // the light past the last node) and outside the map's footprint (full sun).
@@ -226,18 +246,7 @@ TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
     points.emplace_back(glm::vec3(p), 0.0f);
   }
   points.emplace_back(glm::vec3(frame.worldFromGrid({20.0, 18.0, 0.0})), 0.0f);  // ground under the storm
-  auto in = gl::Buffer::create(points.size() * sizeof(glm::vec4), points.data());
-  auto out = gl::Buffer::create(points.size() * sizeof(float));
-  auto prog = gl::Program::compute("test/dlm_lookup.comp");
-  prog.use();
-  dlm.bindForLookup();
-  prog.set("u_count", int(points.size()));
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_TEST_POINTS, in.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_TEST_RESULTS, out.id());
-  prog.dispatchCovering({int(points.size()), 1, 1});
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  std::vector<float> gpu(points.size());
-  out.download(0, gpu.size() * sizeof(float), gpu.data());
+  const std::vector<float> gpu = glslLookup(dlm, points);
   double maxDiff = 0.0;
   int inside = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -249,6 +258,53 @@ TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
   EXPECT_LE(maxDiff, 1e-4);  // float light-space transform vs double
   EXPECT_GT(inside, 200) << "the points must sample the shadowed part of the map";
   EXPECT_LT(gpu.back(), 0.5f) << "the ground under the storm is in shadow";
+}
+
+// The look-up's linear scan (issue 19) finds the same bracket as the binary search it replaced
+// (DLM_LOOKUP_BINARY_SEARCH, kept as the benchmark baseline): the node depths never decrease, so
+// the last node at or before s is unique. Same bracket, same arithmetic: the results must be equal
+// bit for bit, at points between nodes, on nodes (to float rounding: either side of a node),
+// before the first node and past the last.
+TEST_F(DlmTest, DlmLookupLinearScanIsBitIdenticalToTheBinarySearch) {
+  const ExtinctionVolumes v = generatedHurricane();
+  const auto frame = scene::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "hurricane");
+  render::DeepLightMap dlm;
+  ASSERT_TRUE(dlm.build(tex, -scene::Sun{200.0, 35.0}.toSun(), scene::DlmSettings{}));
+  const auto map = dlm.readBack();
+  const scene::LightSpace& ls = dlm.lightSpace();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  std::vector<glm::vec4> points;
+  for (int i = 0; i < 8192; ++i) {
+    points.emplace_back(glm::vec3(frame.min_m() + frame.size_m() * glm::dvec3(u(rng), u(rng), u(rng))), 0.0f);
+  }
+  // Texel centres at every node depth of a few texels with many nodes (s ≈ depth[k]).
+  int withManyNodes = 0;
+  for (int b = 0; b < ls.texels.y && withManyNodes < 16; ++b) {
+    for (int a = 0; a < ls.texels.x && withManyNodes < 16; ++a) {
+      const auto& nodes = map.nodes[std::size_t(b) * std::size_t(ls.texels.x) + std::size_t(a)];
+      if (nodes.size() < 6) continue;
+      ++withManyNodes;
+      const glm::dvec2 uv = (glm::dvec2(a, b) + 0.5) * ls.texelSize_m();
+      for (const auto& n : nodes) {
+        points.emplace_back(glm::vec3(ls.worldFromLight({uv.x, uv.y, double(n.depth_m)})), 0.0f);
+      }
+    }
+  }
+  ASSERT_GT(withManyNodes, 0) << "the map must have texels with at least 6 nodes to scan";
+  const std::vector<float> scan = glslLookup(dlm, points);
+  const std::vector<float> binary = glslLookup(dlm, points, {{"DLM_LOOKUP_BINARY_SEARCH", "1"}});
+  ASSERT_EQ(scan.size(), binary.size());
+  int shadowed = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(scan[i]), std::bit_cast<std::uint32_t>(binary[i]))
+        << "point " << i << ": linear scan " << scan[i] << ", binary search " << binary[i];
+    if (scan[i] < 0.999f) ++shadowed;
+  }
+  EXPECT_GT(shadowed, 500) << "the points must sample the shadowed part of the map";
+  std::printf("[ scan     ] %zu points, %d shadowed, %d texels' nodes hit exactly, mean %.2f nodes per texel\n",
+              scan.size(), shadowed, withManyNodes, dlm.stats().mean_nodes);
 }
 
 }  // namespace
