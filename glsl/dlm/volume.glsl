@@ -41,6 +41,23 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
   vec4 u_noise_stats_c;   // of the convective term
 };
 
+// Compile-time specialisation (issue 19, "Frame time"): llvmpipe runs 8 lanes in lock-step and a
+// uniform branch still costs its test and keeps both sides' registers alive, so a program built
+// with SPEC_DETAIL / SPEC_CUBIC defined (0 or 1; render/raycast/cloud_renderer.cpp
+// EyePassFeatures) has these switches as constants and the compiler drops the dead side. Without
+// the defines (the DLM passes, the tests' and benchmarks' baseline) the uniforms decide, as before.
+// The values must agree with the block's (u_detail, u_reconstruction): same arithmetic either way.
+#ifdef SPEC_DETAIL
+#define DETAIL_ON (SPEC_DETAIL != 0)
+#else
+#define DETAIL_ON (u_detail != 0)
+#endif
+#ifdef SPEC_CUBIC
+#define RECONSTRUCTION_CUBIC (SPEC_CUBIC != 0)
+#else
+#define RECONSTRUCTION_CUBIC (u_reconstruction == 1)
+#endif
+
 vec3 volumeUvw(vec3 world_m) { return (world_m - u_box_min_m) / u_box_size_m; }
 
 bool insideVolume(vec3 uvw) { return all(greaterThanEqual(uvw, vec3(0.0))) && all(lessThanEqual(uvw, vec3(1.0))); }
@@ -82,7 +99,7 @@ float cubicBSpline(sampler3D volume, vec3 uvw) {
 }
 
 float reconstruct(sampler3D volume, vec3 uvw) {
-  return u_reconstruction == 1 ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;
+  return RECONSTRUCTION_CUBIC ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;
 }
 
 // (β_ice, β_water) at a world position, without the sub-grid detail.
@@ -95,7 +112,7 @@ vec2 plainExtinctionAt(vec3 world_m) {
 // (β_ice, β_water) at a world position: the field every pass integrates. The CPU twin is
 // ExtinctionSampler::at (same order of operations, same detail.glsl).
 vec2 extinctionAt(vec3 world_m) {
-  if (u_detail == 0) return plainExtinctionAt(world_m);
+  if (!DETAIL_ON) return plainExtinctionAt(world_m);
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(0.0);
   vec4 c = texture(u_detail_controls, uvw);

@@ -88,6 +88,27 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   bool u_write_passes;        // fill u_pass_ground and u_pass_sky
 };
 
+// Compile-time specialisation per view (issue 19, "Frame time"; see glsl/dlm/volume.glsl for the
+// volume's switches): CloudRenderer builds one program per feature set with SPEC_GLOBE,
+// SPEC_TERRAIN, SPEC_ATMOSPHERE and SPEC_PASSES defined to 0 or 1, so the flat view carries no
+// globe mapping and a view without terrain, atmosphere or passes none of their code. Without the
+// defines the uniforms below decide (the baseline the tests compare the variants with, bit for bit).
+#ifdef SPEC_GLOBE
+#define VIEW_GLOBE (SPEC_GLOBE != 0)
+#else
+#define VIEW_GLOBE u_globe
+#endif
+#ifdef SPEC_ATMOSPHERE
+#define ATMOSPHERE_ON (SPEC_ATMOSPHERE != 0)
+#else
+#define ATMOSPHERE_ON u_atmosphere
+#endif
+#ifdef SPEC_PASSES
+#define WRITE_PASSES (SPEC_PASSES != 0)
+#else
+#define WRITE_PASSES u_write_passes
+#endif
+
 #include "render/globe.glsl"
 #include "atmosphere/model.glsl"
 #include "atmosphere/sky.glsl"
@@ -109,6 +130,11 @@ layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
   vec2 u_far_basemap_max_m;
   bool u_has_far_basemap;
 };
+#ifdef SPEC_TERRAIN
+#define HAS_TERRAIN (SPEC_TERRAIN != 0)
+#else
+#define HAS_TERRAIN u_has_terrain
+#endif
 #define Vec2 vec2
 struct TerrainGrid {
   ivec2 size;
@@ -126,7 +152,7 @@ TerrainGrid terrainGrid() {
 // Flat view: distance along the ray to the ground — the displaced terrain, or the plane z = 0
 // without terrain (then exactly the division of before, so images without terrain keep their bits).
 float flatGroundDistance(vec3 o, vec3 d) {
-  if (u_has_terrain) return terrainHitDistance(terrainGrid(), o, d, 0.0, kTerrainMiss_m);
+  if (HAS_TERRAIN) return terrainHitDistance(terrainGrid(), o, d, 0.0, kTerrainMiss_m);
   return d.z < 0.0 ? -o.z / d.z : kTerrainMiss_m;
 }
 
@@ -201,33 +227,33 @@ void main() {
   float cosPsi = dot(lightDir, -dir);     // scattering angle: sunlight → towards the eye
   // Optical depth per world metre along this ray: the data's, whatever the exaggeration. On the
   // globe the ray's direction in the footprint's local frame (east, north, up) stands for it.
-  vec3 dLocal = u_globe ? globeLocalDirection(dir) : dir;
+  vec3 dLocal = VIEW_GLOBE ? globeLocalDirection(dir) : dir;
   float depthScale = length(vec3(dLocal.xy, dLocal.z / u_height_exaggeration));
 
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
   uint samples = 0u;  // extinction look-ups (empty-brick jumps not counted)
-  float tGround = u_globe ? globeGroundDistance(origin, dir) : kNoHit_m;
-  vec2 span = u_globe ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
+  float tGround = VIEW_GLOBE ? globeGroundDistance(origin, dir) : kNoHit_m;
+  vec2 span = VIEW_GLOBE ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
   // Flat view: the ground along this ray (issue 14). The displaced terrain also ends the cloud
   // march — clouds behind a mountain are hidden by it (without terrain the march is as before).
-  float tFlatGround = u_globe ? kTerrainMiss_m : flatGroundDistance(origin, dir);
-  if (u_has_terrain && !u_globe) span.y = min(span.y, tFlatGround);
+  float tFlatGround = VIEW_GLOBE ? kTerrainMiss_m : flatGroundDistance(origin, dir);
+  if (HAS_TERRAIN && !VIEW_GLOBE) span.y = min(span.y, tFlatGround);
   // The sun's irradiance where this ray meets the clouds: E·T_atm(h, μ_s) at its first cloudy
   // sample (one table look-up per ray; a deck's depth is small next to the 8 km Rayleigh scale
   // height, so the reddening is taken once).
   vec3 sunAtClouds = u_sun_radiance;
   vec3 skyAtClouds = u_sky_radiance;  // the upper hemisphere's radiance there (issue 12's clear sky without the atmosphere)
-  bool sunAtCloudsSet = !u_atmosphere;
+  bool sunAtCloudsSet = !ATMOSPHERE_ON;
   float depthSum = 0.0;  // Σ t·(opacity added): the cloud layer's mean depth for aerial perspective
   if (span.x < span.y) {
     float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
     while (t < span.y && Tacc > u_min_transmittance) {
       vec3 p = origin + t * dir;
-      vec3 w = u_globe ? globeWorldFromEcef(p) : p;  // the sample in the volume's world frame
+      vec3 w = VIEW_GLOBE ? globeWorldFromEcef(p) : p;  // the sample in the volume's world frame
       if (u_skip_empty && brickMaxAt(w) == 0.0) {
-        float skip = u_globe ? globeEmptySkip(w) : emptySkipDistance(p, dir);
+        float skip = VIEW_GLOBE ? globeEmptySkip(w) : emptySkipDistance(p, dir);
         if (skip > 0.0) {  // jump whole steps, keeping the jittered lattice
           t += max(ceil(skip / u_step_m), 1.0) * u_step_m;
           continue;
@@ -238,7 +264,7 @@ void main() {
       float b = beta.x + beta.y;
       if (b > 0.0) {
         if (!sunAtCloudsSet) {
-          float muS = u_globe ? dot(normalize(p), u_to_sun) : u_to_sun.z;
+          float muS = VIEW_GLOBE ? dot(normalize(p), u_to_sun) : u_to_sun.z;
           sunAtClouds = u_sun_radiance * sunlightAt(w.z, muS);
           skyAtClouds = u_sun_radiance * skyIrradiance(w.z, muS) / kPi;
           sunAtCloudsSet = true;
@@ -266,8 +292,8 @@ void main() {
     Tacc = 0.0;
   }
   float alpha = 1.0 - Tacc;
-  if (u_atmosphere && alpha > 0.0) {
-    AtmosphereSegment ap = u_globe ? aerialPerspectiveGlobe(origin, dir, meanDepth, u_to_sun)
+  if (ATMOSPHERE_ON && alpha > 0.0) {
+    AtmosphereSegment ap = VIEW_GLOBE ? aerialPerspectiveGlobe(origin, dir, meanDepth, u_to_sun)
                                    : aerialPerspectiveFlat(origin.z, dir, meanDepth, u_to_sun);
     C = C * ap.transmittance + alpha * u_sun_radiance * ap.inscattered;
   }
@@ -280,14 +306,14 @@ void main() {
   // cloud shadow matte at the ground point: the DLM's transmittance of sunlight, 1 = no shadow.
   vec3 ground = vec3(0.0), sky = u_sky_radiance;
   float shadow = 1.0;
-  if (u_globe) {
+  if (VIEW_GLOBE) {
     if (tGround < kNoHit_m) {
       vec3 g = origin + tGround * dir;
       float sunCos = dot(normalize(g), u_to_sun);
       vec3 gw = globeWorldFromEcef(g);
       shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
       sky = vec3(0.0);
-      if (u_atmosphere) {
+      if (ATMOSPHERE_ON) {
         ground = globeAlbedo(g, u_ocean_albedo) / kPi * u_sun_radiance *
                  (sunlightAt(0.0, sunCos) * max(sunCos, 0.0) * shadow + skyIrradiance(0.0, sunCos));
       } else {
@@ -295,9 +321,9 @@ void main() {
                  (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
       }
     } else {
-      sky = u_atmosphere ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);
+      sky = ATMOSPHERE_ON ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);
     }
-    if (u_atmosphere) {  // the air between the eye and the ground, or along the ray into space (the limb)
+    if (ATMOSPHERE_ON) {  // the air between the eye and the ground, or along the ray into space (the limb)
       AtmosphereSegment ap = aerialPerspectiveGlobe(origin, dir, tGround, u_to_sun);
       ground *= ap.transmittance;
       sky = sky * ap.transmittance + u_sun_radiance * ap.inscattered;
@@ -311,24 +337,24 @@ void main() {
     // where the sun's ray from the point meets a mountain); the sky light through the column
     // above (two-stream T_d) over the part of the sky a tilted surface sees, (1 + n_z)/2.
     vec3 g = origin + tFlatGround * dir;
-    vec3 n = u_has_terrain ? terrainNormal(terrainGrid(), g.xy) : vec3(0.0, 0.0, 1.0);
+    vec3 n = HAS_TERRAIN ? terrainNormal(terrainGrid(), g.xy) : vec3(0.0, 0.0, 1.0);
     vec3 albedo = flatGroundAlbedo(g.xy);
     float sunCos = max(dot(n, u_to_sun), 0.0);
     shadow = u_shadows ? dlmIntensity(g) : 1.0;
     float sunVisible = 1.0;  // V
-    if (u_has_terrain && sunCos > 0.0) {
+    if (HAS_TERRAIN && sunCos > 0.0) {
       // Lift the shadow ray's start off the surface by a hundredth of a cell along the normal.
       vec3 start = g + n * (0.01 * min(u_terrain_cell_m.x, u_terrain_cell_m.y));
       if (terrainHitDistance(terrainGrid(), start, u_to_sun, 0.0, kTerrainMiss_m) < kTerrainMiss_m) sunVisible = 0.0;
     }
-    float skyView = u_has_terrain ? 0.5 * (1.0 + n.z) : 1.0;
+    float skyView = HAS_TERRAIN ? 0.5 * (1.0 + n.z) : 1.0;
     float skyShadow = (u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0) * skyView;
     sky = vec3(0.0);
-    if (u_atmosphere) {
+    if (ATMOSPHERE_ON) {
       // The atmosphere's altitude of a ground point is its world z, as for the clouds' samples;
       // not below the model's ground (the tables are NaN under r = R: the bisection leaves g.z a
       // hair below a sea-level surface, and land may lie below sea level).
-      float altitude = u_has_terrain ? max(g.z, 0.0) : 0.0;
+      float altitude = HAS_TERRAIN ? max(g.z, 0.0) : 0.0;
       ground = albedo / kPi * u_sun_radiance *
                (sunlightAt(altitude, u_to_sun.z) * sunCos * shadow * sunVisible +
                 skyIrradiance(altitude, u_to_sun.z) * skyShadow);
@@ -338,11 +364,11 @@ void main() {
     } else {
       ground = albedo / kPi * (u_sun_radiance * sunCos * shadow * sunVisible + kPi * u_sky_radiance * skyShadow);
     }
-  } else if (u_atmosphere) {  // the sky above the flat view's horizon
+  } else if (ATMOSPHERE_ON) {  // the sky above the flat view's horizon
     sky = u_sun_radiance * skyViewRadiance(dir, u_to_sun);
   }
   imageStore(u_frame, px, vec4(C + Tacc * (ground + sky), 1.0));
-  if (u_write_passes) {
+  if (WRITE_PASSES) {
     // Z: the cloud's transmittance-weighted mean depth along the camera's view axis (planar depth,
     // as Nuke and Cycles read a Z channel); kNoCloudDepth_m where no cloud is seen.
     vec3 forward = u_world_from_view * vec3(0.0, 0.0, -1.0);

@@ -78,6 +78,7 @@ class Session {
   void dispatch(const render::ViewRays& view, render::HostDepth depth = {});
 
   const render::CloudRenderer& renderer() const { return renderer_; }
+  render::CloudRenderer& renderer() { return renderer_; }
   /// Compositing passes on or off (scene/passes.h); on from the start when the scene's output
   /// asks for them (OutputSpec::wantsPasses).
   void setPasses(bool on) { renderer_.setPasses(on); }

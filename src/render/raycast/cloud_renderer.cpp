@@ -14,9 +14,14 @@
 
 namespace nph::render {
 
+gl::Defines EyePassFeatures::defines() const {
+  auto bit = [](bool on) { return std::string(on ? "1" : "0"); };
+  return {{"SPEC_GLOBE", bit(globe)},   {"SPEC_TERRAIN", bit(terrain)}, {"SPEC_ATMOSPHERE", bit(atmosphere)},
+          {"SPEC_PASSES", bit(passes)}, {"SPEC_DETAIL", bit(detail)},   {"SPEC_CUBIC", bit(cubic)}};
+}
+
 CloudRenderer::CloudRenderer()
-    : program_(gl::Program::compute("render/clouds.comp")),
-      raycast_block_(gl::UniformBuffer<gl::RaycastBlock>::create({}, "raycast block")),
+    : raycast_block_(gl::UniformBuffer<gl::RaycastBlock>::create({}, "raycast block")),
       globe_block_(gl::UniformBuffer<gl::GlobeBlock>::create({}, "globe block")),
       terrain_block_(gl::UniformBuffer<gl::TerrainBlock>::create({}, "terrain block")) {
   blank_ = gl::Texture::create2D(GL_RGBA32F, 1, 1).label("no basemap");
@@ -118,6 +123,28 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   terrain_block_.bind();
 }
 
+EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const RenderSettings& s) const {
+  EyePassFeatures f;
+  f.globe = globe_.has_value();
+  // The same conditions as the blocks' switches (updateTerrainBlock, dispatch, VolumeTextures).
+  f.terrain = s.terrain && volume.terrain().present() && !globe_;
+  f.atmosphere = s.atmosphere;
+  f.passes = passes_;
+  f.detail = volume.detail().on();
+  f.cubic = volume.reconstruction() == scene::Reconstruction::Cubic;
+  return f;
+}
+
+const gl::Program& CloudRenderer::program(const EyePassFeatures& features) {
+  gl::Defines defines = baseline_.uniform_branches ? gl::Defines{} : features.defines();
+  if (baseline_.binary_search) defines.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
+  std::string key;
+  for (const auto& [name, value] : defines) key += name + "=" + value + ";";
+  auto it = programs_.find(key);
+  if (it == programs_.end()) it = programs_.emplace(key, gl::Program::compute("render/clouds.comp", defines)).first;
+  return it->second;
+}
+
 double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap& dlm, const ViewRays& view,
                                const scene::Sun& sun, const RenderSettings& s, HostDepth depth, bool finish) {
   const int w = view.width, h = view.height;
@@ -138,7 +165,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     ground_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("ground pass, shadow matte");
     sky_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("sky pass, cloud depth");
   }
-  const gl::Program& p = program_;
+  const gl::Program& p = program(features(volume, s));
   p.use();
   volume.bind();
   dlm.bindForLookup();

@@ -9,8 +9,10 @@
 // stopping each ray at the host's depth buffer) and leaves the result in GL textures for the
 // caller to composite (the plugin API, the viewer).
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -63,6 +65,28 @@ struct RenderOutput {
   double milliseconds = 0.0;
 };
 
+/// The switches the eye pass is compiled for (issue 19, "Frame time"): glsl/render/clouds.comp and
+/// glsl/dlm/volume.glsl take each as a 0/1 define (SPEC_GLOBE …) instead of a uniform branch, so a
+/// view pays only for what it draws. CloudRenderer keeps one program per distinct set.
+struct EyePassFeatures {
+  bool globe = false;       ///< rays in ECEF (setGlobe)
+  bool terrain = false;     ///< displaced ground (flat view only)
+  bool atmosphere = false;  ///< RenderSettings::atmosphere
+  bool passes = false;      ///< compositing passes written (setPasses)
+  bool detail = false;      ///< sub-grid detail in extinctionAt (VolumeTextures::detail)
+  bool cubic = false;       ///< tricubic B-spline reconstruction (VolumeTextures::reconstruction)
+  /// {"SPEC_GLOBE", "0|1"}, … for gl::Program::compute.
+  gl::Defines defines() const;
+};
+
+/// Baselines for benchmarks and tests (issue 19), not user settings: the eye pass as it was before
+/// its speed-ups, to measure them against (tests/bench/frame_benchmark.cpp) and to show that they
+/// change no bit (tests/render/raycast_gl_test.cpp).
+struct EyePassBaseline {
+  bool uniform_branches = false;  ///< one program for every view: the switches are uniforms
+  bool binary_search = false;     ///< DLM look-up by binary search (glsl/dlm/lookup.glsl)
+};
+
 class CloudRenderer {
  public:
   CloudRenderer();
@@ -96,6 +120,12 @@ class CloudRenderer {
   void setPasses(bool on) { passes_ = on; }
   bool passes() const { return passes_; }
   std::uint64_t sampleCount() const;
+  /// Benchmark/test baseline (EyePassBaseline); the default is the fast path.
+  void setBaseline(const EyePassBaseline& baseline) { baseline_ = baseline; }
+  /// The features the next dispatch() with `volume` and `settings` compiles the eye pass for.
+  EyePassFeatures features(const VolumeTextures& volume, const RenderSettings& settings) const;
+  /// Eye-pass programs compiled so far (one per feature set and baseline used).
+  std::size_t programCount() const { return programs_.size(); }
   /// The atmosphere's tables (nullptr until a frame with RenderSettings::atmosphere ran).
   const AtmosphereLuts* atmosphere() const { return atmosphere_.get(); }
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
@@ -107,7 +137,10 @@ class CloudRenderer {
   void updateGlobeBlock(const ViewRays& view, const RenderSettings& settings, double sun_intensity);
   void updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& settings);
 
-  gl::Program program_;
+  const gl::Program& program(const EyePassFeatures& features);
+
+  std::map<std::string, gl::Program> programs_;  // by the defines they were built with
+  EyePassBaseline baseline_;
   gl::Texture basemap_, far_basemap_, blank_, cloud_tex_, frame_tex_, ground_pass_tex_, sky_pass_tex_;
   bool passes_ = false;
   scene::WorldRect far_basemap_rect_;
