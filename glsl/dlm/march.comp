@@ -41,6 +41,28 @@ float peripheralAt(vec3 l) {
   vec3 uvw = vec3(l.xy / (u_ls_texel_m * vec2(u_ls_texels)), l.z / (u_scatter_slice_m * float(u_scatter_slices)));
   return texture(u_scatter, uvw).r;
 }
+#ifndef DLM_BASELINE_SLICE_BREAKS
+// Flat runs of the scatter map (issue 19; glsl/dlm/scatter_runs.comp): R[k] per cell column.
+layout(binding = UNIT_SCATTER_RUNS) uniform isampler3D u_scatter_runs;
+// The four cell columns the bilinear fetch at this texel's u, v blends (GL_CLAMP_TO_EDGE).
+ivec4 scatterColumns(vec2 uv) {
+  ivec2 cells = textureSize(u_scatter_runs, 0).xy;
+  vec2 x = uv / (u_ls_texel_m * vec2(u_ls_texels)) * vec2(cells) - 0.5;
+  ivec2 i0 = clamp(ivec2(floor(x)), ivec2(0), cells - 1);
+  ivec2 i1 = clamp(ivec2(floor(x)) + 1, ivec2(0), cells - 1);
+  return ivec4(i0, i1);
+}
+// The last slice k ≥ the one at step n such that P along this texel's ray is the same on every
+// slice from there to k in all four columns: P(s) is then constant from step n to k's centre.
+int flatUntilSlice(ivec4 columns, int n) {
+  int k0 = clamp(n / u_slice_steps - (n % u_slice_steps < u_slice_steps / 2 ? 1 : 0), 0, u_scatter_slices - 1);
+  int r = min(min(texelFetch(u_scatter_runs, ivec3(columns.xy, k0), 0).r,
+                  texelFetch(u_scatter_runs, ivec3(columns.zy, k0), 0).r),
+              min(texelFetch(u_scatter_runs, ivec3(columns.xw, k0), 0).r,
+                  texelFetch(u_scatter_runs, ivec3(columns.zw, k0), 0).r));
+  return r - 1;
+}
+#endif
 #endif
 
 #ifdef UNCOMPRESSED
@@ -72,6 +94,9 @@ void main() {
 #else
   Compressor c = startCompressor(texel, 0.0, Ic);
 #endif
+#if defined(PERIPHERAL) && !defined(DLM_BASELINE_SLICE_BREAKS)
+  ivec4 columns = scatterColumns(uv);
+#endif
   int n = 0;
   while (n < u_steps) {
     float s = float(n) * u_step_m;
@@ -85,6 +110,12 @@ void main() {
       // P is linear in s between scatter-slice centres (k + ½)·S·Δ (S even): stop at the next one.
       int halfSlice = u_slice_steps / 2;
       int nextBreak = n < halfSlice ? halfSlice : ((n - halfSlice) / u_slice_steps + 1) * u_slice_steps + halfSlice;
+#ifndef DLM_BASELINE_SLICE_BREAKS
+      // Issue 19: where P is flat (the same on the slices ahead in all four columns the fetch
+      // blends) the centres in between are no breakpoints: P is constant up to the centre of the
+      // last flat slice, which is the next sample the function needs.
+      nextBreak = max(nextBreak, flatUntilSlice(columns, n) * u_slice_steps + halfSlice);
+#endif
       target = min(target, nextBreak);
 #endif
       if (target > n + 1) {

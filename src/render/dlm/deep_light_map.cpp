@@ -43,9 +43,20 @@ DeepLightMap::DeepLightMap()
     : march_(gl::Program::compute("dlm/march.comp")),
       march_peripheral_(gl::Program::compute("dlm/march.comp", {{"PERIPHERAL", "1"}})),
       scatter_(gl::Program::compute("dlm/scatter.comp")),
+      scatter_runs_(gl::Program::compute("dlm/scatter_runs.comp")),
       uncompressed_(gl::Program::compute("dlm/march.comp", {{"UNCOMPRESSED", "1"}})),
       light_space_block_(
           gl::UniformBuffer<gl::LightSpaceBlock>::create(lightSpaceBlock(light_space_), "light space block")) {}
+
+void DeepLightMap::setBaseline(const DlmBaseline& baseline) {
+  baseline_ = baseline;
+  gl::Defines scatter, peripheral = {{"PERIPHERAL", "1"}};
+  if (baseline.binary_search) scatter.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
+  if (baseline.slice_breaks) peripheral.emplace_back("DLM_BASELINE_SLICE_BREAKS", "1");
+  scatter_ = gl::Program::compute("dlm/scatter.comp", scatter);
+  march_peripheral_ = gl::Program::compute("dlm/march.comp", peripheral);
+  key_.clear();
+}
 
 double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, std::size_t& bytes) {
   const glm::ivec2 n = light_space_.texels;
@@ -202,6 +213,21 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
       scatter_.dispatchCovering({cells.x, cells.y, 1});
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
+    if (!baseline_.slice_breaks) {
+      // The flat runs of P per cell column (glsl/dlm/scatter_runs.comp), for pass 3's skipping.
+      if (scatter_runs_map_.width() != cells.x || scatter_runs_map_.height() != cells.y ||
+          scatter_runs_map_.depth() != cells.z) {
+        scatter_runs_map_ = gl::Texture::create3D(GL_R32I, cells.x, cells.y, cells.z).label("DLM scatter flat runs");
+        scatter_runs_map_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+      }
+      scatter_runs_.use();
+      scatter_runs_.set("u_cells", cells);
+      glBindImageTexture(gl::binding::IMAGE_SCATTER_MAP, scatter_map_.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32F);
+      glBindImageTexture(gl::binding::IMAGE_SCATTER_RUNS, scatter_runs_map_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                         GL_R32I);
+      scatter_runs_.dispatchCovering({cells.x, cells.y, 1});
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glFinish();
     pass2 = msSince(t0);
@@ -209,6 +235,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     t0 = std::chrono::steady_clock::now();
     march_peripheral_.use();
     glBindTextureUnit(gl::binding::UNIT_SCATTER_MAP, scatter_map_.id());
+    if (!baseline_.slice_breaks) glBindTextureUnit(gl::binding::UNIT_SCATTER_RUNS, scatter_runs_map_.id());
     march_peripheral_.set("u_scatter_slice_m", float(sliceM));
     march_peripheral_.set("u_scatter_slices", cells.z);
     march_peripheral_.set("u_slice_steps", sliceSteps);

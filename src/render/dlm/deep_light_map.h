@@ -2,7 +2,9 @@
 // Deep light map builder (Nes 2008 §5.3; model and discretisation in lighting/dlm_model.h):
 //   pass 1  glsl/dlm/march.comp     central light per texel, ε-compressed node lists
 //   pass 2  glsl/dlm/scatter.comp   low-resolution light-aligned scatter map, slice by slice
-//   pass 3  march.comp + PERIPHERAL re-march adding the peripheral light, re-compressed within ε
+//   pass 3  march.comp + PERIPHERAL re-march adding the peripheral light, re-compressed within ε;
+//           it skips empty bricks across the scatter map's flat runs (glsl/dlm/scatter_runs.comp,
+//           issue 19) instead of stopping at every slice centre
 // Storage: nodes in an RG32F 3-D texture (nu × nv × max_nodes; layer k = node k: depth [m] from
 // the ray's entry, intensity), node counts in an R32UI 2-D texture, the ε each texel was built
 // with in an R32F 2-D texture.
@@ -47,6 +49,13 @@ struct DlmStats {
   std::uint64_t builds = 0, reuses = 0;
 };
 
+/// Baselines for benchmarks and tests (issue 19), not user settings: the build as it was before
+/// its speed-ups (tests/bench/frame_benchmark.cpp measures against them).
+struct DlmBaseline {
+  bool binary_search = false;  ///< pass 2's DLM look-up by binary search (glsl/dlm/lookup.glsl)
+  bool slice_breaks = false;   ///< pass 3 stops at every scatter-slice centre in empty space
+};
+
 class DeepLightMap {
  public:
   DeepLightMap();
@@ -66,6 +75,9 @@ class DeepLightMap {
   /// of glsl/dlm/light_space.glsl (UBO_LIGHT_SPACE), for any program that includes
   /// glsl/dlm/lookup.glsl.
   void bindForLookup() const;
+
+  /// Benchmark/test baseline (DlmBaseline): recompiles passes 2 and 3; the next build() rebuilds.
+  void setBaseline(const DlmBaseline& baseline);
 
   /// Benchmark baseline for pass 1: the same march over the last build's light space storing every
   /// sample uncompressed (no skipping, no compression) in a buffer. Returns wall ms incl. glFinish;
@@ -87,8 +99,9 @@ class DeepLightMap {
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
   void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
 
-  gl::Program march_, march_peripheral_, scatter_, uncompressed_;
-  gl::Texture nodes_, counts_, texel_eps_, scatter_map_;
+  gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_;
+  gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_;
+  DlmBaseline baseline_;
   scene::LightSpace light_space_;
   gl::UniformBuffer<gl::LightSpaceBlock> light_space_block_;  // light_space_ for the GLSL passes
   scene::DlmSettings settings_;

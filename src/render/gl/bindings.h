@@ -39,6 +39,8 @@
   X(IMAGE_DLM_COUNTS, 1)        /* uimage2D r32ui */                                            \
   X(IMAGE_DLM_TEXEL_EPSILON, 2) /* image2D r32f: ε each texel was compressed with */            \
   X(IMAGE_SCATTER_MAP, 1)       /* image3D r32f, written by pass 2 (scatter.comp) */            \
+  X(IMAGE_SCATTER_RUNS, 2)      /* iimage3D r32i: flat runs of the scatter map (scatter_runs.comp) */ \
+  X(UNIT_SCATTER_RUNS, 6)       /* isampler3D: the same, read by pass 3 */                      \
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
   /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
   X(UBO_RAYCAST, 2)             /* RaycastBlock (render/gl/uniform_blocks.h) */                 \
