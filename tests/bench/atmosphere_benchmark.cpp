@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench_hurricane.h"
+#include "bench_stats.h"
 #include "render/atmosphere/atmosphere_luts.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/context.h"
@@ -28,10 +29,7 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
+using bench::median;
 
 struct Fixture {
   std::unique_ptr<gl::Context> ctx;

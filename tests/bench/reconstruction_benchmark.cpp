@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench_hurricane.h"
+#include "bench_stats.h"
 #include "io/model_file.h"
 #include "physics/volume_builder.h"
 #include "presets.h"
@@ -29,11 +30,7 @@ namespace {
 
 using namespace nph;
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-}
+using bench::median;
 
 void BM_ReconstructionCost(benchmark::State& state) {
   gl::ContextOptions o;

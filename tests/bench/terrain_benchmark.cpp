@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench_hurricane.h"
+#include "bench_stats.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/sun.h"
@@ -22,10 +23,7 @@ namespace {
 
 using namespace nph;
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
+using bench::median;
 
 void BM_TerrainFrame(benchmark::State& state) {
   auto ctx = bench::hiddenContext();

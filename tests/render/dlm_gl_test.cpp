@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include <fmt/format.h>
@@ -210,6 +211,21 @@ TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
   }
 }
 
+// The generated hurricane's map with the default settings, sun at azimuth 200°, elevation 35°.
+struct HurricaneMap {
+  ExtinctionVolumes volumes = generatedHurricane();
+  scene::VolumeFrame frame = scene::frameOf(volumes);
+  render::VolumeTextures textures = render::VolumeTextures::upload(volumes, frame, "hurricane");
+  std::unique_ptr<render::DeepLightMap> dlm = built(textures);
+  render::DeepLightMap::Readback map = dlm->readBack();
+
+  static std::unique_ptr<render::DeepLightMap> built(const render::VolumeTextures& t) {
+    auto d = std::make_unique<render::DeepLightMap>();
+    d->build(t, -scene::Sun{200.0, 35.0}.toSun(), scene::DlmSettings{});
+    return d;
+  }
+};
+
 // dlmIntensity (glsl/dlm/lookup.glsl) at `points` on the GPU, compiled with `defines`.
 std::vector<float> glslLookup(const render::DeepLightMap& dlm, const std::vector<glm::vec4>& points,
                               const gl::Defines& defines = {}) {
@@ -232,12 +248,11 @@ std::vector<float> glslLookup(const render::DeepLightMap& dlm, const std::vector
 // the read-back map at random points in and around the cloud, including below it (ground shadow:
 // the light past the last node) and outside the map's footprint (full sun).
 TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
-  const ExtinctionVolumes v = generatedHurricane();
-  const auto frame = scene::frameOf(v);
-  auto tex = render::VolumeTextures::upload(v, frame, "hurricane");
-  render::DeepLightMap dlm;
-  ASSERT_TRUE(dlm.build(tex, -scene::Sun{200.0, 35.0}.toSun(), scene::DlmSettings{}));
-  const auto map = dlm.readBack();
+  const HurricaneMap h;
+  const scene::VolumeFrame& frame = h.frame;
+  const render::DeepLightMap& dlm = *h.dlm;
+  const auto& map = h.map;
+  ASSERT_TRUE(dlm.stats().rebuilt);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-0.2, 1.2);
   std::vector<glm::vec4> points;
@@ -266,12 +281,11 @@ TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
 // bit for bit, at points between nodes, on nodes (to float rounding: either side of a node),
 // before the first node and past the last.
 TEST_F(DlmTest, DlmLookupLinearScanIsBitIdenticalToTheBinarySearch) {
-  const ExtinctionVolumes v = generatedHurricane();
-  const auto frame = scene::frameOf(v);
-  auto tex = render::VolumeTextures::upload(v, frame, "hurricane");
-  render::DeepLightMap dlm;
-  ASSERT_TRUE(dlm.build(tex, -scene::Sun{200.0, 35.0}.toSun(), scene::DlmSettings{}));
-  const auto map = dlm.readBack();
+  const HurricaneMap h;
+  const scene::VolumeFrame& frame = h.frame;
+  const render::DeepLightMap& dlm = *h.dlm;
+  const auto& map = h.map;
+  ASSERT_TRUE(dlm.stats().rebuilt);
   const scene::LightSpace& ls = dlm.lightSpace();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.1, 1.1);
