@@ -1,0 +1,259 @@
+// Frame time (issue 19): the eye pass and the deep light map build before and after issue 19's
+// speed-ups, side by side in one interleaved run on the demo's view (oblique preset, 40°, sun
+// 140°/35°, heights × 8). Variants, each round in a rotated order so that they share the load:
+//   ray cast  old       one program for every view (uniform branches), DLM look-up by binary search
+//             scan      + look-up by linear scan (glsl/dlm/lookup.glsl)
+//             spec      + programs specialised per view at compile time (EyePassFeatures)
+//             new       both (the default)
+//   DLM build old       binary search in pass 2, pass 3 stopping at every scatter-slice centre
+//             new       linear scan, pass 3 skipping across the scatter map's flat runs (default)
+//   fetch     the foundation's fetch kernel (fetch_kernel.h) on a volume of the scene's size and
+//             format, the rate of a ray caster that does nothing but sample.
+// Reported (medians over the rounds; ratio = old / new, > 1 is faster): wall ms and process CPU ms
+// (llvmpipe's threads included) of each variant; the ray cast's volume samples per CPU-second as
+// a fraction of the fetch kernel's fetches per CPU-second; and the differences the changes make:
+// the eye-pass variants' frames must be equal bit for bit (counted: differing floats), the DLM
+// build's in 8-bit sRGB levels of the frame (default exposure, ACES) and in |ΔI| of the light
+// functions at every step of every texel.
+// Scenes: `demo` = the realistic generated hurricane (500 × 500 × 60 at 3 km, the `make demo`
+// storm), `coarse` = datagen::coarseStormSpec (72 × 64 × 30). Image width is the second argument
+// (16:9); this 2-core VM renders the demo at 960 × 540.
+// Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_hurricane.h"
+#include "bench_stats.h"
+#include "fetch_kernel.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/gl/context.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/output_image.h"
+#include "scene/scene_file.h"
+#include "scene/sun.h"
+
+namespace {
+
+using namespace nph;
+
+using bench::median;
+
+// Wall and process CPU time of one call, in ms (CPU: all threads, so llvmpipe's workers count).
+struct Timing {
+  double wall_ms = 0.0, cpu_ms = 0.0;
+};
+template <class F>
+Timing timed(F&& f) {
+  const auto w0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
+  f();
+  glFinish();
+  Timing t;
+  t.cpu_ms = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
+  t.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count();
+  return t;
+}
+
+struct Series {
+  std::vector<double> wall, cpu;
+  void add(const Timing& t) {
+    wall.push_back(t.wall_ms);
+    cpu.push_back(t.cpu_ms);
+  }
+};
+
+long differingFloats(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return long(std::max(a.size(), b.size()));
+  long n = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    n += std::bit_cast<std::uint32_t>(a[i]) != std::bit_cast<std::uint32_t>(b[i]);
+  return n;
+}
+
+// Largest difference of the 8-bit sRGB codes (default exposure, ACES) of two frames.
+int maxLevelDifference(const scene::RgbaImage& a, const scene::RgbaImage& b) {
+  scene::ImageOutputOptions o;
+  o.exposure_ev = scene::kDefaultExposureEv;
+  const auto ca = scene::encodeSrgb8(a, o), cb = scene::encodeSrgb8(b, o);
+  int m = 0;
+  for (std::size_t i = 0; i < ca.size() && i < cb.size(); ++i) m = std::max(m, std::abs(int(ca[i]) - int(cb[i])));
+  return m;
+}
+
+// max |I_a − I_b| over every step of every texel of two maps of the same light space.
+double maxLightDifference(const render::DeepLightMap& a, const render::DeepLightMap& b) {
+  const auto ra = a.readBack(), rb = b.readBack();
+  double m = 0.0;
+  for (std::size_t t = 0; t < ra.nodes.size() && t < rb.nodes.size(); ++t) {
+    for (int n = 0; n <= a.stats().steps; ++n) {
+      const double s = n * a.stats().step_m;
+      m = std::max(m, std::abs(scene::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), s) -
+                               scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s)));
+    }
+  }
+  return m;
+}
+
+void BM_FrameVariants(benchmark::State& state) {
+  const bool demo = state.range(0) == 0;
+  const int width = int(state.range(1)), height = width * 9 / 16;
+  const auto ctx = bench::hiddenContext();
+  ExtinctionVolumes v;
+  if (demo) {
+    v = bench::realisticHurricane("nephele-frame-bench.nc");
+  } else {
+    datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
+    spec.ntimes = 1;
+    v = bench::generatedVolumes(spec, "nephele-frame-bench.nc");
+  }
+  const auto frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  scene::CameraSpec cs;
+  cs.preset = scene::CameraPreset::Oblique;
+  cs.fov_deg = 40.0;
+  const scene::Camera camera = scene::cameraFor(cs, frame, width, height);
+  const render::RenderSettings rs;
+  const scene::DlmSettings ds;
+
+  // The DLM variants: built once here for the images, rebuilt (fresh objects) in the timed rounds.
+  render::DeepLightMap dlmNew, dlmOld;
+  dlmOld.setBaseline({.binary_search = true, .slice_breaks = true});
+  dlmNew.build(tex, -sun.toSun(), ds);
+  dlmOld.build(tex, -sun.toSun(), ds);
+
+  // The eye-pass variants: one renderer each (each keeps its programs compiled).
+  const render::EyePassBaseline eye[4] = {{.uniform_branches = true, .binary_search = true},
+                                          {.uniform_branches = true, .binary_search = false},
+                                          {.uniform_branches = false, .binary_search = true},
+                                          {}};
+  const char* eyeName[4] = {"old", "scan", "spec", "new"};
+  render::CloudRenderer renderer[4];
+  render::RenderOutput out[4];
+  for (int k = 0; k < 4; ++k) {
+    renderer[k].setBaseline(eye[k]);
+    out[k] = renderer[k].render(tex, dlmNew, camera, sun, rs);  // compiles, warms up
+  }
+  long differing = 0;
+  for (int k = 0; k < 3; ++k) {
+    differing += differingFloats(out[k].frame.rgba, out[3].frame.rgba);
+    differing += differingFloats(out[k].cloud_layer.rgba, out[3].cloud_layer.rgba);
+  }
+  const render::RenderOutput withOldDlm = renderer[3].render(tex, dlmOld, camera, sun, rs);
+  const int dlmLevels = maxLevelDifference(withOldDlm.frame, out[3].frame);
+  const double dlmLight = maxLightDifference(dlmOld, dlmNew);
+  renderer[3].countSamples(true);
+  renderer[3].render(tex, dlmNew, camera, sun, rs);
+  const double samples = double(renderer[3].sampleCount());
+  renderer[3].countSamples(false);
+
+  // The fetch kernel on a volume of the scene's size and format.
+  auto volume = gl::Texture::create3D(GL_R32F, v.nx, v.ny, v.nz).label("fetch-limit volume");
+  glTextureSubImage3D(volume.id(), 0, 0, 0, 0, v.nx, v.ny, v.nz, GL_RED, GL_FLOAT, v.water_per_m.data());
+  volume.sampling(GL_LINEAR, GL_REPEAT);
+  constexpr int kSteps = 128;
+  const bench::FetchKernel kernel({width, height}, kSteps);
+  const glm::vec3 step = glm::vec3(1.0f / kSteps) * 0.57735f;  // oblique, like the camera's rays
+  kernel.dispatch(volume, step);                               // warm-up
+
+  Series ray[4], dlm[2], fetch;
+  std::vector<double> pass[2][3];
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    // Seven jobs per round (4 ray casts, 2 DLM builds, the fetch kernel), at a rotating offset.
+    for (int j = 0; j < 7; ++j) {
+      const int job = (j + round) % 7;
+      Timing t;
+      if (job < 4) {
+        t = timed([&] { renderer[job].render(tex, dlmNew, camera, sun, rs); });
+        ray[job].add(t);
+      } else if (job < 6) {
+        const int d = job - 4;  // 0 old, 1 new
+        render::DeepLightMap map;
+        if (d == 0) map.setBaseline({.binary_search = true, .slice_breaks = true});
+        t = timed([&] { map.build(tex, -sun.toSun(), ds); });
+        dlm[d].add(t);
+        pass[d][0].push_back(map.stats().pass1_ms);
+        pass[d][1].push_back(map.stats().pass2_ms);
+        pass[d][2].push_back(map.stats().pass3_ms);
+      } else {
+        t = timed([&] { kernel.dispatch(volume, step); });
+        fetch.add(t);
+      }
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+
+  auto& c = state.counters;
+  for (int k = 0; k < 4; ++k) {
+    c[std::string("ray_ms_") + eyeName[k]] = median(ray[k].wall);
+    c[std::string("ray_cpu_ms_") + eyeName[k]] = median(ray[k].cpu);
+  }
+  for (int k = 0; k < 3; ++k) {
+    c[std::string("ray_ratio_") + eyeName[k] + "_new"] = median(ray[k].wall) / median(ray[3].wall);
+    c[std::string("ray_cpu_ratio_") + eyeName[k] + "_new"] = median(ray[k].cpu) / median(ray[3].cpu);
+  }
+  c["dlm_ms_old"] = median(dlm[0].wall);
+  c["dlm_ms_new"] = median(dlm[1].wall);
+  c["dlm_cpu_ms_old"] = median(dlm[0].cpu);
+  c["dlm_cpu_ms_new"] = median(dlm[1].cpu);
+  c["dlm_ratio"] = median(dlm[0].wall) / median(dlm[1].wall);
+  c["dlm_cpu_ratio"] = median(dlm[0].cpu) / median(dlm[1].cpu);
+  for (int p = 0; p < 3; ++p) {
+    c["pass" + std::to_string(p + 1) + "_ms_old"] = median(pass[0][p]);
+    c["pass" + std::to_string(p + 1) + "_ms_new"] = median(pass[1][p]);
+  }
+  const double fetchPerCpuS = kernel.fetchesPerDispatch() / (median(fetch.cpu) * 1e-3);
+  const double samplesPerCpuS[2] = {samples / (median(ray[0].cpu) * 1e-3), samples / (median(ray[3].cpu) * 1e-3)};
+  c["fetches_per_cpu_s"] = fetchPerCpuS;
+  c["samples"] = samples;
+  c["fraction_of_fetch_limit_old"] = samplesPerCpuS[0] / fetchPerCpuS;
+  c["fraction_of_fetch_limit_new"] = samplesPerCpuS[1] / fetchPerCpuS;
+  c["eye_differing_floats"] = double(differing);
+  c["dlm_max_levels"] = dlmLevels;
+  c["dlm_max_abs_light"] = dlmLight;
+  c["dlm_mean_nodes"] = dlmNew.stats().mean_nodes;
+
+  std::fprintf(stderr,
+               "frame benchmark, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n"
+               "  ray cast   wall ms old %.0f  scan %.0f  spec %.0f  new %.0f   old/new %.2f (scan %.2f, spec %.2f)\n"
+               "             CPU ms  old %.0f  scan %.0f  spec %.0f  new %.0f   old/new %.2f\n"
+               "             %.3g samples; %.3g samples per CPU-s = %.1f %% of the fetch kernel's %.3g "
+               "fetches per CPU-s (old %.1f %%); frames differ in %ld floats\n"
+               "  DLM build  wall ms old %.0f (passes %.0f + %.0f + %.0f)  new %.0f (%.0f + %.0f + %.0f)  old/new %.2f;"
+               " CPU old/new %.2f\n"
+               "             max |dI| %.4f, frame max %d 8-bit levels; %.2f nodes per texel\n",
+               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str(),
+               median(ray[0].wall), median(ray[1].wall), median(ray[2].wall), median(ray[3].wall),
+               median(ray[0].wall) / median(ray[3].wall), median(ray[1].wall) / median(ray[3].wall),
+               median(ray[2].wall) / median(ray[3].wall), median(ray[0].cpu), median(ray[1].cpu), median(ray[2].cpu),
+               median(ray[3].cpu), median(ray[0].cpu) / median(ray[3].cpu), samples, samplesPerCpuS[1],
+               100.0 * samplesPerCpuS[1] / fetchPerCpuS, fetchPerCpuS, 100.0 * samplesPerCpuS[0] / fetchPerCpuS,
+               differing, median(dlm[0].wall), median(pass[0][0]), median(pass[0][1]), median(pass[0][2]),
+               median(dlm[1].wall), median(pass[1][0]), median(pass[1][1]), median(pass[1][2]),
+               median(dlm[0].wall) / median(dlm[1].wall), median(dlm[0].cpu) / median(dlm[1].cpu), dlmLight, dlmLevels,
+               dlmNew.stats().mean_nodes);
+}
+BENCHMARK(BM_FrameVariants)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 1920})  // coarse storm, 1920 × 1080
+    ->Args({0, 960})   // demo storm, 960 × 540
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+}  // namespace
+
+BENCHMARK_MAIN();
