@@ -249,24 +249,21 @@ std::vector<float> glslLookup(const render::DeepLightMap& dlm, const std::vector
 // the light past the last node) and outside the map's footprint (full sun).
 TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
   const HurricaneMap h;
-  const scene::VolumeFrame& frame = h.frame;
-  const render::DeepLightMap& dlm = *h.dlm;
-  const auto& map = h.map;
-  ASSERT_TRUE(dlm.stats().rebuilt);
+  ASSERT_TRUE(h.dlm->stats().rebuilt);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-0.2, 1.2);
   std::vector<glm::vec4> points;
   for (int i = 0; i < 4096; ++i) {
-    const glm::dvec3 p = frame.min_m() + frame.size_m() * glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 p = h.frame.min_m() + h.frame.size_m() * glm::dvec3(u(rng), u(rng), u(rng));
     points.emplace_back(glm::vec3(p), 0.0f);
   }
-  points.emplace_back(glm::vec3(frame.worldFromGrid({20.0, 18.0, 0.0})), 0.0f);  // ground under the storm
-  const std::vector<float> gpu = glslLookup(dlm, points);
+  points.emplace_back(glm::vec3(h.frame.worldFromGrid({20.0, 18.0, 0.0})), 0.0f);  // ground under the storm
+  const std::vector<float> gpu = glslLookup(*h.dlm, points);
   double maxDiff = 0.0;
   int inside = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     // The CPU look-up at the float position the GPU saw.
-    const double cpu = render::DeepLightMap::lookup(map, dlm.lightSpace(), glm::dvec3(glm::vec3(points[i])));
+    const double cpu = render::DeepLightMap::lookup(h.map, h.dlm->lightSpace(), glm::dvec3(glm::vec3(points[i])));
     maxDiff = std::max(maxDiff, std::abs(cpu - double(gpu[i])));
     if (cpu < 0.999) ++inside;
   }
