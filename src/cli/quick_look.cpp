@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/basemap.h"
 #include "scene/georeference.h"
 #include "volume/volume_frame.h"
 
@@ -22,7 +23,7 @@ namespace nph::cli {
 namespace {
 
 /// NASA Blue Marble from Debian's marble-qt-data (tools/debian-packages.txt).
-constexpr const char* kBlueMarble = "/usr/share/marble/data/maps/earth/bluemarble/bluemarble.jpg";
+constexpr const char* kBlueMarble = scene::kBlueMarblePath;
 /// The fixed sun of a quick look without a usable solar position: mid-afternoon from the
 /// south-east quadrant, high enough for readable shadows (as the make-demo scene).
 constexpr double kFixedSunAzimuth_deg = 140.0;

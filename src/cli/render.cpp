@@ -33,6 +33,7 @@ struct RenderOptions {
   std::string gl = "auto";
   int width = 0, height = 0;
   int timestep = -1;
+  std::string basemap;
   bool print_scene = false;
 };
 
@@ -56,6 +57,12 @@ int runRender(const RenderOptions& o) {
   if (o.timestep >= 0 && s.data) {
     s.data->timestep = o.timestep;
     s.data->time_utc.reset();
+  }
+  if (!o.basemap.empty()) {
+    // Issue 14 item 3: any raster GDAL reads (scene/basemap.h), replacing the scene's or the quick
+    // look's imagery; margin and resolution stay the scene's (or the defaults).
+    if (!s.basemap) s.basemap.emplace();
+    s.basemap->path = o.basemap;
   }
   if (o.passes) s.output.passes = true;
   applyColourOptions(o.display, o.view, s.output.image);
@@ -143,6 +150,9 @@ void addRenderCommand(CLI::App& app, Action& run) {
   cmd->add_option("--width", opts->width, "image width (default: the scene's, 1920)");
   cmd->add_option("--height", opts->height, "image height (default: the scene's, 1080)");
   cmd->add_option("--timestep", opts->timestep, "timestep index (replaces data.timestep/time)");
+  cmd->add_option("--basemap", opts->basemap,
+                  "imagery under the clouds: any raster GDAL reads (GeoTIFF/COG, VRT, MBTiles, PNG/JPEG with a world "
+                  "file, or a whole-Earth 2:1 image); replaces basemap.path");
   cmd->callback([opts, &run] { run = [opts] { return runRender(*opts); }; });
 }
 

@@ -27,9 +27,13 @@ inline constexpr int kMaxDerivedLevels = 4096;
 /// Pixels of one image (output, basemap): 8192 x 8192. A 16384^2 RGBA32F target needs 4 GiB of
 /// GL memory plus the DLM and failed with GL_OUT_OF_MEMORY after 565 s on llvmpipe.
 inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t(8192) * 8192;
-/// Pixels of a basemap image: 8192 x 4096 (940 MB as float RGB plus the decode buffer). A
-/// 373 KB PNG declaring 16000 x 8000 took 3.3 GB; downsample larger images first.
+/// Pixels of a basemap image held in memory (the globe's whole-Earth image): 8192 x 4096 (400 MB as
+/// float RGB).
 inline constexpr std::uint64_t kMaxBasemapPixels = std::uint64_t(8192) * 4096;
+/// Pixels of a basemap source raster (scene/basemap.h): 65536 x 65536. GDAL's warper reads only the
+/// windows it needs, in chunks, so the source may be far larger than what is held in memory; past
+/// this a header (a 373 KB PNG declaring 16000 x 8000 once took 3.3 GB) is taken as hostile.
+inline constexpr std::uint64_t kMaxBasemapSourcePixels = std::uint64_t(65536) * 65536;
 /// Frames one animation may plan: 10 hours at 60 frames/s.
 inline constexpr std::int64_t kMaxFrames = std::int64_t(60) * 3600 * 10;
 /// Nesting depth of JSON in scene files, keyframe files and .nph indices. nlohmann::json's dump()

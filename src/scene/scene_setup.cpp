@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -70,13 +71,19 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
     const int n = s.basemap->pixels_long_side;
     const int w = std::max(1, static_cast<int>(std::lround(n * extent.x / longSide)));
     const int h = std::max(1, static_cast<int>(std::lround(n * extent.y / longSide)));
-    const EquirectangularImage source = EquirectangularImage::load(s.basemap->path);
-    p.basemap = reprojectBasemap(source, *geo, rect, w, h);
+    // Issue 14 item 3: any GDAL raster. A regional one lies over the whole-Earth default where the
+    // default is installed, so the margin, the far ground and the globe are not black around it.
+    std::vector<BasemapRaster> layers{BasemapRaster::open(s.basemap->path)};
+    if (!layers.front().wholeEarth() && std::filesystem::exists(kBlueMarblePath)) {
+      layers.insert(layers.begin(), BasemapRaster::open(kBlueMarblePath));
+    }
+    p.basemap = reprojectBasemap(layers, *geo, rect, w, h);
     if (s.view == ViewMode::Globe) {
-      p.basemap_equirect = source.image();
+      const glm::ivec2 globeSize = equirectangularSizeFor(layers.back());
+      p.basemap_equirect = reprojectEquirectangular(layers, globeSize.x, globeSize.y);
     } else {
       p.far_basemap_rect = farBasemapRectangle(p.frame);
-      p.far_basemap = reprojectBasemap(source, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
+      p.far_basemap = reprojectBasemap(layers, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
     }
     p.basemap_rect = rect;
     log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h, extent.x / 1000.0,

@@ -119,12 +119,16 @@ void writePngHeaderOnly(const std::string& path, std::uint32_t width, std::uint3
 }
 
 TEST(HostileScene, HugeBasemapIsRefusedFromItsHeader) {
-  // 16000 x 8000 took 3.3 GB from a 373 KB PNG.
+  // 16000 x 8000 once took 3.3 GB from a 373 KB PNG. GDAL's warper now reads only the windows it
+  // needs (limits::kMaxBasemapSourcePixels = 65536^2): 100000 x 50000 is refused from the header.
   const Scratch dir;
   const std::string path = dir.file("huge.png");
-  writePngHeaderOnly(path, 16000, 8000);
+  writePngHeaderOnly(path, 100000, 50000);
   expectError<InputError>([&] { (void)scene::EquirectangularImage::load(path); },
-                          {path, "basemap width x height = 16000 x 8000", "downsample"});
+                          {path, "basemap width x height = 100000 x 50000", "downsample"});
+  // Within the limit, the same header-only PNG fails when its pixels are read, naming the file.
+  writePngHeaderOnly(path, 16000, 8000);
+  expectError<InputError>([&] { (void)scene::EquirectangularImage::load(path); }, {path, "cannot read"});
 }
 
 TEST(HostileScene, AnimationPlanningMoreFramesThanTheLimitIsRefused) {

@@ -1,15 +1,18 @@
-// Basemap: equirectangular image -> data's map projection. A synthetic image whose colour encodes
-// lon/lat (written with OpenImageIO) is reprojected into Lambert conformal; each pixel must decode
-// to the lon/lat of its centre computed with Snyder's closed form (independent of PROJ).
+// Basemap: equirectangular image -> data's map projection through GDAL's warper. A synthetic image
+// whose colour encodes lon/lat (a float GeoTIFF written with GDAL, without georeference: the
+// whole-Earth 2:1 rule) is reprojected into Lambert conformal; each pixel must decode to the
+// lon/lat of its centre computed with Snyder's closed form (independent of PROJ).
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 
 #include "core/error.h"
+#include "gdal_raster_writer.h"
 #include "scene/basemap.h"
 #include "scene/output_image.h"
 #include "scene_test_support.h"
@@ -19,7 +22,9 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-/// w × w/2 float EXR, R = (lon + 180)/360, G = (lat + 90)/180 at pixel centres, B = 0.25.
+/// w × w/2 image, R = (lon + 180)/360, G = (lat + 90)/180 at pixel centres, B = 0.25: a float
+/// GeoTIFF through GDAL (.tif), or a float EXR through OpenImageIO (.exr: a format Debian's GDAL
+/// does not read, which basemap.h reads with OpenImageIO).
 void writeLonLatImage(const std::string& path, int w) {
   const int h = w / 2;
   std::vector<float> px(std::size_t(w) * std::size_t(h) * 3);
@@ -30,6 +35,10 @@ void writeLonLatImage(const std::string& path, int w) {
       px[o + 1] = static_cast<float>(1.0 - (y + 0.5) / h);  // (lat + 90) / 180
       px[o + 2] = 0.25f;
     }
+  }
+  if (path.ends_with(".tif")) {
+    test::writeGeoTiff(path, {w, h, 3, GDT_Float32, std::nullopt, ""}, std::vector<double>(px.begin(), px.end()));
+    return;
   }
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out);
@@ -53,7 +62,7 @@ LonLat snyderLccInverse(double x, double y) {
 
 TEST(Basemap, LonLatImageReprojectedIntoLambertDecodesBack) {
   nph::test::ScratchDir dir("scene");
-  const std::string path = dir.file("lonlat.exr");
+  const std::string path = dir.file("lonlat.tif");
   writeLonLatImage(path, 1440);
   const EquirectangularImage src = EquirectangularImage::load(path);
   ASSERT_EQ(src.image().width, 1440);
@@ -88,9 +97,12 @@ TEST(Basemap, LonLatImageReprojectedIntoLambertDecodesBack) {
 }
 
 TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) {
-  // reprojectBasemap projects only 8-pixel cell corners and interpolates inside; compare it with
-  // projecting every pixel. The image is smooth everywhere on the sphere (the unit vector of
-  // lon/lat as colour), so any lon/lat error shows as a colour error.
+  // GDAL's warper runs PROJ only where its approximating transformer finds a row non-linear
+  // (basemap_gdal.cpp); compare it with projecting every pixel. The image is smooth everywhere on
+  // the sphere (the unit vector of lon/lat as colour), so any lon/lat error shows as a colour
+  // error. The output is finer than the source everywhere (8 km pixels, the source's 0.5° are
+  // ≥ 14 km at 75°N), so GDAL's bilinear is the point-sampled bilinear of sampleLonLat (coarser
+  // outputs get GDAL's widened, antialiasing kernel instead).
   LinearRgbImage img{720, 360, std::vector<float>(720 * 360 * 3)};
   for (int y = 0; y < 360; ++y) {
     for (int x = 0; x < 720; ++x) {
@@ -111,7 +123,7 @@ TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) 
     const VolumeFrame frame = frameOf(v);
     const SceneGeoreference geo(v, frame);
     const WorldRect rect = basemapRectangle(frame, 0.1);
-    const int W = 101, H = 83;  // not multiples of the cell size
+    const int W = 303, H = 249;
     const LinearRgbImage fast = reprojectBasemap(src, geo, rect, W, H);
     double maxDiff = 0.0;
     for (int py = 0; py < H; ++py) {
@@ -185,9 +197,14 @@ TEST(Basemap, EightBitImagesAreSrgbDecoded) {
 
 TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
   nph::test::ScratchDir dir("scene");
-  auto expectInputError = [](const std::string& path, const char* what) {
+  // Each bad raster is refused with an InputError naming the file and what was expected, when it is
+  // opened or, for damage GDAL sees only when it reads pixels, when it is warped; never a crash.
+  auto expectInputError = [&](const std::string& path, const char* what) {
     try {
-      (void)EquirectangularImage::load(path);
+      const BasemapRaster r = BasemapRaster::open(path);
+      auto v = test::lambertVolumes(8, 8, 2);
+      const VolumeFrame frame = frameOf(v);
+      (void)reprojectBasemap(r, SceneGeoreference(v, frame), basemapRectangle(frame, 0.0), 16, 16);
       ADD_FAILURE() << "accepted " << path;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -195,8 +212,10 @@ TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
     }
   };
   expectInputError(dir.file("no-such-bluemarble.jpg"), "not found");
+  // Not an image at all.
   { std::ofstream(dir.file("notanimage.jpg")) << "this is not a JPEG"; }
-  expectInputError(dir.file("notanimage.jpg"), "cannot read");
+  expectInputError(dir.file("notanimage.jpg"), "not a raster GDAL reads");
+  // No georeference and not 2:1: nothing says where it lies.
   const unsigned char px[3 * 3 * 3] = {};
   auto out = OIIO::ImageOutput::create(dir.file("square.png"));
   ASSERT_TRUE(out);
@@ -204,6 +223,54 @@ TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
   ASSERT_TRUE(out->close());
   expectInputError(dir.file("square.png"), "width = 2·height");
+  // A geotransform without a CRS (metres of what?).
+  test::writeGeoTiff(dir.file("nocrs.tif"),
+                     {40, 30, 3, GDT_Byte, std::array<double, 6>{500000.0, 100.0, 0.0, 4e6, 0.0, -100.0}, ""},
+                     std::vector<double>(40 * 30 * 3, 100.0));
+  expectInputError(dir.file("nocrs.tif"), "has no coordinate reference system");
+  // Truncated: a valid lon/lat GeoTIFF over the volume, cut after its header and a third of its
+  // pixels.
+  const std::string cut = dir.file("truncated.tif");
+  test::writeGeoTiff(cut,
+                     {400, 300, 3, GDT_Byte, std::array<double, 6>{-82.0, 0.01, 0.0, 27.0, 0.0, -0.01}, "EPSG:4326"},
+                     std::vector<double>(400 * 300 * 3, 100.0));
+  std::filesystem::resize_file(cut, std::filesystem::file_size(cut) / 3);
+  expectInputError(cut, "cannot read");
+  // An absurd size declared by a few bytes (a VRT): refused from its header, before any read.
+  {
+    std::ofstream(dir.file("huge.vrt")) << R"(<VRTDataset rasterXSize="1000000" rasterYSize="1000000">
+  <SRS>EPSG:4326</SRS><GeoTransform>-180, 0.00036, 0, 90, 0, -0.00018</GeoTransform>
+  <VRTRasterBand dataType="Byte" band="1"/></VRTDataset>)";
+  }
+  expectInputError(dir.file("huge.vrt"), "basemap width x height = 1000000 x 1000000");
+  // Bands GDAL reads but a basemap cannot use.
+  test::writeGeoTiff(dir.file("int32.tif"), {8, 4, 1, GDT_Int32, std::nullopt, ""}, std::vector<double>(32, 1.0));
+  expectInputError(dir.file("int32.tif"), "expected Byte or UInt16");
+}
+
+/// A lon/lat GeoTIFF of the whole Earth (EPSG:4326 with its geotransform) warps exactly as the
+/// same pixels without georeference (the 2:1 rule): both are whole-Earth plate carrée.
+TEST(Basemap, GeoreferencedWholeEarthTiffEqualsTheTwoToOneRule) {
+  nph::test::ScratchDir dir("scene");
+  const std::string plain = dir.file("plain.tif"), geo4326 = dir.file("epsg4326.tif");
+  std::vector<double> px(360 * 180 * 3);
+  for (std::size_t i = 0; i < px.size(); ++i) px[i] = double((i * 7919) % 256);
+  test::writeGeoTiff(plain, {360, 180, 3, GDT_Byte, std::nullopt, ""}, px);
+  test::writeGeoTiff(
+      geo4326, {360, 180, 3, GDT_Byte, std::array<double, 6>{-180.0, 1.0, 0.0, 90.0, 0.0, -1.0}, "EPSG:4326"}, px);
+  const BasemapRaster a = BasemapRaster::open(plain), b = BasemapRaster::open(geo4326);
+  EXPECT_TRUE(a.wholeEarth());
+  EXPECT_TRUE(b.wholeEarth());
+  const auto v = test::lambertVolumes();
+  const VolumeFrame frame = frameOf(v);
+  const SceneGeoreference geo(v, frame);
+  const WorldRect rect = basemapRectangle(frame, 0.5);
+  const LinearRgbImage ia = reprojectBasemap(a, geo, rect, 64, 48), ib = reprojectBasemap(b, geo, rect, 64, 48);
+  EXPECT_EQ(ia.rgb, ib.rgb);
+  // 8-bit codes are sRGB-decoded: every value in [0, 1], and not all equal.
+  EXPECT_GE(*std::min_element(ia.rgb.begin(), ia.rgb.end()), 0.0f);
+  EXPECT_LE(*std::max_element(ia.rgb.begin(), ia.rgb.end()), 1.0f);
+  EXPECT_NE(*std::min_element(ia.rgb.begin(), ia.rgb.end()), *std::max_element(ia.rgb.begin(), ia.rgb.end()));
 }
 
 TEST(Basemap, BlueMarbleFromMarbleQtData) {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "gdal_raster_writer.h"
 #include "io/model_file.h"
 #include "physics/optics_settings.h"
 #include "physics/volume_builder.h"
@@ -107,6 +108,82 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   EXPECT_NEAR(double(c.r) * 360.0 - 180.0, stormLl.lon_deg,
               pixelDeg / std::cos(stormLl.lat_deg * 3.14159265358979 / 180.0));
   EXPECT_NEAR(double(c.g) * 180.0 - 90.0, stormLl.lat_deg, pixelDeg);
+}
+
+// Issue 14 item 3: a GeoTIFF in another CRS than the data's — Web Mercator (EPSG:3857) imagery under
+// a Lambert conformal WRF grid — lands at the right place after GDAL's warp. The GeoTIFF (written
+// with GDAL, 1 km pixels around the storm) stores each pixel centre's lon/lat as its colour,
+// computed with the spherical Mercator's closed-form inverse (Snyder 1987 eq. 7-4, 7-5 on
+// R = 6378137 m, the EPSG:3857 definition), not with PROJ; the warped pixel that contains the
+// storm centre must show the storm's lon/lat (the generator's truth) within that pixel.
+TEST(PlacementGdal, WebMercatorGeoTiffUnderALambertGridShowsTheStormAtItsLonLat) {
+  nph::test::ScratchDir dir("scene");
+  datagen::WrfHurricaneSpec spec;
+  spec.nx = 80;
+  spec.ny = 72;
+  spec.nz = 20;
+  spec.ntimes = 1;
+  spec.dx_m = 5000.0;
+  spec.projection = datagen::WrfProjection::Lambert;
+  const std::string wrf = dir.file("wrfout.nc");
+  const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, wrf);
+  const ExtinctionVolumes v = physics::buildExtinctionVolumes(io::openModelFile(wrf).load(0), physics::defaultOptics(),
+                                                              physics::VerticalGridOptions{});
+  const VolumeFrame frame = frameOf(v, 10.0);
+  const SceneGeoreference geo(v, frame);
+  const auto [stormLon, stormLat] = datagen::stormCentreLonLat(truth, spec.dx_m);
+
+  // 1. The GeoTIFF: 1 km Web Mercator pixels over ±400 km around the storm (covering the footprint).
+  constexpr double kR = 6378137.0, kDegPerRad = 180.0 / 3.14159265358979323846;
+  const double cx = stormLon / kDegPerRad * kR;
+  const double cy = kR * std::log(std::tan(3.14159265358979323846 / 4.0 + stormLat / kDegPerRad / 2.0));
+  const int n = 800;
+  const double pixel_m = 1000.0, x0 = cx - 0.5 * n * pixel_m, y0 = cy + 0.5 * n * pixel_m;
+  std::vector<double> px(std::size_t(n) * std::size_t(n) * 3);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const double x = x0 + (i + 0.5) * pixel_m, y = y0 - (j + 0.5) * pixel_m;
+      const std::size_t o = (std::size_t(j) * std::size_t(n) + std::size_t(i)) * 3;
+      px[o] = x / kR * kDegPerRad;                                                                  // lon
+      px[o + 1] = (2.0 * std::atan(std::exp(y / kR)) - 0.5 * 3.14159265358979323846) * kDegPerRad;  // lat
+      px[o + 2] = 0.5;
+    }
+  }
+  const std::string tif = dir.file("mercator.tif");
+  test::writeGeoTiff(
+      tif, {n, n, 3, GDT_Float32, std::array<double, 6>{x0, pixel_m, 0.0, y0, 0.0, -pixel_m}, "EPSG:3857"}, px);
+  const BasemapRaster raster = BasemapRaster::open(tif);
+  EXPECT_FALSE(raster.wholeEarth());
+
+  // 2. Warped under the data's frame: the storm's pixel shows the storm's lon/lat.
+  const WorldRect rect = basemapRectangle(frame, 0.1);
+  const int W = 420, H = 380;
+  const LinearRgbImage map = reprojectBasemap(raster, geo, rect, W, H);
+  const glm::dvec2 stormWorld{truth.storm_centre_x_m + 0.5 * frame.voxel_size_m.x,
+                              truth.storm_centre_y_m + 0.5 * frame.voxel_size_m.y};
+  const double fx = (stormWorld.x - rect.min_m.x) / (rect.max_m.x - rect.min_m.x) * W;
+  const double fy = (rect.max_m.y - stormWorld.y) / (rect.max_m.y - rect.min_m.y) * H;
+  const glm::vec3 c = map.at(static_cast<int>(fx), static_cast<int>(fy));
+  // Half an output pixel (~1 km) in degrees, plus float storage of the colour (1e-5°).
+  const double halfPixelDeg = 0.5 * (rect.max_m.x - rect.min_m.x) / W / 111000.0;
+  EXPECT_NEAR(double(c.r), stormLon, halfPixelDeg / std::cos(stormLat / kDegPerRad) + 1e-5);
+  EXPECT_NEAR(double(c.g), stormLat, halfPixelDeg + 1e-5);
+  EXPECT_FLOAT_EQ(c.b, 0.5f);
+
+  // 3. Every output pixel the raster covers shows its own lon/lat (the data's PROJ inverse): the
+  //    whole warp, not one point, within the bilinear error of the Mercator's curved latitude
+  //    over a 1 km pixel (< 1e-6°), the approximating transformer (5e-4 source pixels ≈ 5e-6°) and
+  //    float storage of the colour (~1e-5° at lon −80).
+  double maxErr = 0.0;
+  for (int y = 0; y < H; y += 7) {
+    for (int x = 0; x < W; x += 7) {
+      const LonLat ll = geo.lonLatFromWorld(worldFromBasemapPixel(rect, W, H, x, y));
+      const glm::vec3 m = map.at(x, y);
+      ASSERT_FLOAT_EQ(m.b, 0.5f) << "pixel " << x << "," << y << " not covered";
+      maxErr = std::max({maxErr, std::abs(double(m.r) - ll.lon_deg), std::abs(double(m.g) - ll.lat_deg)});
+    }
+  }
+  EXPECT_LT(maxErr, 5e-5);
 }
 
 INSTANTIATE_TEST_SUITE_P(Wrf, Placement,

@@ -63,8 +63,11 @@ TEST(SceneSetup, FlatSceneWithBasemapAndTimedSun) {
   const glm::dvec2 w = worldFromBasemapPixel(*p.basemap_rect, 300, 260, 150, 130);
   const LonLat ll = p.geo->lonLatFromWorld(w);
   const glm::vec3 e = src.sampleLonLat(ll.lon_deg, ll.lat_deg);
-  EXPECT_NEAR(c.r, e.r, 1e-6f);
-  EXPECT_NEAR(c.g, e.g, 1e-6f);
+  // The PNG's 8-bit codes are interpolated by GDAL's warper and then decoded (scene/basemap.h), the
+  // reference decodes and then interpolates: they differ by the sRGB curve's curvature over the
+  // neighbouring codes, f''·Δ²/8 < 1e-5 for this smooth map (3.5e-6 measured).
+  EXPECT_NEAR(c.r, e.r, 1e-5f);
+  EXPECT_NEAR(c.g, e.g, 1e-5f);
   EXPECT_GT(c.r, 0.0f);
 }
 

@@ -1,0 +1,590 @@
+// Basemap imagery through GDAL (issue 14 item 3; scene/basemap.h): opening any raster GDAL reads,
+// its georeference, and the warp into the data's map frame or onto the whole Earth.
+//
+// The warp is GDAL's own warper (gdalwarper.h: GDALChunkAndWarpImage, bilinear) driven by one
+// transformer chain, destination pixel -> lon/lat -> source pixel:
+//   * destination pixel -> lon/lat is ours: the flat view's world rectangle goes through
+//     SceneGeoreference (the data's PROJ projection, the rotated pole, the manual offset of Nes 2008
+//     §5.5.1), which no single CRS of GDAL's could express; the globe's is plate carrée;
+//   * lon/lat -> source pixel is GDAL's GenImgProj transformer (the source's CRS and geotransform).
+// GDAL's approximating transformer wraps the chain, as gdalwarp does, so PROJ runs only where a
+// row is not linear to within kApproxError_px (the hand-written code this replaces projected
+// 8-pixel cell corners for the same reason: PROJ costs ~0.3 µs a point).
+#include <OpenImageIO/imageio.h>
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <fmt/format.h>
+#include <gdal.h>
+#include <gdal_alg.h>
+#include <gdal_vrt.h>
+#include <gdalwarper.h>
+#include <ogr_srs_api.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+
+#include "core/error.h"
+#include "core/input_file.h"
+#include "core/limits.h"
+#include "core/log.h"
+#include "scene/basemap.h"
+
+namespace nph::scene {
+namespace {
+
+/// Lon/lat as the chain's middle CRS: WGS84 in lon, lat order whatever the GDAL/PROJ axis rules.
+/// The data's lon/lat are those of its projection's sphere, used as WGS84 (scene/georeference.h).
+constexpr const char* kLonLatSrs = "+proj=longlat +datum=WGS84 +no_defs";
+/// Largest error [source pixels] the approximating transformer may make; GDAL's gdalwarp uses
+/// 0.125. 0.01 keeps the error of a lon/lat-coded test image within 1e-4° at 0.25°/pixel... and far
+/// below anything bilinear filtering shows.
+constexpr double kApproxError_px = 0.0005;
+/// The warper's working memory (it splits the output into chunks that fit).
+constexpr double kWarpMemory_bytes = 256.0 * 1024 * 1024;
+
+void registerGdal() {
+  static std::once_flag once;
+  std::call_once(once, [] { GDALAllRegister(); });
+}
+
+/// Collects GDAL's error messages while alive (thread-local handler stack), for InputErrors that
+/// say what GDAL said.
+class GdalErrors {
+ public:
+  GdalErrors() {
+    CPLPushErrorHandlerEx(&GdalErrors::handler, this);
+    CPLErrorReset();
+  }
+  ~GdalErrors() { CPLPopErrorHandler(); }
+  GdalErrors(const GdalErrors&) = delete;
+  GdalErrors& operator=(const GdalErrors&) = delete;
+  /// The first failure's message, or `fallback` when GDAL gave none.
+  std::string message(const char* fallback) const { return first_.empty() ? std::string(fallback) : first_; }
+  bool failed() const { return !first_.empty(); }
+
+ private:
+  static void CPL_STDCALL handler(CPLErr level, CPLErrorNum, const char* msg) {
+    auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
+    if (level >= CE_Failure && self->first_.empty()) self->first_ = msg ? msg : "";
+    if (level == CE_Warning) log::debug("GDAL: {}", msg ? msg : "");
+  }
+  std::string first_;
+};
+
+struct DatasetCloser {
+  void operator()(void* ds) const {
+    if (ds) GDALClose(static_cast<GDALDatasetH>(ds));
+  }
+};
+using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
+
+/// How a band's values become linear radiometric reflectance-like values (header comment: Colour).
+enum class Encoding { Srgb8, Srgb16, Linear };
+
+std::string lonLatWkt() {
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  OSRSetFromUserInput(srs, kLonLatSrs);
+  char* wkt = nullptr;
+  OSRExportToWkt(srs, &wkt);
+  std::string out = wkt ? wkt : "";
+  CPLFree(wkt);
+  OSRDestroySpatialReference(srs);
+  return out;
+}
+
+}  // namespace
+
+struct BasemapRaster::Impl {
+  std::string name;
+  std::vector<DatasetPtr> keep;    ///< the opened file, then the VRT wrapping it (if any)
+  GDALDatasetH dataset = nullptr;  ///< what the warper reads (the last of `keep`)
+  int width = 0, height = 0;       ///< of the source itself (not the wrap VRT)
+  std::vector<int> colour_bands;   ///< 3 band indices (grey: the same band thrice)
+  int alpha_band = 0;              ///< 0: none
+  Encoding encoding = Encoding::Linear;
+  bool whole_earth = false;
+  std::vector<float> memory;  ///< fromEquirectangular: the pixels a MEM dataset points at
+
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl() {
+    while (!keep.empty()) keep.pop_back();  // the VRT before the dataset its sources read
+  }
+};
+
+const std::string& BasemapRaster::name() const { return impl_->name; }
+int BasemapRaster::width() const { return impl_->width; }
+int BasemapRaster::height() const { return impl_->height; }
+bool BasemapRaster::wholeEarth() const { return impl_->whole_earth; }
+
+namespace {
+
+bool geographicSrs(const char* wkt) {
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(wkt);
+  const bool geographic = srs && OSRIsGeographic(srs);
+  if (srs) OSRDestroySpatialReference(srs);
+  return geographic;
+}
+
+/// Whole-Earth lon/lat sources: a VRT three source widths wide (the image at −540, −180 and 180°),
+/// so the bilinear warp across the antimeridian sees the pixels on both sides, as the GPU's
+/// GL_REPEAT does on the globe.
+DatasetPtr wrapAroundTheEarth(GDALDatasetH src, const std::array<double, 6>& gt, const std::string& wkt, int w, int h) {
+  VRTDatasetH vrt = VRTCreate(3 * w, h);
+  for (int b = 1; b <= GDALGetRasterCount(src); ++b) {
+    GDALRasterBandH sb = GDALGetRasterBand(src, b);
+    GDALAddBand(vrt, GDALGetRasterDataType(sb), nullptr);
+    auto* vb = static_cast<VRTSourcedRasterBandH>(GDALGetRasterBand(vrt, b));
+    GDALSetRasterColorInterpretation(vb, GDALGetRasterColorInterpretation(sb));
+    for (int copy = 0; copy < 3; ++copy) {
+      VRTAddSimpleSource(vb, sb, 0, 0, w, h, copy * w, 0, w, h, "near", VRT_NODATA_UNSET);
+    }
+  }
+  std::array<double, 6> wrapped = gt;
+  wrapped[0] -= 360.0;
+  GDALSetGeoTransform(vrt, wrapped.data());
+  GDALSetProjection(vrt, wkt.c_str());
+  return DatasetPtr(vrt);
+}
+
+/// Bands, encoding, CRS and whole-Earth test of `impl.dataset` (just opened), wrapping it when it
+/// covers the Earth. `what` names the source in messages.
+void describe(BasemapRaster::Impl& impl) {
+  GDALDatasetH ds = impl.dataset;
+  const std::string& path = impl.name;
+  impl.width = GDALGetRasterXSize(ds);
+  impl.height = GDALGetRasterYSize(ds);
+  limits::requireProductWithin(path, "basemap width x height",
+                               {std::uint64_t(std::max(impl.width, 0)), std::uint64_t(std::max(impl.height, 0))},
+                               limits::kMaxBasemapSourcePixels,
+                               "limits::kMaxBasemapSourcePixels; downsample the raster or cut the region needed");
+  const int bands = GDALGetRasterCount(ds);
+  if (bands < 1 || bands > 4) {
+    throw InputError(fmt::format("{}: basemap has {} bands, expected 1-4 (grey, grey+alpha, RGB, RGBA)", path, bands));
+  }
+  GDALRasterBandH first = GDALGetRasterBand(ds, 1);
+  if (GDALGetRasterColorTable(first) != nullptr) {
+    throw InputError(fmt::format("{}: basemap has a colour palette; expected grey or RGB bands (expand it: "
+                                 "gdal_translate -expand rgb)",
+                                 path));
+  }
+  const GDALDataType type = GDALGetRasterDataType(first);
+  switch (type) {
+    case GDT_Byte: impl.encoding = Encoding::Srgb8; break;
+    case GDT_UInt16: impl.encoding = Encoding::Srgb16; break;
+    case GDT_Float32:
+    case GDT_Float64: impl.encoding = Encoding::Linear; break;
+    default:
+      throw InputError(
+          fmt::format("{}: basemap bands are {}, expected Byte or UInt16 (sRGB) or Float32/Float64 (linear)", path,
+                      GDALGetDataTypeName(type)));
+  }
+  const bool hasAlpha =
+      bands == 2 || bands == 4 || GDALGetRasterColorInterpretation(GDALGetRasterBand(ds, bands)) == GCI_AlphaBand;
+  const int colour = hasAlpha ? bands - 1 : bands;
+  impl.alpha_band = hasAlpha ? bands : 0;
+  impl.colour_bands = colour >= 3 ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 1, 1};
+
+  std::array<double, 6> gt{};
+  const bool hasGeoTransform = GDALGetGeoTransform(ds, gt.data()) == CE_None;
+  const char* wktC = GDALGetProjectionRef(ds);
+  std::string wkt = wktC ? wktC : "";
+  const bool hasCrs = !wkt.empty();
+  const bool hasGcps = GDALGetGCPCount(ds) > 0 && GDALGetGCPProjection(ds) && *GDALGetGCPProjection(ds);
+  if (!hasCrs && !hasGcps) {
+    // Georeferenced without a CRS is a defect; no georeference at all on a 2:1 image is the
+    // documented whole-Earth plate carrée (Blue Marble).
+    if (hasGeoTransform || std::abs(impl.width - 2 * impl.height) > 1) {
+      throw InputError(fmt::format(
+          "{}: basemap ({}x{} pixels) has no coordinate reference system{}; expected a georeferenced raster "
+          "(GeoTIFF keys, a world file with its .aux.xml, a VRT with its SRS) or a whole-Earth equirectangular "
+          "image without georeference, covering 360°×180° (width = 2·height)",
+          path, impl.width, impl.height, hasGeoTransform ? " (it has a geotransform, but in what?)" : ""));
+    }
+    gt = {-180.0, 360.0 / impl.width, 0.0, 90.0, 0.0, -180.0 / impl.height};
+    wkt = lonLatWkt();
+  } else if (!hasGeoTransform && !hasGcps) {
+    throw InputError(fmt::format("{}: basemap has a coordinate reference system but no geotransform (no pixel to "
+                                 "map coordinates); expected a georeferenced raster",
+                                 path));
+  }
+  const double span = gt[1] * impl.width;
+  impl.whole_earth = hasGeoTransform || !hasCrs ? (gt[2] == 0.0 && gt[4] == 0.0 && geographicSrs(wkt.c_str()) &&
+                                                   std::abs(std::abs(span) - 360.0) < std::abs(gt[1]))
+                                                : false;
+  if (impl.whole_earth) {
+    impl.keep.push_back(wrapAroundTheEarth(ds, gt, wkt, impl.width, impl.height));
+    impl.dataset = impl.keep.back().get();
+  }
+}
+
+/// The pre-GDAL reader, for what GDAL cannot open: linear RGB of a float image OpenImageIO reads
+/// (EXR, HDR), or nullopt (integer images are GDAL's: PNG, JPEG, TIFF).
+std::optional<LinearRgbImage> loadWithOpenImageIo(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    (void)OIIO::geterror();
+    return std::nullopt;
+  }
+  const OIIO::ImageSpec spec = in->spec();
+  const bool linear = spec.format.basetype == OIIO::TypeDesc::HALF || spec.format.basetype == OIIO::TypeDesc::FLOAT ||
+                      spec.format.basetype == OIIO::TypeDesc::DOUBLE;
+  const int w = spec.width, h = spec.height, nc = spec.nchannels;
+  if (!linear || nc < 1 || nc > 4 || spec.depth > 1) return std::nullopt;
+  limits::requireProductWithin(path, "basemap width x height",
+                               {std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))},
+                               limits::kMaxBasemapPixels, "limits::kMaxBasemapPixels; downsample the image");
+  const std::size_t n = std::size_t(w) * std::size_t(h);
+  std::vector<float> raw(n * std::size_t(nc));
+  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data())) {
+    throw InputError(fmt::format("{}: cannot decode the basemap image: {}", path, in->geterror()));
+  }
+  LinearRgbImage img{w, h, std::vector<float>(n * 3)};
+  for (std::size_t p = 0; p < n; ++p) {
+    for (std::size_t c = 0; c < 3; ++c) img.rgb[p * 3 + c] = raw[p * std::size_t(nc) + (nc >= 3 ? c : 0)];
+  }
+  return img;
+}
+
+}  // namespace
+
+BasemapRaster BasemapRaster::open(const std::string& path) {
+  registerGdal();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    throw InputError(fmt::format("{}: basemap image not found (expected a raster GDAL reads: GeoTIFF, VRT, MBTiles, "
+                                 "PNG/JPEG with a world file, or a whole-Earth equirectangular image such as Blue "
+                                 "Marble from Debian's marble-qt-data)",
+                                 path));
+  }
+  requireRegularFile(path, "a basemap image");  // a FIFO would block the decoder forever
+  auto impl = std::make_shared<Impl>();
+  impl->name = path;
+  GdalErrors errors;
+  GDALDatasetH ds =
+      GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr, nullptr, nullptr);
+  if (!ds) {
+    // Formats Debian's GDAL has no driver for (OpenEXR, Radiance HDR: linear whole-Earth images)
+    // are read with OpenImageIO, as before issue 14, and go through the same warper from memory.
+    if (auto image = loadWithOpenImageIo(path)) return fromEquirectangular(*image, path);
+    throw InputError(fmt::format("{}: cannot read the basemap image: not a raster GDAL reads ({})", path,
+                                 errors.message("no driver recognised it")));
+  }
+  impl->keep.emplace_back(ds);
+  impl->dataset = ds;
+  describe(*impl);
+  BasemapRaster r;
+  r.impl_ = std::move(impl);
+  log::debug("basemap {}: {}x{} pixels through GDAL ({}){}", path, r.width(), r.height(),
+             GDALGetDriverShortName(GDALGetDatasetDriver(ds)), r.wholeEarth() ? ", whole Earth" : "");
+  return r;
+}
+
+BasemapRaster BasemapRaster::fromEquirectangular(const LinearRgbImage& image, const std::string& name) {
+  registerGdal();
+  // The same 2:1 contract as EquirectangularImage (a MEM dataset has no georeference).
+  (void)EquirectangularImage(image, name);
+  auto impl = std::make_shared<Impl>();
+  impl->name = name;
+  impl->memory = image.rgb;
+  GDALDriverH mem = GDALGetDriverByName("MEM");
+  GDALDatasetH ds = GDALCreate(mem, "", image.width, image.height, 0, GDT_Float32, nullptr);
+  for (int b = 0; b < 3; ++b) {
+    // Bands point into `memory` (pixel-interleaved RGB), no copy.
+    const std::string ptr = fmt::format("DATAPOINTER={:p}", static_cast<void*>(impl->memory.data() + b));
+    const std::string pixelOffset = fmt::format("PIXELOFFSET={}", 3 * sizeof(float));
+    const std::string lineOffset = fmt::format("LINEOFFSET={}", 3 * sizeof(float) * std::size_t(image.width));
+    const char* options[] = {ptr.c_str(), pixelOffset.c_str(), lineOffset.c_str(), nullptr};
+    GDALAddBand(ds, GDT_Float32, const_cast<char**>(options));
+  }
+  impl->keep.emplace_back(ds);
+  impl->dataset = ds;
+  describe(*impl);
+  BasemapRaster r;
+  r.impl_ = std::move(impl);
+  return r;
+}
+
+namespace {
+
+/// Destination pixel (x, y continuous, (0, 0) = top-left corner) <-> lon/lat [deg].
+class DestinationGrid {
+ public:
+  virtual ~DestinationGrid() = default;
+  /// In place: x, y -> lon, lat; NaN where there is none.
+  virtual void lonLatFromPixel(double* x, double* y, int n) const = 0;
+  /// In place: lon, lat -> x, y; false where there is none.
+  virtual bool pixelFromLonLat(double& x, double& y) const = 0;
+};
+
+/// The flat view: a world rectangle of the data's frame (row 0 = north edge, as worldFromBasemapPixel).
+class WorldGrid final : public DestinationGrid {
+ public:
+  WorldGrid(const SceneGeoreference& geo, const WorldRect& rect, int w, int h) : geo_(geo), rect_(rect), w_(w), h_(h) {}
+  void lonLatFromPixel(double* x, double* y, int n) const override {
+    xy_.resize(std::size_t(n) * 2);
+    const glm::dvec2 ext = rect_.max_m - rect_.min_m;
+    for (int i = 0; i < n; ++i) {
+      xy_[2 * std::size_t(i)] = rect_.min_m.x + x[i] / w_ * ext.x;
+      xy_[2 * std::size_t(i) + 1] = rect_.max_m.y - y[i] / h_ * ext.y;
+    }
+    geo_.lonLatFromWorldBatch(xy_.data(), std::size_t(n));
+    for (int i = 0; i < n; ++i) {
+      x[i] = xy_[2 * std::size_t(i)];
+      y[i] = xy_[2 * std::size_t(i) + 1];
+    }
+  }
+  bool pixelFromLonLat(double& x, double& y) const override {
+    try {
+      const glm::dvec2 wxy = geo_.worldFromLonLat({x, y});
+      const glm::dvec2 ext = rect_.max_m - rect_.min_m;
+      x = (wxy.x - rect_.min_m.x) / ext.x * w_;
+      y = (rect_.max_m.y - wxy.y) / ext.y * h_;
+      return std::isfinite(x) && std::isfinite(y);
+    } catch (const Error&) {
+      return false;
+    }
+  }
+
+ private:
+  const SceneGeoreference& geo_;
+  WorldRect rect_;
+  int w_, h_;
+  mutable std::vector<double> xy_;
+};
+
+/// The globe: the whole Earth in plate carrée, pixel-is-area (equirectUv's convention).
+class EquirectangularGrid final : public DestinationGrid {
+ public:
+  EquirectangularGrid(int w, int h) : w_(w), h_(h) {}
+  void lonLatFromPixel(double* x, double* y, int n) const override {
+    for (int i = 0; i < n; ++i) {
+      x[i] = -180.0 + x[i] / w_ * 360.0;
+      y[i] = 90.0 - y[i] / h_ * 180.0;
+    }
+  }
+  bool pixelFromLonLat(double& x, double& y) const override {
+    x = (x + 180.0) / 360.0 * w_;
+    y = (90.0 - y) / 180.0 * h_;
+    return true;
+  }
+
+ private:
+  int w_, h_;
+};
+
+/// The transformer chain's argument. GDAL reads a transformer argument's first bytes for a
+/// signature (GDALTransformerInfo) to recognise its own kinds; ours starts with a zeroed one.
+struct ChainArg {
+  GDALTransformerInfo info{};
+  const DestinationGrid* destination = nullptr;
+  void* lonlat_to_source = nullptr;  ///< GenImgProj: "dst" = lon/lat, "src" = source pixel
+};
+
+int chainTransform(void* arg, int dstToSrc, int n, double* x, double* y, double* z, int* ok) {
+  const auto* c = static_cast<const ChainArg*>(arg);
+  if (dstToSrc) {
+    c->destination->lonLatFromPixel(x, y, n);
+    std::vector<int> mask(std::size_t(std::max(n, 0)), 1);
+    for (int i = 0; i < n; ++i) {
+      if (std::isnan(x[i]) || std::isnan(y[i])) {
+        mask[std::size_t(i)] = 0;
+        x[i] = y[i] = 0.0;  // a finite point for GDAL; marked failed below
+      }
+      y[i] = std::clamp(y[i], -90.0, 90.0);  // PROJ may return the pole a few ulp beyond it
+    }
+    GDALGenImgProjTransform(c->lonlat_to_source, TRUE, n, x, y, z, ok);
+    for (int i = 0; i < n; ++i) ok[i] = ok[i] && mask[std::size_t(i)];
+    return TRUE;
+  }
+  GDALGenImgProjTransform(c->lonlat_to_source, FALSE, n, x, y, z, ok);
+  for (int i = 0; i < n; ++i) {
+    if (ok[i]) ok[i] = c->destination->pixelFromLonLat(x[i], y[i]) ? 1 : 0;
+  }
+  return TRUE;
+}
+
+/// Warps `layers` (bottom first) onto `grid` into `rgb` (w·h·3, pixel-interleaved, linear).
+/// Returns the number of pixels no layer covered.
+std::size_t warpInto(const std::vector<BasemapRaster>& layers, const DestinationGrid& grid, int w, int h,
+                     std::vector<float>& rgb) {
+  registerGdal();
+  GDALDriverH memDriver = GDALGetDriverByName("MEM");
+  // Bands 1-3: colour as read (codes or linear values); band 4: coverage (the warper's alpha).
+  DatasetPtr dst(GDALCreate(memDriver, "", w, h, 4, GDT_Float32, nullptr));
+  std::vector<float> decoded(std::size_t(w) * std::size_t(h) * 3, 0.0f), coverage(std::size_t(w) * std::size_t(h));
+  for (const BasemapRaster& layer : layers) {
+    const BasemapRaster::Impl& src = layer.impl();
+    GdalErrors errors;
+    const char* toLonLat[] = {"DST_SRS=+proj=longlat +datum=WGS84 +no_defs", nullptr};
+    void* genImg = GDALCreateGenImgProjTransformer2(src.dataset, nullptr, const_cast<char**>(toLonLat));
+    if (!genImg) {
+      throw InputError(fmt::format("{}: cannot transform the basemap's coordinate reference system to lon/lat: {}",
+                                   src.name, errors.message("GDAL gave no reason")));
+    }
+    ChainArg chain;
+    chain.destination = &grid;
+    chain.lonlat_to_source = genImg;
+    void* approx = GDALCreateApproxTransformer(chainTransform, &chain, kApproxError_px);
+
+    GDALWarpOptions* wo = GDALCreateWarpOptions();
+    wo->hSrcDS = src.dataset;
+    wo->hDstDS = dst.get();
+    wo->nBandCount = 3;
+    wo->panSrcBands = static_cast<int*>(CPLMalloc(sizeof(int) * 3));
+    wo->panDstBands = static_cast<int*>(CPLMalloc(sizeof(int) * 3));
+    for (int b = 0; b < 3; ++b) {
+      wo->panSrcBands[b] = src.colour_bands[std::size_t(b)];
+      wo->panDstBands[b] = b + 1;
+    }
+    wo->nSrcAlphaBand = src.alpha_band;
+    wo->nDstAlphaBand = 4;
+    wo->eResampleAlg = GRA_Bilinear;
+    wo->eWorkingDataType = GDT_Float32;
+    wo->dfWarpMemoryLimit = kWarpMemory_bytes;
+    wo->pfnTransformer = GDALApproxTransform;
+    wo->pTransformerArg = approx;
+    // Each layer starts from a blank destination and is composited below, by its coverage.
+    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "INIT_DEST", "0");
+    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "DST_ALPHA_MAX", "1");
+    // The source window of each chunk from a grid of points inside it, not only its edges: around
+    // a pole (a polar stereographic grid) the northernmost lon/lat of a chunk lies inside it.
+    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SAMPLE_GRID", "YES");
+    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SOURCE_EXTRA", "2");
+    if (src.alpha_band != 0) {
+      const char* alphaMax = src.encoding == Encoding::Srgb8 ? "255" : src.encoding == Encoding::Srgb16 ? "65535" : "1";
+      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SRC_ALPHA_MAX", alphaMax);
+    }
+    // The filter's footprint: GDAL widens bilinear by the chunk's source-window/destination size
+    // ratio, which a window across the antimeridian (both ends of a whole-Earth raster) makes
+    // absurd. Give it the real ratio, measured at the destination's centre: source pixels per
+    // destination pixel along each axis. Up to 2 the plain (point-sampled) bilinear sees every
+    // source pixel; beyond, the kernel is widened to the footprint (antialiasing) — GDAL's widened
+    // kernel is not exact on a linear ramp (its discrete weights are not centred: a bias up to
+    // ~0.1 source pixel, measured), so it is kept for where it is needed.
+    {
+      double x[3] = {0.5 * w, 0.5 * w + 1.0, 0.5 * w}, y[3] = {0.5 * h, 0.5 * h, 0.5 * h + 1.0}, z[3] = {};
+      int ok[3] = {};
+      chainTransform(&chain, TRUE, 3, x, y, z, ok);
+      auto scale = [](double sourcePerDestination) {
+        return fmt::format("{:.9g}", sourcePerDestination > 2.0 ? 1.0 / sourcePerDestination : 1.0);
+      };
+      const double sx = ok[0] && ok[1] ? std::hypot(x[1] - x[0], y[1] - y[0]) : 1.0;
+      const double sy = ok[0] && ok[2] ? std::hypot(x[2] - x[0], y[2] - y[0]) : 1.0;
+      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "XSCALE", scale(sx).c_str());
+      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "YSCALE", scale(sy).c_str());
+    }
+    GDALWarpOperationH op = GDALCreateWarpOperation(wo);
+    CPLErr err = op ? GDALChunkAndWarpImage(op, 0, 0, w, h) : CE_Failure;
+    if (op) GDALDestroyWarpOperation(op);
+    GDALDestroyWarpOptions(wo);  // frees the band lists, not the transformer
+    GDALDestroyApproxTransformer(approx);
+    GDALDestroyGenImgProjTransformer(genImg);
+    std::vector<float> layerRgb(std::size_t(w) * std::size_t(h) * 4);
+    if (err == CE_None) {
+      err = GDALDatasetRasterIO(dst.get(), GF_Read, 0, 0, w, h, layerRgb.data(), w, h, GDT_Float32, 4, nullptr,
+                                4 * int(sizeof(float)), 4 * int(sizeof(float)) * w, int(sizeof(float)));
+    }
+    if (err != CE_None || errors.failed()) {
+      throw InputError(fmt::format("{}: cannot read the basemap's pixels (truncated or damaged file?): {}", src.name,
+                                   errors.message("GDAL's warper failed")));
+    }
+    // Decode (header comment: Colour). Integer rasters were interpolated as codes; the curve is
+    // applied to the interpolated code through a 4097-entry table (max error < 1e-6 against pow).
+    static const std::array<float, 4097> srgbTable = [] {
+      std::array<float, 4097> t{};
+      for (std::size_t i = 0; i < t.size(); ++i) t[i] = srgbToLinear(float(i) / 4096.0f);
+      return t;
+    }();
+    const float scale = src.encoding == Encoding::Srgb8 ? 1.0f / 255.0f : 1.0f / 65535.0f;
+    auto decode = [&](float v) {
+      if (src.encoding == Encoding::Linear) return v;
+      const float e = std::clamp(v * scale, 0.0f, 1.0f) * 4096.0f;
+      const auto i = std::min(static_cast<std::size_t>(e), std::size_t(4095));
+      return srgbTable[i] + (e - float(i)) * (srgbTable[i + 1] - srgbTable[i]);
+    };
+    for (std::size_t p = 0; p < coverage.size(); ++p) {
+      // The warper's alpha is the share of the filter's weight that fell on source data; colour
+      // was normalised by it, so a layer replaces what is below in proportion to it.
+      const float a = std::clamp(layerRgb[p * 4 + 3], 0.0f, 1.0f);
+      if (a <= 0.0f) continue;
+      for (std::size_t c = 0; c < 3; ++c) {
+        decoded[p * 3 + c] = (1.0f - a) * decoded[p * 3 + c] + a * decode(layerRgb[p * 4 + c]);
+      }
+      coverage[p] = std::max(coverage[p], a);
+    }
+  }
+  rgb = std::move(decoded);
+  return std::size_t(std::count(coverage.begin(), coverage.end(), 0.0f));
+}
+
+}  // namespace
+
+LinearRgbImage reprojectBasemap(const std::vector<BasemapRaster>& layers, const SceneGeoreference& geo,
+                                const WorldRect& rect, int width, int height) {
+  if (width <= 0 || height <= 0 || !(rect.max_m.x > rect.min_m.x) || !(rect.max_m.y > rect.min_m.y) || layers.empty()) {
+    throw UsageError(
+        fmt::format("reprojectBasemap: empty request ({}x{} pixels, {} layers)", width, height, layers.size()));
+  }
+  LinearRgbImage out{width, height, {}};
+  const WorldGrid grid(geo, rect, width, height);
+  const std::size_t uncovered = warpInto(layers, grid, width, height, out.rgb);
+  if (uncovered > 0) {
+    log::debug("basemap {}: {} of {} pixels have no imagery (outside the raster or the projection '{}') and are black",
+               layers.back().name(), uncovered, std::size_t(width) * std::size_t(height),
+               geo.projection().definition());
+  }
+  return out;
+}
+
+LinearRgbImage reprojectEquirectangular(const std::vector<BasemapRaster>& layers, int width, int height) {
+  if (width <= 0 || height <= 0 || layers.empty()) {
+    throw UsageError(
+        fmt::format("reprojectEquirectangular: empty request ({}x{} pixels, {} layers)", width, height, layers.size()));
+  }
+  limits::requireProductWithin(layers.back().name(), "whole-Earth basemap width x height",
+                               {std::uint64_t(width), std::uint64_t(height)}, limits::kMaxBasemapPixels,
+                               "limits::kMaxBasemapPixels");
+  LinearRgbImage out{width, height, {}};
+  const EquirectangularGrid grid(width, height);
+  (void)warpInto(layers, grid, width, height, out.rgb);
+  return out;
+}
+
+glm::ivec2 equirectangularSizeFor(const BasemapRaster& raster) {
+  constexpr int kMaxWidth = 8192;  // × 4096 = limits::kMaxBasemapPixels
+  int w = raster.width();
+  if (!raster.wholeEarth()) {
+    // The source's own resolution in degrees, from GDAL's suggestion for a lon/lat output.
+    GdalErrors errors;
+    const char* toLonLat[] = {"DST_SRS=+proj=longlat +datum=WGS84 +no_defs", nullptr};
+    void* genImg = GDALCreateGenImgProjTransformer2(raster.impl().dataset, nullptr, const_cast<char**>(toLonLat));
+    double gt[6] = {};
+    int sw = 0, sh = 0;
+    if (!genImg ||
+        GDALSuggestedWarpOutput(raster.impl().dataset, GDALGenImgProjTransform, genImg, gt, &sw, &sh) != CE_None) {
+      if (genImg) GDALDestroyGenImgProjTransformer(genImg);
+      throw InputError(fmt::format("{}: cannot find the basemap's extent in lon/lat: {}", raster.name(),
+                                   errors.message("GDAL gave no reason")));
+    }
+    GDALDestroyGenImgProjTransformer(genImg);
+    w = static_cast<int>(std::min(double(kMaxWidth), std::ceil(360.0 / std::max(gt[1], 1e-9))));
+  }
+  w = std::clamp(w, 2, kMaxWidth);
+  w += w % 2;
+  return {w, w / 2};
+}
+
+EquirectangularImage EquirectangularImage::load(const std::string& path) {
+  const BasemapRaster raster = BasemapRaster::open(path);
+  const glm::ivec2 size = equirectangularSizeFor(raster);
+  return EquirectangularImage(reprojectEquirectangular({raster}, size.x, size.y), path);
+}
+
+}  // namespace nph::scene
