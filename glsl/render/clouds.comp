@@ -158,21 +158,57 @@ float flatGroundDistance(vec3 o, vec3 d) {
 
 // Ground albedo at a world point of the flat view: the near basemap (the data's footprint plus a
 // margin, fine), else the far basemap (item 4: the ground continues beyond, Blue Marble being
-// global), else the ocean albedo.
-vec3 flatGroundAlbedo(vec2 xy) {
+// global), else the ocean albedo. dx, dy: the pixel's footprint on the ground (world metres, the
+// differentials of the hit point to the next pixel right and down), which picks the mipmap level
+// and the anisotropic filter's axis (imagery seen at a slant does not alias; compute shaders have
+// no implicit derivatives, so textureGrad gets them explicitly).
+// A texture gradient no longer than a quarter of the texture (its 4×4 level): grazing rays at the
+// horizon have near-infinite footprints.
+vec2 footprintClamped(vec2 g) {
+  float l = length(g);
+  return l > 0.25 ? g * (0.25 / l) : g;
+}
+
+vec3 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
   if (u_has_basemap) {
-    vec2 uv = (xy - u_basemap_min_m) / (u_basemap_max_m - u_basemap_min_m);
+    vec2 extent = u_basemap_max_m - u_basemap_min_m;
+    vec2 uv = (xy - u_basemap_min_m) / extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
-      return texture(u_basemap, vec2(uv.x, 1.0 - uv.y)).rgb;  // image row 0 = north edge
+      // image row 0 = north edge: v = 1 − uv.y, so the v gradients change sign
+      return textureGrad(u_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
+                         footprintClamped(vec2(dy.x, -dy.y) / extent))
+          .rgb;
     }
   }
   if (u_has_far_basemap) {
-    vec2 uv = (xy - u_far_basemap_min_m) / (u_far_basemap_max_m - u_far_basemap_min_m);
+    vec2 extent = u_far_basemap_max_m - u_far_basemap_min_m;
+    vec2 uv = (xy - u_far_basemap_min_m) / extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
-      return texture(u_far_basemap, vec2(uv.x, 1.0 - uv.y)).rgb;
+      return textureGrad(u_far_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
+                         footprintClamped(vec2(dy.x, -dy.y) / extent))
+          .rgb;
     }
   }
   return u_ocean_albedo;
+}
+
+// The ray through a pixel position (pixel units, row 0 at the top; centres at i + ½): the same ray
+// as scene::Camera::rayDirection.
+vec3 pixelRay(vec2 pixel) {
+  vec2 ndc = vec2(2.0 * pixel.x / float(u_size.x) - 1.0, 1.0 - 2.0 * pixel.y / float(u_size.y));
+  vec4 viewPoint = u_view_from_clip * vec4(ndc, 0.0, 1.0);
+  return normalize(u_world_from_view * normalize(viewPoint.xyz / viewPoint.w));
+}
+
+// Ray differentials (Igehy 1999, "Tracing ray differentials", §3: transfer to a surface): the
+// hit point at distance t along D on a surface of normal n moves by
+//   dP = t·(dD − (dD·n)/(D·n)·D)
+// when the direction moves by dD (a pinhole camera: the origin does not move). D·n is kept from
+// 0 (grazing rays at the horizon get a long but finite footprint: the coarsest levels).
+vec3 surfaceDifferential(vec3 D, vec3 dD, vec3 n, float t) {
+  float dn = dot(D, n);
+  dn = dn < 0.0 ? min(dn, -1e-4) : max(dn, 1e-4);
+  return t * (dD - dot(dD, n) / dn * D);
 }
 
 // (τ_up, τ_down) at a world point: the column depths trilinear between voxel centres, clamped to
@@ -211,8 +247,9 @@ void main() {
   if (any(greaterThanEqual(px, u_size))) return;
   // Same ray as scene::Camera::rayDirection at the pixel centre (row 0 at the top).
   vec2 ndc = vec2(2.0 * (float(px.x) + 0.5) / float(u_size.x) - 1.0, 1.0 - 2.0 * (float(px.y) + 0.5) / float(u_size.y));
-  vec4 viewPoint = u_view_from_clip * vec4(ndc, 0.0, 1.0);
-  vec3 dir = normalize(u_world_from_view * normalize(viewPoint.xyz / viewPoint.w));
+  vec3 dir = pixelRay(vec2(px) + 0.5);
+  // The rays one pixel right and down: the ground's footprint for the imagery's filtering.
+  vec3 dirDx = pixelRay(vec2(px) + vec2(1.5, 0.5)) - dir, dirDy = pixelRay(vec2(px) + vec2(0.5, 1.5)) - dir;
   vec3 origin = u_cam_pos_m;
   float hostDistance = kNoHostGeometry_m;  // distance along the ray to the host's opaque geometry
   if (u_has_host_depth) {
@@ -338,7 +375,8 @@ void main() {
     // above (two-stream T_d) over the part of the sky a tilted surface sees, (1 + n_z)/2.
     vec3 g = origin + tFlatGround * dir;
     vec3 n = HAS_TERRAIN ? terrainNormal(terrainGrid(), g.xy) : vec3(0.0, 0.0, 1.0);
-    vec3 albedo = flatGroundAlbedo(g.xy);
+    vec3 albedo = flatGroundAlbedo(g.xy, surfaceDifferential(dir, dirDx, n, tFlatGround).xy,
+                                   surfaceDifferential(dir, dirDy, n, tFlatGround).xy);
     float sunCos = max(dot(n, u_to_sun), 0.0);
     shadow = u_shadows ? dlmIntensity(g) : 1.0;
     float sunVisible = 1.0;  // V

@@ -20,19 +20,28 @@ using RaycastTest = GlTest;
 struct Rendered {
   render::RenderOutput out;
   scene::VolumeFrame frame;
+  scene::Camera camera;
+};
+
+/// Where the camera is: above the volume's centre at world z, looking at the ground point
+/// target_dx_m east of the centre (0: straight down), heights times `height_exaggeration`.
+struct LookingDown {
+  double height_exaggeration = 1.0;
+  double camera_world_z_m = 50000.0;
+  double target_dx_m = 0.0;
 };
 
 Rendered renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, const render::RenderSettings& rs,
-                           const scene::LinearRgbImage* basemap = nullptr) {
+                           const scene::LinearRgbImage* basemap = nullptr, const LookingDown& view = {}) {
   Rendered r;
-  r.frame = scene::frameOf(v);
+  r.frame = scene::frameOf(v, view.height_exaggeration);
   auto tex = render::VolumeTextures::upload(v, r.frame, "raycast-test");
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
   scene::Camera cam;
   const glm::dvec3 c = 0.5 * (r.frame.min_m() + r.frame.max_m());
-  cam.position_m = {c.x, c.y, 50000.0};
-  cam.target_m = {c.x, c.y, 0.0};
+  cam.position_m = {c.x, c.y, view.camera_world_z_m};
+  cam.target_m = {c.x + view.target_dx_m, c.y, 0.0};
   cam.up = {0.0, 1.0, 0.0};
   cam.vertical_fov_deg = 30.0;
   cam.width = 33;
@@ -42,6 +51,7 @@ Rendered renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, co
     renderer.setBasemap(*basemap, {{-1e6, -1e6}, {1e6, 1e6}});
   }
   r.out = renderer.render(tex, dlm, cam, sun, rs);
+  r.camera = cam;
   return r;
 }
 

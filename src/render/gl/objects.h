@@ -60,6 +60,12 @@ void deleteSampler(GLuint id);
 void setLabel(GLenum identifier, GLuint id, std::string_view label);
 }  // namespace detail
 
+/// Levels of a full mipmap chain for a w × h image: floor(log2(max(w, h))) + 1.
+int mipLevelsFor(int width, int height);
+/// The context's largest anisotropy (GL_MAX_TEXTURE_MAX_ANISOTROPY: core in GL 4.6, else
+/// GL_ARB_texture_filter_anisotropic or GL_EXT_texture_filter_anisotropic), or 1 without it.
+float maxAnisotropy();
+
 class Texture {
  public:
   Texture() = default;
@@ -83,6 +89,11 @@ class Texture {
   /// Sets min/mag filter and wrap mode on the texture object.
   Texture& sampling(GLenum filter, GLenum wrap) &;
   Texture&& sampling(GLenum filter, GLenum wrap) && { return std::move(sampling(filter, wrap)); }
+  /// Imagery seen at a slant (issue 14 item 3): builds the mipmap chain from level 0
+  /// (glGenerateTextureMipmap; the texture needs mipLevelsFor() levels), filters trilinearly and
+  /// anisotropically up to maxAnisotropy() taps. Shaders must give the footprint (textureGrad):
+  /// compute shaders have no implicit derivatives.
+  Texture& mipmapped(GLenum wrap) &;
 
  private:
   ObjectHandle<&detail::deleteTexture> handle_;

@@ -34,18 +34,22 @@ void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::
     basemap_ = gl::Texture();
     return;
   }
-  basemap_ = gl::Texture::create2D(GL_RGB32F, image.width, image.height).label("basemap (linear RGB)");
+  // Mipmapped and anisotropic (issue 14 item 3): oblique views see the ground at a slant.
+  basemap_ = gl::Texture::create2D(GL_RGB32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
+                 .label("basemap (linear RGB)");
   glTextureSubImage2D(basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
-  basemap_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  basemap_.mipmapped(GL_CLAMP_TO_EDGE);
   basemap_rect_ = rect;
 }
 
 void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect) {
   far_basemap_ = gl::Texture();
   if (image.width <= 0 || image.height <= 0) return;
-  far_basemap_ = gl::Texture::create2D(GL_RGB32F, image.width, image.height).label("far basemap (linear RGB)");
+  far_basemap_ =
+      gl::Texture::create2D(GL_RGB32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
+          .label("far basemap (linear RGB)");
   glTextureSubImage2D(far_basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
-  far_basemap_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  far_basemap_.mipmapped(GL_CLAMP_TO_EDGE);
   far_basemap_rect_ = rect;
 }
 
@@ -61,6 +65,8 @@ void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage&
     globe_basemap_ = gl::Texture::create2D(GL_RGB32F, equirect.width, equirect.height).label("globe basemap");
     glTextureSubImage2D(globe_basemap_.id(), 0, 0, 0, equirect.width, equirect.height, GL_RGB, GL_FLOAT,
                         equirect.rgb.data());
+    // Not mipmapped: with textureGrad/textureLod from the ray differentials, llvmpipe drew specks
+    // of wrong colour along the limb (issue 14 item 3, open); the globe is seen from far away.
     globe_basemap_.sampling(GL_LINEAR, GL_REPEAT);  // wraps across the antimeridian in u
   }
 }
