@@ -28,22 +28,33 @@ const char* nameOf(datagen::WrfProjection p) {
   }
 }
 
+/// The generated storm of these tests (80×72×20 columns, 5 km, one time) written as a wrfout in
+/// `projection`, loaded and turned into volumes, and its frame at height × 10.
+struct GeneratedStorm {
+  datagen::WrfHurricaneSpec spec;
+  datagen::WrfTruth truth;
+  ExtinctionVolumes v;
+  VolumeFrame frame;
+  GeneratedStorm(const std::string& path, datagen::WrfProjection projection) {
+    spec.nx = 80;
+    spec.ny = 72;
+    spec.nz = 20;
+    spec.ntimes = 1;
+    spec.dx_m = 5000.0;
+    spec.projection = projection;
+    truth = datagen::writeWrfHurricane(spec, path);
+    v = physics::buildExtinctionVolumes(io::openModelFile(path).load(0), physics::defaultOptics(),
+                                        physics::VerticalGridOptions{});
+    frame = frameOf(v, 10.0);
+  }
+};
+
 class Placement : public ::testing::TestWithParam<datagen::WrfProjection> {};
 
 TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   nph::test::ScratchDir dir("scene");
-  datagen::WrfHurricaneSpec spec;
-  spec.nx = 80;
-  spec.ny = 72;
-  spec.nz = 20;
-  spec.ntimes = 1;
-  spec.dx_m = 5000.0;
-  spec.projection = GetParam();
-  const std::string path = dir.file("wrfout.nc");
-  const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, path);
-  const ExtinctionVolumes v = physics::buildExtinctionVolumes(io::openModelFile(path).load(0), physics::defaultOptics(),
-                                                              physics::VerticalGridOptions{});
-  const VolumeFrame frame = frameOf(v, 10.0);
+  const GeneratedStorm storm(dir.file("wrfout.nc"), GetParam());
+  const auto& [spec, truth, v, frame] = storm;
   const SceneGeoreference geo(v, frame);
 
   // 1. Every 7th mass point: world voxel centre -> lon/lat agrees with the generator's XLAT/XLONG
@@ -118,18 +129,8 @@ TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
 // storm centre must show the storm's lon/lat (the generator's truth) within that pixel.
 TEST(PlacementGdal, WebMercatorGeoTiffUnderALambertGridShowsTheStormAtItsLonLat) {
   nph::test::ScratchDir dir("scene");
-  datagen::WrfHurricaneSpec spec;
-  spec.nx = 80;
-  spec.ny = 72;
-  spec.nz = 20;
-  spec.ntimes = 1;
-  spec.dx_m = 5000.0;
-  spec.projection = datagen::WrfProjection::Lambert;
-  const std::string wrf = dir.file("wrfout.nc");
-  const datagen::WrfTruth truth = datagen::writeWrfHurricane(spec, wrf);
-  const ExtinctionVolumes v = physics::buildExtinctionVolumes(io::openModelFile(wrf).load(0), physics::defaultOptics(),
-                                                              physics::VerticalGridOptions{});
-  const VolumeFrame frame = frameOf(v, 10.0);
+  const GeneratedStorm storm(dir.file("wrfout.nc"), datagen::WrfProjection::Lambert);
+  const auto& [spec, truth, v, frame] = storm;
   const SceneGeoreference geo(v, frame);
   const auto [stormLon, stormLat] = datagen::stormCentreLonLat(truth, spec.dx_m);
 
