@@ -2,8 +2,8 @@
 // Writes test rasters through GDAL's own API (issue 14 item 3: the basemap tests read real files
 // GDAL wrote, not hand-made bytes): float or 8-bit GeoTIFFs with or without a geotransform/CRS.
 #include <gdal.h>
-#include <ogr_srs_api.h>
 #include <gtest/gtest.h>
+#include <ogr_srs_api.h>
 
 #include <array>
 #include <optional>
@@ -39,10 +39,10 @@ inline void writeGeoTiff(const std::string& path, const RasterSpec& spec, const 
   }
   std::vector<double> copy = pixels;
   const int pixelSpace = int(sizeof(double)) * spec.bands;
-  ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Write, 0, 0, spec.width, spec.height, copy.data(), spec.width, spec.height,
-                                GDT_Float64, spec.bands, nullptr, pixelSpace, pixelSpace * spec.width,
-                                int(sizeof(double))),
-            CE_None);
+  ASSERT_EQ(
+      GDALDatasetRasterIO(ds, GF_Write, 0, 0, spec.width, spec.height, copy.data(), spec.width, spec.height,
+                          GDT_Float64, spec.bands, nullptr, pixelSpace, pixelSpace * spec.width, int(sizeof(double))),
+      CE_None);
   GDALClose(ds);
 }
 
