@@ -94,6 +94,8 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;  // clang 14 has no C++20 aggregate deduction (P1816)
 
 [[noreturn]] void wrongGroup(const Knob& k, const char* what) {
   throw UsageError(fmt::format("knob {} is not a {} knob", k.name, what));
