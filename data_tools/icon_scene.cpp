@@ -301,29 +301,88 @@ void countInconsistencies(const Column& col, IconTruth& truth) {
 
 }  // namespace
 
-IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
+struct IconSceneSampler::Impl {
+  IconSceneSpec spec;
+  Scene scene;
+  NativeGrid grid;
+  std::vector<double> lons, lats;                 // regular axes (lat in written order)
+  std::vector<std::pair<double, double>> points;  // (lon, lat) degrees, in file order
+  explicit Impl(const IconSceneSpec& s) : spec(s), scene(spec) {}
+};
+
+IconSceneSampler::IconSceneSampler(const IconSceneSpec& spec, const std::string& path)
+    : impl_(std::make_unique<Impl>(spec)) {
   if (spec.nlon < 2 || spec.nlat < 2 || spec.nz < 1 || spec.ntimes < 1 || !(spec.dlon_deg > 0) ||
       !(spec.dlat_deg > 0)) {
     throw UsageError(fmt::format("{}: ICON scene needs nlon, nlat >= 2, nz, ntimes >= 1, positive spacing", path));
   }
-  const Scene scene(spec);
-  const bool native = spec.native_divisions > 0;
+  Impl& m = *impl_;
+  m.lons.resize(std::size_t(spec.nlon));
+  m.lats.resize(std::size_t(spec.nlat));
+  for (int i = 0; i < spec.nlon; ++i) m.lons[std::size_t(i)] = spec.lon0_deg + i * spec.dlon_deg;
+  for (int j = 0; j < spec.nlat; ++j) {
+    const int jj = spec.lat_descending ? spec.nlat - 1 - j : j;
+    m.lats[std::size_t(j)] = spec.lat0_deg + jj * spec.dlat_deg;
+  }
+  if (native()) {
+    m.grid = buildNativeGrid(spec);
+    if (m.grid.clon.empty()) throw UsageError(fmt::format("{}: native grid has no cells in the region", path));
+    for (std::size_t c = 0; c < m.grid.clon.size(); ++c)
+      m.points.emplace_back(m.grid.clon[c] * kDegPerRad, m.grid.clat[c] * kDegPerRad);
+  } else {
+    for (int j = 0; j < spec.nlat; ++j)
+      for (int i = 0; i < spec.nlon; ++i) m.points.emplace_back(m.lons[std::size_t(i)], m.lats[std::size_t(j)]);
+  }
+}
+IconSceneSampler::~IconSceneSampler() = default;
+
+bool IconSceneSampler::native() const { return impl_->spec.native_divisions > 0; }
+const std::vector<double>& IconSceneSampler::lonAxisDeg() const { return impl_->lons; }
+const std::vector<double>& IconSceneSampler::latAxisDeg() const { return impl_->lats; }
+std::size_t IconSceneSampler::points() const { return impl_->points.size(); }
+std::vector<double> IconSceneSampler::cellLonRad() const { return impl_->grid.clon; }
+std::vector<double> IconSceneSampler::cellLatRad() const { return impl_->grid.clat; }
+geo::UtcTime IconSceneSampler::time(int t) const {
+  return geo::UtcTime::fromCivil(2026, 3, 18, 12).plusSeconds(3600.0 * double(t));
+}
+
+std::map<std::string, std::vector<float>> IconSceneSampler::fields(int t, IconTruth* truth) const {
+  const Impl& m = *impl_;
+  const std::size_t npts = m.points.size();
+  std::map<std::string, std::vector<float>> out;
+  for (const FieldDef& f : kFields) {
+    const std::size_t levels = std::string(f.name) == "z_ifc" ? std::size_t(m.spec.nz + 1) : std::size_t(m.spec.nz);
+    out[f.name].assign(levels * npts, 0.0f);
+  }
+  Column col;
+  for (std::size_t p = 0; p < npts; ++p) {
+    m.scene.column(m.points[p].first, m.points[p].second, double(t), col);
+    if (truth) countInconsistencies(col, *truth);
+    for (const FieldDef& f : kFields) {
+      const std::vector<double>& values = col.*memberFor(f.name);
+      std::vector<float>& dst = out[f.name];
+      for (std::size_t k = 0; k < values.size(); ++k) dst[k * npts + p] = static_cast<float>(values[k]);
+    }
+  }
+  return out;
+}
+
+IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
+  const IconSceneSampler sampler(spec, path);
+  const bool native = sampler.native();
   IconTruth truth;
   truth.nlon = spec.nlon;
   truth.nlat = spec.nlat;
   truth.nz = spec.nz;
   truth.ntimes = spec.ntimes;
-  const geo::UtcTime start = geo::UtcTime::fromCivil(2026, 3, 18, 12);
   truth.first_time_utc = "2026-03-18T12:00:00Z";
 
   NcWriter nc(path, spec.format);
   const int d_time = nc.defDim("time", 0);
   std::vector<int> horiz;  // horizontal dims of a 2-D field
-  NativeGrid grid;
+  const NativeGrid& grid = sampler.impl_->grid;
   int id_lon = -1, id_lat = -1, id_clon = -1, id_clat = -1, id_clonb = -1, id_clatb = -1;
   if (native) {
-    grid = buildNativeGrid(spec);
-    if (grid.clon.empty()) throw UsageError(fmt::format("{}: native grid has no cells in the region", path));
     truth.ncells = static_cast<std::int64_t>(grid.clon.size());
     const int d_cells = nc.defDim("ncells", grid.clon.size());
     const int d_vert = nc.defDim("vertices", 3);
@@ -410,12 +469,8 @@ IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
   nc.endDef();
 
   // Coordinates.
-  std::vector<double> lats(std::size_t(spec.nlat)), lons(std::size_t(spec.nlon));
-  for (int i = 0; i < spec.nlon; ++i) lons[std::size_t(i)] = spec.lon0_deg + i * spec.dlon_deg;
-  for (int j = 0; j < spec.nlat; ++j) {
-    const int jj = spec.lat_descending ? spec.nlat - 1 - j : j;
-    lats[std::size_t(j)] = spec.lat0_deg + jj * spec.dlat_deg;
-  }
+  const std::vector<double>& lats = sampler.latAxisDeg();
+  const std::vector<double>& lons = sampler.lonAxisDeg();
   if (native) {
     const std::size_t nc_cells = grid.clon.size();
     nc.putDouble(id_clon, {0}, {nc_cells}, grid.clon.data());
@@ -446,34 +501,10 @@ IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
     nc.putDouble(id_height2, {0}, {h2.size()}, h2.data());
   }
 
-  // Horizontal points in file order.
-  std::vector<std::pair<double, double>> points;  // (lon, lat) degrees
-  if (native) {
-    for (std::size_t c = 0; c < grid.clon.size(); ++c)
-      points.emplace_back(grid.clon[c] * kDegPerRad, grid.clat[c] * kDegPerRad);
-  } else {
-    for (int j = 0; j < spec.nlat; ++j)
-      for (int i = 0; i < spec.nlon; ++i) points.emplace_back(lons[std::size_t(i)], lats[std::size_t(j)]);
-  }
-  const std::size_t npts = points.size();
-  Column col;
   for (int t = 0; t < spec.ntimes; ++t) {
     const double hours = t;
-    std::map<std::string, std::vector<float>> out;
-    for (const FieldDef& f : kFields) {
-      const std::size_t levels = std::string(f.name) == "z_ifc" ? std::size_t(spec.nz + 1) : std::size_t(spec.nz);
-      out[f.name].assign(levels * npts, 0.0f);
-    }
-    for (std::size_t p = 0; p < npts; ++p) {
-      scene.column(points[p].first, points[p].second, hours, col);
-      countInconsistencies(col, truth);
-      for (const FieldDef& f : kFields) {
-        const std::vector<double>& values = col.*memberFor(f.name);
-        std::vector<float>& dst = out[f.name];
-        for (std::size_t k = 0; k < values.size(); ++k) dst[k * npts + p] = static_cast<float>(values[k]);
-      }
-    }
-    const geo::CivilTime now = start.plusSeconds(3600.0 * double(t)).civil();
+    std::map<std::string, std::vector<float>> out = sampler.fields(t, &truth);
+    const geo::CivilTime now = sampler.time(t).civil();
     const double time_value = native ? now.year * 10000.0 + now.month * 100.0 + now.day + now.hour / 24.0 : hours;
     nc.putDouble(id_time, {std::size_t(t)}, {1}, &time_value);
     for (const FieldDef& f : kFields) {
@@ -489,7 +520,7 @@ IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path) {
       count.push_back(half ? std::size_t(spec.nz + 1) : std::size_t(spec.nz));
       if (native) {
         start_idx.push_back(0);
-        count.push_back(npts);
+        count.push_back(sampler.points());
       } else {
         start_idx.insert(start_idx.end(), {0, 0});
         count.insert(count.end(), {std::size_t(spec.nlat), std::size_t(spec.nlon)});

@@ -6,7 +6,12 @@
 //   A: CLC = 0 where QC + QI > 0 (thin cirrus in the east, cumulus fringes),
 //   B: CLC > 0 where QC + QI = 0 (a dissolving stratus patch whose condensate was depleted).
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include "geo/utc_time.h"
 
 #include "nc_writer.h"
 
@@ -36,6 +41,34 @@ struct IconTruth {
 };
 
 IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path);
+
+/// The scene sampled on its horizontal points one timestep at a time: what writeIconScene writes
+/// as NetCDF, for other writers (GRIB2: grib2_writer.h) to write the very same values.
+class IconSceneSampler {
+ public:
+  /// UsageError (naming `path`) for an impossible spec or a native grid without cells.
+  IconSceneSampler(const IconSceneSpec& spec, const std::string& path);
+  ~IconSceneSampler();
+  bool native() const;
+  /// Regular grid axes [deg]: longitudes west to east, latitudes in written order.
+  const std::vector<double>& lonAxisDeg() const;
+  const std::vector<double>& latAxisDeg() const;
+  /// Native grid: cell centres [radian], in file order.
+  std::vector<double> cellLonRad() const;
+  std::vector<double> cellLatRad() const;
+  /// Horizontal points per level (regular: row by row, nlon x nlat; native: cells).
+  std::size_t points() const;
+  geo::UtcTime time(int t) const;
+  /// Fields of timestep t, ICON's names and units (temp [K], pres [Pa], qv, qc, qi, qr, qs, qg
+  /// [kg/kg], clc [%], z_ifc [m] on nz + 1 half levels), level-major with the model top first.
+  /// Counts the condensate inconsistencies into `truth` when given.
+  std::map<std::string, std::vector<float>> fields(int t, IconTruth* truth) const;
+
+ private:
+  friend IconTruth writeIconScene(const IconSceneSpec& spec, const std::string& path);
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// ICON's Earth radius [m] (mo_physical_constants: earth_radius = 6.371229e6).
 inline constexpr double kIconEarthRadius_m = 6371229.0;

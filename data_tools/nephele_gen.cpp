@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "grib2_writer.h"
 #include "presets.h"
 
 namespace {
@@ -91,6 +92,17 @@ int main(int argc, char** argv) {
                  "native triangular grid (ncells, clon/clat in radians) instead of regular lat-lon");
   icon->add_flag("--lat-descending", descending, "write latitudes north to south");
   icon->add_option("--times", icon_times, "hourly timesteps (>= 1)")->check(CLI::PositiveNumber);
+  std::string grib2_dir, grib2_layout = "dwd";
+  nph::datagen::Grib2WriteOptions grib2;
+  icon->add_option("--grib2", grib2_dir,
+                   "write the scene as GRIB2 through ecCodes into this folder instead of NetCDF (same values)");
+  icon->add_option("--grib2-layout", grib2_layout,
+                   "dwd (one file per variable, level and step, DWD's names; HHL/CLON/CLAT time-invariant) | "
+                   "single (every message in icon_scene.grib2)")
+      ->check(CLI::IsMember({"dwd", "single"}));
+  icon->add_option("--grib2-packing", grib2.packing,
+                   "ecCodes packingType: grid_simple (default), grid_ccsds, grid_ieee (exact floats), grid_png, ...");
+  icon->add_option("--grib2-bits", grib2.bits_per_value, "bitsPerValue of the packing (default 16)");
 
   CLI::App* all =
       app.add_subcommand("all", "standard set: wrf lambert/mercator x thompson/wsm3, icon regular + native");
@@ -121,6 +133,18 @@ int main(int argc, char** argv) {
       fmt::print("{}: wrfout {}x{}x{} x {} times, MAP_PROJ={}, MP_PHYSICS={}, {:.2f} s\n", path, truth.nx, truth.ny,
                  truth.nz, truth.ntimes, truth.map_proj, truth.mp_physics, secondsSince(t0));
     };
+    auto write_icon_grib2 = [&](const std::string& out_dir, bool nat) {
+      auto spec = nph::datagen::iconPreset(size, nat);
+      spec.seed = seed;
+      spec.ntimes = icon_times;
+      spec.lat_descending = descending;
+      grib2.layout =
+          grib2_layout == "single" ? nph::datagen::Grib2Layout::SingleFile : nph::datagen::Grib2Layout::DwdFiles;
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto files = nph::datagen::writeIconSceneGrib2(spec, out_dir, grib2);
+      fmt::print("{}: ICON {} GRIB2 ({}, {} {} bits), {} files, {:.2f} s\n", out_dir, nat ? "native" : "regular",
+                 grib2_layout, grib2.packing, grib2.bits_per_value, files.size(), secondsSince(t0));
+    };
     auto write_icon = [&](const std::string& path, bool nat) {
       auto spec = nph::datagen::iconPreset(size, nat);
       spec.seed = seed;
@@ -136,6 +160,8 @@ int main(int argc, char** argv) {
     };
     if (wrf->parsed()) {
       write_wrf(wrf_out, kProjections.at(proj_name), kSchemes.at(scheme_name));
+    } else if (icon->parsed() && !grib2_dir.empty()) {
+      write_icon_grib2(grib2_dir, native);
     } else if (icon->parsed()) {
       write_icon(icon_out, native);
     } else if (all->parsed()) {

@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "field_checks.h"
 #include "geo/utc_time.h"
+#include "icon_fields.h"
 #include "netcdf_reader.h"
 
 namespace nph::io {
@@ -148,82 +149,6 @@ std::vector<float> readLevels(const NcReader& nc, const IconLayout& l, const std
   return data;
 }
 
-/// Resampling of the native grid: nearest cell centre, found with a uniform bucket grid in
-/// (lon cos(lat_mid), lat), so the search is O(1) per target point rather than O(ncells).
-/// Nearest-cell (rather than barycentric) keeps each cell's values intact: cloud cover and
-/// condensate of one cell stay together (the ICON corrections compare them cell by cell) and no
-/// new extrema or mixed cloud edges appear; the price is blocky edges at the cell scale.
-class CellLocator {
- public:
-  CellLocator(const std::vector<double>& lon_deg, const std::vector<double>& lat_deg, double cos_mid, double bucket_deg)
-      : lon_(lon_deg), lat_(lat_deg), cos_(cos_mid), bucket_(bucket_deg) {
-    min_x_ = std::numeric_limits<double>::max();
-    min_y_ = std::numeric_limits<double>::max();
-    double max_x = -min_x_, max_y = -min_y_;
-    for (std::size_t c = 0; c < lon_.size(); ++c) {
-      min_x_ = std::min(min_x_, lon_[c] * cos_);
-      max_x = std::max(max_x, lon_[c] * cos_);
-      min_y_ = std::min(min_y_, lat_[c]);
-      max_y = std::max(max_y, lat_[c]);
-    }
-    nbx_ = static_cast<int>((max_x - min_x_) / bucket_) + 1;
-    nby_ = static_cast<int>((max_y - min_y_) / bucket_) + 1;
-    start_.assign(std::size_t(nbx_) * std::size_t(nby_) + 1, 0);
-    std::vector<std::size_t> bucket_of(lon_.size());
-    for (std::size_t c = 0; c < lon_.size(); ++c) {
-      bucket_of[c] = bucketIndex(bx(lon_[c] * cos_), by(lat_[c]));
-      ++start_[bucket_of[c] + 1];
-    }
-    for (std::size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
-    cells_.resize(lon_.size());
-    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t c = 0; c < lon_.size(); ++c) cells_[fill[bucket_of[c]]++] = c;
-  }
-
-  std::size_t nearest(double lon, double lat) const {
-    const double x = lon * cos_;
-    const int cx = bx(x), cy = by(lat);
-    double best = std::numeric_limits<double>::max();
-    std::size_t best_cell = 0;
-    for (int ring = 0; ring < std::max(nbx_, nby_) + 1; ++ring) {
-      // Only the buckets on the ring's perimeter, clipped to the grid (the inner ones were
-      // searched by the smaller rings).
-      for (int j = std::max(cy - ring, 0); j <= std::min(cy + ring, nby_ - 1); ++j) {
-        const bool edge_row = std::abs(j - cy) == ring;
-        const int step = edge_row ? 1 : std::max(2 * ring, 1);
-        for (int i = cx - ring; i <= cx + ring; i += step) {
-          if (i < 0 || i >= nbx_) continue;
-          const std::size_t b = bucketIndex(i, j);
-          for (std::size_t n = start_[b]; n < start_[b + 1]; ++n) {
-            const std::size_t c = cells_[n];
-            const double dx = lon_[c] * cos_ - x, dy = lat_[c] - lat;
-            const double d2 = dx * dx + dy * dy;
-            if (d2 < best) {
-              best = d2;
-              best_cell = c;
-            }
-          }
-        }
-      }
-      // Any cell in a further ring is at least `ring * bucket` away.
-      const double reach = ring * bucket_;
-      if (best < std::numeric_limits<double>::max() && best <= reach * reach) break;
-    }
-    return best_cell;
-  }
-
- private:
-  int bx(double x) const { return std::clamp(static_cast<int>((x - min_x_) / bucket_), 0, nbx_ - 1); }
-  int by(double y) const { return std::clamp(static_cast<int>((y - min_y_) / bucket_), 0, nby_ - 1); }
-  std::size_t bucketIndex(int i, int j) const { return std::size_t(j) * std::size_t(nbx_) + std::size_t(i); }
-  const std::vector<double>& lon_;
-  const std::vector<double>& lat_;
-  double cos_, bucket_;
-  double min_x_ = 0, min_y_ = 0;
-  int nbx_ = 1, nby_ = 1;
-  std::vector<std::size_t> start_, cells_;
-};
-
 }  // namespace
 
 geo::OptionalUtcTime timeFromValue(double value, const std::string& units) {
@@ -273,9 +198,8 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
   const std::size_t t = std::size_t(time_index);
   const std::size_t nz = l.nz;
   const std::size_t nsrc = l.native ? l.ncells : l.nlat * l.nlon;
-  const std::size_t budget = memoryBudgetBytes(options);
   // Source fields held at once: up to 7 condensate/state fields + heights (nz + 1) + clc.
-  requireWithinBudget(path, "one timestep", double(nsrc) * double(nz + 1), 12, budget);
+  requireWithinBudget(path, "one timestep", double(nsrc) * double(nz + 1), 12, memoryBudgetBytes(options));
 
   static const std::array<IconClass, 6> kClasses = {{{Hydrometeor::Cloud, {"qc", "QC", "clwmr"}},
                                                      {Hydrometeor::Ice, {"qi", "QI"}},
@@ -283,18 +207,18 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
                                                      {Hydrometeor::Snow, {"qs", "QS"}},
                                                      {Hydrometeor::Graupel, {"qg", "QG"}},
                                                      {Hydrometeor::Hail, {"qh", "QH"}}}};
-  ModelTimestep src;  // on source points (flat), levels in file order
+  IconSourceFields src;  // on source points (flat), levels in file order
+  src.path = path;
+  src.time_index = time_index;
+  src.nz = nz;
+  src.npoints = nsrc;
+  src.native = l.native;
   ReadStats cond_stats;
   for (const IconClass& c : kClasses) {
     if (auto name = nc.firstVar(c.names)) {
       nc.requireFloatingOrPacked(*name);
       auto data = readLevels(nc, l, *name, t, nz, 0.0f, cond_stats);
-      requireAtMost(path, *name, data, kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
-      const std::int64_t negative = clampNegative(data);
-      if (negative > 0) {
-        log::warn("{}: {} had {} negative values, set to 0", path, *name, negative);
-        src.repairs.negative_clamped += negative;
-      }
+      checkIconField(path, *name, IconQuantity::Condensate, data, src.repairs);
       src.q_kg_per_kg[c.kind] = std::move(data);
     }
   }
@@ -304,213 +228,61 @@ ModelTimestep loadIconTimestep(const std::string& path, std::int64_t time_index,
                     "{})",
                     path, l.native ? "ncells" : "lat, lon"));
   }
-  auto read_state = [&](const std::string& var, std::size_t levels) {
+  auto read_state = [&](const std::string& var, std::size_t levels, IconQuantity quantity) {
     ReadStats s;
     auto data = readLevels(nc, l, var, t, levels, std::numeric_limits<float>::quiet_NaN(), s);
     if (s.fill_values > 0) {
       throw InputError(fmt::format("{}: {} has {} missing values (_FillValue/missing_value), expected a complete field",
                                    path, var, s.fill_values));
     }
+    checkIconField(path, var, quantity, data, src.repairs);
     return data;
   };
-  src.temperature_k = read_state(l.temp, nz);
-  requireRange(path, l.temp, src.temperature_k, 100.0, 400.0, "a temperature [K]");
-  src.pressure_pa = read_state(l.pres, nz);
-  requireRange(path, l.pres, src.pressure_pa, 1.0, 2.0e5, "a pressure [Pa]");
+  src.temperature_k = read_state(l.temp, nz, IconQuantity::Temperature);
+  src.pressure_pa = read_state(l.pres, nz, IconQuantity::Pressure);
   if (auto qv = nc.firstVar({"qv", "QV"})) {
     nc.requireFloatingOrPacked(*qv);
     src.water_vapour_kg_per_kg = readLevels(nc, l, *qv, t, nz, 0.0f, cond_stats);
-    requireAtMost(path, *qv, src.water_vapour_kg_per_kg, kMaxMixingRatio_kg_per_kg, "a specific humidity [kg/kg]");
-    src.repairs.negative_clamped += clampNegative(src.water_vapour_kg_per_kg);
+    checkIconField(path, *qv, IconQuantity::SpecificHumidity, src.water_vapour_kg_per_kg, src.repairs);
   } else {
     log::warn("{}: qv is missing; specific humidity taken as 0", path);
     src.water_vapour_kg_per_kg.assign(nz * nsrc, 0.0f);
   }
   if (auto clc = nc.firstVar({"clc", "CLC", "ccl"})) {
     src.cloud_cover_fraction = readLevels(nc, l, *clc, t, nz, 0.0f, cond_stats);
-    // clc is in percent (ICON, DWD GRIB2 "%"): to [0, 1]; negative values clamp to 0.
     const std::string units = nc.varText(*clc, "units").value_or("%");
-    const double scale = units == "%" || units == "percent" ? 0.01 : 1.0;
-    for (float& v : src.cloud_cover_fraction) v = static_cast<float>(std::clamp(double(v) * scale, 0.0, 1.0));
+    checkIconField(path, *clc, IconQuantity::CloudCoverPercent, src.cloud_cover_fraction, src.repairs,
+                   !(units == "%" || units == "percent"));
   }
   src.repairs.missing_as_zero = cond_stats.fill_values;
-  std::vector<float> heights = read_state(l.heights, l.heights_are_half_levels ? nz + 1 : nz);
-  requireRange(path, l.heights, heights, kLowestHeight_m, kHighestHeight_m, "a height [m]");
-
-  // Vertical order: ICON writes level 1 at the model top; nephele wants bottom to top.
-  const bool top_down = nz > 1 ? heights[0] > heights[(l.heights_are_half_levels ? nz : nz - 1) * nsrc] : false;
-  auto flip = [&](std::vector<float>& f, std::size_t levels) {
-    if (!top_down || f.empty()) return;
-    for (std::size_t k = 0; k < levels / 2; ++k) {
-      std::swap_ranges(f.begin() + std::ptrdiff_t(k * nsrc), f.begin() + std::ptrdiff_t((k + 1) * nsrc),
-                       f.begin() + std::ptrdiff_t((levels - 1 - k) * nsrc));
-    }
-  };
-  for (auto& [kind, f] : src.q_kg_per_kg) flip(f, nz);
-  flip(src.temperature_k, nz);
-  flip(src.pressure_pa, nz);
-  flip(src.water_vapour_kg_per_kg, nz);
-  flip(src.cloud_cover_fraction, nz);
-  flip(heights, l.heights_are_half_levels ? nz + 1 : nz);
-  // Mass-level heights: midpoints of half levels (Muth §3.2: z_k = (h_k + h_k+1) / 2).
-  std::vector<float> height(nz * nsrc);
-  std::vector<float> terrain(nsrc);
-  for (std::size_t p = 0; p < nsrc; ++p) {
-    if (l.heights_are_half_levels) {
-      terrain[p] = heights[p];
-      for (std::size_t k = 0; k < nz; ++k) {
-        const float lo = heights[k * nsrc + p], hi = heights[(k + 1) * nsrc + p];
-        if (!(hi > lo)) {
-          throw InputError(fmt::format("{}: {} does not increase with height at level {} (point {}): {} m then {} m",
-                                       path, l.heights, k, p, lo, hi));
-        }
-        height[k * nsrc + p] = 0.5f * (lo + hi);
-      }
-    } else {
-      for (std::size_t k = 0; k < nz; ++k) height[k * nsrc + p] = heights[k * nsrc + p];
-      // Surface: half a layer below the lowest full level.
-      const float dz = nz > 1 ? heights[nsrc + p] - heights[p] : 20.0f;
-      terrain[p] = heights[p] - 0.5f * dz;
-    }
-  }
-  heights = {};
-
-  ModelTimestep ts;
-  ts.source_file = path;
-  ts.time_index = time_index;
-  ts.model = ModelKind::Icon;
-  ts.nz = static_cast<int>(nz);
-  ts.repairs = src.repairs;
+  src.heights_are_half_levels = l.heights_are_half_levels;
+  src.heights_name = l.heights;
+  src.heights_m = read_state(l.heights, l.heights_are_half_levels ? nz + 1 : nz, IconQuantity::Height);
   if (l.has_time && nc.hasVar("time")) {
     const auto values = nc.readDoubles("time");
-    if (t < values.size()) ts.time_utc = timeFromValue(values[t], nc.varText("time", "units").value_or(""));
+    if (t < values.size()) src.time_utc = timeFromValue(values[t], nc.varText("time", "units").value_or(""));
   }
-  ts.georef.proj_definition = fmt::format("+proj=longlat +R={} +no_defs", kIconEarthRadius_m);
-  ts.georef.geographic = true;
 
-  // Horizontal mapping: target (i, j) -> source point index.
-  std::vector<std::size_t> source_of;
   if (!l.native) {
-    const std::string lon_var = nc.hasVar(l.lon_dim) ? l.lon_dim : need(nc, {"lon", "longitude"}, "longitudes [deg]");
-    const std::string lat_var = nc.hasVar(l.lat_dim) ? l.lat_dim : need(nc, {"lat", "latitude"}, "latitudes [deg]");
-    const auto lon = nc.readDoubles(lon_var);
-    const auto lat = nc.readDoubles(lat_var);
-    if (lon.size() != l.nlon || lat.size() != l.nlat) {
-      throw InputError(fmt::format("{}: {}/{} have {}/{} values, expected {}/{}", path, lon_var, lat_var, lon.size(),
-                                   lat.size(), l.nlon, l.nlat));
-    }
-    auto spacing = [&](const std::vector<double>& v, const std::string& name) {
-      if (v.size() < 2) return 0.0;
-      const double step = v[1] - v[0];
-      for (std::size_t n = 1; n < v.size(); ++n) {
-        if (!(std::abs((v[n] - v[n - 1]) - step) <= 1e-3 * std::abs(step)) || step == 0.0) {
-          throw InputError(
-              fmt::format("{}: {} is not evenly spaced at index {}, expected a regular lat-lon grid", path, name, n));
-        }
-      }
-      return step;
-    };
-    const double dlon = spacing(lon, lon_var);
-    const double dlat = spacing(lat, lat_var);
-    if (dlon < 0.0) throw InputError(fmt::format("{}: {} decreases, expected increasing longitudes", path, lon_var));
-    const bool south_first = dlat >= 0.0;
-    ts.nx = static_cast<int>(l.nlon);
-    ts.ny = static_cast<int>(l.nlat);
-    ts.georef.dx_m = l.nlon > 1 ? dlon : 1.0;
-    ts.georef.dy_m = l.nlat > 1 ? std::abs(dlat) : 1.0;
-    ts.georef.x0 = lon.front();
-    ts.georef.y0 = south_first ? lat.front() : lat.back();
-    source_of.resize(l.nlon * l.nlat);
-    for (std::size_t j = 0; j < l.nlat; ++j) {
-      const std::size_t sj = south_first ? j : l.nlat - 1 - j;  // rows south to north
-      for (std::size_t i = 0; i < l.nlon; ++i) source_of[j * l.nlon + i] = sj * l.nlon + i;
+    src.lon_name = nc.hasVar(l.lon_dim) ? l.lon_dim : need(nc, {"lon", "longitude"}, "longitudes [deg]");
+    src.lat_name = nc.hasVar(l.lat_dim) ? l.lat_dim : need(nc, {"lat", "latitude"}, "latitudes [deg]");
+    src.lon_deg = nc.readDoubles(src.lon_name);
+    src.lat_deg = nc.readDoubles(src.lat_name);
+    if (src.lon_deg.size() != l.nlon || src.lat_deg.size() != l.nlat) {
+      throw InputError(fmt::format("{}: {}/{} have {}/{} values, expected {}/{}", path, src.lon_name, src.lat_name,
+                                   src.lon_deg.size(), src.lat_deg.size(), l.nlon, l.nlat));
     }
   } else {
-    const std::string clon = need(nc, {"clon"}, "cell centre longitudes [radian]");
-    const std::string clat = need(nc, {"clat"}, "cell centre latitudes [radian]");
-    auto lon = nc.readDoubles(clon);
-    auto lat = nc.readDoubles(clat);
-    if (lon.size() != l.ncells || lat.size() != l.ncells) {
-      throw InputError(
-          fmt::format("{}: clon/clat have {}/{} values, expected ncells = {}", path, lon.size(), lat.size(), l.ncells));
-    }
-    const bool radians = nc.varText(clon, "units").value_or("radian").rfind("rad", 0) == 0;
-    double lat_min = 90, lat_max = -90, lon_min = 1e9, lon_max = -1e9;
-    for (std::size_t c = 0; c < l.ncells; ++c) {
-      if (radians) {
-        lon[c] *= kDegPerRad;
-        lat[c] *= kDegPerRad;
-      }
-      if (!std::isfinite(lon[c]) || !std::isfinite(lat[c]) || std::abs(lat[c]) > 90.0) {
-        throw InputError(fmt::format("{}: clon/clat of cell {} is not a valid position, expected radians", path, c));
-      }
-      lat_min = std::min(lat_min, lat[c]);
-      lat_max = std::max(lat_max, lat[c]);
-      lon_min = std::min(lon_min, lon[c]);
-      lon_max = std::max(lon_max, lon[c]);
-    }
-    const double cos_mid = std::max(std::cos(0.5 * (lat_min + lat_max) / kDegPerRad), 0.01);
-    double dlat = options.native_resolution_deg;
-    if (!(dlat > 0.0)) {
-      // One target point per cell on average over the cells' bounding box.
-      const double area = std::max((lon_max - lon_min) * cos_mid, 1e-9) * std::max(lat_max - lat_min, 1e-9);
-      dlat = std::sqrt(area / double(l.ncells));
-      // ... but never finer than the longer extent over ncells: for cells along a line (two
-      // cells, or one row) the box has no area, and the clamped area above gave ~1e-5 deg
-      // spacing, a 44 000-point row whose empty buckets CellLocator::nearest scanned for hours.
-      // With this floor each axis has at most ncells + 1 points, the grid at most 3 ncells + 1.
-      dlat = std::max(dlat, std::max((lon_max - lon_min) * cos_mid, lat_max - lat_min) / double(l.ncells));
-    }
-    const double dlon = dlat / cos_mid;
-    const double nx_d = std::floor((lon_max - lon_min) / dlon) + 1.0;
-    const double ny_d = std::floor((lat_max - lat_min) / dlat) + 1.0;
-    requireWithinBudget(path, "the resampled native grid", nx_d * ny_d * double(nz), 12, budget);
-    const auto nx_checked = limits::toIntChecked<int>(nx_d), ny_checked = limits::toIntChecked<int>(ny_d);
-    if (!nx_checked || !ny_checked) {
-      throw InputError(fmt::format("{}: the resampled native grid would be {} x {} points, more than an int "
-                                   "indexes (LoadOptions::native_resolution_deg too fine)",
-                                   path, nx_d, ny_d));
-    }
-    ts.nx = *nx_checked;
-    ts.ny = *ny_checked;
-    ts.georef.dx_m = dlon;
-    ts.georef.dy_m = dlat;
-    ts.georef.x0 = lon_min;
-    ts.georef.y0 = lat_min;
-    const CellLocator locator(lon, lat, cos_mid, 2.0 * dlat);
-    source_of.resize(std::size_t(ts.nx) * std::size_t(ts.ny));
-    for (int j = 0; j < ts.ny; ++j) {
-      for (int i = 0; i < ts.nx; ++i) {
-        source_of[std::size_t(j) * std::size_t(ts.nx) + std::size_t(i)] =
-            locator.nearest(lon_min + i * dlon, lat_min + j * dlat);
-      }
+    src.lon_name = need(nc, {"clon"}, "cell centre longitudes [radian]");
+    src.lat_name = need(nc, {"clat"}, "cell centre latitudes [radian]");
+    src.lon_deg = nc.readDoubles(src.lon_name);
+    src.lat_deg = nc.readDoubles(src.lat_name);
+    if (nc.varText(src.lon_name, "units").value_or("radian").rfind("rad", 0) == 0) {
+      for (double& v : src.lon_deg) v *= kDegPerRad;
+      for (double& v : src.lat_deg) v *= kDegPerRad;
     }
   }
-
-  const std::size_t n2 = std::size_t(ts.nx) * std::size_t(ts.ny);
-  auto remap = [&](const std::vector<float>& f, std::size_t levels) {
-    std::vector<float> out(levels * n2);
-    for (std::size_t k = 0; k < levels; ++k)
-      for (std::size_t p = 0; p < n2; ++p) out[k * n2 + p] = f[k * nsrc + source_of[p]];
-    return out;
-  };
-  for (auto& [kind, f] : src.q_kg_per_kg) ts.q_kg_per_kg[kind] = remap(f, nz);
-  ts.temperature_k = remap(src.temperature_k, nz);
-  ts.pressure_pa = remap(src.pressure_pa, nz);
-  ts.water_vapour_kg_per_kg = remap(src.water_vapour_kg_per_kg, nz);
-  if (!src.cloud_cover_fraction.empty()) ts.cloud_cover_fraction = remap(src.cloud_cover_fraction, nz);
-  ts.height_m = remap(height, nz);
-  ts.terrain_height_m = remap(terrain, 1);
-  ts.georef.lon_deg.resize(n2);
-  ts.georef.lat_deg.resize(n2);
-  for (int j = 0; j < ts.ny; ++j) {
-    for (int i = 0; i < ts.nx; ++i) {
-      const std::size_t p = std::size_t(j) * std::size_t(ts.nx) + std::size_t(i);
-      ts.georef.lon_deg[p] = static_cast<float>(ts.georef.x0 + i * ts.georef.dx_m);
-      ts.georef.lat_deg[p] = static_cast<float>(ts.georef.y0 + j * ts.georef.dy_m);
-    }
-  }
-  return ts;
+  return assembleIconTimestep(std::move(src), options);
 }
 
 }  // namespace nph::io
