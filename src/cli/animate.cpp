@@ -413,7 +413,7 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_option("scene", opts->scene,
                   "scene file (JSON) with an optional \"animation\" section, or a data file for a quick look")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingPath);  // a folder: GRIB2 quick look
   cmd->add_option("-o,--output-dir", opts->output_dir, "folder of the image sequence")->required();
   cmd->add_option("--format", opts->formats, "png, exr or png,exr")->capture_default_str();
   cmd->add_flag("--layer", opts->layer, "also write the premultiplied cloud layer alone (layer_NNNNNN)");

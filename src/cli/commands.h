@@ -6,7 +6,9 @@
 // turns those into a message on stderr and the exit codes below.
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <functional>
+#include <string>
 
 namespace nph::cli {
 
@@ -15,6 +17,18 @@ inline constexpr int kExitFailure = 1;  ///< bad input data, I/O errors
 inline constexpr int kExitUsage = 2;    ///< bad command line
 
 using Action = std::function<int()>;
+
+/// Check of model-data arguments: an existing file or folder, or a pattern with * ? [ that
+/// io::expandModelInputs expands (quoted, the shell's argument limit does not apply to it).
+inline CLI::Validator existingPathOrPattern() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        std::error_code ec;
+        if (std::filesystem::exists(path, ec) || path.find_first_of("*?[") != std::string::npos) return {};
+        return "no such file or folder: " + path;
+      },
+      "PATH");
+}
 
 void addInfoCommand(CLI::App& app, Action& run);
 void addConvertCommand(CLI::App& app, Action& run);

@@ -94,7 +94,9 @@ int runConvert(const ConvertOptions& o) {
   if (std::filesystem::is_directory(o.output)) {
     throw UsageError(fmt::format("{}: is a directory; -o names the .nph file to write", o.output));
   }
-  for (const std::string& input : o.inputs) {
+  // Folders and unexpanded patterns (DWD's GRIB2: one file per variable, level and step).
+  const std::vector<std::string> inputs = io::expandModelInputs(o.inputs);
+  for (const std::string& input : inputs) {
     std::error_code ec;
     if (std::filesystem::equivalent(input, o.output, ec)) {
       throw UsageError(fmt::format("{}: the output would replace an input file", o.output));
@@ -112,12 +114,12 @@ int runConvert(const ConvertOptions& o) {
 
   const auto t_start = Clock::now();
   auto t0 = Clock::now();
-  const io::ModelSeries series = io::ModelSeries::open(o.inputs, load);
+  const io::ModelSeries series = io::ModelSeries::open(inputs, load);
   double seconds_open = secondsSince(t0);
   if (series.size() == 0) throw InputError(fmt::format("{}: no timesteps", fmt::join(o.inputs, ", ")));
 
   std::uintmax_t input_bytes = 0;
-  for (const std::string& f : o.inputs) input_bytes += std::filesystem::file_size(f);
+  for (const std::string& f : inputs) input_bytes += std::filesystem::file_size(f);
 
   ProgressBar bar(series.size(), !o.no_progress && (o.progress || ProgressBar::stderrIsTerminal()));
   std::unique_ptr<cache::NphWriter> writer;
@@ -217,9 +219,11 @@ void addConvertCommand(CLI::App& app, Action& run) {
                  "16-bit). The output appears only when the whole conversion succeeded (an existing file\n"
                  "is replaced then); on any error nothing is written and the exit status is 1.\n"
                  "Example: nephele convert wrfout_d01_* -o storm.nph --preset nes2008 --dz 250");
-  sub->add_option("inputs", o->inputs, "wrfout or ICON NetCDF files (several: one time series)")
+  sub->add_option("inputs", o->inputs,
+                  "wrfout or ICON NetCDF files, ICON GRIB2 files (DWD's one file per variable, level and step, or "
+                  "multi-message), folders of them or quoted patterns ('icon-d2_*.grib2'); several: one time series")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existingPathOrPattern());
   sub->add_option("-o,--output", o->output, "the .nph file to write")->required();
   sub->add_option("--preset", o->preset,
                   "optics preset: default (literature radii, r_eff from number concentrations) | "

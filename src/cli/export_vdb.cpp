@@ -77,7 +77,7 @@ void addExportVdbCommand(CLI::App& app, Action& run) {
                     "Example: nephele export-vdb storm.nph -o vdb/storm");
   sub->add_option("inputs", o->inputs, "a .nph cache, or model files (one time series)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existingPathOrPattern());
   sub->add_option("-o,--output", o->output_prefix,
                   "sequence prefix: PREFIX_0000.vdb, PREFIX_0001.vdb, ... (folders are created)")
       ->required();

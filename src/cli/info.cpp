@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/terminal_text.h"
+#include "io/grib2_loader.h"
 #include "io/model_file.h"
 #include "physics/optics_settings.h"
 
@@ -106,21 +107,8 @@ void describeNph(const std::string& path, const InfoOptions& o) {
   }
 }
 
-void describeModel(const std::string& path, const InfoOptions& o) {
-  const io::FileFormat format = io::sniffFormat(path);
-  const io::ModelFile f = io::openModelFile(path);
-  out(fmt::format("{}: {} ({:.2f} MB)\n", path, io::formatName(format),
-                  double(std::filesystem::file_size(path)) / 1e6));
-  out(fmt::format("  timesteps     {}\n", f.timesteps().size()));
-  for (const io::TimestepRef& t : f.timesteps()) {
-    out(fmt::format("    {:3d} {}\n", t.index, t.time_utc ? t.time_utc->iso8601() : "(no time)"));
-  }
-  if (!o.ranges || f.timesteps().empty()) return;
-  if (o.timestep >= f.timesteps().size()) {
-    throw UsageError(
-        fmt::format("{}: --timestep {} requested, the file has {}", path, o.timestep, f.timesteps().size()));
-  }
-  const io::ModelTimestep ts = f.load(o.timestep);
+/// Grid, projection and value ranges of one loaded model timestep.
+void describeTimestep(const io::ModelTimestep& ts, const InfoOptions& o) {
   out(fmt::format("  grid          {} x {} x {} mass points (nx, ny, levels)\n", ts.nx, ts.ny, ts.nz));
   out(fmt::format("  projection    {}\n", projectionText(ts.georef.proj_definition, ts.georef.geographic)));
   out(fmt::format("  spacing       dx {} dy {}, origin ({}, {})\n", ts.georef.dx_m, ts.georef.dy_m, ts.georef.x0,
@@ -163,9 +151,73 @@ void describeModel(const std::string& path, const InfoOptions& o) {
   }
 }
 
+void describeModel(const std::string& path, const InfoOptions& o) {
+  const io::FileFormat format = io::sniffFormat(path);
+  const io::ModelFile f = io::openModelFile(path);
+  out(fmt::format("{}: {} ({:.2f} MB)\n", path, io::formatName(format),
+                  double(std::filesystem::file_size(path)) / 1e6));
+  out(fmt::format("  timesteps     {}\n", f.timesteps().size()));
+  for (const io::TimestepRef& t : f.timesteps()) {
+    out(fmt::format("    {:3d} {}\n", t.index, t.time_utc ? t.time_utc->iso8601() : "(no time)"));
+  }
+  if (!o.ranges || f.timesteps().empty()) return;
+  if (o.timestep >= f.timesteps().size()) {
+    throw UsageError(
+        fmt::format("{}: --timestep {} requested, the file has {}", path, o.timestep, f.timesteps().size()));
+  }
+  describeTimestep(f.load(o.timestep), o);
+}
+
+/// GRIB2 files are described together: DWD writes one file per variable, level and step.
+void describeGrib(const std::vector<std::string>& files, const InfoOptions& o) {
+  const io::ModelSeries series = io::ModelSeries::open(files);
+  const io::Grib2Dataset& g = *series.at(0).grib;
+  std::uintmax_t bytes = 0;
+  for (const std::string& f : g.files()) bytes += std::filesystem::file_size(f);
+  const std::string name = g.files().size() == 1
+                               ? g.files().front()
+                               : fmt::format("{} (and {} more)", g.files().front(), g.files().size() - 1);
+  out(fmt::format("{}: {} ({} files, {} messages, {:.2f} MB)\n", name, io::formatName(series.at(0).format),
+                  g.files().size(), g.messageCount(), double(bytes) / 1e6));
+  out(fmt::format("  GRIB2 grid    {}\n", g.grid().describe()));
+  out(fmt::format("  levels        {} model levels (HHL: {} half levels)\n", g.levels(), g.levels() + 1));
+  out(fmt::format("  variables     {}\n", g.variableSummary()));
+  out(fmt::format("  timesteps     {}\n", series.size()));
+  for (std::size_t t = 0; t < series.size(); ++t) {
+    out(fmt::format("    {:3d} {}  (first file {})\n", t, geo::isoOrEmpty(series.at(t).time_utc),
+                    std::filesystem::path(series.at(t).file).filename().string()));
+  }
+  if (!o.ranges) return;
+  if (o.timestep >= series.size()) {
+    throw UsageError(fmt::format("{}: --timestep {} requested, the data has {}", name, o.timestep, series.size()));
+  }
+  describeTimestep(series.load(o.timestep), o);
+}
+
 int runInfo(const InfoOptions& o) {
   int status = kExitOk;
-  for (const std::string& path : o.files) {
+  std::vector<std::string> files, grib;
+  for (const std::string& input : o.files) {
+    try {  // folders and unexpanded patterns become files; GRIB2 files are described together
+      for (const std::string& f : io::expandModelInputs({input})) {
+        (std::filesystem::is_regular_file(f) && io::hasGribSignature(f) ? grib : files).push_back(f);
+      }
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "nephele: error: %s\n", terminalSafe(e.what(), false).c_str());
+      status = kExitFailure;
+    }
+  }
+  if (!grib.empty()) {
+    try {
+      describeGrib(grib, o);
+    } catch (const UsageError&) {
+      throw;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "nephele: error: %s\n", terminalSafe(e.what(), false).c_str());
+      status = kExitFailure;
+    }
+  }
+  for (const std::string& path : files) {
     try {
       if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: no such file", path));
       if (cache::NphReader::sniff(path)) {
@@ -190,9 +242,11 @@ void addInfoCommand(CLI::App& app, Action& run) {
   CLI::App* sub = app.add_subcommand(
       "info", "Print what files hold: for wrfout and ICON files the format, timesteps, grid, projection,\n"
               "variables present and their value ranges (of one timestep); for .nph caches the grid,\n"
-              "georeference, optics settings and per-timestep maxima and chunk sizes.\n"
+              "georeference, optics settings and per-timestep maxima and chunk sizes. ICON GRIB2 files\n"
+              "(also from folders and quoted patterns) are described together as one data set.\n"
               "Exit status 1 when any file cannot be read (the others are still described).");
-  sub->add_option("files", o->files, "wrfout, ICON NetCDF or .nph files")->required();
+  sub->add_option("files", o->files, "wrfout, ICON NetCDF, ICON GRIB2 or .nph files, folders, quoted patterns")
+      ->required();
   sub->add_flag("!--no-ranges", o->ranges, "model files: skip loading a timestep for value ranges");
   sub->add_option("--timestep", o->timestep, "model files: which timestep's ranges (default 0)");
   sub->add_flag("--verify", o->verify, ".nph files: read and checksum every chunk");

@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "io/model_file.h"
 #include "scene/basemap.h"
 #include "scene/georeference.h"
 #include "volume/volume_frame.h"
@@ -82,17 +83,13 @@ double cloudTop_m(const ExtinctionVolumes& v) {
 }  // namespace
 
 bool isDataFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return true;  // a folder of model files (GRIB2: DWD's layout)
+  if (io::hasModelFileSignature(path)) return true;
   std::ifstream in(path, std::ios::binary);
   std::array<char, 8> head{};
   in.read(head.data(), head.size());
-  const auto n = static_cast<std::size_t>(in.gcount());
-  const auto starts = [&](const char* sig, std::size_t len) {
-    return n >= len && std::memcmp(head.data(), sig, len) == 0;
-  };
-  return starts("CDF\x01", 4) || starts("CDF\x02", 4) ||
-         starts("CDF\x05", 4) ||            // NetCDF classic, 64-bit offset, CDF-5
-         starts("\x89HDF\r\n\x1a\n", 8) ||  // netCDF-4 (HDF5)
-         starts("GRIB", 4) || starts("NPHCACHE", 8);
+  return in.gcount() == 8 && std::memcmp(head.data(), "NPHCACHE", 8) == 0;
 }
 
 double quickLookExaggeration(double domain_long_side_m, double cloud_top_m) {

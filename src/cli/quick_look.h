@@ -16,7 +16,8 @@
 namespace nph::cli {
 
 /// True when `path` is data rather than a scene file: it starts with the NetCDF classic, HDF5
-/// (netCDF-4), GRIB or .nph signature. Scene files are JSON text.
+/// (netCDF-4), GRIB or .nph signature, or it is a folder (of model files: DWD's GRIB2 layout).
+/// Scene files are JSON text.
 bool isDataFile(const std::string& path);
 
 struct QuickLook {

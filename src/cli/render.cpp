@@ -131,9 +131,10 @@ void addRenderCommand(CLI::App& app, Action& run) {
                 "file instead of a scene (`nephele render wrfout_d01.nc -o look.png`): the data is framed "
                 "automatically (oblique camera, sun from the data's time, Blue Marble); --print-scene prints "
                 "that scene as JSON to start editing from.");
-  cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")
+  cmd->add_option("scene", opts->scene,
+                  "scene file (JSON), or a wrfout / ICON (NetCDF, GRIB2 file or folder) / .nph file for a quick look")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingPath);  // a folder: GRIB2 quick look
   cmd->add_flag("--print-scene", opts->print_scene,
                 "quick look: print the generated scene (JSON) to stdout; renders too when -o/--layer is given");
   cmd->add_option("-o,--output", opts->outputs, "output image(s) (.png/.exr); replaces output.paths");

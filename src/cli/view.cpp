@@ -334,7 +334,7 @@ void addViewCommand(CLI::App& app, Action& run) {
               "renders N frames without interaction and writes the last one.");
   cmd->add_option("scene", opts->scene, "scene file (JSON), or a wrfout / ICON / .nph file for a quick look")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingPath);  // a folder: GRIB2 quick look
   cmd->add_option("--width", opts->width, "window width")->capture_default_str()->check(CLI::Range(16, 16384));
   cmd->add_option("--height", opts->height, "window height")->capture_default_str()->check(CLI::Range(16, 16384));
   cmd->add_option("--frames", opts->frames, "render this many frames, then exit (non-interactive)")

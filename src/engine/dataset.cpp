@@ -63,7 +63,13 @@ std::string Dataset::identity(std::size_t t) const {
 }
 
 std::shared_ptr<const Dataset> Dataset::open(const std::string& path) {
-  requireRegularFile(path, "a .nph cache or a WRF/ICON NetCDF file");
+  std::error_code ec;
+  // DWD's GRIB2: a folder of files, or a pattern
+  if (std::filesystem::is_directory(path, ec) ||
+      (!std::filesystem::exists(path, ec) && path.find_first_of("*?[") != std::string::npos)) {
+    return openSeries({path});
+  }
+  requireRegularFile(path, "a .nph cache, a WRF/ICON NetCDF or ICON GRIB2 file, or a folder of them");
   if (cache::NphReader::sniff(path)) {
     cache::NphReader reader(path);
     std::vector<geo::OptionalUtcTime> times;
@@ -77,21 +83,22 @@ std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string
   if (paths.empty()) throw UsageError("Dataset::openSeries: no files");
   if (paths.size() == 1 && std::filesystem::exists(paths[0]) && cache::NphReader::sniff(paths[0]))
     return open(paths[0]);
-  for (const auto& p : paths) {
-    requireRegularFile(p, "a WRF/ICON NetCDF file");
+  const std::vector<std::string> files = io::expandModelInputs(paths);  // folders and patterns
+  for (const auto& p : files) {
+    requireRegularFile(p, "a WRF/ICON NetCDF or ICON GRIB2 file");
     if (cache::NphReader::sniff(p)) {
       throw InputError(
           fmt::format("{}: a .nph cache cannot be part of a series of model files; convert them together", p));
     }
   }
-  io::ModelSeries series = io::ModelSeries::open(paths);
+  io::ModelSeries series = io::ModelSeries::open(files);
   std::vector<geo::OptionalUtcTime> times;
   std::vector<std::string> sources;
   for (const auto& ref : series.timesteps()) {
     times.push_back(ref.time_utc);
     sources.push_back(ref.file);
   }
-  if (paths.size() == 1) sources.clear();
+  if (files.size() == 1) sources.clear();
   const std::string name = paths.size() == 1 ? paths[0] : fmt::format("{} (and {} more)", paths[0], paths.size() - 1);
   return std::make_shared<ModelDataset>(name, std::move(series), std::move(times), std::move(sources));
 }

@@ -22,11 +22,12 @@ namespace nph::engine {
 
 class Dataset {
  public:
-  /// Opens `path`: a .nph cache or a model file io::openModelFile recognises. InputError names
-  /// the file and what is wrong.
+  /// Opens `path`: a .nph cache, a model file io::openModelFile recognises, or a folder of model
+  /// files (openSeries). InputError names the file and what is wrong.
   static std::shared_ptr<const Dataset> open(const std::string& path);
   /// Several model files as one time-ordered list of timesteps (io::ModelSeries); one path is
-  /// open(path). Only the headers are read here: a file damaged after its header fails in load().
+  /// open(path). Folders and patterns are expanded (io::expandModelInputs). Only the headers are read here: a file
+  /// damaged after its header fails in load().
   static std::shared_ptr<const Dataset> openSeries(const std::vector<std::string>& paths);
   virtual ~Dataset() = default;
 

@@ -57,6 +57,7 @@ case $case in
     "$gen" all --dir "$data" >/dev/null || fail "nephele-gen all failed"
     "$gen" wrf --times 2 --start-hour 6 -o "$data/wrfout_lambert_thompson_b.nc" >/dev/null ||
       fail "nephele-gen wrf (series) failed"
+    "$gen" icon --grib2 "$data/icon_grib2" >/dev/null || fail "nephele-gen icon --grib2 failed"
     ;;
   help)
     run "$nephele" --help
@@ -177,8 +178,37 @@ case $case in
     expect_rc 2
     expect_err "either --frames or --chunk"
     ;;
+  grib2)  # ICON GRIB2 written by ecCodes (nephele-gen icon --grib2) from icon_regular.nc's scene: DWD's folder, one file
+    "$gen" icon --grib2 "$out/dwd" --grib2-packing grid_ieee >/dev/null || fail "nephele-gen icon --grib2 failed"
+    "$gen" icon --grib2 "$out/one" --grib2-layout single --grib2-packing grid_ccsds >/dev/null ||
+      fail "nephele-gen icon --grib2 --grib2-layout single failed"
+    # ecCodes' own tools read what the C API wrote, with DWD's names (centre 78, edzw)
+    run grib_ls -p centre,shortName,level "$out/dwd/icon-d2_germany_regular-lat-lon_time-invariant_2026031812_000_21_hhl.grib2"
+    expect_rc 0; expect_out "edzw *HHL *21"
+    run "$nephele" info "$out/dwd"
+    expect_rc 0; expect_out "ICON GRIB2 regular lat-lon (381 files, 381 messages"; expect_out "timesteps     2"
+    expect_out "HHL 21 levels x 1 times"; expect_out "q cloud"; expect_out "consistency   [1-9][0-9]* cells"
+    run "$nephele" info "$out/one/icon_scene.grib2" --no-ranges
+    expect_rc 0; expect_out "(1 files, 381 messages"; expect_out "1 2026-03-18T13:00:00Z"
+    # a quoted pattern; only the temperature files: the heights are missing
+    run "$nephele" info "$out/dwd/*_t.grib2"
+    expect_rc 1; expect_err "no HHL"; expect_err "_hhl.grib2"
+    # IEEE packing holds the NetCDF floats: the caches' per-timestep maxima print the same
+    for input in "$out/dwd" "$data/icon_regular.nc"; do
+      run "$nephele" convert "$input" -o "$out/$(basename "$input").nph" --no-progress
+      expect_rc 0
+      run "$nephele" info "$out/$(basename "$input").nph"
+      expect_rc 0
+      grep -o "max ice .* /m  max water .* /m" "$out/stdout" >"$out/$(basename "$input").maxima"
+    done
+    [ "$(wc -l <"$out/dwd.maxima")" -eq 2 ] || fail "expected 2 timesteps: $(cat "$out/dwd.maxima")"
+    cmp -s "$out/dwd.maxima" "$out/icon_regular.nc.maxima" ||
+      fail "GRIB2 and NetCDF caches differ: $(cat "$out/dwd.maxima") vs $(cat "$out/icon_regular.nc.maxima")"
+    run "$nephele" convert "$out/one/icon_scene.grib2" -o "$out/one.nph" --no-progress
+    expect_rc 0
+    ;;
   quicklook)  # a data file instead of a scene: framed automatically; the printed scene re-renders the same bytes
-    for f in wrfout_lambert_thompson.nc icon_regular.nc; do
+    for f in wrfout_lambert_thompson.nc icon_regular.nc icon_grib2; do  # icon_grib2: DWD's folder of GRIB2 files
       run "$nephele" render "$data/$f" -o "$out/$f.png" --width 96 --height 54 --print-scene
       expect_rc 0
       [ -s "$out/$f.png" ] || fail "quick look of $f wrote no image"
