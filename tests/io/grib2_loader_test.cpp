@@ -7,17 +7,20 @@
 //     with range [min, max] is stored as R + X 2^E with integer X < 2^n and the smallest E with
 //     (max - min) <= (2^n - 1) 2^E, so 2^E < 2 (max - min) / (2^n - 1) and the rounding error
 //     |v' - v| <= 2^(E-1) < (max - min) / (2^n - 1) (WMO FM 92 GRIB2, data representation
-//     template 5.0, with D = 0). That bound, per level, plus float rounding, is what is checked.
+//     template 5.0, with D = 0). That bound, per level, plus float rounding, is what is checked,
+//     and propagated through eq. 5.3 to the extinction on model levels.
 //   - Hostile data sets: every error names the file and message and says what was expected.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 
 #include "core/error.h"
 #include "grib2_writer.h"
@@ -25,6 +28,8 @@
 #include "io/grib2_loader.h"
 #include "io/model_file.h"
 #include "io_test_support.h"
+#include "physics/air_density.h"
+#include "physics/extinction.h"
 #include "physics/optics_settings.h"
 #include "physics/volume_builder.h"
 
@@ -110,19 +115,28 @@ TEST(Grib2Exact, DwdFilesRegular) { expectExactlyTheNetcdfPath({datagen::Grib2La
 TEST(Grib2Exact, SingleFileRegular) { expectExactlyTheNetcdfPath({datagen::Grib2Layout::SingleFile, false}); }
 TEST(Grib2Exact, DwdFilesNative) { expectExactlyTheNetcdfPath({datagen::Grib2Layout::DwdFiles, true}); }
 
-/// |grib - nc| <= (max - min) / (2^bits - 1) of that level of `nc`, plus float rounding.
-void expectWithinPacking(const std::vector<float>& grib, const std::vector<float>& nc, std::size_t layer, long bits,
-                         const char* what) {
-  ASSERT_EQ(grib.size(), nc.size()) << what;
+/// Packing bound of every level of `nc` (a field on `layer` points per level): (max - min) /
+/// (2^bits - 1), plus float rounding of the decoded value.
+std::vector<double> packingBounds(const std::vector<float>& nc, std::size_t layer, long bits) {
+  std::vector<double> bounds;
   for (std::size_t k = 0; k * layer < nc.size(); ++k) {
     const auto begin = nc.begin() + std::ptrdiff_t(k * layer), end = begin + std::ptrdiff_t(layer);
     const auto [lo, hi] = std::minmax_element(begin, end);
-    const double bound =
-        (double(*hi) - double(*lo)) / (std::ldexp(1.0, int(bits)) - 1.0) +
-        4.0 * double(std::numeric_limits<float>::epsilon()) * double(std::max(std::abs(*hi), std::abs(*lo)));
-    for (std::size_t p = k * layer; p < (k + 1) * layer; ++p) {
-      ASSERT_LE(std::abs(double(grib[p]) - double(nc[p])), bound) << what << " level " << k << " point " << p;
-    }
+    bounds.push_back((double(*hi) - double(*lo)) / (std::ldexp(1.0, int(bits)) - 1.0) +
+                     4.0 * double(std::numeric_limits<float>::epsilon()) *
+                         double(std::max(std::abs(*hi), std::abs(*lo))));
+  }
+  return bounds;
+}
+
+/// |grib - nc| within the packing bound of its level of `nc`.
+void expectWithinPacking(const std::vector<float>& grib, const std::vector<float>& nc, std::size_t layer, long bits,
+                         const char* what) {
+  ASSERT_EQ(grib.size(), nc.size()) << what;
+  const std::vector<double> bound = packingBounds(nc, layer, bits);
+  for (std::size_t p = 0; p < nc.size(); ++p) {
+    ASSERT_LE(std::abs(double(grib[p]) - double(nc[p])), bound[p / layer])
+        << what << " level " << p / layer << " point " << p % layer;
   }
 }
 
@@ -151,6 +165,81 @@ void expectWithinPackingBound(const char* packing) {
 
 TEST(Grib2Packed, SimplePackingWithinBound) { expectWithinPackingBound("grid_simple"); }
 TEST(Grib2Packed, CcsdsWithinBound) { expectWithinPackingBound("grid_ccsds"); }
+// Extinction on model levels (Nes 2008 eq. 5.3, physics/extinction.h): β_f = a_f ρ q_f with
+// a_f = 3 / (2 ρ_f r_f) (fixed radii: ICON has no number concentrations) and the moist density
+// ρ(p, T, q_v, Σq) (physics/air_density.h), increasing in p and Σq, decreasing in T and q_v. With
+// every field within its packing bound Δ of the NetCDF value, both states lie in the box
+// grib ± Δ, so ρ_lo <= ρ <= ρ_hi at its corners and
+//   |β_grib - β_nc| = a_f |ρ_nc (q_grib - q_nc) + q_grib (ρ_grib - ρ_nc)| <= a_f (ρ_hi Δq + q_grib (ρ_hi - ρ_lo)),
+// summed over the classes of each volume. Without cloud cover (the ICON corrections off) this is
+// the whole difference; float storage of β adds a relative 2^-23.
+TEST(Grib2Packed, ModelLevelExtinctionWithinTheDerivedBound) {
+  ScratchDir dir("io");
+  datagen::IconSceneSpec spec = smallSpec(false);
+  spec.ntimes = 1;
+  datagen::writeIconScene(spec, dir.file("icon.nc"));
+  datagen::writeIconSceneGrib2(spec, dir.file("grib"));  // 16-bit simple packing, as DWD's files
+  ModelTimestep nc = openModelFile(dir.file("icon.nc")).load(0);
+  ModelTimestep grib = loadAll({dir.file("grib")}).at(0);
+  nc.cloud_cover_fraction.clear();  // no corrections: the optics are eq. 5.3 alone
+  grib.cloud_cover_fraction.clear();
+  const physics::OpticsSettings optics = physics::defaultOptics();
+  const auto beta_nc = physics::modelLevelExtinction(nc, optics);
+  const auto beta_grib = physics::modelLevelExtinction(grib, optics);
+  const std::size_t layer = std::size_t(nc.nx) * std::size_t(nc.ny);
+  const auto dp = packingBounds(nc.pressure_pa, layer, 16), dt = packingBounds(nc.temperature_k, layer, 16),
+             dqv = packingBounds(nc.water_vapour_kg_per_kg, layer, 16);
+  std::map<Hydrometeor, std::vector<double>> dq;
+  for (const auto& [h, q] : nc.q_kg_per_kg) dq[h] = packingBounds(q, layer, 16);
+  double worst = 0.0, largest_difference = 0.0;
+  for (std::size_t v = 0; v < nc.voxelCount(); ++v) {
+    const std::size_t k = v / layer;
+    double q_sum = 0.0, dq_sum = 0.0;
+    for (const auto& [h, q] : grib.q_kg_per_kg) {
+      q_sum += std::max(double(q[v]), 0.0);
+      dq_sum += dq.at(h)[k];
+    }
+    const double p = grib.pressure_pa[v], t = grib.temperature_k[v], qv = grib.water_vapour_kg_per_kg[v];
+    const double rho_hi = physics::moistAirDensity(p + dp[k], t - dt[k], std::max(qv - dqv[k], 0.0), q_sum + dq_sum);
+    const double rho_lo = physics::moistAirDensity(p - dp[k], t + dt[k], qv + dqv[k], std::max(q_sum - dq_sum, 0.0));
+    double bound_ice = 0.0, bound_water = 0.0;
+    for (const auto& [h, q] : grib.q_kg_per_kg) {
+      const physics::HydrometeorOptics& o = optics[h];
+      const double a = 3.0 / (2.0 * o.particle_density_kg_per_m3 * o.effective_radius_m);
+      (o.ice_phase ? bound_ice : bound_water) +=
+          a * (rho_hi * dq.at(h)[k] + std::max(double(q[v]), 0.0) * (rho_hi - rho_lo));
+    }
+    constexpr double kFloat = 1.0 / (1 << 23);
+    bound_ice += kFloat * double(beta_nc.ice_per_m[v]);
+    bound_water += kFloat * double(beta_nc.water_per_m[v]);
+    const double d_ice = std::abs(double(beta_grib.ice_per_m[v]) - double(beta_nc.ice_per_m[v]));
+    const double d_water = std::abs(double(beta_grib.water_per_m[v]) - double(beta_nc.water_per_m[v]));
+    ASSERT_LE(d_ice, bound_ice) << "voxel " << v;
+    ASSERT_LE(d_water, bound_water) << "voxel " << v;
+    largest_difference = std::max({largest_difference, d_ice, d_water});
+    if (bound_ice > 0.0) worst = std::max(worst, d_ice / bound_ice);
+    if (bound_water > 0.0) worst = std::max(worst, d_water / bound_water);
+  }
+  EXPECT_GT(largest_difference, 0.0);  // packing did change the extinction
+  std::printf("largest |beta_grib - beta_nc| %.3g /m, at most %.2f of its bound\n", largest_difference, worst);
+  // For the record (not bounded here: packed heights move the levels the metric grid is
+  // interpolated from): the resampled volumes, ICON corrections on.
+  nc = openModelFile(dir.file("icon.nc")).load(0);
+  grib = loadAll({dir.file("grib")}).at(0);
+  const auto vn = physics::buildExtinctionVolumes(nc, optics, physics::VerticalGridOptions{});
+  const auto vg = physics::buildExtinctionVolumes(grib, optics, physics::VerticalGridOptions{});
+  if (vn.nz == vg.nz && vn.z_bottom_m == vg.z_bottom_m) {
+    double max_beta = 0.0, max_difference = 0.0;
+    for (std::size_t v = 0; v < vn.water_per_m.size(); ++v) {
+      max_beta = std::max({max_beta, double(vn.water_per_m[v]), double(vn.ice_per_m[v])});
+      max_difference = std::max({max_difference, std::abs(double(vg.water_per_m[v]) - double(vn.water_per_m[v])),
+                                 std::abs(double(vg.ice_per_m[v]) - double(vn.ice_per_m[v]))});
+    }
+    std::printf("resampled volumes: largest difference %.3g /m = %.2g of the largest beta %.3g /m\n", max_difference,
+                max_difference / max_beta, max_beta);
+  }
+}
+
 // Not grid_complex(_spatial_differencing): ecCodes 2.28's encoder loses data of these fields
 // (`grib_set -r -s packingType=grid_complex` on a simple-packed QC level: maximum 0.00160 ->
 // 0.00127 kg/kg), so test data in that packing would test ecCodes' encoder, not the reader.
