@@ -115,6 +115,33 @@ TEST(Grib2Exact, DwdFilesRegular) { expectExactlyTheNetcdfPath({datagen::Grib2La
 TEST(Grib2Exact, SingleFileRegular) { expectExactlyTheNetcdfPath({datagen::Grib2Layout::SingleFile, false}); }
 TEST(Grib2Exact, DwdFilesNative) { expectExactlyTheNetcdfPath({datagen::Grib2Layout::DwdFiles, true}); }
 
+TEST(Grib2Exact, IconD2GridFrom356EastIsPlacedAtMinus3Point94) {
+  // ICON-D2's regular grid: first point 43.18 N, 356.06 E (GRIB2 longitudes are 0 .. 360), 0.02 deg.
+  ScratchDir dir("io");
+  datagen::IconSceneSpec spec = smallSpec(false);
+  spec.ntimes = 1;
+  spec.lon0_deg = -3.94;
+  spec.lat0_deg = 43.18;
+  spec.dlon_deg = spec.dlat_deg = 0.02;
+  datagen::writeIconScene(spec, dir.file("icon.nc"));
+  datagen::Grib2WriteOptions options;
+  options.packing = "grid_ieee";
+  const std::string one = datagen::writeIconSceneGrib2(spec, dir.file("grib"), options).front();
+  EXPECT_NEAR(scanGrib2File(one).front().grid.lon_first_deg, 356.06, 1e-6);  // as stored
+  const ModelTimestep nc = openModelFile(dir.file("icon.nc")).load(0);
+  const ModelTimestep grib = loadAll({dir.file("grib")}).at(0);
+  // Section 3 holds micro-degrees: the placement agrees to 1e-6 deg, the fields exactly.
+  EXPECT_NEAR(grib.georef.x0, -3.94, 1e-6);
+  EXPECT_NEAR(grib.georef.y0, 43.18, 1e-6);
+  EXPECT_NEAR(grib.georef.dx_m, 0.02, 1e-6);
+  for (std::size_t p = 0; p < nc.georef.lon_deg.size(); ++p) {
+    ASSERT_NEAR(grib.georef.lon_deg[p], nc.georef.lon_deg[p], 1e-5) << p;
+    ASSERT_NEAR(grib.georef.lat_deg[p], nc.georef.lat_deg[p], 1e-5) << p;
+  }
+  EXPECT_EQ(grib.q_kg_per_kg.at(Hydrometeor::Cloud), nc.q_kg_per_kg.at(Hydrometeor::Cloud));
+  EXPECT_EQ(grib.height_m, nc.height_m);
+}
+
 /// Packing bound of every level of `nc` (a field on `layer` points per level): (max - min) /
 /// (2^bits - 1), plus float rounding of the decoded value.
 std::vector<double> packingBounds(const std::vector<float>& nc, std::size_t layer, long bits) {
@@ -259,6 +286,17 @@ void expectInputError(const std::function<void()>& fn, std::initializer_list<std
 std::string dwdFile(const std::string& dir, const char* kind, int step, int level, const char* var) {
   return fmt::format("{}/icon-d2_germany_regular-lat-lon_{}_2026031812_{:03d}_{}_{}.grib2", dir, kind, step, level,
                      var);
+}
+
+TEST(HostileGrib2, MemoryBudgetIsCheckedBeforeReading) {
+  ScratchDir dir("io");
+  datagen::IconSceneSpec spec = smallSpec(false);
+  spec.ntimes = 1;
+  datagen::writeIconSceneGrib2(spec, dir.file("grib"));
+  LoadOptions options;
+  options.memory_budget_bytes = 1000;
+  const ModelSeries series = ModelSeries::open(expandModelInputs({dir.file("grib")}), options);
+  expectInputError([&] { (void)series.load(0); }, {"_t.grib2", "more than the memory budget"});
 }
 
 TEST(HostileGrib2, MissingHhlNamesTheFileAndTheTimeInvariantFile) {
