@@ -43,9 +43,13 @@ bool hasModelFileSignature(const std::string& path) {
 
 namespace {
 
+FileFormat gribFormat(const Grib2Dataset& grib) {
+  return grib.native() ? FileFormat::Grib2IconNative : FileFormat::Grib2IconRegular;
+}
+
 std::vector<TimestepRef> gribTimesteps(const std::shared_ptr<const Grib2Dataset>& grib) {
   std::vector<TimestepRef> refs;
-  const FileFormat format = grib->native() ? FileFormat::Grib2IconNative : FileFormat::Grib2IconRegular;
+  const FileFormat format = gribFormat(*grib);
   for (std::size_t t = 0; t < grib->times().size(); ++t)
     refs.push_back({grib->firstFileOf(t), std::int64_t(t), geo::parseOptional(grib->times()[t]), format, grib});
   return refs;
@@ -59,10 +63,11 @@ std::vector<std::string> expandModelInputs(const std::vector<std::string>& input
     std::error_code ec;
     if (std::filesystem::is_directory(input, ec)) {
       std::vector<std::string> inside;
-      for (const auto& entry : std::filesystem::directory_iterator(input)) {
+      for (const auto& entry : std::filesystem::directory_iterator(input, ec)) {
         const std::string p = entry.path().string();
         if (entry.is_regular_file() && hasModelFileSignature(p)) inside.push_back(p);
       }
+      if (ec) throw InputError(fmt::format("{}: the folder cannot be listed ({})", input, ec.message()));
       if (inside.empty()) {
         throw InputError(fmt::format("{}: is a folder without GRIB2 or NetCDF files, expected model output", input));
       }
@@ -83,8 +88,7 @@ std::vector<std::string> expandModelInputs(const std::vector<std::string>& input
 }
 
 FileFormat sniffFormat(const std::string& path) {
-  if (hasGribSignature(path))
-    return Grib2Dataset::open({path})->native() ? FileFormat::Grib2IconNative : FileFormat::Grib2IconRegular;
+  if (hasGribSignature(path)) return gribFormat(*Grib2Dataset::open({path}));
   const NcReader nc(path);
   // WRF: its global grid attributes or its characteristic dimensions.
   if (nc.globalNumber("WEST-EAST_GRID_DIMENSION") || (nc.hasDim("west_east") && nc.hasDim("bottom_top"))) {
@@ -113,9 +117,7 @@ ModelTimestep ModelFile::load(std::size_t i) const {
 ModelFile openModelFile(const std::string& path, const LoadOptions& options) {
   if (hasGribSignature(path)) {
     const auto grib = Grib2Dataset::open({path});
-    std::vector<TimestepRef> refs = gribTimesteps(grib);
-    const FileFormat format = grib->native() ? FileFormat::Grib2IconNative : FileFormat::Grib2IconRegular;
-    return ModelFile(path, format, std::move(refs), options);
+    return ModelFile(path, gribFormat(*grib), gribTimesteps(grib), options);
   }
   const FileFormat format = sniffFormat(path);
   const std::vector<geo::OptionalUtcTime> times =
