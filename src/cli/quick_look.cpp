@@ -86,6 +86,7 @@ bool isDataFile(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return true;  // a folder of model files (GRIB2: DWD's layout)
   if (io::hasModelFileSignature(path)) return true;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the read
   std::ifstream in(path, std::ios::binary);
   std::array<char, 8> head{};
   in.read(head.data(), head.size());

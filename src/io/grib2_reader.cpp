@@ -126,6 +126,10 @@ const std::vector<std::string>& supportedGrib2Packings() {
 }
 
 bool hasGribSignature(const std::string& path) {
+  // Only regular files are opened: a FIFO would block this read forever (issue #18); the loaders
+  // refuse the others by file type with their own message.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   std::array<char, 4> magic{};
   return in.read(magic.data(), 4) && std::string(magic.data(), 4) == "GRIB";

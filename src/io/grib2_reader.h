@@ -48,7 +48,7 @@ struct Grib2Message {
   std::string where() const;
 };
 
-/// True when the file starts with the GRIB signature (edition not checked).
+/// True when `path` is a regular file starting with the GRIB signature (edition not checked).
 bool hasGribSignature(const std::string& path);
 
 /// Indexes every message of `path`. InputError when the file is not GRIB edition 2, when a

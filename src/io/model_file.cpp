@@ -29,6 +29,8 @@ const char* formatName(FileFormat format) {
 }
 
 bool hasModelFileSignature(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the read
   std::ifstream in(path, std::ios::binary);
   std::array<char, 8> head{};
   in.read(head.data(), head.size());

@@ -38,7 +38,7 @@ struct TimestepRef {
   std::shared_ptr<const Grib2Dataset> grib;
 };
 
-/// True when `path` starts with a model file's signature: NetCDF classic, 64-bit offset or CDF-5
+/// True when `path` is a regular file starting with a model file's signature: NetCDF classic, 64-bit offset or CDF-5
 /// ("CDF" 1|2|5), HDF5 (netCDF-4) or GRIB.
 bool hasModelFileSignature(const std::string& path);
 
