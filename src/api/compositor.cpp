@@ -32,6 +32,12 @@ void Compositor::drawTriangle(const gl::Texture& source, bool blend) const {
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   program_.set("u_viewport", glm::vec4(float(viewport[0]), float(viewport[1]), float(viewport[2]), float(viewport[3])));
+  // Unbind the compute program of the passes before binding ours. Mesa keeps, per shader stage,
+  // a reference to the last program object bound while that stage's program changed; binding
+  // this vertex+fragment program straight after a compute dispatch records it as the compute
+  // stage's referenced program, and the host's graphics program never clears that slot, so
+  // renderer_destroy's glDeleteProgram left it alive (issue 18; api.c99 counts the names).
+  glUseProgram(0);
   program_.use();
   glBindVertexArray(vertex_array_.id());
   glBindTextureUnit(gl::binding::UNIT_COMPOSITE_LAYER, source.id());

@@ -28,7 +28,7 @@
   X(PFNGLNAMEDBUFFERDATAPROC, glNamedBufferData)                                                 \
   X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, glNamedFramebufferTexture)                                 \
   X(PFNGLTEXTURESTORAGE2DPROC, glTextureStorage2D) X(PFNGLTEXTURESTORAGE3DPROC, glTextureStorage3D)   \
-  X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage)
+  X(PFNGLGETTEXTUREIMAGEPROC, glGetTextureImage) X(PFNGLGETOBJECTLABELPROC, glGetObjectLabel)
 // clang-format on
 #define DECLARE(type, name) static type p_##name;
 GL45_FUNCTIONS(DECLARE)
@@ -44,6 +44,7 @@ GL45_FUNCTIONS(DECLARE)
 #define glTextureStorage2D p_glTextureStorage2D
 #define glTextureStorage3D p_glTextureStorage3D
 #define glGetTextureImage p_glGetTextureImage
+#define glGetObjectLabel p_glGetObjectLabel
 
 static void load_gl45(void) {
 #define LOAD(type, name)                                                \
@@ -54,6 +55,57 @@ static void load_gl45(void) {
   }
   GL45_FUNCTIONS(LOAD)
 #undef LOAD
+}
+
+/* Live GL object names of each kind, probed by name (glIs*): a renderer that is destroyed must
+ * leave the counts as they were before it was created (issue 18: one program was left alive). */
+enum { LIVE_KINDS = 7, LIVE_NAME_RANGE = 16384 };
+static const char* const live_kind_names[LIVE_KINDS] = {"program",     "shader",       "texture", "buffer",
+                                                        "framebuffer", "vertex array", "sampler"};
+static void count_live_objects(int counts[LIVE_KINDS]) {
+  for (int k = 0; k < LIVE_KINDS; ++k) counts[k] = 0;
+  for (GLuint n = 1; n <= LIVE_NAME_RANGE; ++n) {
+    counts[0] += glIsProgram(n) == GL_TRUE;
+    counts[1] += glIsShader(n) == GL_TRUE;
+    counts[2] += glIsTexture(n) == GL_TRUE;
+    counts[3] += glIsBuffer(n) == GL_TRUE;
+    counts[4] += glIsFramebuffer(n) == GL_TRUE;
+    counts[5] += glIsVertexArray(n) == GL_TRUE;
+    counts[6] += glIsSampler(n) == GL_TRUE;
+  }
+}
+
+/* Live programs that carry a label: nephele labels every program it links ("render/clouds.comp"),
+ * the host's are unlabelled. Printed, and counted. */
+static int count_labelled_programs(void) {
+  int labelled = 0;
+  for (GLuint n = 1; n <= LIVE_NAME_RANGE; ++n) {
+    char label[256] = {0};
+    GLsizei length = 0;
+    if (glIsProgram(n) != GL_TRUE) continue;
+    glGetObjectLabel(GL_PROGRAM, n, (GLsizei)sizeof label, &length, label);
+    if (length > 0) {
+      fprintf(stderr, "program %u (%s) is still alive\n", n, label);
+      ++labelled;
+    }
+  }
+  return labelled;
+}
+
+/* Counts the kinds whose live objects differ from `before`, naming them. */
+static int compare_live_objects(const int before[LIVE_KINDS], const char* when) {
+  int after[LIVE_KINDS], differ = 0;
+  count_live_objects(after);
+  printf("live GL objects %s:", when);
+  for (int k = 0; k < LIVE_KINDS; ++k) printf(" %s %d/%d", live_kind_names[k], before[k], after[k]);
+  printf("\n");
+  for (int k = 0; k < LIVE_KINDS; ++k) {
+    if (after[k] != before[k]) {
+      fprintf(stderr, "%s: %d %s(s) before, %d after\n", when, before[k], live_kind_names[k], after[k]);
+      ++differ;
+    }
+  }
+  return differ;
 }
 
 #define W 96
@@ -499,6 +551,8 @@ int main(int argc, char** argv) {
   } while (0)
   nph_renderer* r2 = NULL;
   nph_dataset* ds2 = NULL;
+  int live_before[LIVE_KINDS];
+  count_live_objects(live_before);
   STATE_KEPT(NPH_OK, NULL, api->dataset_open(path, &ds2));
   STATE_KEPT(NPH_OK, ds2, api->renderer_create(ds2, &desc, &r2));
   STATE_KEPT(NPH_OK, ds2, api->dataset_close(ds2)); /* the renderer keeps its data */
@@ -529,6 +583,8 @@ int main(int argc, char** argv) {
   STATE_KEPT(NPH_OK, r, api->render(r)); /* a second renderer in the same context */
   STATE_KEPT(NPH_OK, r2, api->renderer_destroy(r2));
   STATE_KEPT(NPH_ERROR_INVALID_HANDLE, r2, api->render(r2));
+  glDeleteTextures(1, &depth2); /* the host's own */
+  failures += compare_live_objects(live_before, "before create / after destroy of a second renderer");
 
   /* ---- destroyed handles ---- */
   EXPECT(NPH_OK, r, api->renderer_destroy(r));
@@ -537,6 +593,18 @@ int main(int argc, char** argv) {
   EXPECT(NPH_ERROR_INVALID_HANDLE, r, api->set_time(r, 0.0));
   EXPECT(NPH_ERROR_INVALID_HANDLE, r, api->get_stats(r, &stats));
   CHECK(strstr(api->last_error(r), "not a live handle") != NULL); /* the thread's message */
+
+  /* ---- the only renderer of a context leaves nothing behind (issue 18) ---- */
+  count_live_objects(live_before);
+  EXPECT(NPH_OK, ds, api->renderer_create(ds, &desc, &r));
+  EXPECT(NPH_OK, r, api->set_camera_preset(r, "oblique", W, H));
+  EXPECT(NPH_OK, r, api->set_parameter(r, "ground", 1));
+  EXPECT(NPH_OK, r, api->render(r));
+  EXPECT(NPH_OK, r, api2->set_passes(r, 1));
+  EXPECT(NPH_OK, r, api->render(r));
+  EXPECT(NPH_OK, r, api->renderer_destroy(r));
+  failures += compare_live_objects(live_before, "before create / after destroy of the only renderer");
+  CHECK(count_labelled_programs() == 0); /* Mesa kept the composite program referenced */
 
   /* a renderer whose context is already gone: destroy with no context current frees the rest */
   EXPECT(NPH_OK, ds, api->renderer_create(ds, &desc, &r));
