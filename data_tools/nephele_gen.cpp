@@ -75,6 +75,11 @@ int main(int argc, char** argv) {
   wrf->add_option("--start-hour", start_hour,
                   "hours after 2026-09-01_12:00:00 of the first timestep (for file series)");
   wrf->add_flag("--hail", hail, "add QHAIL/QNHAIL");
+  double anvil_rise_km_per_h = 0.0;
+  wrf->add_option("--anvil-rise", anvil_rise_km_per_h,
+                  "KM_PER_H: the hurricane's ice tops rise by this much per hour, up to their usual heights at "
+                  "the last timestep (a series whose cloud top rises; default 0)")
+      ->check(CLI::Range(0.0, 3.0));
   std::vector<double> mountain;
   wrf->add_option(
          "--mountain", mountain,
@@ -126,6 +131,7 @@ int main(int argc, char** argv) {
       if (!storm || wrf->count("--times") > 0) spec.ntimes = times;
       spec.first_hour = start_hour;
       spec.include_hail = hail;
+      spec.anvil_rise_km_per_h = anvil_rise_km_per_h;
       if (!mountain.empty()) spec.mountain = {mountain[0], mountain[1], mountain[2], mountain[3]};
       spec.format = format(spec.format);
       const auto t0 = std::chrono::steady_clock::now();

@@ -617,9 +617,12 @@ void Writer::writeTimestep(int t) {
         const double q_graupel = 1.4e-3 * eyewall * texture * layer(zk, 4.5, 8.5, 1.0);
         // Central dense overcast: an outflow anvil of ~200 km e-folding radius, thinning towards
         // the eye so the eye stays open from above (the storm's signature in satellite imagery).
+        // Rising ice tops reach the standard heights at the file's last timestep.
+        const double rise_km = spec_.anvil_rise_km_per_h * (hours - double(spec_.first_hour + spec_.ntimes - 1));
         const double anvil = eye * gaussian(r, 0.0, 200.0) * (0.65 + 0.35 * std::cos(phi + r / 90.0 - 0.2 * hours)) *
-                             layer(zk, 11.0, 13.8, 1.0) * texture;
-        const double q_ice = (3.0e-4 * eyewall * layer(zk, 7.0, 14.5, 1.0) + 1.6e-4 * anvil) * (warm ? 0.0 : 1.0);
+                             layer(zk, 11.0 + rise_km, 13.8 + rise_km, 1.0) * texture;
+        const double q_ice =
+            (3.0e-4 * eyewall * layer(zk, 7.0, 14.5 + rise_km, 1.0) + 1.6e-4 * anvil) * (warm ? 0.0 : 1.0);
         const double q_snow = (7.0e-4 * convective * layer(zk, 5.5, 11.0, 1.0) +
                                2.0e-4 * stratiform * layer(zk, 5.0, 9.0, 1.0) + 0.6e-4 * anvil) *
                               (warm ? 0.0 : 1.0);

@@ -55,6 +55,10 @@ struct WrfHurricaneSpec {
   bool keep_truth = false;  ///< fill WrfTruth's 3-D fields (tests; costs memory)
   WrfCase weather = WrfCase::Hurricane;
   GaussianMountain mountain;  ///< none by default (height 0); needs a projection (not Cartesian)
+  /// The hurricane's ice tops (eyewall ice and outflow anvil) rise by this much per hour and
+  /// reach their standard heights at the file's last timestep (0: steady tops). A series whose cloud top rises crops
+  /// each timestep converted on the fly to a different column (issue 18: `animate` straight on such a wrfout).
+  double anvil_rise_km_per_h = 0.0;
 };
 
 /// What the generator wrote, in double precision, to check loaders against.

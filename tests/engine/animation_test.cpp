@@ -205,5 +205,40 @@ TEST(Blend, HalfwayIsTheMeanOfTwoRealTimesteps) {
   EXPECT_EQ(engine::blendVolumes(a, b, 1.0).water_per_m, b.water_per_m);
 }
 
+TEST(Blend, ARisingCloudTopIsBlendedOnTheUnionOfTheColumns) {
+  // Issue 18: each timestep converted on the fly is cropped to its own column, so a series whose
+  // ice tops rise gives timesteps of different heights; blending must not refuse them.
+  const std::string path = (engineTestDir() / "wrfout_rising.nc").string();
+  datagen::WrfHurricaneSpec spec;
+  spec.ntimes = 3;
+  spec.anvil_rise_km_per_h = 2.0;
+  datagen::writeWrfHurricane(spec, path);
+  const auto ds = engine::Dataset::open(path);
+  const ExtinctionVolumes a = ds->load(0), c = ds->load(2);
+  ASSERT_EQ(a.dz_m, c.dz_m);
+  EXPECT_GT(c.z_bottom_m + c.dz_m * c.nz, a.z_bottom_m + a.dz_m * a.nz + 1000.0)
+      << "the column of timestep 2 must reach at least 1 km higher than timestep 0's";
+  const ExtinctionVolumes m = engine::blendVolumes(a, c, 0.25);
+  EXPECT_EQ(m.z_bottom_m, std::min(a.z_bottom_m, c.z_bottom_m));
+  EXPECT_DOUBLE_EQ(m.z_bottom_m + m.dz_m * m.nz, std::max(a.z_bottom_m + a.dz_m * a.nz, c.z_bottom_m + c.dz_m * c.nz));
+  // The optical depth of every column is the blend of the two timesteps' (zeros above a's top).
+  const auto column = [](const ExtinctionVolumes& v, int i, int j) {
+    double tau = 0.0;
+    for (int k = 0; k < v.nz; ++k) {
+      const std::size_t n = (std::size_t(k) * std::size_t(v.ny) + std::size_t(j)) * std::size_t(v.nx) + std::size_t(i);
+      tau += (double(v.ice_per_m[n]) + double(v.water_per_m[n])) * v.dz_m;
+    }
+    return tau;
+  };
+  double worst = 0.0;
+  for (int j = 0; j < a.ny; ++j) {
+    for (int i = 0; i < a.nx; ++i) {
+      const double want = 0.75 * column(a, i, j) + 0.25 * column(c, i, j);
+      worst = std::max(worst, std::abs(column(m, i, j) - want) / (1.0 + want));
+    }
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
 }  // namespace
 }  // namespace nph::test
