@@ -7,6 +7,7 @@
 #   make bench  deps + build + Google Benchmark suite, JSON/CSV into build/bench/
 #   make bench-accuracy  deps + build + `nephele-bench accuracy` (run time against error), into build/accuracy/
 #   make test-sanitize   clang build with ASan + UBSan (-Werror in CI) in build-sanitize/, unit + GL tests
+#   make fuzz   the same clang build + a bounded libFuzzer campaign of each tests/fuzz target
 BUILD_DIR  ?= build
 BUILD_TYPE ?= RelWithDebInfo
 CMAKE_ARGS ?=
@@ -16,7 +17,7 @@ ifeq ($(CI),true)
   CMAKE_ARGS += -DNEPHELE_WERROR=ON
 endif
 
-.PHONY: all deps build test test-blender test-sanitize demo bench bench-accuracy clean install
+.PHONY: all deps build test test-blender test-sanitize fuzz demo bench bench-accuracy clean install
 all: build
 
 deps:
@@ -56,11 +57,26 @@ SANITIZE_TESTS ?= -L "unit|gl" -E "^(api|install|cli|stress)\\."
 test-sanitize: deps
 	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
-	  -DNEPHELE_SANITIZE=ON -DNEPHELE_BUILD_BENCHMARKS=OFF $(CMAKE_ARGS)
+	  -DNEPHELE_SANITIZE=ON -DNEPHELE_FUZZ=ON -DNEPHELE_BUILD_BENCHMARKS=OFF $(CMAKE_ARGS)
 	cmake --build $(SANITIZE_DIR)
 	cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan-suppressions.txt UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure $(SANITIZE_TESTS) $(CTEST_ARGS)
+
+# Fuzzing (issue 18): libFuzzer targets for the model loaders, the .nph reader and the scene
+# parser (tests/fuzz), clang with ASan + UBSan and coverage on every library, in build-fuzz/.
+# Runs a bounded campaign of FUZZ_RUNS executions per target from the seeds and the saved corpus
+# (never a time limit). `make test` replays the corpus with the normal build. The build is
+# test-sanitize's (the same flags: coverage instrumentation is on there too, one clang build).
+FUZZ_RUNS ?= 2000
+fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
+	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
+	  -DNEPHELE_SANITIZE=ON -DNEPHELE_FUZZ=ON -DNEPHELE_FUZZ_RUNS=$(FUZZ_RUNS) \
+	  -DNEPHELE_BUILD_BENCHMARKS=OFF $(CMAKE_ARGS)
+	cmake --build $(SANITIZE_DIR) --target nephele_fuzz_model nephele_fuzz_nph nephele_fuzz_scene nephele nephele-gen
+	cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -R '^fuzz\.(seeds|run\.)' $(CTEST_ARGS)
 
 demo: deps
 	$(MAKE) build

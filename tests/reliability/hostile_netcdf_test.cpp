@@ -55,6 +55,7 @@ void putElement(const std::string& path, const char* var, std::size_t element, f
 }
 
 void expectLoadError(const std::string& path, std::initializer_list<std::string> mentions) {
+  saveFuzzInput(path, "model");
   expectError<InputError>([&] { (void)io::loadWrfTimestep(path, 0); }, mentions);
 }
 
@@ -145,6 +146,7 @@ TEST(HostileNetcdf, ClassicFileMissingItsLastBytesIsRefused) {
     const std::string path = smallWrf(dir);
     const auto size = std::filesystem::file_size(path);
     std::filesystem::resize_file(path, size - missing);
+    saveFuzzInput(path, "model");
     expectError<InputError>([&] { (void)io::openModelFile(path); },
                             {path, "truncated NetCDF file", std::to_string(missing) + " bytes missing"});
   }

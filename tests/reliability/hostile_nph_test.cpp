@@ -85,6 +85,7 @@ TEST(HostileNph, GridOf2To30SquaredIsRefusedBeforeAnySizeWraps) {
     s = replaced(s, "\"ny\": 6", "\"ny\": 1073741824");
     return s;
   });
+  saveFuzzInput(path, "nph");
   expectError<InputError>([&] { (void)cache::NphReader(path); },
                           {path, "grid nx x ny x nz", "1073741824 x 1073741824 x 4", "exceeds the limit"});
 }
@@ -94,6 +95,7 @@ TEST(HostileNph, IndexNested100000DeepIsRefusedWithoutStackOverflow) {
   const std::string path = writeValidNph(dir);
   const std::string deep = std::string(100000, '[') + std::string(100000, ']');
   rewriteIndex(path, [&](std::string s) { return replaced(s, "\"optics\": {}", "\"optics\": " + deep); });
+  saveFuzzInput(path, "nph");
   expectError<InputError>([&] { (void)cache::NphReader(path); },
                           {path, "the .nph index", "nests deeper than 64 levels"});
 }
@@ -102,6 +104,7 @@ TEST(HostileNph, DuplicateKeyInTheIndexIsRefused) {
   const Scratch dir;
   const std::string path = writeValidNph(dir);
   rewriteIndex(path, [](std::string s) { return replaced(s, "\"nx\": 8", "\"nx\": 8, \"nx\": 9"); });
+  saveFuzzInput(path, "nph");
   expectError<InputError>([&] { (void)cache::NphReader(path); }, {path, "key \"nx\" appears twice"});
 }
 
@@ -110,6 +113,7 @@ TEST(HostileNph, AbsurdBottomHeightIsRefused) {
   const Scratch dir;
   const std::string path = writeValidNph(dir);
   rewriteIndex(path, [](std::string s) { return replaced(s, "\"z_bottom_m\": 0.0", "\"z_bottom_m\": 1e308"); });
+  saveFuzzInput(path, "nph");
   expectError<InputError>([&] { (void)cache::NphReader(path); }, {path, "z_bottom_m", "expected heights within"});
 }
 
@@ -123,6 +127,7 @@ TEST(HostileNph, ChunkClaimingMoreBytesThanItsFrameHoldsIsRefusedBeforeAllocatin
     return replaced(s, "\"raw_bytes\": 768", "\"raw_bytes\": 7680");  // 2 x 2 bytes x 8 x 6 x 40
   });
   const cache::NphReader r(path);
+  saveFuzzInput(path, "nph");
   expectError<InputError>([&] { (void)r.read(0); }, {path, "decompresses to 768 bytes, the index says 7680"});
 }
 

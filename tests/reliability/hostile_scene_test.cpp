@@ -22,6 +22,7 @@ namespace {
 
 void expectSceneError(const std::string& text, std::initializer_list<std::string> mentions) {
   SCOPED_TRACE(text.substr(0, 120));
+  saveFuzzText(text, "scene");
   expectError<InputError>([&] { (void)scene::parseSceneText(text, "hostile.json", "."); }, mentions);
 }
 

@@ -5,6 +5,9 @@
 #include <netcdf.h>
 
 #include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
@@ -56,6 +59,37 @@ inline int ncVar(int ncid, const char* name) {
   int id = -1;
   EXPECT_EQ(nc_inq_varid(ncid, name, &id), NC_NOERR) << name;
   return id;
+}
+
+/// With NEPHELE_FUZZ_CORPUS=DIR set, copies a hostile input into DIR/<target>/<Suite>.<Test>[-n]
+/// (a regression case for the fuzz targets, tests/fuzz: `target` is model, nph or scene). To
+/// refresh the committed corpus: NEPHELE_FUZZ_CORPUS=tests/fuzz/corpus
+/// build/tests/reliability/nephele_reliability_tests --gtest_filter='Hostile*'.
+inline void saveFuzzInput(const std::string& path, const char* target) {
+  const char* dir = std::getenv("NEPHELE_FUZZ_CORPUS");
+  if (dir == nullptr || *dir == '\0') return;
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path folder = std::filesystem::path(dir) / target;
+  std::filesystem::create_directories(folder);
+  const std::string stem = std::string(info->test_suite_name()) + "." + info->name();
+  std::filesystem::path out = folder / stem;
+  for (int n = 2; std::filesystem::exists(out); ++n) out = folder / (stem + "-" + std::to_string(n));
+  std::filesystem::copy_file(path, out);
+}
+
+/// saveFuzzInput for an input held in memory (scene text).
+inline void saveFuzzText(const std::string& text, const char* target) {
+  if (std::getenv("NEPHELE_FUZZ_CORPUS") == nullptr) return;
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() / ("nephele-corpus-" + std::to_string(::getpid()));
+  {
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    ASSERT_NE(f, nullptr) << tmp;
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+  }
+  saveFuzzInput(tmp.string(), target);
+  std::filesystem::remove(tmp);
 }
 
 /// Runs `fn`, expects an exception of type E whose what() contains every one of `mentions`.
