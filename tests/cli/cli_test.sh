@@ -230,6 +230,36 @@ case $case in
     expect_rc 2
     expect_err "already a scene file"
     ;;
+  basemap)  # --basemap FILE: a user raster through GDAL under the storm; an ungeoreferenced one is refused
+    # A uniform red world in EPSG:4326 as a PNG with a world file and GDAL's .aux.xml (CRS): the
+    # ground of the frame must turn red where Blue Marble's sea is blue.
+    oiiotool --pattern constant:color=0.8,0.1,0.1 360x180 3 -d uint8 -o "$out/world.png" || fail "oiiotool failed"
+    printf '1\n0\n0\n-1\n-179.5\n89.5\n' >"$out/world.pgw"
+    cat >"$out/world.png.aux.xml" <<'XML'
+<PAMDataset>
+  <SRS dataAxisToSRSAxisMapping="2,1">GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433],AUTHORITY["EPSG","4326"]]</SRS>
+</PAMDataset>
+XML
+    for map in default red; do
+      [ "$map" = red ] && extra=(--basemap "$out/world.png") || extra=()
+      run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/$map.png" --width 160 --height 90 "${extra[@]}"
+      expect_rc 0
+      # the lower-left corner of the oblique view is open ground (sea) in front of the storm
+      oiiotool "$out/$map.png" --cut 40x20+0+70 --printstats -o "$out/$map-corner.png" >"$out/$map.stats" ||
+        fail "oiiotool --printstats of $map.png failed"
+    done
+    read -r r g b _ < <(grep 'Stats Avg' "$out/red.stats" | sed 's/.*Avg: //')
+    read -r r0 g0 b0 _ < <(grep 'Stats Avg' "$out/default.stats" | sed 's/.*Avg: //')
+    awk -v r="$r" -v b="$b" -v r0="$r0" -v b0="$b0" 'BEGIN { exit !(r > 0.35 && r > b + 0.1 && r0 < b0) }' ||
+      fail "the ground is not the red basemap: mean RGB $r $g $b (Blue Marble: $r0 $g0 $b0)"
+    # A PNG without georeference that is not a whole-Earth 2:1 image: refused, naming the file.
+    oiiotool --pattern constant:color=0.8,0.1,0.1 300x180 3 -d uint8 -o "$out/plain.png" || fail "oiiotool failed"
+    run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/plain-out.png" --width 32 --height 18 --basemap "$out/plain.png"
+    expect_rc 1; expect_err "plain.png"; expect_err "has no coordinate reference system"
+    [ ! -e "$out/plain-out.png" ] || fail "an image was written although the basemap was refused"
+    run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/none-out.png" --basemap "$out/missing.tif"
+    expect_rc 1; expect_err "missing.tif"
+    ;;
   passes)  # compositing passes: a multi-layer EXR as iinfo lists it, pass files, bad pass names, animate --passes
     animate_cache
     run "$nephele" render "$out/scene.json" -o "$out/p.exr" -o "$out/p.png" --passes \
