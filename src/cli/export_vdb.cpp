@@ -1,7 +1,8 @@
 // `nephele export-vdb INPUT... -o out/storm`: one OpenVDB file per timestep (out/storm_0000.vdb,
 // ...) with the grids ice_extinction, water_extinction and density [1/m] (interop/vdb_export.h),
 // for Blender, Houdini and Unreal Engine 5. The input is a .nph cache (values exactly as cached)
-// or model files (converted with the default optics, as `nephele render` does).
+// or model files (converted with the default optics, as `nephele render` does). --nanovdb also
+// writes out/storm_0000.nvdb (NanoVDB) per timestep.
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -25,6 +26,7 @@ struct ExportVdbOptions {
   std::string output_prefix;
   std::vector<std::size_t> timesteps;  ///< empty: all
   bool stats = false;
+  bool nanovdb = false;
 };
 
 int runExportVdb(const ExportVdbOptions& o) {
@@ -45,6 +47,7 @@ int runExportVdb(const ExportVdbOptions& o) {
 
   interop::VdbWriteOptions options;
   options.creator = "nephele " NEPHELE_VERSION;
+  options.nanovdb = o.nanovdb;
   for (std::size_t t : timesteps) {
     const ExtinctionVolumes volumes = dataset->load(t);
     const std::filesystem::path path = interop::vdbSequencePath(prefix, t);
@@ -53,12 +56,19 @@ int runExportVdb(const ExportVdbOptions& o) {
               geo::isoOrEmpty(volumes.time_utc), volumes.nx, volumes.ny, volumes.nz, s.active_voxels, s.dense_voxels,
               100.0 * double(s.active_voxels) / double(std::max<std::uint64_t>(s.dense_voxels, 1)), s.leaf_nodes,
               double(s.file_bytes) / 1e6);
+    if (o.nanovdb) {
+      log::info("{}: NanoVDB, {:.2f} MB", interop::nanovdbPathOf(path).string(), double(s.nanovdb_file_bytes) / 1e6);
+    }
     if (o.stats) {
       std::printf("file=%s\ntime_utc=%s\nactive_voxels=%llu\ndense_voxels=%llu\nleaf_nodes=%llu\n"
                   "file_bytes=%llu\n",
                   path.string().c_str(), geo::isoOrEmpty(volumes.time_utc).c_str(),
                   static_cast<unsigned long long>(s.active_voxels), static_cast<unsigned long long>(s.dense_voxels),
                   static_cast<unsigned long long>(s.leaf_nodes), static_cast<unsigned long long>(s.file_bytes));
+      if (o.nanovdb) {
+        std::printf("nanovdb_file=%s\nnanovdb_file_bytes=%llu\n", interop::nanovdbPathOf(path).string().c_str(),
+                    static_cast<unsigned long long>(s.nanovdb_file_bytes));
+      }
     }
   }
   return kExitOk;
@@ -82,6 +92,9 @@ void addExportVdbCommand(CLI::App& app, Action& run) {
                   "sequence prefix: PREFIX_0000.vdb, PREFIX_0001.vdb, ... (folders are created)")
       ->required();
   sub->add_option("-t,--timestep", o->timesteps, "export only these timesteps (repeatable)");
+  sub->add_flag("--nanovdb", o->nanovdb,
+                "also write each timestep as NanoVDB (PREFIX_0000.nvdb: the same grids and transform, for GPU "
+                "engines)");
   sub->add_flag("--stats", o->stats, "print per file: active and dense voxel counts, leaves, bytes (key=value lines)");
   sub->callback([o, &run] { run = [o] { return runExportVdb(*o); }; });
 }

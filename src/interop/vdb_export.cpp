@@ -1,6 +1,8 @@
 #include "interop/vdb_export.h"
 
 #include <fmt/format.h>
+#include <nanovdb/util/IO.h>
+#include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
@@ -61,6 +63,26 @@ openvdb::FloatGrid::Ptr sparseGrid(const ExtinctionVolumes& v, const std::vector
   return grid;
 }
 
+/// Writes through `path`.partial renamed into place (no partial file under the final name).
+template <class Write>
+void writeThenRename(const std::filesystem::path& path, const char* what, Write&& write) {
+  const std::filesystem::path partial = path.string() + ".partial";
+  try {
+    write(partial.string());
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    std::filesystem::remove(partial, ec);
+    throw IoError(fmt::format("{}: cannot write the {} file: {}", path.string(), what, e.what()));
+  }
+  std::error_code ec;
+  std::filesystem::rename(partial, path, ec);
+  if (ec) {
+    std::filesystem::remove(partial, ec);
+    throw IoError(
+        fmt::format("{}: cannot rename the written {} file into place: {}", path.string(), what, ec.message()));
+  }
+}
+
 }  // namespace
 
 VdbFrame vdbFrameOf(const ExtinctionVolumes& v) {
@@ -82,6 +104,11 @@ VdbFrame vdbFrameOf(const ExtinctionVolumes& v) {
     f.frame_proj_definition = g.proj_definition;
   }
   return f;
+}
+
+std::filesystem::path nanovdbPathOf(const std::filesystem::path& vdb_path) {
+  std::filesystem::path p = vdb_path;
+  return p.replace_extension(".nvdb");
 }
 
 std::filesystem::path vdbSequencePath(const std::filesystem::path& prefix, std::size_t index) {
@@ -147,25 +174,23 @@ VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& 
   file_meta.insertMeta("creator", openvdb::StringMetadata(options.creator));
   file_meta.insertMeta("nephele_time_utc", openvdb::StringMetadata(geo::isoOrEmpty(v.time_utc)));
 
-  const std::filesystem::path partial = path.string() + ".partial";
-  try {
-    openvdb::io::File file(partial.string());
+  writeThenRename(path, "OpenVDB", [&](const std::string& partial) {
+    openvdb::io::File file(partial);
     file.write(grids, file_meta);
     file.close();
-  } catch (const openvdb::Exception& e) {
-    std::error_code ec;
-    std::filesystem::remove(partial, ec);
-    throw IoError(fmt::format("{}: cannot write the OpenVDB file: {}", path.string(), e.what()));
-  }
-  std::error_code ec;
-  std::filesystem::rename(partial, path, ec);
-  if (ec) {
-    std::filesystem::remove(partial, ec);
-    throw IoError(
-        fmt::format("{}: cannot rename the written OpenVDB file into place: {}", path.string(), ec.message()));
-  }
-
+  });
   VdbWriteStats stats;
+  if (options.nanovdb) {
+    // NanoVDB (Museth 2021): each FloatGrid converted as is (32-bit floats, no quantisation),
+    // the grids' names kept, all in one .nvdb, uncompressed so a GPU engine can map it directly.
+    std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>> handles;
+    for (const openvdb::GridBase::Ptr& grid : grids) {
+      handles.push_back(nanovdb::openToNanoVDB(*openvdb::gridPtrCast<openvdb::FloatGrid>(grid)));
+    }
+    const std::filesystem::path nvdb = nanovdbPathOf(path);
+    writeThenRename(nvdb, "NanoVDB", [&](const std::string& partial) { nanovdb::io::writeGrids(partial, handles); });
+    stats.nanovdb_file_bytes = std::filesystem::file_size(nvdb);
+  }
   const openvdb::FloatGrid& counted = density ? *density : *openvdb::gridPtrCast<openvdb::FloatGrid>(grids[0]);
   stats.active_voxels = counted.activeVoxelCount();
   stats.leaf_nodes = counted.tree().leafCount();

@@ -55,6 +55,11 @@ struct VdbWriteOptions {
   std::string creator = "nephele";  ///< file metadata "creator"
   /// Also write the density grid (ice + water); the two extinction grids are always written.
   bool density = true;
+  /// Also write the same grids as NanoVDB (nanovdbPathOf(path)): the flat, pointer-free layout
+  /// GPU engines load straight into a buffer (NanoVDB's own renderers, Houdini's and UE5's NanoVDB
+  /// paths). Values, transform and grid names are the OpenVDB file's; the nephele_* metadata is
+  /// not carried (NanoVDB grids hold no string metadata).
+  bool nanovdb = false;
 };
 
 struct VdbWriteStats {
@@ -62,12 +67,17 @@ struct VdbWriteStats {
   std::uint64_t leaf_nodes = 0;     ///< 8³ leaves allocated in the density grid
   std::uint64_t dense_voxels = 0;   ///< nx·ny·nz
   std::uint64_t file_bytes = 0;
+  std::uint64_t nanovdb_file_bytes = 0;  ///< 0 when no NanoVDB file was written
 };
 
 /// Writes `volumes` to `path` (through a temporary file renamed over `path`, so no partial .vdb is
-/// left behind). IoError names the file when it cannot be written.
+/// left behind), and with options.nanovdb the NanoVDB copy the same way. IoError names the file
+/// when it cannot be written.
 VdbWriteStats writeVdb(const ExtinctionVolumes& volumes, const std::filesystem::path& path,
                        const VdbWriteOptions& options = {});
+
+/// `storm_0007.vdb` -> `storm_0007.nvdb`: where writeVdb puts the NanoVDB copy.
+std::filesystem::path nanovdbPathOf(const std::filesystem::path& vdb_path);
 
 /// `prefix_0007.vdb` for timestep 7 of a sequence (Blender's and Houdini's sequence naming: the
 /// frame number is the last digit group before the extension). A trailing ".vdb" on `prefix` is
