@@ -7,22 +7,14 @@
 #include <stdio.h>
 
 #include "nephele/nephele.h"
+#include "osmesa_host.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) return 2;
   const nph_api_v1* api = (const nph_api_v1*)nph_get_api(NPH_API_VERSION);
-  const int attribs[] = {OSMESA_FORMAT,
-                         OSMESA_RGBA,
-                         OSMESA_PROFILE,
-                         OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION,
-                         4,
-                         OSMESA_CONTEXT_MINOR_VERSION,
-                         5,
-                         0};
-  OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
   static unsigned char pixels[1280 * 720 * 4];
-  if (api == NULL || ctx == NULL || !OSMesaMakeCurrent(ctx, pixels, GL_UNSIGNED_BYTE, 1280, 720)) return 1;
+  OSMesaContext ctx = osmesa_host_context(pixels, 1280, 720);
+  if (api == NULL || ctx == NULL) return 1;
   nph_dataset* ds = NULL;
   nph_renderer* r = NULL;
   nph_renderer_desc desc = NPH_RENDERER_DESC_INIT;
