@@ -1,6 +1,5 @@
 // `nephele render`: one frame of a scene file, headless (EGL or OSMesa).
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,9 +11,8 @@
 #include "cli/output_options.h"
 #include "cli/quick_look.h"
 #include "core/error.h"
-#include "core/log.h"
 #include "engine/dataset.h"
-#include "engine/session.h"
+#include "engine/scene_render.h"
 #include "render/gl/context.h"
 #include "scene/passes.h"
 #include "scene/scene_file.h"
@@ -82,39 +80,7 @@ int runRender(const RenderOptions& o) {
   if (!dataset) dataset = engine::Dataset::open(s.data->path);
 
   auto ctx = gl::createHeadlessContext(o.gl);
-
-  engine::Session session(dataset, s);
-  const scene::PreparedScene& prepared = session.prepared();
-  if (prepared.sun.elevation_deg <= 0.0) {
-    log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -prepared.sun.elevation_deg);
-  }
-  const auto out = session.render(prepared.camera);
-  const auto& st = session.deepLightMap().stats();
-  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the "
-            "uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
-            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6,
-            st.compression_ratio, st.pass1_ms, st.pass2_ms, st.pass3_ms,
-            st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
-  log::info("ray cast {}x{} in {:.0f} ms", out.frame.width, out.frame.height, out.milliseconds);
-  const auto prepare = [](const std::string& path) {
-    if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
-  };
-  const scene::FramePasses* passes = out.passes ? &*out.passes : nullptr;
-  const scene::RgbaImage frame = scene::outputFrame(s.output, out.frame, out.cloud_layer, passes);
-  for (const auto& path : s.output.paths) {
-    prepare(path);
-    scene::writeImage(frame, path, s.output.image);
-    log::info("wrote {}{}", path, frame.layers.empty() ? "" : " (with the compositing passes)");
-  }
-  for (const auto& [pass, path] : s.output.pass_files) {
-    prepare(path);
-    scene::writeImage(scene::passImage(pass, out.frame, out.cloud_layer, *passes), path, s.output.image);
-    log::info("wrote {} ({} pass)", path, scene::passName(pass));
-  }
-  if (!o.layer.empty()) {
-    scene::writeImage(out.cloud_layer, o.layer, s.output.image);
-    log::info("wrote {} (premultiplied cloud layer)", o.layer);
-  }
+  engine::writeSceneOutputs(s, engine::renderSceneFrame(dataset, s), o.layer);
   return kExitOk;
 }
 

@@ -1,0 +1,53 @@
+#include "engine/scene_render.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "core/log.h"
+#include "engine/session.h"
+#include "scene/passes.h"
+
+namespace nph::engine {
+
+SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene) {
+  Session session(std::move(dataset), scene);
+  const scene::PreparedScene& prepared = session.prepared();
+  if (prepared.sun.elevation_deg <= 0.0) {
+    log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -prepared.sun.elevation_deg);
+  }
+  SceneFrame f;
+  f.out = session.render(prepared.camera);
+  const auto& st = session.deepLightMap().stats();
+  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the "
+            "uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
+            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6,
+            st.compression_ratio, st.pass1_ms, st.pass2_ms, st.pass3_ms,
+            st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
+  log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
+  const scene::FramePasses* passes = f.out.passes ? &*f.out.passes : nullptr;
+  f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
+  return f;
+}
+
+void writeSceneOutputs(const scene::SceneDescription& s, const SceneFrame& f, const std::string& layer_path) {
+  const auto prepare = [](const std::string& path) {
+    if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
+  };
+  for (const auto& path : s.output.paths) {
+    prepare(path);
+    scene::writeImage(f.image, path, s.output.image);
+    log::info("wrote {}{}", path, f.image.layers.empty() ? "" : " (with the compositing passes)");
+  }
+  for (const auto& [pass, path] : s.output.pass_files) {
+    prepare(path);
+    scene::writeImage(scene::passImage(pass, f.out.frame, f.out.cloud_layer, *f.out.passes), path, s.output.image);
+    log::info("wrote {} ({} pass)", path, scene::passName(pass));
+  }
+  if (!layer_path.empty()) {
+    scene::writeImage(f.out.cloud_layer, layer_path, s.output.image);
+    log::info("wrote {} (premultiplied cloud layer)", layer_path);
+  }
+}
+
+}  // namespace nph::engine

@@ -1,0 +1,30 @@
+#pragma once
+// One frame of a scene file, rendered and written: what `nephele render` does after it has a scene
+// and a dataset, shared with the Python module (issue #16 item 3) so both produce the same pixels
+// and the same files from the same scene keys (docs/scene-file.md).
+#include <memory>
+#include <string>
+
+#include "engine/dataset.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/output_image.h"
+#include "scene/scene_file.h"
+
+namespace nph::engine {
+
+struct SceneFrame {
+  render::RenderOutput out;  ///< frame, premultiplied cloud layer, passes (when the scene wants them)
+  scene::RgbaImage image;    ///< what output.paths receive: the frame with Z or the pass layers (outputFrame)
+};
+
+/// Renders `scene` of `dataset` once (Session: its timestep, camera, sun, quality), logging the
+/// deep light map's and the ray cast's figures as `nephele render` does. Needs a current GL 4.5
+/// context on the calling thread.
+SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene);
+
+/// Writes `frame` to the scene's output.paths and output.pass_files (folders created), and the
+/// premultiplied cloud layer to `layer_path` unless it is empty. IoError when a file cannot be written.
+void writeSceneOutputs(const scene::SceneDescription& scene, const SceneFrame& frame,
+                       const std::string& layer_path = "");
+
+}  // namespace nph::engine
