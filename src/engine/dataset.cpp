@@ -48,6 +48,35 @@ class ModelDataset final : public Dataset {
   io::ModelSeries series_;
 };
 
+class MemoryDataset final : public Dataset {
+ public:
+  MemoryDataset(std::string name, std::vector<ExtinctionVolumes> volumes, std::vector<geo::OptionalUtcTime> times)
+      : Dataset(std::move(name), std::move(times)), volumes_(std::move(volumes)) {}
+  ExtinctionVolumes load(std::size_t t) const override {
+    if (t >= volumes_.size()) {
+      throw UsageError(fmt::format("{}: timestep {} requested, the dataset has {}", path(), t, volumes_.size()));
+    }
+    return volumes_[t];
+  }
+
+ private:
+  std::vector<ExtinctionVolumes> volumes_;
+};
+
+/// InputError unless `beta` holds `count` finite values >= 0 (an extinction coefficient).
+void requireExtinction(const std::string& name, std::size_t t, const char* array, const std::vector<float>& beta,
+                       std::size_t count) {
+  if (beta.size() != count) {
+    throw InputError(
+        fmt::format("{}: timestep {}: {} has {} values, expected nx*ny*nz = {}", name, t, array, beta.size(), count));
+  }
+  const auto bad = std::find_if(beta.begin(), beta.end(), [](float b) { return !(b >= 0.0f) || std::isinf(b); });
+  if (bad != beta.end()) {
+    throw InputError(fmt::format("{}: timestep {}: {}[{}] = {}, expected a finite extinction coefficient >= 0 [1/m]",
+                                 name, t, array, bad - beta.begin(), *bad));
+  }
+}
+
 }  // namespace
 
 Dataset::Dataset(std::string path, std::vector<geo::OptionalUtcTime> times, std::vector<std::string> sources)
@@ -101,6 +130,35 @@ std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string
   if (files.size() == 1) sources.clear();
   const std::string name = paths.size() == 1 ? paths[0] : fmt::format("{} (and {} more)", paths[0], paths.size() - 1);
   return std::make_shared<ModelDataset>(name, std::move(series), std::move(times), std::move(sources));
+}
+
+std::shared_ptr<const Dataset> Dataset::fromVolumes(std::string name, std::vector<ExtinctionVolumes> timesteps) {
+  std::vector<geo::OptionalUtcTime> times;
+  for (std::size_t t = 0; t < timesteps.size(); ++t) {
+    ExtinctionVolumes& v = timesteps[t];
+    const auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
+    if (v.nx <= 0 || v.ny <= 0 || v.nz <= 0) {
+      throw InputError(
+          fmt::format("{}: timestep {}: grid {}x{}x{}, expected at least one voxel", name, t, v.nx, v.ny, v.nz));
+    }
+    if (!positive(v.georef.dx_m) || !positive(v.georef.dy_m) || !positive(v.dz_m) || !std::isfinite(v.z_bottom_m)) {
+      throw InputError(fmt::format("{}: timestep {}: spacing dx {} dy {} dz {} (z_bottom {}), expected finite values, "
+                                   "the spacings > 0",
+                                   name, t, v.georef.dx_m, v.georef.dy_m, v.dz_m, v.z_bottom_m));
+    }
+    requireExtinction(name, t, "ice_per_m", v.ice_per_m, v.voxelCount());
+    requireExtinction(name, t, "water_per_m", v.water_per_m, v.voxelCount());
+    const std::size_t columns = std::size_t(v.nx) * std::size_t(v.ny);
+    if (!v.terrain_height_m.empty() && v.terrain_height_m.size() != columns) {
+      throw InputError(fmt::format("{}: timestep {}: terrain_height_m has {} values, expected nx*ny = {}", name, t,
+                                   v.terrain_height_m.size(), columns));
+    }
+    if (v.source_file.empty()) v.source_file = name;
+    v.source_time_index = std::int64_t(t);
+    v.updateMaxima();
+    times.push_back(v.time_utc);
+  }
+  return std::make_shared<MemoryDataset>(std::move(name), std::move(timesteps), std::move(times));
 }
 
 ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w) {

@@ -29,6 +29,11 @@ class Dataset {
   /// open(path). Folders and patterns are expanded (io::expandModelInputs). Only the headers are read here: a file
   /// damaged after its header fails in load().
   static std::shared_ptr<const Dataset> openSeries(const std::vector<std::string>& paths);
+  /// Extinction volumes already in memory, one per timestep (the Python module's arrays, issue
+  /// #16): `name` stands for the path in messages. Every timestep is checked as a .nph cache
+  /// would hold it — sizes nx·ny·nz, dx, dy, dz > 0, finite β ≥ 0 — and InputError names `name`,
+  /// the timestep and the array; the volumes' maxima are recomputed.
+  static std::shared_ptr<const Dataset> fromVolumes(std::string name, std::vector<ExtinctionVolumes> timesteps);
   virtual ~Dataset() = default;
 
   const std::string& path() const { return path_; }

@@ -1,0 +1,296 @@
+// `nephele._nephele`: the compiled half of the Python module (issue #16 item 3; docs/interop.md
+// "Python"). Thin by design: datasets are engine::Dataset (the loaders of `nephele render`),
+// scenes are parsed by scene/scene_file (the JSON keys of docs/scene-file.md), frames are made and
+// written by engine/scene_render (what `nephele render` runs), in a headless GL context of its own
+// (render/gl/context.h: EGL or OSMesa). The pure-Python half (nephele/__init__.py) turns dicts into
+// scene text and xarray Datasets into datasets.
+//
+// pybind11 over the engine rather than ctypes over the frozen C API (nephele.h): the C API renders
+// into a GL context the *host* owns and opens datasets only from paths; a Python user has neither a
+// context nor files for arrays, and the C API has no scene file. The reasoning is in docs/interop.md.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "engine/dataset.h"
+#include "engine/scene_render.h"
+#include "render/gl/context.h"
+#include "scene/georeference.h"
+#include "scene/output_image.h"
+#include "scene/scene_file.h"
+
+namespace py = pybind11;
+
+namespace nph::python {
+namespace {
+
+/// A dataset as Python holds it; shared with the sessions rendering it.
+struct PyDataset {
+  std::shared_ptr<const engine::Dataset> dataset;
+};
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+/// float32 array (rows, cols, channels) of `values` (row 0 = top, as the renderer's images).
+template <typename T>
+py::array_t<T> imageArray(const std::vector<T>& values, int height, int width, int channels) {
+  py::array_t<T> a({py::ssize_t(height), py::ssize_t(width), py::ssize_t(channels)});
+  std::memcpy(a.mutable_data(), values.data(), values.size() * sizeof(T));
+  return a;
+}
+
+/// One (nz, ny, nx) float32 array of a volume's layout (x fastest, then y, then z).
+py::array_t<float> volumeArray(const std::vector<float>& values, int nz, int ny, int nx) {
+  py::array_t<float> a({py::ssize_t(nz), py::ssize_t(ny), py::ssize_t(nx)});
+  if (!values.empty()) std::memcpy(a.mutable_data(), values.data(), values.size() * sizeof(float));
+  return a;
+}
+
+/// Dimensions of `a`: (nt, nz, ny, nx) for a 4-D array, (1, nz, ny, nx) for a 3-D one.
+std::array<py::ssize_t, 4> timestepShape(const FloatArray& a, const char* name) {
+  if (a.ndim() == 4) return {a.shape(0), a.shape(1), a.shape(2), a.shape(3)};
+  if (a.ndim() == 3) return {1, a.shape(0), a.shape(1), a.shape(2)};
+  throw InputError(fmt::format("{}: {} dimensions, expected (z, y, x) or (time, z, y, x)", name, a.ndim()));
+}
+
+/// The grid of timestep t (loads it): sizes, spacings, the vertical extent, the projection and,
+/// for georeferenced grids, the footprint's lon/lat corners (SW, SE, NE, NW).
+py::dict gridOf(const PyDataset& d, std::size_t t) {
+  ExtinctionVolumes v;
+  {
+    py::gil_scoped_release release;
+    v = d.dataset->load(t);
+  }
+  py::dict g;
+  g["nx"] = v.nx;
+  g["ny"] = v.ny;
+  g["nz"] = v.nz;
+  g["dx"] = v.georef.dx_m;
+  g["dy"] = v.georef.dy_m;
+  g["dz_m"] = v.dz_m;
+  g["z_bottom_m"] = v.z_bottom_m;
+  g["z_top_m"] = v.z_bottom_m + v.nz * v.dz_m;
+  g["x0"] = v.georef.x0;
+  g["y0"] = v.georef.y0;
+  g["geographic"] = v.georef.geographic;
+  g["proj"] = v.georef.proj_definition;
+  g["time_utc"] = geo::isoOrEmpty(v.time_utc);
+  g["max_ice_per_m"] = v.max_ice_per_m;
+  g["max_water_per_m"] = v.max_water_per_m;
+  const glm::dvec3 size = scene::frameOf(v).size_m();
+  g["size_m"] = py::make_tuple(size.x, size.y, size.z);
+  py::list corners;
+  if (!v.georef.proj_definition.empty()) {
+    const scene::SceneGeoreference geo(v, scene::frameOf(v));
+    for (const scene::LonLat& c : geo.footprintCorners()) corners.append(py::make_tuple(c.lon_deg, c.lat_deg));
+  }
+  g["lonlat_corners"] = corners;
+  return g;
+}
+
+/// Timestep t's volumes as numpy arrays: ice_per_m, water_per_m (nz, ny, nx) and
+/// terrain_height_m (ny, nx; None when the data has none), the keywords of from_extinction.
+py::dict extinctionOf(const PyDataset& d, std::size_t t) {
+  ExtinctionVolumes v;
+  {
+    py::gil_scoped_release release;
+    v = d.dataset->load(t);
+  }
+  py::dict out;
+  out["ice_per_m"] = volumeArray(v.ice_per_m, v.nz, v.ny, v.nx);
+  out["water_per_m"] = volumeArray(v.water_per_m, v.nz, v.ny, v.nx);
+  out["terrain_height_m"] =
+      v.terrain_height_m.empty()
+          ? py::object(py::none())
+          : py::object(volumeArray(v.terrain_height_m, 1, v.ny, v.nx).reshape({py::ssize_t(v.ny), py::ssize_t(v.nx)}));
+  return out;
+}
+
+PyDataset fromExtinction(const FloatArray& ice, const FloatArray& water, double dx, double dy, double dz_m,
+                         double z_bottom_m, const std::string& proj, double x0, double y0, bool geographic,
+                         const std::vector<std::string>& times_utc, std::optional<FloatArray> terrain_height_m,
+                         const std::string& name) {
+  const auto shape = timestepShape(ice, "ice_per_m");
+  if (timestepShape(water, "water_per_m") != shape) {
+    throw InputError(
+        fmt::format("{}: water_per_m has another shape than ice_per_m ({} dimensions)", name, water.ndim()));
+  }
+  const std::size_t nt = std::size_t(shape[0]);
+  if (!times_utc.empty() && times_utc.size() != nt) {
+    throw InputError(fmt::format("{}: {} times for {} timesteps", name, times_utc.size(), nt));
+  }
+  std::vector<float> terrain;
+  if (terrain_height_m) {
+    if (terrain_height_m->ndim() != 2 || terrain_height_m->shape(0) != shape[2] ||
+        terrain_height_m->shape(1) != shape[3]) {
+      throw InputError(
+          fmt::format("{}: terrain_height_m must have the shape (ny, nx) = ({}, {})", name, shape[2], shape[3]));
+    }
+    terrain.assign(terrain_height_m->data(), terrain_height_m->data() + terrain_height_m->size());
+  }
+  const std::size_t voxels = std::size_t(shape[1] * shape[2] * shape[3]);
+  std::vector<ExtinctionVolumes> volumes(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    ExtinctionVolumes& v = volumes[t];
+    v.nx = int(shape[3]);
+    v.ny = int(shape[2]);
+    v.nz = int(shape[1]);
+    v.dz_m = dz_m;
+    v.z_bottom_m = z_bottom_m;
+    v.georef.proj_definition = proj;
+    v.georef.dx_m = dx;
+    v.georef.dy_m = dy;
+    v.georef.x0 = x0;
+    v.georef.y0 = y0;
+    v.georef.geographic = geographic;
+    if (!times_utc.empty() && !times_utc[t].empty()) v.time_utc = geo::UtcTime::parse(times_utc[t]);
+    v.ice_per_m.assign(ice.data() + t * voxels, ice.data() + (t + 1) * voxels);
+    v.water_per_m.assign(water.data() + t * voxels, water.data() + (t + 1) * voxels);
+    v.terrain_height_m = terrain;
+  }
+  return {engine::Dataset::fromVolumes(name, std::move(volumes))};
+}
+
+/// Renders one frame: the scene from `scene_path` (a JSON file) or `scene_text` (JSON text named
+/// `scene_name`, relative paths against `base_dir`), the dataset given or else the scene's
+/// data.path. Writes the scene's outputs; returns the frame (or the premultiplied cloud layer).
+py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, const std::string& scene_text,
+                      const std::string& scene_name, const std::string& base_dir, const std::string& gl,
+                      std::optional<std::vector<std::string>> outputs, int width, int height, int timestep,
+                      const std::string& dtype, bool cloud_layer) {
+  if (dtype != "float32" && dtype != "uint8") {
+    throw UsageError(fmt::format("dtype {}: expected \"float32\" (scene-linear) or \"uint8\" (display codes)", dtype));
+  }
+  scene::SceneDescription s =
+      scene_path.empty() ? scene::parseSceneText(scene_text, scene_name, base_dir) : scene::loadSceneFile(scene_path);
+  if (width > 0) s.output.width = width;
+  if (height > 0) s.output.height = height;
+  if (outputs) s.output.paths = *outputs;  // as `nephele render -o`: replaces output.paths
+  if (timestep >= 0) {
+    if (!s.data) s.data.emplace();
+    s.data->timestep = timestep;
+    s.data->time_utc.reset();
+  }
+  std::shared_ptr<const engine::Dataset> data = dataset ? dataset->dataset : nullptr;
+  if (!data && (!s.data || s.data->path.empty())) {
+    throw InputError(s.source_file + ": no dataset given and no \"data\" section: which .nph or model file to render?");
+  }
+  engine::SceneFrame frame;
+  std::vector<std::uint8_t> codes;
+  {
+    py::gil_scoped_release release;  // decoding, lighting and ray casting touch no Python object
+    if (!data) data = engine::Dataset::open(s.data->path);
+    const auto ctx = gl::createHeadlessContext(gl);
+    frame = engine::renderSceneFrame(data, s);
+    engine::writeSceneOutputs(s, frame);
+    if (dtype == "uint8") {
+      const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
+      if (s.output.image.display.empty()) {
+        codes = scene::encodeSrgb8(img, s.output.image);
+      } else {  // an OpenColorIO display: its code values, 8-bit as writePng stores SDR displays
+        const std::vector<float> v = scene::encodeDisplay(img, s.output.image);
+        codes.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint8_t>(std::lround(v[i] * 255.0f));
+      }
+    }
+  }
+  const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
+  if (dtype == "uint8") return imageArray(codes, img.height, img.width, 4);
+  // float32: what the OpenEXR output stores, the linear values times 2^exposure_ev
+  // (scene/output_image.h), in float instead of half.
+  std::vector<float> linear = img.rgba;
+  const auto exposure = static_cast<float>(std::exp2(s.output.image.exposure_ev));
+  for (std::size_t i = 0; i < linear.size(); ++i) {
+    if (i % 4 != 3) linear[i] *= exposure;
+  }
+  return imageArray(linear, img.height, img.width, 4);
+}
+
+}  // namespace
+}  // namespace nph::python
+
+PYBIND11_MODULE(_nephele, m) {
+  using namespace nph;
+  using namespace nph::python;
+  m.doc() = "nephele's engine: datasets, scenes and headless rendering (use the `nephele` package)";
+
+  // nph::Error and its kinds as Python exceptions; the messages name the file, the variable and
+  // what was expected (core/error.h). InputError and UsageError are also ValueErrors, IoError an OSError.
+  static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+  const py::tuple value_bases = py::make_tuple(error, py::handle(PyExc_ValueError));
+  // Leaked on purpose: the module (which holds them too) lives until the interpreter ends, and a
+  // static py::object would be released after it has.
+  const auto make = [&](const char* name, const py::tuple& bases) {
+    PyObject* type = PyErr_NewException(fmt::format("nephele._nephele.{}", name).c_str(), bases.ptr(), nullptr);
+    m.attr(name) = py::handle(type);
+    return type;
+  };
+  static PyObject* input_error = make("InputError", value_bases);
+  static PyObject* usage_error = make("UsageError", value_bases);
+  static PyObject* io_error = make("IoError", py::make_tuple(error, py::handle(PyExc_OSError)));
+  static PyObject* gl_error = make("GlError", py::make_tuple(error));
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(input_error, e.what());
+    } catch (const UsageError& e) {
+      PyErr_SetString(usage_error, e.what());
+    } catch (const IoError& e) {
+      PyErr_SetString(io_error, e.what());
+    } catch (const GlError& e) {
+      PyErr_SetString(gl_error, e.what());
+    } catch (const Error& e) {
+      PyErr_SetString(error.ptr(), e.what());
+    }
+  });
+
+  py::class_<PyDataset>(m, "Dataset")
+      .def_property_readonly("path", [](const PyDataset& d) { return d.dataset->path(); })
+      .def_property_readonly("timestep_count", [](const PyDataset& d) { return d.dataset->timestepCount(); })
+      .def_property_readonly("times",
+                             [](const PyDataset& d) {
+                               std::vector<std::optional<std::string>> times;
+                               for (std::size_t t = 0; t < d.dataset->timestepCount(); ++t) {
+                                 const std::string& iso = d.dataset->isoTime(t);
+                                 times.push_back(iso.empty() ? std::nullopt : std::optional<std::string>(iso));
+                               }
+                               return times;
+                             })
+      .def("source_file", [](const PyDataset& d, std::size_t t) { return d.dataset->sourceFile(t); })
+      .def("grid", &gridOf, py::arg("timestep") = 0)
+      .def("extinction", &extinctionOf, py::arg("timestep") = 0);
+
+  m.def(
+      "open",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        return PyDataset{engine::Dataset::open(path)};
+      },
+      py::arg("path"));
+  m.def(
+      "open_series",
+      [](const std::vector<std::string>& paths) {
+        py::gil_scoped_release release;
+        return PyDataset{engine::Dataset::openSeries(paths)};
+      },
+      py::arg("paths"));
+  m.def("from_extinction", &fromExtinction, py::arg("ice_per_m"), py::arg("water_per_m"), py::arg("dx"), py::arg("dy"),
+        py::arg("dz_m"), py::arg("z_bottom_m"), py::arg("proj"), py::arg("x0"), py::arg("y0"), py::arg("geographic"),
+        py::arg("times_utc"), py::arg("terrain_height_m"), py::arg("name"));
+  m.def("render", &renderFrame, py::arg("dataset"), py::arg("scene_path"), py::arg("scene_text"), py::arg("scene_name"),
+        py::arg("base_dir"), py::arg("gl"), py::arg("outputs"), py::arg("width"), py::arg("height"),
+        py::arg("timestep"), py::arg("dtype"), py::arg("cloud_layer"));
+}

@@ -1,0 +1,193 @@
+"""nephele: volumetric clouds from weather model output, from Python (issue #16 item 3).
+
+    import nephele
+    ds = nephele.open("storm.nph")                  # or a wrfout, ICON NetCDF/GRIB2 file or folder
+    rgba = nephele.render(ds, {"camera": {"preset": "oblique"}, "output": {"width": 640, "height": 360}})
+    ds = nephele.from_xarray(xarray.open_dataset("wrfout_d01.nc"))   # hydrometeors -> the same loaders
+    ds = nephele.from_extinction(ice, water, dx=3000, dy=3000, dz_m=250)  # or extinction itself
+
+Everything runs in nephele's engine (the compiled `nephele._nephele`): datasets are opened by the
+loaders of `nephele render`, scenes take the keys of its JSON scene files (docs/scene-file.md) and
+frames are rendered headless in a GL context of the module's own (EGL, else OSMesa), with the GIL
+released. Errors are `nephele.Error` subclasses whose messages name the file, the variable and what
+was expected: InputError (bad data or scene; also a ValueError), UsageError (a bad argument; also a
+ValueError), IoError (a file that cannot be read or written; also an OSError), GlError.
+See docs/interop.md ("Python") and examples/05-python/.
+"""
+import contextlib
+import json
+import os
+import tempfile
+
+from . import _nephele
+from ._nephele import Error, GlError, InputError, IoError, UsageError
+
+__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "UsageError", "from_extinction", "from_xarray",
+           "open", "render"]
+
+# Variable names an xarray Dataset of extinction may use (the first of each pair that exists):
+# the grids of `nephele export-vdb` and the arrays of ExtinctionVolumes.
+_EXTINCTION_NAMES = (("ice_extinction", "ice_per_m"), ("water_extinction", "water_per_m"))
+
+
+class Dataset:
+    """Timesteps of extinction volumes, read (and for model files converted) on demand.
+
+    path, timestep_count, times (ISO 8601 UTC strings, None where the data has no time),
+    source_file(t), grid(t) (sizes, spacings, vertical extent, projection, lon/lat corners),
+    extinction(t) (numpy arrays: the keywords of from_extinction)."""
+
+    def __init__(self, handle, aliases=None, keep=None):
+        self._handle = handle  # nephele._nephele.Dataset (engine::Dataset)
+        self._aliases = aliases or {}  # temporary file -> what it stands for, in messages
+        self._keep = keep  # e.g. the temporary folder of from_xarray, removed with the dataset
+
+    @property
+    def path(self):
+        return next(iter(self._aliases.values()), None) or self._handle.path
+
+    @property
+    def timestep_count(self):
+        return self._handle.timestep_count
+
+    @property
+    def times(self):
+        return self._handle.times
+
+    def source_file(self, timestep):
+        with _named_errors(self._aliases):
+            return self._aliases.get(self._handle.source_file(timestep), self._handle.source_file(timestep))
+
+    def grid(self, timestep=0):
+        with _named_errors(self._aliases):
+            return self._handle.grid(timestep)
+
+    def extinction(self, timestep=0):
+        with _named_errors(self._aliases):
+            return self._handle.extinction(timestep)
+
+    def __repr__(self):
+        return f"<nephele.Dataset {self.path!r}: {self.timestep_count} timesteps>"
+
+
+def open(path):  # noqa: A001 (the module's verb, as `nephele render FILE`)
+    """A dataset from a .nph cache, a wrfout, an ICON NetCDF or GRIB2 file, a folder of GRIB2
+    files or a pattern; a list of model files is one time-ordered series (`nephele convert A B`)."""
+    if isinstance(path, (list, tuple)):
+        return Dataset(_nephele.open_series([os.fspath(p) for p in path]))
+    return Dataset(_nephele.open(os.fspath(path)))
+
+
+def from_extinction(ice_per_m, water_per_m, *, dx, dy, dz_m, z_bottom_m=0.0, proj="", x0=0.0, y0=0.0,
+                    geographic=False, times_utc=None, terrain_height_m=None, name="<numpy arrays>"):
+    """A dataset of extinction coefficients [1/m] already computed: arrays (z, y, x) for one timestep
+    or (time, z, y, x), x fastest as in a .nph cache (volume/extinction_volumes.h).
+
+    dx, dy: grid spacing in the units of `proj` (metres; degrees when `geographic`); dz_m: layer
+    thickness, layer k centred at z_bottom_m + (k + 1/2) dz_m above sea level; x0, y0: projected
+    coordinates of column (0, 0); proj: PROJ string ("" = Cartesian, no place on Earth);
+    times_utc: one ISO 8601 time per timestep (or None); terrain_height_m: (y, x) ground heights.
+    The arrays are checked as a cache would hold them (InputError naming `name` and the array)."""
+    return Dataset(_nephele.from_extinction(ice_per_m, water_per_m, float(dx), float(dy), float(dz_m), float(z_bottom_m),
+                                    proj, float(x0), float(y0), bool(geographic), list(times_utc or []),
+                                    terrain_height_m, name))
+
+
+def from_xarray(dataset, *, name=None):
+    """A dataset from an xarray.Dataset.
+
+    * Hydrometeors laid out as a model writes them — a wrfout's QCLOUD, QICE, ... with P, PB, T,
+      PH, PHB (and HGT, XLAT, XLONG, the global attributes DX, MAP_PROJ, ...), or ICON's qc, qi,
+      ... with temp, pres and the heights — go through the very loaders `nephele render` runs on
+      files (the Dataset is written to a temporary NetCDF file with xarray's own writer), so the
+      checks, the optics and the vertical grid are the same and errors name the variable.
+    * Extinction — variables `ice_extinction` and `water_extinction` (or `ice_per_m`,
+      `water_per_m`) with dimensions (z, y, x) or (time, z, y, x) and 1-D coordinates of the same
+      names as the last three dimensions (x, y: projected column centres, z: layer centres [m]) —
+      become a dataset as from_extinction; attribute `proj` (PROJ string) places it on the Earth,
+      an optional variable `terrain_height_m` (y, x) gives the ground.
+
+    `name` stands for the dataset in messages (default: the file xarray read it from)."""
+    source = dataset.encoding.get("source")
+    label = name or (f"xarray.Dataset from {source}" if source else "xarray.Dataset")
+    names = [next((n for n in pair if n in dataset.variables), None) for pair in _EXTINCTION_NAMES]
+    if all(names):
+        return _extinction_from_xarray(dataset, names, label)
+    tmp = tempfile.TemporaryDirectory(prefix="nephele-xarray-")
+    path = os.path.join(tmp.name, "dataset.nc")
+    dataset.to_netcdf(path)
+    with _named_errors({path: label}):
+        # the file lives as long as the dataset: timesteps are read on demand
+        return Dataset(_nephele.open(path), aliases={path: label}, keep=tmp)
+
+
+def render(dataset=None, scene=None, *, gl="auto", outputs=None, width=None, height=None, timestep=None,
+           dtype="float32", cloud_layer=False):
+    """Renders one frame headless and returns it as a numpy array (height, width, 4), row 0 at top.
+
+    dataset: from open/from_xarray/from_extinction, or None to open the scene's data.path.
+    scene:   a dict with the keys of a scene file (docs/scene-file.md; relative paths against the
+             working directory), the path of a scene file (JSON), or None for the defaults.
+    gl:      "auto" (NEPHELE_GL, else EGL then OSMesa), "egl" or "osmesa".
+    outputs: image files (.png/.exr), replacing output.paths as `nephele render -o` does; the
+             scene's output.paths and output.pass_files are written either way.
+    width, height, timestep: override output.width/height and data.timestep (as the CLI flags).
+    dtype:   "float32": scene-linear RGBA times 2^output.exposure_ev, as an .exr output stores it
+             (the frame is composited over the ground: alpha 1); "uint8": the display codes of a
+             .png output (tone curve + sRGB, or output.display through OpenColorIO), straight alpha.
+    cloud_layer: return the premultiplied cloud layer alone instead of the frame (`--layer`)."""
+    scene_path, scene_text, scene_name = "", "", "<scene dict>"
+    if scene is None:
+        scene_text = "{}"
+    elif isinstance(scene, dict):
+        scene_text = json.dumps(scene)
+    else:
+        scene_path = os.fspath(scene)
+    aliases = dataset._aliases if dataset is not None else {}
+    with _named_errors(aliases):
+        return _nephele.render(None if dataset is None else dataset._handle, scene_path, scene_text, scene_name, os.getcwd(), gl,
+                               None if outputs is None else [os.fspath(p) for p in outputs], int(width or 0),
+                               int(height or 0), -1 if timestep is None else int(timestep), dtype, bool(cloud_layer))
+
+
+def _extinction_from_xarray(dataset, names, label):
+    ice, water = (dataset[n] for n in names)
+    if ice.dims != water.dims or len(ice.dims) not in (3, 4):
+        raise InputError(f"{label}: {names[0]} {ice.dims} and {names[1]} {water.dims}: expected the same "
+                         "dimensions, (z, y, x) or (time, z, y, x)")
+    z_name, y_name, x_name = ice.dims[-3:]
+    axes = {}
+    for dim in (z_name, y_name, x_name):
+        if dim not in dataset.coords or dataset[dim].size < 2:
+            raise InputError(f"{label}: {names[0]}: dimension {dim} has no coordinate of at least 2 values, "
+                             "expected the centres of the grid's cells")
+        axes[dim] = dataset[dim].values.astype("float64")
+    step = {d: float(a[1] - a[0]) for d, a in axes.items()}
+    for dim, a in axes.items():
+        spacing = a[1:] - a[:-1]
+        if not (step[dim] > 0 and abs(spacing - step[dim]).max() <= 1e-6 * abs(step[dim])):
+            raise InputError(f"{label}: coordinate {dim} is not increasing with a uniform spacing "
+                             f"(from {spacing.min()} to {spacing.max()}), expected a regular grid")
+    times = None
+    if len(ice.dims) == 4 and ice.dims[0] in dataset.coords:
+        times = [str(t)[:19] + "Z" for t in dataset[ice.dims[0]].values.astype("datetime64[s]")]
+    terrain = dataset["terrain_height_m"].values if "terrain_height_m" in dataset.variables else None
+    return from_extinction(ice.values, water.values, terrain_height_m=terrain, dx=step[x_name], dy=step[y_name], dz_m=step[z_name],
+                           z_bottom_m=axes[z_name][0] - step[z_name] / 2, proj=dataset.attrs.get("proj", ""),
+                           x0=axes[x_name][0], y0=axes[y_name][0],
+                           geographic=bool(dataset.attrs.get("geographic", False)), times_utc=times, name=label)
+
+
+@contextlib.contextmanager
+def _named_errors(aliases):
+    """Errors about a temporary file name what it stands for (the xarray Dataset)."""
+    try:
+        yield
+    except Error as e:
+        text = str(e)
+        renamed = text
+        for path, label in aliases.items():
+            renamed = renamed.replace(path, label)
+        if renamed == text:
+            raise
+        raise type(e)(renamed) from None
