@@ -1,0 +1,177 @@
+#!/usr/bin/env python3
+"""The installed `nephele` Python module against `nephele render` (issue #16 item 3).
+
+usage: python_module_check.py NEPHELE NEPHELE_GEN SITE_PACKAGES WORKDIR
+(run by python_module_test.sh with PYTHONPATH=SITE_PACKAGES, the temporary install's).
+
+The generated storm (wrfout, Lambert, 2 timesteps) and its .nph cache are rendered by the CLI and
+by the module from the same scene keys. Tolerance: none. The module renders through the same
+engine functions as the CLI (scene/scene_file, engine/scene_render) on the same GL backend, and a
+re-render by the CLI is byte-identical (cli.quicklook), so every 8-bit code must be equal; any
+difference is a bug in the module (a scene key lost, a dataset read differently). Checked:
+  * .nph: scene file, scene dict, data.path from the scene, and the PNG the module writes;
+  * xarray: the wrfout opened with xarray, handed over as a Dataset, against the wrfout scene;
+  * numpy: the .nph's extinction of timestep 1 as arrays and as an xarray Dataset of extinction
+    against the .nph at timestep 1 (`timestep=`);
+  * float32: scene-linear times 2^exposure_ev, the frame opaque: exposure +1 EV doubles RGB exactly;
+  * dataset facts: timesteps, times, grid against the .nph header and the wrfout's XLAT/XLONG;
+  * errors: Python exceptions of the documented types naming the file and the variable.
+"""
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from PIL import Image
+
+nephele_cli, gen, site, work = sys.argv[1:5]
+work = Path(work)
+failures = []
+
+import nephele  # noqa: E402  (after the argument check: PYTHONPATH names the install)
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what, file=sys.stderr)
+
+
+def run(*cmd):
+    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"{' '.join(map(str, cmd))} -> rc {r.returncode}\n{r.stderr}")
+    return r.stdout
+
+
+def png(path):
+    return np.asarray(Image.open(path).convert("RGBA"))
+
+
+def same_codes(a, b, what):
+    check(a.shape == b.shape, f"{what}: shape {a.shape} vs {b.shape}")
+    if a.shape == b.shape:
+        d = np.abs(a.astype(int) - b.astype(int))
+        print(f"{what}: max |difference| {d.max()} codes, {int((d > 0).sum())} of {d.size} values differ")
+        check(d.max() == 0, f"{what}: max |difference| {d.max()} codes")
+
+
+check(Path(nephele.__file__).resolve().is_relative_to(Path(site).resolve()),
+      f"imported {nephele.__file__}, not the installed module under {site}")
+
+# ---- data and the CLI's renders ---------------------------------------------------------------
+nc, nph = work / "storm.nc", work / "storm.nph"
+run(gen, "wrf", "--proj", "lambert", "--times", "2", "-o", nc)
+run(nephele_cli, "convert", nc, "-o", nph, "--no-progress")
+keys = {"camera": {"preset": "oblique"}, "sun": {"azimuth_deg": 200, "elevation_deg": 35}, "quality": "draft",
+        "output": {"width": 320, "height": 180}, "height_exaggeration": 8}
+for name, data in (("nph", nph), ("nc", nc)):
+    (work / f"scene_{name}.json").write_text(json.dumps(dict(keys, data={"path": str(data)})))
+    run(nephele_cli, "render", work / f"scene_{name}.json", "-o", work / f"cli_{name}.png")
+    run(nephele_cli, "render", work / f"scene_{name}.json", "--timestep", "1", "-o", work / f"cli_{name}_t1.png")
+cli_nph, cli_nph_t1, cli_nc = png(work / "cli_nph.png"), png(work / "cli_nph_t1.png"), png(work / "cli_nc.png")
+
+# ---- .nph ------------------------------------------------------------------------------------
+ds = nephele.open(nph)
+check(ds.timestep_count == 2, f".nph: {ds.timestep_count} timesteps, expected 2")
+check(ds.times == ["2026-09-01T12:00:00Z", "2026-09-01T13:00:00Z"], f".nph times {ds.times}")
+same_codes(nephele.render(ds, work / "scene_nph.json", dtype="uint8", outputs=[work / "py_nph.png"]), cli_nph,
+           ".nph, scene file")
+same_codes(png(work / "py_nph.png"), cli_nph, ".nph, the PNG the module wrote")
+same_codes(nephele.render(ds, keys, dtype="uint8"), cli_nph, ".nph, scene dict")
+same_codes(nephele.render(None, work / "scene_nph.json", dtype="uint8", timestep=1), cli_nph_t1,
+           "data.path of the scene, timestep=1")
+
+# float32: what the .exr stores, scene-linear times 2^exposure_ev; the frame is opaque
+lin0 = nephele.render(ds, dict(keys, output=dict(keys["output"], exposure_ev=0.0)))
+lin1 = nephele.render(ds, dict(keys, output=dict(keys["output"], exposure_ev=1.0)))
+check(lin0.dtype == np.float32 and lin0.shape == (180, 320, 4), f"float32 frame: {lin0.dtype} {lin0.shape}")
+check(np.isfinite(lin0).all() and (lin0[..., 3] == 1.0).all(), "float32 frame: not finite or not opaque")
+check(np.array_equal(lin1[..., :3], 2.0 * lin0[..., :3]), "float32: exposure +1 EV does not double RGB exactly")
+check(float(lin0[..., :3].max()) > 0.0, "float32 frame is black")
+cloud = nephele.render(ds, keys, cloud_layer=True)
+check((cloud[..., 3] >= 0).all() and (cloud[..., 3] <= 1).all() and 0 < cloud[..., 3].mean() < 1,
+      f"cloud layer alpha outside [0, 1] or empty/full (mean {cloud[..., 3].mean()})")
+
+# grid: the header's figures and the footprint against the wrfout's corner mass points
+grid = ds.grid(1)
+x = xr.open_dataset(nc)
+check((grid["nx"], grid["ny"], grid["dx"], grid["dy"]) == (x.sizes["west_east"], x.sizes["south_north"],
+                                                           x.attrs["DX"], x.attrs["DY"]),
+      f"grid {grid['nx']}x{grid['ny']} at {grid['dx']}x{grid['dy']} m, wrfout {dict(x.sizes)} {x.attrs['DX']}")
+check("+proj=lcc" in grid["proj"] and grid["time_utc"] == "2026-09-01T13:00:00Z", f"grid proj/time {grid}")
+lat, lon = x["XLAT"].values[0], x["XLONG"].values[0]
+corner_points = [(lon[0, 0], lat[0, 0]), (lon[0, -1], lat[0, -1]), (lon[-1, -1], lat[-1, -1]), (lon[-1, 0], lat[-1, 0])]
+# outer corners lie half a cell (7.5 km ~ 0.07 deg) outside the corner mass points: within one cell
+cell_deg = grid["dx"] / 111e3
+for (glon, glat), (mlon, mlat) in zip(grid["lonlat_corners"], corner_points):
+    check(abs(glon - mlon) < cell_deg and abs(glat - mlat) < cell_deg,
+          f"footprint corner ({glon:.3f}, {glat:.3f}) more than a cell from the mass point ({mlon:.3f}, {mlat:.3f})")
+
+# ---- xarray Dataset of hydrometeors: the wrfout through the WRF loader --------------------------
+xd = nephele.from_xarray(x)
+check(xd.timestep_count == 2 and xd.times == ds.times, f"xarray: {xd.timestep_count} timesteps {xd.times}")
+check(xd.path == f"xarray.Dataset from {nc}", f"xarray dataset named {xd.path!r}")
+same_codes(nephele.render(xd, keys, dtype="uint8"), cli_nc, "xarray Dataset of the wrfout vs the wrfout scene")
+# against the .nph: the cache's 16-bit quantisation only (docs/conversion.md), figures for the record
+d = np.abs(nephele.render(xd, keys, dtype="uint8").astype(int) - cli_nph.astype(int))
+print(f"xarray Dataset vs the .nph (16-bit quantised): max {d.max()} codes, mean {d.mean():.4f}")
+
+# ---- numpy arrays and an xarray Dataset of extinction ---------------------------------------------
+vol = ds.extinction(1)
+check(vol["ice_per_m"].shape == (grid["nz"], grid["ny"], grid["nx"]), f"extinction shape {vol['ice_per_m'].shape}")
+check(float(vol["water_per_m"].max()) == grid["max_water_per_m"], "extinction max differs from the grid's")
+place = dict(dx=grid["dx"], dy=grid["dy"], dz_m=grid["dz_m"], z_bottom_m=grid["z_bottom_m"], proj=grid["proj"],
+             x0=grid["x0"], y0=grid["y0"])
+arrays = nephele.from_extinction(**vol, **place, times_utc=[grid["time_utc"]])
+same_codes(nephele.render(arrays, keys, dtype="uint8"), cli_nph_t1, "numpy extinction vs the .nph at timestep 1")
+z = grid["z_bottom_m"] + (np.arange(grid["nz"]) + 0.5) * grid["dz_m"]
+ext = xr.Dataset({"ice_extinction": (("z", "y", "x"), vol["ice_per_m"]),
+                  "water_extinction": (("z", "y", "x"), vol["water_per_m"]),
+                  "terrain_height_m": (("y", "x"), vol["terrain_height_m"])},
+                 coords={"z": z, "y": grid["y0"] + grid["dy"] * np.arange(grid["ny"]),
+                         "x": grid["x0"] + grid["dx"] * np.arange(grid["nx"])}, attrs={"proj": grid["proj"]})
+same_codes(nephele.render(nephele.from_xarray(ext), keys, dtype="uint8"), cli_nph_t1,
+           "xarray Dataset of extinction vs the .nph at timestep 1")
+
+
+# ---- errors name the file and the variable ---------------------------------------------------------
+def expect_error(kind, words, call, what):
+    try:
+        call()
+    except nephele.Error as e:
+        check(isinstance(e, kind), f"{what}: {type(e).__name__}, expected {kind.__name__}: {e}")
+        missing = [w for w in words if w not in str(e)]
+        check(not missing, f"{what}: message {str(e)!r} does not name {missing}")
+        print(f"{what}: {type(e).__name__}: {e}")
+        return
+    check(False, f"{what}: no exception")
+
+
+expect_error(nephele.InputError, [str(work / "missing.nph")], lambda: nephele.open(work / "missing.nph"),
+             "missing file")
+expect_error(nephele.InputError, ["QCLOUD", str(nc), "at most 0.1"],
+             lambda: nephele.render(nephele.from_xarray(x.assign(QCLOUD=x.QCLOUD * 100)), keys),
+             "xarray: QCLOUD x 100")
+expect_error(nephele.InputError, ["T", str(nc), "missing"],
+             lambda: nephele.from_xarray(x.drop_vars("T")).extinction(0), "xarray: no T")
+bad_ice = vol["ice_per_m"].copy()
+bad_ice[3, 4, 5] = np.nan
+expect_error(nephele.InputError, ["my arrays", "ice_per_m"],
+             lambda: nephele.from_extinction(bad_ice, vol["water_per_m"], **place, name="my arrays"),
+             "numpy: NaN extinction")
+expect_error(nephele.InputError, ["<scene dict>", "camera.fvo_deg"],
+             lambda: nephele.render(ds, dict(keys, camera={"fvo_deg": 30})), "scene dict: typo")
+expect_error(nephele.InputError, ["scene_bad.json", "output.paths[0]"],
+             lambda: (work / "scene_bad.json").write_text('{"output": {"paths": ["frame.jpg"]}}') and
+             nephele.render(ds, work / "scene_bad.json"), "scene file: bad output")
+expect_error(nephele.UsageError, ["--gl vulkan"], lambda: nephele.render(ds, keys, gl="vulkan"), "unknown gl")
+check(issubclass(nephele.InputError, ValueError) and issubclass(nephele.IoError, OSError),
+      "InputError is not a ValueError or IoError not an OSError")
+
+if failures:
+    sys.exit(f"{len(failures)} check(s) failed")
+print("all checks passed")
