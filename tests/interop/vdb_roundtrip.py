@@ -30,23 +30,12 @@ from pathlib import Path
 import numpy as np
 import pyopenvdb as vdb
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))
+from script_checks import check, finish, run  # noqa: E402
+
 nephele, gen, nph_dump, work = sys.argv[1:5]
 work = Path(work)
 work.mkdir(parents=True, exist_ok=True)
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
-
-
-def run(*cmd):
-    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(map(str, cmd))} -> rc {r.returncode}\n{r.stderr}")
-    return r.stdout
 
 
 def read_vdb(path):
@@ -197,6 +186,5 @@ blocker.write_text("a file where the output folder should be\n")
 rc, err = run_rc(nephele, "export-vdb", nph, "-o", blocker / "storm")
 check(rc == 1 and "not_a_folder" in err, f"output under a file: rc {rc}, stderr {err!r}")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
+finish()
 print("vdb round trip: all checks passed")

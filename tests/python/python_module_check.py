@@ -18,8 +18,6 @@ difference is a bug in the module (a scene key lost, a dataset read differently)
   * errors: Python exceptions of the documented types naming the file and the variable.
 """
 import json
-import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -27,24 +25,13 @@ import numpy as np
 import xarray as xr
 from PIL import Image
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))
+from script_checks import check, finish, run  # noqa: E402
+
 nephele_cli, gen, site, work = sys.argv[1:5]
 work = Path(work)
-failures = []
 
-import nephele  # noqa: E402  (after the argument check: PYTHONPATH names the install)
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
-
-
-def run(*cmd):
-    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(map(str, cmd))} -> rc {r.returncode}\n{r.stderr}")
-    return r.stdout
+import nephele  # noqa: E402  (after the arguments: PYTHONPATH names the install under test)
 
 
 def png(path):
@@ -172,6 +159,5 @@ expect_error(nephele.UsageError, ["--gl vulkan"], lambda: nephele.render(ds, key
 check(issubclass(nephele.InputError, ValueError) and issubclass(nephele.IoError, OSError),
       "InputError is not a ValueError or IoError not an OSError")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
+finish()
 print("all checks passed")
