@@ -90,8 +90,10 @@ bench-accuracy: deps
 	$(MAKE) build
 	$(BUILD_DIR)/src/cli/nephele-bench accuracy -o $(BUILD_DIR)/accuracy $(ACCURACY_ARGS)
 
+# PREFIX=DIR installs there instead of CMAKE_INSTALL_PREFIX (/usr/local); the Python module goes to
+# DIR/lib/python3/dist-packages/nephele (docs/interop.md, "Python").
 install: build
-	cmake --install $(BUILD_DIR)
+	cmake --install $(BUILD_DIR) $(if $(PREFIX),--prefix $(PREFIX))
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -70,6 +70,10 @@ class Dataset:
         return f"<nephele.Dataset {self.path!r}: {self.timestep_count} timesteps>"
 
 
+# Encodings from_xarray keeps when it writes a Dataset for the loaders (see there).
+_KEPT_ENCODINGS = ("dtype", "_FillValue", "missing_value", "scale_factor", "add_offset", "units", "calendar")
+
+
 def open(path):  # noqa: A001 (the module's verb, as `nephele render FILE`)
     """A dataset from a .nph cache, a wrfout, an ICON NetCDF or GRIB2 file, a folder of GRIB2
     files or a pattern; a list of model files is one time-ordered series (`nephele convert A B`)."""
@@ -113,9 +117,15 @@ def from_xarray(dataset, *, name=None):
     names = [next((n for n in pair if n in dataset.variables), None) for pair in _EXTINCTION_NAMES]
     if all(names):
         return _extinction_from_xarray(dataset, names, label)
-    tmp = tempfile.TemporaryDirectory(prefix="nephele-xarray-")
+    tmp = tempfile.TemporaryDirectory(prefix="nephele-xarray-")  # in $TMPDIR
     path = os.path.join(tmp.name, "dataset.nc")
-    dataset.to_netcdf(path)
+    # Uncompressed: a Dataset xarray read from a deflated wrfout carries the file's compression in
+    # its encodings, and deflating again took twice as long as writing the raw floats (realistic
+    # storm: 40 s against 20 s, docs/interop.md). Types, packing, fill values and time units stay.
+    plain = dataset.copy(deep=False)
+    for var in plain.variables.values():
+        var.encoding = {k: v for k, v in var.encoding.items() if k in _KEPT_ENCODINGS}
+    plain.to_netcdf(path, format="NETCDF4")
     with _named_errors({path: label}):
         # the file lives as long as the dataset: timesteps are read on demand
         return Dataset(_nephele.open(path), aliases={path: label}, keep=tmp)
