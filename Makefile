@@ -46,14 +46,15 @@ test-blender: deps
 # The clang and sanitizer job (issue 17) in one build: clang++ with -fsanitize=address,undefined,
 # UB aborting the test (-fno-sanitize-recover). Runs the unit and gl labels except
 #   api.*, install.*, cli.*  the library/CLI under uninstrumented hosts (ffmpeg, gst, melt, xvfb-run,
-#                            a second CMake project): the same code runs in render.*/engine.* here
+#   python.*                 a second CMake project, Debian's python3 loading the extension): the same
+#                            code runs in render.*/engine.* here
 #   stress.*                 the renderer paths of render.* again at larger sizes, the slowest
 # Mesa's llvmpipe is not instrumented; LSan ignores what it allocates (tools/lsan-suppressions.txt).
 # -O1 with line tables only: the sanitizers' stack traces need lines, not variables, and the build
 # is what this job's time goes to (asserts stay on: no NDEBUG).
 SANITIZE_DIR   ?= build-sanitize
 SANITIZE_FLAGS ?= -O1 -gline-tables-only
-SANITIZE_TESTS ?= -L "unit|gl" -E "^(api|install|cli|stress)\\."
+SANITIZE_TESTS ?= -L "unit|gl" -E "^(api|install|cli|python|stress)\\."
 test-sanitize: deps
 	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
