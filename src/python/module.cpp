@@ -59,10 +59,11 @@ py::array_t<float> volumeArray(const std::vector<float>& values, int nz, int ny,
 }
 
 /// Dimensions of `a`: (nt, nz, ny, nx) for a 4-D array, (1, nz, ny, nx) for a 3-D one.
-std::array<py::ssize_t, 4> timestepShape(const FloatArray& a, const char* name) {
+std::array<py::ssize_t, 4> timestepShape(const FloatArray& a, const std::string& dataset, const char* name) {
   if (a.ndim() == 4) return {a.shape(0), a.shape(1), a.shape(2), a.shape(3)};
   if (a.ndim() == 3) return {1, a.shape(0), a.shape(1), a.shape(2)};
-  throw InputError(fmt::format("{}: {} dimensions, expected (z, y, x) or (time, z, y, x)", name, a.ndim()));
+  throw InputError(
+      fmt::format("{}: {} has {} dimensions, expected (z, y, x) or (time, z, y, x)", dataset, name, a.ndim()));
 }
 
 /// The grid of timestep t (loads it): sizes, spacings, the vertical extent, the projection and,
@@ -122,8 +123,8 @@ PyDataset fromExtinction(const FloatArray& ice, const FloatArray& water, double 
                          double z_bottom_m, const std::string& proj, double x0, double y0, bool geographic,
                          const std::vector<std::string>& times_utc, std::optional<FloatArray> terrain_height_m,
                          const std::string& name) {
-  const auto shape = timestepShape(ice, "ice_per_m");
-  if (timestepShape(water, "water_per_m") != shape) {
+  const auto shape = timestepShape(ice, name, "ice_per_m");
+  if (timestepShape(water, name, "water_per_m") != shape) {
     throw InputError(
         fmt::format("{}: water_per_m has another shape than ice_per_m ({} dimensions)", name, water.ndim()));
   }

@@ -10,6 +10,7 @@ engine functions as the CLI (scene/scene_file, engine/scene_render) on the same 
 re-render by the CLI is byte-identical (cli.quicklook), so every 8-bit code must be equal; any
 difference is a bug in the module (a scene key lost, a dataset read differently). Checked:
   * .nph: scene file, scene dict, data.path from the scene, and the PNG the module writes;
+    EGL, and OSMesa in a child process (OSMesa fails after EGL in one process, docs/interop.md);
   * xarray: the wrfout opened with xarray, handed over as a Dataset, against the wrfout scene;
   * numpy: the .nph's extinction of timestep 1 as arrays and as an xarray Dataset of extinction
     against the .nph at timestep 1 (`timestep=`);
@@ -71,6 +72,12 @@ same_codes(png(work / "py_nph.png"), cli_nph, ".nph, the PNG the module wrote")
 same_codes(nephele.render(ds, keys, dtype="uint8"), cli_nph, ".nph, scene dict")
 same_codes(nephele.render(None, work / "scene_nph.json", dtype="uint8", timestep=1), cli_nph_t1,
            "data.path of the scene, timestep=1")
+
+# OSMesa, in a process of its own (first used after EGL, Mesa's OSMesa misses GL 4.5 entry points)
+run(nephele_cli, "render", work / "scene_nph.json", "--gl", "osmesa", "-o", work / "cli_osmesa.png")
+run(sys.executable, "-c", f"import nephele; nephele.render(nephele.open({str(nph)!r}), {str(work / 'scene_nph.json')!r}, "
+    f"gl='osmesa', outputs=[{str(work / 'py_osmesa.png')!r}])")
+same_codes(png(work / "py_osmesa.png"), png(work / "cli_osmesa.png"), "OSMesa, scene file")
 
 # float32: what the .exr stores, scene-linear times 2^exposure_ev; the frame is opaque
 lin0 = nephele.render(ds, dict(keys, output=dict(keys["output"], exposure_ev=0.0)))
