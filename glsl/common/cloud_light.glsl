@@ -47,6 +47,94 @@ Number octaveSeries(Number sunlight, Number cosPsi, Number iceWeight, Number gIc
   return sum;
 }
 
+// Multiple scattering of sunlight by the independent column (issue 12, "two_stream"; Nes 2008
+// §5.2.3 names the missing diffuse light as the DLM's limit, Muth 2026 §3.4.6 asks for a
+// multiple-scattering term): the sample is taken to lie at optical depth τ_a below the top of a
+// horizontally uniform, conservatively scattering slab of optical depth τ* = τ_a + τ_b (its
+// column depths, volume/column_depth.h), lit by the sun at μ₀. The Eddington approximation
+// I(τ, μ) = I₀(τ) + μ·I₁(τ) with the δ-Eddington scaling of the forward peak (Joseph, Wiscombe &
+// Weinman 1976: f = g², τ' = (1 − g²)·τ, g' = g/(1 + g)) — the forward peak stays in the direct
+// beam, which is what the deep light map carries (Nes §5.2.3 central/peripheral forward
+// scattering), so octave 0 = E·p·I_DLM and this term do not count it twice. For ω = 1 the moment
+// equations (τ downward, μ upward, πF = E)
+//   dI₁/dτ = −¾F·e^{−τ/μ₀},   dI₀/dτ = (1 − g')·I₁ + ¾F·g'·μ₀·e^{−τ/μ₀}
+// give I₁ = ¾Fμ₀·e^{−τ/μ₀} + C₁ and I₀ = (1 − g')·C₁·τ − ¾Fμ₀²·e^{−τ/μ₀} + C₂; Marshak's conditions
+// (no diffuse light enters at the top, I₀ − ⅔I₁ = 0, nor at the bottom, I₀ + ⅔I₁ = 0) fix
+//   C₁ = −¾Fμ₀·[(μ₀ + ⅔) + (⅔ − μ₀)·e^{−τ*/μ₀}] / ((1 − g')·τ* + 4/3),   C₂ = ¾Fμ₀·(μ₀ + ⅔) + ⅔·C₁.
+// Its reflectance is Joseph et al.'s conservative closed form
+// R = [(1 − g')τ* + (⅔ − μ₀)(1 − e^{−τ*/μ₀})] / (4/3 + (1 − g')τ*) (tests/lighting). The radiance
+// the diffuse field scatters towards a direction of cosine μ_out with the upward vertical is the
+// source function of the full phase function p = f·δ + (1 − f)·p' over I₀ + μ·I₁: f·(I₀ + μ_out·I₁)
+// + (1 − f)·(I₀ + g'·μ_out·I₁) = I₀ + g·μ_out·I₁ (f + (1 − f)·g' = g): the eye pass marches the
+// unscaled β, so the forward peak's share of the diffuse light is scattered on along the view
+// ray, not dropped. In a height-exaggerated world the beam is scaled by fluxScale and the vertical
+// diffusion (1 − g') by diffusionScale (twoStreamSunFrame below; 1 and 1 at true scale). Returned
+// per unit solar irradiance [1/sr]: the eye pass multiplies by E. Costs no look-up beyond the
+// column depths the sky light already reads.
+Number twoStreamDiffuse(Number tauAbove, Number tauBelow, Number mu0, Number fluxScale, Number diffusionScale,
+                        Number muOut, Number g) {
+  if (mu0 <= Number(0.0)) return Number(0.0);
+  Number m = max(mu0, Number(0.02));  // grazing sun: keep e^{−τ/μ₀} finite; the beam is gone anyway
+  Number f = g * g;
+  Number gs = g / (Number(1.0) + g);
+  Number k = (Number(1.0) - gs) / diffusionScale;
+  Number ta = (Number(1.0) - f) * max(tauAbove, Number(0.0));
+  Number tt = ta + (Number(1.0) - f) * max(tauBelow, Number(0.0));
+  Number F = kInvFourPi * Number(4.0) * fluxScale;  // 1/π: πF = E = 1
+  Number beam = exp(-ta / m);
+  Number c1 = Number(-0.75) * F * m * ((m + Number(2.0 / 3.0)) + (Number(2.0 / 3.0) - m) * exp(-tt / m)) /
+              (k * tt + Number(4.0 / 3.0));
+  Number c2 = Number(0.75) * F * m * (m + Number(2.0 / 3.0)) + Number(2.0 / 3.0) * c1;
+  Number i0 = k * c1 * ta - Number(0.75) * F * m * m * beam + c2;
+  Number i1 = Number(0.75) * F * m * beam + c1;
+  return max(i0 + g * muOut * i1, Number(0.0));
+}
+
+// The sun of the two-stream term in a height-exaggerated world (docs/rendering.md "Conventions":
+// heights × e, β × f(d) = |(d_x, d_y, d_z/e)| along d, so vertical optical depth is the data's).
+// For a sun of world vertical cosine μ_w (Vec3 result):
+//   x = μ₀, the vertical cosine of its image in the data: τ along the beam per vertical τ is 1/μ₀
+//       with μ₀ = (μ_w/e) / |(√(1 − μ_w²), μ_w/e)|;
+//   y = μ_w/μ₀: horizontal areas are the same in both frames, so the beam brings E·μ_w per unit
+//       area and spends it over a vertical depth μ₀ — the slab sees a beam of E·μ_w/μ₀ at μ₀;
+//   z = 3⟨(d_z/(e·f(d)))²⟩ over world directions: the vertical diffusion of the scattered light
+//       against an unexaggerated medium. Light scattered evenly in the world mostly travels close
+//       to the horizontal in the data (a world step d_z covers d_z/e of the data's height), so it
+//       crosses the layer's optical depth more slowly: 3∫₀¹ μ²/(e²(1 − μ²) + μ²) dμ =
+//       3/(e² − 1)·(a·atanh(1/a) − 1), a = e/√(e² − 1); 1 at e = 1, 0.226 at e = 4, 0.085 at e = 8.
+// At e = 1 it is (μ_w, 1, 1). Measured against the path tracer on the accuracy scenes (exaggeration 8
+// for the hurricane, 4 for stratus and cirrus): docs/accuracy.md "Issue 12, third phase".
+Vec3 twoStreamSunFrame(Number muWorld, Number exaggeration) {
+  Number e = max(exaggeration, Number(1.0));
+  Number mw = clamp(muWorld, Number(0.0), Number(1.0));
+  Number mu0 = (mw / e) / max(sqrt(Number(1.0) - mw * mw + mw * mw / (e * e)), Number(1e-6));
+  Number flux = mu0 > Number(0.0) ? mw / mu0 : Number(0.0);
+  Number diffusion = Number(1.0);
+  if (e > Number(1.0001)) {
+    Number a = e / sqrt(e * e - Number(1.0));
+    diffusion = Number(3.0) / (e * e - Number(1.0)) * (a * Number(0.5) * log((a + Number(1.0)) / (a - Number(1.0))) - Number(1.0));
+  }
+  return Vec3(mu0, flux, diffusion);
+}
+
+// The sunlight a cloud sample scatters towards the eye per unit solar irradiance [1/sr], by the
+// multiple-scattering model `mode` (lighting/render_settings.h MultipleScattering, the knob
+// `multiple_scattering`): 0 single scattering E·p_v·I_DLM only; 1 the octave series (octaveSeries);
+// 2 single scattering plus the independent-column two-stream diffuse light (twoStreamDiffuse) with
+// g the sample's β-weighted asymmetry, the sample's column depths (τ_above, τ_below), the sun frame
+// of twoStreamSunFrame and the view's vertical cosine μ_out (towards the eye, in the data).
+Number cloudSunFactor(int mode, Number sunlight, Number cosPsi, Number iceWeight, Number gIce, Number gWater,
+                      int octaves, Number extinctionScale, Number energyScale, Number anisotropyScale,
+                      Number tauAbove, Number tauBelow, Vec3 sunFrame, Number muOut) {
+  if (mode == 1)
+    return octaveSeries(sunlight, cosPsi, iceWeight, gIce, gWater, octaves, extinctionScale, energyScale,
+                        anisotropyScale);
+  Number single = sunlight * mixedPhase(cosPsi, iceWeight, gIce, gWater);
+  if (mode != 2) return single;
+  Number g = gWater + (gIce - gWater) * iceWeight;
+  return single + twoStreamDiffuse(tauAbove, tauBelow, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+}
+
 // Diffuse (hemispherically incident) transmittance of a conservatively scattering layer of
 // optical depth τ, two-stream (Eddington) approximation with the (1 − g) similarity scaling (Bohren
 // 1987, "Multiple scattering of light and some of its observable consequences"; van de Hulst 1980):

@@ -7,9 +7,10 @@
 //   C += T_acc · (1 − T) · L_s,   T_acc *= T,
 //   L_s = E_sun · F(I_DLM, ψ) + L_sky · T_d(τ_up) / 2 + L_below · T_d(τ_down) / 2
 // Units and conventions: docs/rendering.md "Conventions" (issue 12). E_sun is the sun's irradiance,
-// F the octave series of multiple scattering [1/sr] (glsl/common/cloud_light.glsl; its first
-// octave is single scattering E·p_v(ψ)·I_DLM with p_v the β-weighted ice/water Henyey–Greenstein
-// mix, Nes eq. 5.12), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl). The sky light:
+// F single scattering E·p_v(ψ)·I_DLM (p_v the β-weighted ice/water Henyey–Greenstein mix, Nes eq.
+// 5.12) plus the multiple-scattering term of u_cloud_ms_model [1/sr] (glsl/common/
+// cloud_light.glsl cloudSunFactor: the octave series, or by default the column's two-stream
+// diffuse light from the column depths), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl). The sky light:
 // the upper hemisphere's clear-sky radiance L_sky reaches the sample through the cloud column
 // above it, the lower hemisphere's L_below (ground-reflected light) through the column below, each
 // attenuated by the two-stream diffuse transmittance T_d of that column's vertical optical depth
@@ -86,6 +87,7 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   float u_height_exaggeration;  // e: β is scaled by |(d_x, d_y, d_z/e)| along a ray
   bool u_atmosphere;          // the physically based atmosphere (AtmosphereBlock and its tables)
   bool u_write_passes;        // fill u_pass_ground and u_pass_sky
+  int u_cloud_ms_model;  // lighting::MultipleScattering: 0 single, 1 octaves, 2 two_stream
 };
 
 // Compile-time specialisation per view (issue 19, "Frame time"; see glsl/dlm/volume.glsl for the
@@ -216,9 +218,9 @@ vec3 surfaceDifferential(vec3 D, vec3 dD, vec3 n, float t) {
 vec2 columnDepthAt(vec3 world_m) { return texture(u_column_depth, volumeUvw(world_m)).rg; }
 
 // Sky light reaching a point through the cloud around it, scattered isotropically (the two
-// hemispheres, each attenuated by the diffuse transmittance of its column; cloud_light.glsl).
-vec3 skyLightAt(vec3 world_m, float g, vec3 skyAbove) {
-  vec2 tau = columnDepthAt(world_m);
+// hemispheres, each attenuated by the diffuse transmittance of its column depths τ = (τ_up,
+// τ_down); cloud_light.glsl).
+vec3 skyLightAt(vec2 tau, float g, vec3 skyAbove) {
   return 0.5 * (skyAbove * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
 }
 
@@ -266,6 +268,10 @@ void main() {
   // globe the ray's direction in the footprint's local frame (east, north, up) stands for it.
   vec3 dLocal = VIEW_GLOBE ? globeLocalDirection(dir) : dir;
   float depthScale = length(vec3(dLocal.xy, dLocal.z / u_height_exaggeration));
+  // The two-stream term's view and sun in the data (glsl/common/cloud_light.glsl
+  // twoStreamSunFrame): μ_out = −d_z/(e·f(d)) towards the eye; the sun's world vertical cosine is
+  // taken where the ray enters the volume (on the globe the local vertical turns with the point).
+  float muOut = -dLocal.z / (u_height_exaggeration * depthScale);
 
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
@@ -273,6 +279,8 @@ void main() {
   float tGround = VIEW_GLOBE ? globeGroundDistance(origin, dir) : kNoHit_m;
   vec2 span = VIEW_GLOBE ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
+  vec3 twoStreamSun = twoStreamSunFrame(VIEW_GLOBE ? dot(normalize(origin + span.x * dir), u_to_sun) : u_to_sun.z,
+                                        u_height_exaggeration);
   // Flat view: the ground along this ray (issue 14). The displaced terrain also ends the cloud
   // march — clouds behind a mountain are hidden by it (without terrain the march is as before).
   float tFlatGround = VIEW_GLOBE ? kTerrainMiss_m : flatGroundDistance(origin, dir);
@@ -308,9 +316,11 @@ void main() {
         }
         float T = exp(-b * u_step_m);
         float iceWeight = beta.x / b;  // Nes eq. 5.12
-        float sun = octaveSeries(dlmIntensity(w), cosPsi, iceWeight, u_g_ice, u_g_water, u_octaves,
-                                 u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale);
-        vec3 L = sunAtClouds * sun + skyLightAt(w, mix(u_g_water, u_g_ice, iceWeight), skyAtClouds);
+        vec2 tau = columnDepthAt(w);  // one look-up for the sky light and the two-stream term
+        float sun = cloudSunFactor(u_cloud_ms_model, dlmIntensity(w), cosPsi, iceWeight, u_g_ice, u_g_water,
+                                   u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
+                                   tau.x, tau.y, twoStreamSun, muOut);
+        vec3 L = sunAtClouds * sun + skyLightAt(tau, mix(u_g_water, u_g_ice, iceWeight), skyAtClouds);
         C += Tacc * (1.0 - T) * L;
         depthSum += Tacc * (1.0 - T) * t;
         Tacc *= T;

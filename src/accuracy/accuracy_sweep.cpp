@@ -53,16 +53,25 @@ namespace {
 // (forward cone θ, Cornette–Shanks g, scatter map on/off and its cell size) integrated by
 // reference::DlmReference (convergedLight) and the eye pass marched with 1/8 voxel steps and no
 // early termination. One per distinct model in a scene.
+// The converged CPU references of one scene: the light per transport model, the image per light
+// and multiple-scattering model.
+struct ReferenceCache {
+  std::map<std::string, std::unique_ptr<reference::DlmReference>> lights;
+  std::map<std::string, scene::RgbaImage> images;
+};
+
 const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextures& tex, const AccuracyScene& sc,
-                                     std::map<std::string, scene::RgbaImage>& cache) {
-  const std::string key = fmt::format("{}/{}/{}/{}/{}", v.dlm.forward_angle_deg, v.dlm.cornette_shanks_g,
-                                      v.dlm.peripheral, v.dlm.scatter_downsample, v.dlm.scatter_slice_steps);
-  if (auto it = cache.find(key); it != cache.end()) return it->second;
-  const auto light = convergedLight(v.dlm, tex, sc);
+                                     ReferenceCache& cache) {
+  const std::string lightKey = fmt::format("{}/{}/{}/{}/{}", v.dlm.forward_angle_deg, v.dlm.cornette_shanks_g,
+                                           v.dlm.peripheral, v.dlm.scatter_downsample, v.dlm.scatter_slice_steps);
+  const std::string key = fmt::format("{}/ms{}", lightKey, int(v.render.multiple_scattering));
+  if (auto it = cache.images.find(key); it != cache.images.end()) return it->second;
+  std::unique_ptr<reference::DlmReference>& light = cache.lights[lightKey];
+  if (!light) light = convergedLight(v.dlm, tex, sc);
   reference::RayMarchSettings march = v.render;
   march.step_voxels = kReferenceStepVoxels;
   march.min_transmittance = 0.0;
-  return cache[key] = reference::marchCloudLayer(
+  return cache.images[key] = reference::marchCloudLayer(
              *sc.volumes, sc.frame, sc.camera, sc.sun, [&](const glm::dvec3& p) { return light->intensityAt(p); },
              march);
 }
@@ -126,6 +135,7 @@ std::vector<Variant> sweepVariants(bool quick) {
   knob("dlm_texel_voxels", quick ? L{2.0} : L{4.0, 2.0, 0.5});
   knob("dlm_step_voxels", quick ? L{1.0} : L{2.0, 1.0, 0.25});
   knob("dlm_epsilon", quick ? L{0.04} : L{0.08, 0.04, 0.02, 0.005, 0.0025});
+  knob("multiple_scattering", quick ? L{1.0} : L{0.0, 1.0, 2.0});  // single, octaves, two_stream (issue 12)
   model("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
         [](scene::DlmSettings& d, double x) { d.scatter_downsample = int(x); });
   if (!quick) {
@@ -218,7 +228,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
     }
     const auto tex = render::VolumeTextures::upload(*sc.volumes, sc.frame, sc.volume_name + "-accuracy");
     render::CloudRenderer renderer;
-    std::map<std::string, scene::RgbaImage> references;  // per model (forward cone, scatter map)
+    ReferenceCache references;  // per model (forward cone, scatter map; multiple scattering)
     for (const Variant& v : variants) {
       std::vector<double> dlmMs, castMs;
       render::RenderOutput out;

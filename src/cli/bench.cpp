@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "accuracy/accuracy_sweep.h"
+#include "accuracy/ms_fit.h"
 #include "accuracy/octave_fit.h"
 #include "accuracy/pareto.h"
 #include "cli/commands.h"
@@ -21,6 +22,7 @@ struct BenchAccuracyOptions {
   std::string gl = "auto";
   int spp = 0;
   bool fit_octaves = false;
+  bool compare_ms = false;
 };
 
 int runBenchAccuracy(BenchAccuracyOptions o) {
@@ -36,6 +38,13 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
   if (o.spp > 0) s.ground_truth.samples_per_pixel = o.spp;
   std::filesystem::create_directories(s.out_dir);
   const auto ctx = gl::createHeadlessContext(o.gl);
+  if (o.compare_ms) {
+    const std::string md = accuracy::msComparisonMarkdown(accuracy::compareMultipleScattering(s));
+    std::ofstream((std::filesystem::path(s.out_dir) / "ms-comparison.md").string()) << md;
+    std::fputs(md.c_str(), stdout);
+    log::info("wrote {}/ms-comparison.md", s.out_dir);
+    return kExitOk;
+  }
   if (o.fit_octaves) {
     const accuracy::OctaveFitResult fit = accuracy::fitOctaveSeries(s);
     const std::string md = accuracy::octaveFitMarkdown(fit);
@@ -83,10 +92,14 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
   cmd->add_option("--scenes", o->sweep.scene_filter, "only scenes whose name contains this");
   cmd->add_option("--knobs", o->sweep.knob_filter,
                   "only settings whose knob name contains this (default, step_voxels, dlm_texel_voxels, "
-                  "dlm_step_voxels, epsilon, scatter_downsample, forward_angle_deg, preset)");
+                  "dlm_step_voxels, epsilon, multiple_scattering, scatter_downsample, forward_angle_deg, preset)");
   cmd->add_flag("--fit-octaves", o->fit_octaves,
                 "instead of the sweep: fit the multiple-scattering octave series (a, b, c, N) to the path-traced "
                 "truth on the CPU reference and write octave-fit.md (issue 12)");
+  cmd->add_flag("--compare-ms", o->compare_ms,
+                "instead of the sweep: compare the multiple-scattering terms (octaves, two-stream, octave weights by "
+                "column depth) against the path-traced truth on the CPU reference, fitting their free weights, and "
+                "write ms-comparison.md (issue 12)");
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });

@@ -25,6 +25,21 @@ double octaveSeries(double sunlight, double cos_psi, double ice_weight, double g
   return f64::octaveSeries(sunlight, cos_psi, ice_weight, g_ice, g_water, s.octaves, s.extinction_scale, s.energy_scale,
                            s.anisotropy_scale);
 }
+double twoStreamDiffuse(double tau_above, double tau_below, double mu0, double flux_scale, double diffusion_scale,
+                        double mu_out, double g) {
+  return f64::twoStreamDiffuse(tau_above, tau_below, mu0, flux_scale, diffusion_scale, mu_out, g);
+}
+glm::dvec3 twoStreamSunFrame(double mu_world, double exaggeration) {
+  return f64::twoStreamSunFrame(mu_world, exaggeration);
+}
+double cloudSunFactor(const RenderSettings& s, double sunlight, double cos_psi, double ice_weight,
+                      const glm::dvec2& tau, const glm::dvec3& sun_frame, double mu_out) {
+  if (s.multiple_scattering == MultipleScattering::Octaves && !s.octaves.energy.empty())
+    return octaveSunFactor(s.octaves, sunlight, cos_psi, ice_weight, s.g_ice, s.g_water);
+  return f64::cloudSunFactor(int(s.multiple_scattering), sunlight, cos_psi, ice_weight, s.g_ice, s.g_water,
+                             s.octaves.octaves, s.octaves.extinction_scale, s.octaves.energy_scale,
+                             s.octaves.anisotropy_scale, tau.x, tau.y, sun_frame, mu_out);
+}
 double diffuseTransmittance(double tau, double g) { return f64::diffuseTransmittance(tau, g); }
 double airMass(double sin_elevation) { return f64::airMass(sin_elevation); }
 glm::dvec3 clearSkyRadiance(double sin_elevation) { return f64::clearSkyRadiance(sin_elevation); }

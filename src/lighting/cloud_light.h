@@ -15,6 +15,20 @@ double mixedPhase(double cos_psi, double ice_weight, double g_ice, double g_wate
 /// see octaveSunFactor in lighting/octave_series.h for those).
 double octaveSeries(double sunlight, double cos_psi, double ice_weight, double g_ice, double g_water,
                     const OctaveSeries& s);
+/// Independent-column δ-Eddington diffuse radiance of sunlight per unit irradiance [1/sr] at a sample
+/// τ_above below the top of a conservative slab of τ_above + τ_below, sun at μ₀, scattered towards
+/// a direction of vertical cosine μ_out (glsl/common/cloud_light.glsl twoStreamDiffuse).
+double twoStreamDiffuse(double tau_above, double tau_below, double mu0, double flux_scale, double diffusion_scale,
+                        double mu_out, double g);
+/// (μ₀ in the data, beam scale, vertical diffusion scale) of a sun of world vertical cosine μ_w under
+/// height exaggeration e (glsl/common/cloud_light.glsl twoStreamSunFrame).
+glm::dvec3 twoStreamSunFrame(double mu_world, double exaggeration);
+/// The sunlight a sample scatters towards the eye per unit irradiance [1/sr] by `s.multiple_scattering`
+/// (glsl/common/cloud_light.glsl cloudSunFactor; the octaves' free weights, when set, by
+/// octaveSunFactor): `sunlight` the DLM's I, `tau` the column depths (τ_above, τ_below), `sun_frame`
+/// twoStreamSunFrame's, `mu_out` the vertical cosine towards the eye in the data.
+double cloudSunFactor(const RenderSettings& s, double sunlight, double cos_psi, double ice_weight,
+                      const glm::dvec2& tau, const glm::dvec3& sun_frame, double mu_out);
 /// Two-stream diffuse transmittance 1/(1 + ¾(1 − g)τ).
 double diffuseTransmittance(double tau, double g);
 /// Kasten–Young relative air mass.

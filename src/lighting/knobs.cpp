@@ -73,6 +73,12 @@ constexpr std::array kKnobs{
     Knob{.name = "detail", .unit = "", .min = 0, .max = 2, .field = &Q::detail,
          .preset = {0, 0, 0}, .doc = "sub-grid detail: none (data-true), subtle or full (procedural, mass-preserving)",
          .choices = scene::kDetailNames},
+    // The multiple-scattering term (issue 12; glsl/common/cloud_light.glsl cloudSunFactor). The
+    // two-stream term has no fitted constant and halves the octaves' error against the path tracer
+    // on the accuracy scenes at the same cost (docs/accuracy.md "Issue 12, third phase").
+    Knob{.name = "multiple_scattering", .unit = "", .min = 0, .max = 2, .field = &Q::multiple_scattering,
+         .preset = {1, 1, 1}, .doc = "multiple scattering: single (none), octaves (fitted series) or two_stream (column δ-Eddington)",
+         .choices = kMultipleScatteringNames},
     Knob{.name = "g_ice", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_ice,
          .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},
     Knob{.name = "g_water", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_water,
@@ -165,6 +171,7 @@ RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& 
   r.jitter = q.jitter;
   r.empty_space_skipping = q.empty_space_skipping;
   r.shadows = q.shadows;
+  r.multiple_scattering = MultipleScattering(q.multiple_scattering);
   return r;
 }
 

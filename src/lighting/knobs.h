@@ -49,6 +49,7 @@ struct QualitySettings {
   int samples_per_pixel{};                   ///< parsed; the ray caster takes one jittered sample for now
   int reconstruction{};                      ///< scene::Reconstruction: 0 trilinear, 1 cubic B-spline
   int detail{};                              ///< scene::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
+  int multiple_scattering{};                 ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream
 
   bool operator==(const QualitySettings&) const = default;
 };

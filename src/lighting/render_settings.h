@@ -3,6 +3,9 @@
 // told: how to sample (quality, set by the presets of lighting/knobs.h) and how clouds and ground
 // look (style, which presets never touch). GL-free: the GPU ray caster (render/raycast) and the
 // CPU references (reference/ray_marcher.h, accuracy/) read the same structs.
+#include <array>
+#include <string_view>
+
 #include <glm/glm.hpp>
 
 #include "lighting/octave_series.h"
@@ -10,6 +13,13 @@
 #include "volume/reconstruction.h"
 
 namespace nph::lighting {
+
+/// The multiple-scattering model of the eye pass (issue 12; glsl/common/cloud_light.glsl
+/// cloudSunFactor, docs/light-transport.md): single scattering only, the octave series fitted to the
+/// path tracer, or the independent-column two-stream (δ-Eddington) diffuse light from the column
+/// depths — the default since issue 12's third phase (docs/accuracy.md).
+enum class MultipleScattering { Single = 0, Octaves = 1, TwoStream = 2 };
+inline constexpr std::array<std::string_view, 3> kMultipleScatteringNames{"single", "octaves", "two_stream"};
 
 /// Appearance: the eye phase functions and the ambient light. The knob table (lighting/knobs.h)
 /// exposes some fields by name; these defaults are the knobs' defaults.
@@ -48,6 +58,9 @@ struct RenderSettings : StyleSettings {
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer
   /// (docs/accuracy.md, `nephele-bench accuracy --fit-octaves`); {1, …} = single scattering only.
   OctaveSeries octaves{3, 0.65, 0.75, 0.0, {}};
+  /// Which multiple-scattering term lights the clouds (the knob `multiple_scattering`); the
+  /// octaves above are read only by MultipleScattering::Octaves.
+  MultipleScattering multiple_scattering = MultipleScattering::Octaves;
   /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
   /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.
   scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;

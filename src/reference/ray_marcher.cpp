@@ -76,16 +76,21 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
   const glm::dvec3 sunRadiance = sun.colour * sun.intensity;
   const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
   const ColumnDepths depths = columnDepths(volumes);
+  const glm::dvec3 sunFrame = lighting::twoStreamSunFrame(sun.toSun().z, frame.height_exaggeration);
   const scene::TerrainField terrain = scene::terrainOf(volumes, frame);
   const auto pixel = [&](int x, int y) { return std::size_t(y) * std::size_t(img.width) + std::size_t(x); };
   marchSamples(
       volumes, frame, camera, s.step_voxels, s.min_transmittance,
       [&](int x, int y, const glm::dvec3& dir, const RaySample& smp) {
-        // Nes eq. 5.12 mix; octave n = 0 is single scattering, n ≥ 1 multiple (octave_series.h);
+        // Nes eq. 5.12 mix; single scattering plus the multiple-scattering model (cloud_light.h);
         // the sky light through the columns above and below (glsl/render/clouds.comp skyLightAt).
+        // The two-stream term (s.multiple_scattering) reads the column depths and the view's
+        // vertical cosine in the data (clouds.comp: −d_z/(e·f(d))).
         const double cosPsi = glm::dot(lightDir, -dir);
-        const double sunFactor = lighting::octaveSunFactor(s.octaves, sunlightAt(smp.position_m), cosPsi,
-                                                           smp.ice_weight, s.g_ice, s.g_water);
+        const double muOut = -dir.z / (frame.height_exaggeration * frame.opticalDepthScale(dir) * glm::length(dir));
+        const double sunFactor =
+            lighting::cloudSunFactor(s, sunlightAt(smp.position_m), cosPsi, smp.ice_weight,
+                                     columnDepthAt(depths, frame, smp.position_m), sunFrame, muOut);
         colour[pixel(x, y)] += smp.weight * (sunRadiance * sunFactor + sampleSkyLight(sky, depths, frame, smp, s));
       },
       [&](int x, int y, double T) {

@@ -72,6 +72,87 @@ TEST(CloudLight, ClearSkyIsBlueOverheadFadesAtDuskAndScalesWithTheSun) {
   EXPECT_EQ(skyLightFor(style, 30.0, glm::dvec3(1.0), 2.0).below, skyLightFor(style, 30.0, glm::dvec3(1.0), 2.0).above);
 }
 
+// The two-stream term's moments at optical depth τ_a of a slab τ_a + τ_b, per unit irradiance:
+// I₀ (μ_out = 0) and I₁ from S(μ_out = ±1) = I₀ ± g·I₁, at true scale (beam and diffusion scale
+// 1). S is clamped at 0 (where the Eddington truncation would make it negative: looking against a
+// strong net flux with g > ⅔), so I₁ is read from the side that is not clamped.
+struct Moments {
+  double i0, i1;
+};
+Moments twoStreamMoments(double tau_a, double tau_b, double mu0, double g) {
+  const double i0 = twoStreamDiffuse(tau_a, tau_b, mu0, 1.0, 1.0, 0.0, g);
+  const double up = twoStreamDiffuse(tau_a, tau_b, mu0, 1.0, 1.0, 1.0, g);
+  const double down = twoStreamDiffuse(tau_a, tau_b, mu0, 1.0, 1.0, -1.0, g);
+  return {i0, up > 0.0 ? (up - i0) / g : (i0 - down) / g};
+}
+
+TEST(CloudLight, TwoStreamSlabReflectsJosephWiscombeWeinmanAndConservesEnergy) {
+  // Reflectance F↑(0)/(μ₀E) of the diffuse field at the top, F↑ = π(I₀ + ⅔I₁) (Eddington), against
+  // the conservative δ-Eddington closed form of Joseph, Wiscombe & Weinman 1976:
+  // R = [(1 − g')τ' + (⅔ − μ₀)(1 − e^{−τ'/μ₀})] / (4/3 + (1 − g')τ'), τ' = (1 − g²)τ, g' = g/(1 + g).
+  const double pi = std::numbers::pi;
+  for (double g : {0.05, 0.5, 0.85}) {
+    for (double mu0 : {1.0, 0.6, 0.2}) {
+      for (double tau : {0.5, 5.0, 20.0, 100.0}) {
+        const Moments top = twoStreamMoments(0.0, tau, mu0, g);
+        const double r = pi * (top.i0 + 2.0 / 3.0 * top.i1) / mu0;
+        const double ts = (1.0 - g * g) * tau, k = 1.0 - g / (1.0 + g);
+        const double expected = (k * ts + (2.0 / 3.0 - mu0) * (1.0 - std::exp(-ts / mu0))) / (4.0 / 3.0 + k * ts);
+        EXPECT_NEAR(r, expected, 1e-12) << "g " << g << " mu0 " << mu0 << " tau " << tau;
+        // No diffuse light enters at the bottom, and the net flux (diffuse up (4π/3)·I₁ minus the
+        // direct beam μ₀e^{−τ'/μ₀} down) is the same at every depth: −μ₀·(1 − R), nothing absorbed.
+        const Moments bottom = twoStreamMoments(tau, 0.0, mu0, g);
+        EXPECT_NEAR(bottom.i0 + 2.0 / 3.0 * bottom.i1, 0.0, 1e-12);
+        for (double f : {0.0, 0.3, 0.7, 1.0}) {
+          const Moments m = twoStreamMoments(f * tau, (1.0 - f) * tau, mu0, g);
+          const double net = 4.0 * pi / 3.0 * m.i1 - mu0 * std::exp(-(1.0 - g * g) * f * tau / mu0);
+          EXPECT_NEAR(net, -mu0 * (1.0 - r), 1e-9) << "g " << g << " mu0 " << mu0 << " tau " << tau << " at " << f;
+        }
+      }
+    }
+  }
+  // The thick conservative slab of van de Hulst 1980 (vol. 2 ch. 14; tests/reference's path-tracer
+  // check): isotropic scattering (g → 0), sun at the zenith, τ = 20: T = 4K(1)/(3(τ + 2q₀)) =
+  // 0.07837. The Eddington slab's T = 1 − R is within 0.5 % of it (measured −0.33 %).
+  const Moments top = twoStreamMoments(0.0, 20.0, 1.0, 1e-9);
+  const double transmittance = 1.0 - pi * (top.i0 + 2.0 / 3.0 * top.i1);
+  EXPECT_NEAR(transmittance, 0.07837, 0.005 * 0.07837);
+  // A thin layer scatters little: R → τ'(…) → 0, and the term is never negative or NaN.
+  EXPECT_NEAR(twoStreamDiffuse(0.0, 0.0, 0.7, 1.0, 1.0, 1.0, 0.85), 0.0, 1e-15);
+  EXPECT_EQ(twoStreamDiffuse(3.0, 4.0, 0.0, 1.0, 1.0, 1.0, 0.85), 0.0);  // the sun has set
+  EXPECT_TRUE(std::isfinite(twoStreamDiffuse(1e4, 1e4, 1e-4, 50.0, 0.01, -1.0, 0.99)));
+}
+
+TEST(CloudLight, TwoStreamSunFrameKeepsTheSlantedOpticalDepthOfTheExaggeratedWorld) {
+  // At true scale the frame is (μ_w, 1, 1).
+  const glm::dvec3 one = twoStreamSunFrame(0.6, 1.0);
+  EXPECT_NEAR(one.x, 0.6, 1e-12);
+  EXPECT_NEAR(one.y, 1.0, 1e-12);
+  EXPECT_NEAR(one.z, 1.0, 1e-12);
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(2, 2, 2, 1000.0, 100.0, 0.0);
+  for (double e : {2.0, 4.0, 8.0}) {
+    const scene::VolumeFrame f = scene::frameOf(v, e);
+    for (double elevationDeg : {5.0, 30.0, 70.0}) {
+      const double h = elevationDeg * std::numbers::pi / 180.0;
+      const glm::dvec3 d(std::cos(h), 0.0, std::sin(h));
+      const glm::dvec3 frame = twoStreamSunFrame(d.z, e);
+      // A world layer of height H: the beam's optical depth over its vertical one is 1/μ₀
+      // (VolumeFrame::opticalDepthScale, the integrators' rule).
+      const double slant = f.opticalDepthScale(d) / d.z, vertical = f.opticalDepthScale({0.0, 0.0, 1.0});
+      EXPECT_NEAR(frame.x, vertical / slant, 1e-12) << e << " " << elevationDeg;
+      EXPECT_NEAR(frame.y * frame.x, d.z, 1e-12);  // the horizontal flux E·μ_w is kept
+    }
+    // The diffusion scale 3⟨(d_z/(e·f(d)))²⟩ over the sphere of world directions (midpoint rule).
+    const int n = 200000;
+    double mean = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double mu = (i + 0.5) / n;
+      mean += 3.0 * mu * mu / (e * e * (1.0 - mu * mu) + mu * mu) / n;
+    }
+    EXPECT_NEAR(twoStreamSunFrame(0.5, e).z, mean, 1e-6) << e;
+  }
+}
+
 TEST(ColumnDepth, SumsTheColumnAboveAndBelowAtTheDataScale) {
   // One column of 4 layers, dz = 100 m, β = 1e-3, 2e-3, 0, 4e-3 /m (bottom to top).
   ExtinctionVolumes v = ExtinctionVolumes::zeros(1, 1, 4, 1000.0, 100.0, 0.0);

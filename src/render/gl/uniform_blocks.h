@@ -151,7 +151,8 @@ struct RaycastBlock {
   float height_exaggeration = 1.0f;  ///< u_height_exaggeration: e of the volume frame
   std::uint32_t atmosphere = 0;      ///< u_atmosphere (bool): AtmosphereBlock and its tables valid
   std::uint32_t write_passes = 0;    ///< u_write_passes (bool): fill the compositing-pass images
-  std::uint32_t pad[2] = {0, 0};     ///< to a multiple of 16 bytes (std140 block rounding)
+  std::int32_t cloud_ms_model = 0;   ///< u_cloud_ms_model: lighting::MultipleScattering
+  std::uint32_t pad[1] = {0};        ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(RaycastBlock, world_from_view) == 64 && offsetof(RaycastBlock, cam_pos_m) == 112 &&
               offsetof(RaycastBlock, step_m) == 124);
@@ -162,7 +163,8 @@ static_assert(offsetof(RaycastBlock, basemap_min_m) == 192 && offsetof(RaycastBl
               offsetof(RaycastBlock, skip_empty) == 220 && offsetof(RaycastBlock, globe) == 236);
 static_assert(offsetof(RaycastBlock, below_radiance) == 240 && offsetof(RaycastBlock, ms_extinction_scale) == 252 &&
               offsetof(RaycastBlock, octaves) == 264 && offsetof(RaycastBlock, height_exaggeration) == 268);
-static_assert(offsetof(RaycastBlock, atmosphere) == 272 && offsetof(RaycastBlock, write_passes) == 276);
+static_assert(offsetof(RaycastBlock, atmosphere) == 272 && offsetof(RaycastBlock, write_passes) == 276 &&
+              offsetof(RaycastBlock, cloud_ms_model) == 280);
 static_assert(sizeof(RaycastBlock) == 288, "std140 size of RaycastBlock, rounded to 16");
 inline constexpr BlockMember kRaycastMembers[] = {
     {"u_view_from_clip", offsetof(RaycastBlock, view_from_clip)},
@@ -193,7 +195,8 @@ inline constexpr BlockMember kRaycastMembers[] = {
     {"u_octaves", offsetof(RaycastBlock, octaves)},
     {"u_height_exaggeration", offsetof(RaycastBlock, height_exaggeration)},
     {"u_atmosphere", offsetof(RaycastBlock, atmosphere)},
-    {"u_write_passes", offsetof(RaycastBlock, write_passes)}};
+    {"u_write_passes", offsetof(RaycastBlock, write_passes)},
+    {"u_cloud_ms_model", offsetof(RaycastBlock, cloud_ms_model)}};
 
 /// glsl/render/globe.glsl `GlobeBlock`: the globe view's mapping (render/raycast/globe.h), read
 /// only when RaycastBlock::globe is set.

@@ -189,6 +189,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.sky_radiance = glm::vec3(sky.above);
   b.below_radiance = glm::vec3(sky.below);
   b.octaves = s.octaves.octaves;
+  b.cloud_ms_model = std::int32_t(s.multiple_scattering);
   b.ms_extinction_scale = float(s.octaves.extinction_scale);
   b.ms_energy_scale = float(s.octaves.energy_scale);
   b.ms_anisotropy_scale = float(s.octaves.anisotropy_scale);

@@ -1,0 +1,308 @@
+#include "accuracy/ms_fit.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "lighting/cloud_light.h"
+#include "reference/ray_marcher.h"
+
+namespace nph::accuracy {
+namespace {
+
+// Per-pixel sums of the candidate terms (per unit solar irradiance; luminance factor applied later).
+enum Term : int {
+  kSingle = 0,
+  kOctaves,         // the default octaves n = 1, 2 (a 0.65, b 0.75, c 0)
+  kTwoStreamData,   // two-stream with the data's μ₀, no beam or diffusion scaling (exaggeration half-kept)
+  kTwoStreamWorld,  // two-stream with the world's μ₀ and μ_out (exaggeration ignored)
+  kTwoStream,       // the eye pass's: twoStreamSunFrame (beam and diffusion scaled)
+  kAlpha,           // Σ w (diagnostics)
+  kTauColumn,       // Σ w·(τ_a + τ_b) (diagnostics)
+  kColumn0,         // kColumnBins × 2 octaves
+};
+constexpr int kColumnBins = 8;
+constexpr std::array<double, kColumnBins - 1> kColumnEdges{0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0};
+constexpr int kTerms = kColumn0 + 2 * kColumnBins;
+
+int columnBin(double tau) {
+  int b = 0;
+  while (b < kColumnBins - 1 && tau >= kColumnEdges[std::size_t(b)]) ++b;
+  return b;
+}
+
+struct SceneTerms {
+  std::string name;
+  double y_sun = 0.0;
+  std::vector<double> y_truth, y_sky;
+  std::vector<std::array<double, kTerms>> terms;
+};
+
+// Least squares of the free weights θ over `free` terms with `fixed` terms at weight 1.
+struct Model {
+  std::string name;
+  std::vector<int> fixed, free;
+};
+
+double predict(const SceneTerms& d, std::size_t px, const Model& m, const std::vector<double>& theta) {
+  const auto& t = d.terms[px];
+  double f = t[kSingle];
+  for (int j : m.fixed) f += t[std::size_t(j)];
+  for (std::size_t j = 0; j < m.free.size(); ++j) f += theta[j] * t[std::size_t(m.free[j])];
+  return d.y_sky[px] + d.y_sun * f;
+}
+
+std::vector<double> solve(std::vector<double> a, std::vector<double> b, std::size_t n) {
+  // Gaussian elimination with partial pivoting and a tiny ridge (ill-posed bins stay at 0).
+  for (std::size_t i = 0; i < n; ++i) a[i * n + i] += 1e-9 * (1.0 + a[i * n + i]);
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t p = c;
+    for (std::size_t r = c + 1; r < n; ++r)
+      if (std::abs(a[r * n + c]) > std::abs(a[p * n + c])) p = r;
+    for (std::size_t k = 0; k < n; ++k) std::swap(a[c * n + k], a[p * n + k]);
+    std::swap(b[c], b[p]);
+    for (std::size_t r = c + 1; r < n; ++r) {
+      const double f = a[r * n + c] / a[c * n + c];
+      for (std::size_t k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+      b[r] -= f * b[c];
+    }
+  }
+  std::vector<double> x(n, 0.0);
+  for (std::size_t i = n; i-- > 0;) {
+    double s = b[i];
+    for (std::size_t k = i + 1; k < n; ++k) s -= a[i * n + k] * x[k];
+    x[i] = s / a[i * n + i];
+  }
+  return x;
+}
+
+MsModelResult evaluate(const std::vector<SceneTerms>& data, const Model& m) {
+  const std::size_t n = m.free.size();
+  std::vector<double> theta(n, 0.0);
+  if (n > 0) {
+    std::vector<double> a(n * n, 0.0), b(n, 0.0);
+    for (const SceneTerms& d : data) {
+      double norm = 0.0;
+      for (double y : d.y_truth) norm += y * y + 0.01;
+      const double wScene = 1.0 / (norm * double(data.size()));
+      for (std::size_t px = 0; px < d.y_truth.size(); ++px) {
+        const double r = d.y_truth[px] - predict(d, px, m, std::vector<double>(n, 0.0));
+        for (std::size_t i = 0; i < n; ++i) {
+          const double qi = d.y_sun * d.terms[px][std::size_t(m.free[i])];
+          b[i] += wScene * qi * r;
+          for (std::size_t j = 0; j < n; ++j)
+            a[i * n + j] += wScene * qi * d.y_sun * d.terms[px][std::size_t(m.free[j])];
+        }
+      }
+    }
+    theta = solve(a, b, n);
+  }
+  MsModelResult r;
+  r.model = m.name;
+  r.weights = theta;
+  for (const SceneTerms& d : data) {
+    double norm = 0.0, sq = 0.0, sum = 0.0, sumRef = 0.0, rel = 0.0;
+    for (std::size_t px = 0; px < d.y_truth.size(); ++px) {
+      const double y = predict(d, px, m, theta), yt = d.y_truth[px];
+      norm += yt * yt + 0.01;
+      sq += (y - yt) * (y - yt);
+      rel += (y - yt) * (y - yt) / (yt * yt + 0.01);
+      sum += y;
+      sumRef += yt;
+    }
+    r.objective += sq / norm / double(data.size());
+    r.scenes.push_back({d.name, sum / sumRef - 1.0, rel / double(d.y_truth.size())});
+  }
+  return r;
+}
+
+}  // namespace
+
+MsComparison compareMultipleScattering(const SweepOptions& o) {
+  const std::string cacheDir =
+      o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
+  const SceneSet set =
+      standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const Variant base = defaultVariant();
+  const reference::RayMarchSettings march = base.render;
+  const lighting::OctaveSeries oct = march.octaves;
+  std::vector<SceneTerms> data;
+  MsComparison out;
+  for (const AccuracyScene& sc : set.scenes) {
+    if (!o.scene_filter.empty() && sc.name.find(o.scene_filter) == std::string::npos) continue;
+    const GroundTruth gt = groundTruth(sc, base.render, o.ground_truth, cacheDir);
+    log::info("{}: ground truth {}", sc.name, gt.from_cache ? "from cache" : "traced");
+    {
+      double norm = 0.0, noise = 0.0;
+      for (std::size_t i = 0; i < std::size_t(sc.camera.width * sc.camera.height); ++i) {
+        const float* p = &gt.image.rgba[4 * i];
+        const float* se = &gt.standard_error[3 * i];
+        const double y = luminance(p[0], p[1], p[2]), sigma = luminance(se[0], se[1], se[2]);
+        norm += y * y + 0.01;
+        noise += sigma * sigma;
+      }
+      out.objective_noise_floor += noise / norm;  // divided by the scene count below
+    }
+    const render::VolumeTextures tex = render::VolumeTextures::upload(*sc.volumes, sc.frame, sc.name + "-ms");
+    const auto light = convergedLight(base.dlm, tex, sc);
+    SceneTerms d;
+    d.name = sc.name;
+    const int pixels = sc.camera.width * sc.camera.height;
+    const glm::dvec3 e = sc.sun.colour * sc.sun.intensity;
+    d.y_sun = luminance(e.x, e.y, e.z);
+    d.y_truth.resize(std::size_t(pixels));
+    for (int i = 0; i < pixels; ++i) {
+      const float* p = &gt.image.rgba[4 * std::size_t(i)];
+      d.y_truth[std::size_t(i)] = luminance(p[0], p[1], p[2]);
+    }
+    d.y_sky.assign(std::size_t(pixels), 0.0);
+    d.terms.assign(std::size_t(pixels), std::array<double, kTerms>{});
+    const lighting::SkyLight sky = lighting::skyLightFor(march, sc.sun.elevation_deg, sc.sun.colour, sc.sun.intensity);
+    const ColumnDepths depths = columnDepths(*sc.volumes);
+    const glm::dvec3 toSun = sc.sun.toSun();
+    const glm::dvec3 sunFrame = lighting::twoStreamSunFrame(toSun.z, sc.frame.height_exaggeration);
+    const int w = sc.camera.width;
+    reference::marchSamples(
+        *sc.volumes, sc.frame, sc.camera, march.step_voxels, 0.0,
+        [&](int x, int y, const glm::dvec3& dir, const reference::RaySample& s) {
+          const std::size_t px = std::size_t(y) * std::size_t(w) + std::size_t(x);
+          auto& t = d.terms[px];
+          const double cosPsi = glm::dot(-toSun, -dir);
+          const double I = light->intensityAt(s.position_m);
+          const double g = march.g_water + (march.g_ice - march.g_water) * s.ice_weight;
+          const glm::dvec2 tau = columnDepthAt(depths, sc.frame, s.position_m);
+          const double muOut = -dir.z / (sc.frame.height_exaggeration * sc.frame.opticalDepthScale(dir));
+          t[kSingle] += s.weight * lighting::mixedPhase(cosPsi, s.ice_weight, march.g_ice, march.g_water) * I;
+          t[kOctaves] +=
+              s.weight * (lighting::octaveSunFactor(oct, I, cosPsi, s.ice_weight, march.g_ice, march.g_water) -
+                          lighting::mixedPhase(cosPsi, s.ice_weight, march.g_ice, march.g_water) * I);
+          t[kTwoStreamData] += s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, sunFrame.x, 1.0, 1.0, muOut, g);
+          t[kTwoStreamWorld] += s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, toSun.z, 1.0, 1.0, -dir.z, g);
+          t[kTwoStream] +=
+              s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+          const double total = tau.x + tau.y;
+          t[kAlpha] += s.weight;
+          t[kTauColumn] += s.weight * total;
+          const int bin = columnBin(total);
+          const double iso4pi = 1.0 / (4.0 * 3.14159265358979323846);
+          t[std::size_t(kColumn0 + bin)] += s.weight * std::pow(I, oct.extinction_scale) * iso4pi;
+          t[std::size_t(kColumn0 + kColumnBins + bin)] +=
+              s.weight * std::pow(I, oct.extinction_scale * oct.extinction_scale) * iso4pi;
+          const glm::dvec3 l = s.weight * reference::sampleSkyLight(sky, depths, sc.frame, s, march);
+          d.y_sky[px] += luminance(l.x, l.y, l.z);
+        },
+        [](int, int, double) {});
+    {  // what each term contributes (luminance sums over the image), for the log
+      std::array<double, kTerms> sum{};
+      double yt = 0.0, ys = 0.0;
+      for (std::size_t px = 0; px < d.y_truth.size(); ++px) {
+        yt += d.y_truth[px];
+        ys += d.y_sky[px];
+        for (int j = 0; j < kTerms; ++j) sum[std::size_t(j)] += d.terms[px][std::size_t(j)];
+      }
+      log::info(
+          "{}: sun frame mu0 {:.3f} beam x{:.2f} diffusion x{:.3f}; mean column tau {:.1f}; luminance sums: truth "
+          "{:.0f}, sky {:.0f}, single {:.0f}, octaves {:.0f}, two-stream {:.0f} (data frame {:.0f}, world {:.0f})",
+          sc.name, sunFrame.x, sunFrame.y, sunFrame.z, sum[kTauColumn] / sum[kAlpha], yt, ys, d.y_sun * sum[kSingle],
+          d.y_sun * sum[kOctaves], d.y_sun * sum[kTwoStream], d.y_sun * sum[kTwoStreamData],
+          d.y_sun * sum[kTwoStreamWorld]);
+    }
+    data.push_back(std::move(d));
+    // The models of the knob, rendered exactly (the CPU twin of the eye pass, no early termination).
+    for (const lighting::MultipleScattering ms :
+         {lighting::MultipleScattering::Single, lighting::MultipleScattering::Octaves,
+          lighting::MultipleScattering::TwoStream}) {
+      reference::RayMarchSettings m = march;
+      m.min_transmittance = 0.0;
+      m.multiple_scattering = ms;
+      const auto start = std::chrono::steady_clock::now();
+      const scene::RgbaImage img = reference::marchCloudLayer(
+          *sc.volumes, sc.frame, sc.camera, sc.sun, [&](const glm::dvec3& p) { return light->intensityAt(p); }, m);
+      MsRenderedScene r;
+      r.march_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      r.scene = sc.name;
+      r.model = std::string(lighting::kMultipleScatteringNames[std::size_t(ms)]);
+      r.error = compareImages(img, gt.image, gt.standard_error);
+      if (o.write_images) {
+        scene::writePng(img, (std::filesystem::path(o.out_dir) / (sc.name + "-" + r.model + ".png")).string());
+        if (ms == lighting::MultipleScattering::Single)
+          scene::writePng(gt.image, (std::filesystem::path(o.out_dir) / (sc.name + "-truth.png")).string());
+      }
+      log::info("{} {}: relMSE {:.4f}, luminance bias {:+.1f} %, >2/255 {:.1f} %, {:.0f} ms", sc.name, r.model,
+                r.error.rel_mse, 100.0 * r.error.luminance_bias, 100.0 * r.error.share_off_2_255, r.march_ms);
+      out.rendered.push_back(r);
+    }
+  }
+  out.objective_noise_floor /= double(std::max<std::size_t>(1, data.size()));
+  if (data.empty()) throw UsageError("accuracy --compare-ms: no scene matches --scenes " + o.scene_filter);
+  std::vector<int> column;
+  for (int j = kColumn0; j < kTerms; ++j) column.push_back(j);
+  const std::vector<Model> models{
+      {"single scattering", {}, {}},
+      {"octaves (default a 0.65, b 0.75, c 0)", {kOctaves}, {}},
+      {"octaves, scale fitted", {}, {kOctaves}},
+      {"octave weights by column depth (16 fitted)", {}, column},
+      {"two_stream, data frame's mu0 only", {kTwoStreamData}, {}},
+      {"two_stream, world's mu0 (exaggeration ignored)", {kTwoStreamWorld}, {}},
+      {"**two_stream** (eye pass: sun frame scaled)", {kTwoStream}, {}},
+      {"two_stream, scale fitted", {}, {kTwoStream}},
+      {"two_stream + octaves, both fitted", {}, {kTwoStream, kOctaves}},
+  };
+  for (const Model& m : models) {
+    out.models.push_back(evaluate(data, m));
+    const MsModelResult& r = out.models.back();
+    std::string line;
+    for (const MsModelScene& s : r.scenes) line += fmt::format(" {:+.1f}%/{:.3f}", 100.0 * s.luminance_bias, s.rel_mse);
+    std::string wts;
+    for (double x : r.weights) wts += fmt::format(" {:.3f}", x);
+    log::info("{}: objective {:.4f} weights[{}] bias/relMSE:{}", r.model, r.objective, wts, line);
+  }
+  return out;
+}
+
+std::string msComparisonMarkdown(const MsComparison& c) {
+  const std::vector<MsModelResult>& results = c.models;
+  if (results.empty()) return {};
+  std::string md = "| model | fitted weights | objective | mean relMSE |";
+  std::string sep = "| --- | --- | ---: | ---: |";
+  for (const MsModelScene& s : results.front().scenes) {
+    md += " " + s.scene + " bias / relMSE |";
+    sep += " ---: |";
+  }
+  md += "\n" + sep + "\n";
+  for (const MsModelResult& r : results) {
+    std::string w;
+    for (double x : r.weights) w += fmt::format("{}{:.3f}", w.empty() ? "" : ", ", x);
+    double mean = 0.0;
+    for (const MsModelScene& s : r.scenes) mean += s.rel_mse / double(r.scenes.size());
+    md += fmt::format("| {} | {} | {:.4f} | {:.4f} |", r.model, w, r.objective, mean);
+    for (const MsModelScene& s : r.scenes)
+      md += fmt::format(" {:+.1f} % / {:.3f} |", 100.0 * s.luminance_bias, s.rel_mse);
+    md += "\n";
+  }
+  md += fmt::format(
+      "\nObjective = mean over scenes of Σ ΔY² / Σ (Y_ref² + 0.01); the truth's own noise is {:.4f} of it.\n\n",
+      c.objective_noise_floor);
+  md += "| scene | model | relMSE | luminance bias | > 2/255 | truth noise RMSE | CPU march ms |\n"
+        "| --- | --- | ---: | ---: | ---: | ---: | ---: |\n";
+  std::vector<std::pair<std::string, double>> means;
+  for (const MsRenderedScene& r : c.rendered) {
+    md += fmt::format("| {} | {} | {:.4f} | {:+.1f} % | {:.1f} % | {:.3g} | {:.0f} |\n", r.scene, r.model,
+                      r.error.rel_mse, 100.0 * r.error.luminance_bias, 100.0 * r.error.share_off_2_255,
+                      r.error.ref_noise_rmse, r.march_ms);
+    auto it = std::find_if(means.begin(), means.end(), [&](const auto& m) { return m.first == r.model; });
+    if (it == means.end()) it = means.insert(means.end(), {r.model, 0.0});
+    it->second += r.error.rel_mse;
+  }
+  const double scenes = double(std::max<std::size_t>(1, c.rendered.size() / std::max<std::size_t>(1, means.size())));
+  for (const auto& [model, sum] : means) md += fmt::format("| **mean** | {} | {:.4f} | | | | |\n", model, sum / scenes);
+  return md;
+}
+
+}  // namespace nph::accuracy
