@@ -103,6 +103,14 @@ Variant variantOf(const lighting::QualitySettings& q) {
   return v;
 }
 
+std::string groundTruthCacheDir(const SweepOptions& o) {
+  return o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
+}
+
+SceneSet sweepScenes(const SweepOptions& o) {
+  return standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+}
+
 std::vector<Variant> sweepVariants(bool quick) {
   std::vector<Variant> out{defaultVariant()};
   // A quality knob of the knob table (lighting/knobs.h), by its name there.
@@ -204,10 +212,8 @@ void writeCsv(const std::vector<SweepRow>& rows, const std::string& path) {
 
 std::vector<SweepRow> runSweep(const SweepOptions& o) {
   if (o.runs < 1) throw UsageError("accuracy: --runs must be at least 1");
-  const std::string cacheDir =
-      o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
-  const SceneSet set =
-      standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const std::string cacheDir = groundTruthCacheDir(o);
+  const SceneSet set = sweepScenes(o);
   std::vector<Variant> variants = sweepVariants(o.quick);
   if (!o.knob_filter.empty()) {
     std::erase_if(variants, [&](const Variant& v) { return v.knob.find(o.knob_filter) == std::string::npos; });

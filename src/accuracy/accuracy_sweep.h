@@ -67,6 +67,11 @@ struct SweepRow {
   double coverage = 0.0;  ///< mean ground-truth alpha
 };
 
+/// The ground-truth cache folder of `options` (--cache, or OUT/ground-truth).
+std::string groundTruthCacheDir(const SweepOptions& options);
+/// The standard scenes at the options' size (generated data under OUT/scratch).
+SceneSet sweepScenes(const SweepOptions& options);
+
 /// Runs the sweep (needs a current GL context), logging progress. Writes nothing.
 std::vector<SweepRow> runSweep(const SweepOptions& options);
 

@@ -125,10 +125,8 @@ MsModelResult evaluate(const std::vector<SceneTerms>& data, const Model& m) {
 }  // namespace
 
 MsComparison compareMultipleScattering(const SweepOptions& o) {
-  const std::string cacheDir =
-      o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
-  const SceneSet set =
-      standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const std::string cacheDir = groundTruthCacheDir(o);
+  const SceneSet set = sweepScenes(o);
   const Variant base = defaultVariant();
   const reference::RayMarchSettings march = base.render;
   const lighting::OctaveSeries oct = march.octaves;

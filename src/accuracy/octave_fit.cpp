@@ -93,10 +93,8 @@ struct NormalEquations {
 }  // namespace
 
 OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
-  const std::string cacheDir =
-      o.cache_dir.empty() ? (std::filesystem::path(o.out_dir) / "ground-truth").string() : o.cache_dir;
-  const SceneSet set =
-      standardScenes(o.width, o.height, o.quick, (std::filesystem::path(o.out_dir) / "scratch").string());
+  const std::string cacheDir = groundTruthCacheDir(o);
+  const SceneSet set = sweepScenes(o);
   const Variant base = defaultVariant();
   const reference::RayMarchSettings march = base.render;
 
@@ -281,6 +279,7 @@ OctaveFitResult fitOctaveSeries(const SweepOptions& o) {
       reference::RayMarchSettings m = march;
       m.min_transmittance = 0.0;
       m.octaves = series;
+      m.multiple_scattering = lighting::MultipleScattering::Octaves;
       const auto start = std::chrono::steady_clock::now();
       scene::RgbaImage img = reference::marchCloudLayer(
           *sc.volumes, sc.frame, sc.camera, sc.sun, [&](const glm::dvec3& p) { return light.intensityAt(p); }, m);

@@ -77,7 +77,7 @@ constexpr std::array kKnobs{
     // two-stream term has no fitted constant and halves the octaves' error against the path tracer
     // on the accuracy scenes at the same cost (docs/accuracy.md "Issue 12, third phase").
     Knob{.name = "multiple_scattering", .unit = "", .min = 0, .max = 2, .field = &Q::multiple_scattering,
-         .preset = {1, 1, 1}, .doc = "multiple scattering: single (none), octaves (fitted series) or two_stream (column δ-Eddington)",
+         .preset = {2, 2, 2}, .doc = "multiple scattering: single (none), octaves (fitted series) or two_stream (column δ-Eddington)",
          .choices = kMultipleScatteringNames},
     Knob{.name = "g_ice", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_ice,
          .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},

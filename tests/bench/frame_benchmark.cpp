@@ -18,6 +18,7 @@
 // Scenes: `demo` = the realistic generated hurricane (500 × 500 × 60 at 3 km, the `make demo`
 // storm), `coarse` = datagen::coarseStormSpec (72 × 64 × 30). Image width is the second argument
 // (16:9); this 2-core VM renders the demo at 960 × 540.
+// BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
 // Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
@@ -103,25 +104,31 @@ double maxLightDifference(const render::DeepLightMap& a, const render::DeepLight
   return m;
 }
 
+// The storm of a benchmark argument: the demo's realistic hurricane or the coarse storm.
+ExtinctionVolumes benchVolumes(bool demo) {
+  if (demo) return bench::realisticHurricane("nephele-frame-bench.nc");
+  datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
+  spec.ntimes = 1;
+  return bench::generatedVolumes(spec, "nephele-frame-bench.nc");
+}
+
+// The demo's view: the oblique preset at 40°.
+scene::Camera demoCamera(const scene::VolumeFrame& frame, int width, int height) {
+  scene::CameraSpec cs;
+  cs.preset = scene::CameraPreset::Oblique;
+  cs.fov_deg = 40.0;
+  return scene::cameraFor(cs, frame, width, height);
+}
+
 void BM_FrameVariants(benchmark::State& state) {
   const bool demo = state.range(0) == 0;
   const int width = int(state.range(1)), height = width * 9 / 16;
   const auto ctx = bench::hiddenContext();
-  ExtinctionVolumes v;
-  if (demo) {
-    v = bench::realisticHurricane("nephele-frame-bench.nc");
-  } else {
-    datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
-    spec.ntimes = 1;
-    v = bench::generatedVolumes(spec, "nephele-frame-bench.nc");
-  }
+  const ExtinctionVolumes v = benchVolumes(demo);
   const auto frame = scene::frameOf(v, 8.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "bench");
   const scene::Sun sun{140.0, 35.0};
-  scene::CameraSpec cs;
-  cs.preset = scene::CameraPreset::Oblique;
-  cs.fov_deg = 40.0;
-  const scene::Camera camera = scene::cameraFor(cs, frame, width, height);
+  const scene::Camera camera = demoCamera(frame, width, height);
   const render::RenderSettings rs;
   const scene::DlmSettings ds;
 
@@ -253,6 +260,77 @@ BENCHMARK(BM_FrameVariants)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
+
+// Issue 12 (third phase): the broadcast frame (DLM build + ray cast) with each multiple-scattering
+// model of the knob `multiple_scattering`, interleaved in rotating order. The DLM is the same for
+// every model, so it is timed once per round and added to each cast. Reported: medians of wall and
+// CPU ms, and the frame-time ratios to the octaves (the default before issue 12's third phase).
+void BM_MultipleScatteringCost(benchmark::State& state) {
+  const bool demo = state.range(0) == 0;
+  const int width = int(state.range(1)), height = width * 9 / 16;
+  const auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes v = benchVolumes(demo);
+  const auto frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  const scene::Camera camera = demoCamera(frame, width, height);
+  const scene::DlmSettings ds;
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), ds);
+  constexpr int kModels = 3;  // lighting::MultipleScattering: single, octaves, two_stream
+  render::RenderSettings rs[kModels];
+  render::CloudRenderer renderer[kModels];
+  for (int k = 0; k < kModels; ++k) {
+    rs[k].multiple_scattering = lighting::MultipleScattering(k);
+    renderer[k].render(tex, dlm, camera, sun, rs[k]);  // compiles, warms up
+  }
+  Series cast[kModels], build;
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j <= kModels; ++j) {
+      const int job = (j + round) % (kModels + 1);
+      Timing t;
+      if (job < kModels) {
+        t = timed([&] { renderer[job].render(tex, dlm, camera, sun, rs[job]); });
+        cast[job].add(t);
+      } else {
+        render::DeepLightMap map;
+        t = timed([&] { map.build(tex, -sun.toSun(), ds); });
+        build.add(t);
+      }
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  const double d = median(build.wall), dc = median(build.cpu);
+  auto& c = state.counters;
+  for (int k = 0; k < kModels; ++k) {
+    const std::string name(lighting::kMultipleScatteringNames[std::size_t(k)]);
+    c["cast_ms_" + name] = median(cast[k].wall);
+    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
+    c["frame_ratio_" + name] = (d + median(cast[k].wall)) / (d + median(cast[1].wall));
+    c["frame_cpu_ratio_" + name] = (dc + median(cast[k].cpu)) / (dc + median(cast[1].cpu));
+  }
+  c["dlm_ms"] = d;
+  std::fprintf(stderr,
+               "multiple scattering cost, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n"
+               "  DLM build wall %.0f ms (CPU %.0f); ray cast wall ms single %.0f, octaves %.0f, two_stream %.0f "
+               "(CPU %.0f, %.0f, %.0f)\n"
+               "  frame (DLM + cast) two_stream / octaves: wall %.3f, CPU %.3f; single / octaves: wall %.3f\n",
+               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str(), d, dc,
+               median(cast[0].wall), median(cast[1].wall), median(cast[2].wall), median(cast[0].cpu),
+               median(cast[1].cpu), median(cast[2].cpu), double(c["frame_ratio_two_stream"]),
+               double(c["frame_cpu_ratio_two_stream"]), double(c["frame_ratio_single"]));
+}
+BENCHMARK(BM_MultipleScatteringCost)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 1280})  // coarse storm, 1280 × 720
+    ->Args({0, 960})   // demo storm, 960 × 540
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(7);
 
 }  // namespace
 
