@@ -75,8 +75,11 @@ bool insideGrownVolume(vec3 uvw) {
 // per axis, the four B-spline weights w0..w3 of the voxels i−1 … i+2 around the sample are merged
 // pairwise into two linear fetches at i−1 + w1/(w0+w1) and i+1 + w3/(w2+w3) (voxel-centre index
 // units) weighted g0 = w0+w1 and g1 = w2+w3 — exact because GL_LINEAR's weights are then w0/g0,
-// w1/g0. With the zero border, voxels outside the grid read 0 as in the CPU sum.
-float cubicBSpline(sampler3D volume, vec3 uvw) {
+// w1/g0. Voxels outside the grid read the texture's border rule: 0 for the extinction volumes
+// (zero border, as in the CPU sum), the edge voxel for the column depths (clamp to edge). All
+// channels are filtered (the column depths' (τ_up, τ_down) pair shares one set of fetches); the
+// texture must have the extinction volumes' dimensions u_voxels.
+vec4 cubicBSplineRgba(sampler3D volume, vec3 uvw) {
   vec3 n = vec3(u_voxels);
   vec3 c = uvw * n - 0.5;  // continuous index, voxel centres at integers
   vec3 i = floor(c);
@@ -89,14 +92,16 @@ float cubicBSpline(sampler3D volume, vec3 uvw) {
   vec3 g0 = w0 + w1, g1 = w2 + w3;
   vec3 p0 = (i - 0.5 + w1 / g0) / n;  // (index + ½) / n is the texture coordinate of a voxel centre
   vec3 p1 = (i + 1.5 + w3 / g1) / n;
-  float s000 = texture(volume, p0).r, s100 = texture(volume, vec3(p1.x, p0.y, p0.z)).r;
-  float s010 = texture(volume, vec3(p0.x, p1.y, p0.z)).r, s110 = texture(volume, vec3(p1.x, p1.y, p0.z)).r;
-  float s001 = texture(volume, vec3(p0.x, p0.y, p1.z)).r, s101 = texture(volume, vec3(p1.x, p0.y, p1.z)).r;
-  float s011 = texture(volume, vec3(p0.x, p1.y, p1.z)).r, s111 = texture(volume, p1).r;
-  float z0 = g0.y * (g0.x * s000 + g1.x * s100) + g1.y * (g0.x * s010 + g1.x * s110);
-  float z1 = g0.y * (g0.x * s001 + g1.x * s101) + g1.y * (g0.x * s011 + g1.x * s111);
+  vec4 s000 = texture(volume, p0), s100 = texture(volume, vec3(p1.x, p0.y, p0.z));
+  vec4 s010 = texture(volume, vec3(p0.x, p1.y, p0.z)), s110 = texture(volume, vec3(p1.x, p1.y, p0.z));
+  vec4 s001 = texture(volume, vec3(p0.x, p0.y, p1.z)), s101 = texture(volume, vec3(p1.x, p0.y, p1.z));
+  vec4 s011 = texture(volume, vec3(p0.x, p1.y, p1.z)), s111 = texture(volume, p1);
+  vec4 z0 = g0.y * (g0.x * s000 + g1.x * s100) + g1.y * (g0.x * s010 + g1.x * s110);
+  vec4 z1 = g0.y * (g0.x * s001 + g1.x * s101) + g1.y * (g0.x * s011 + g1.x * s111);
   return g0.z * z0 + g1.z * z1;
 }
+
+float cubicBSpline(sampler3D volume, vec3 uvw) { return cubicBSplineRgba(volume, uvw).r; }
 
 float reconstruct(sampler3D volume, vec3 uvw) {
   return RECONSTRUCTION_CUBIC ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;

@@ -213,9 +213,15 @@ vec3 surfaceDifferential(vec3 D, vec3 dD, vec3 n, float t) {
   return t * (dD - dot(dD, n) / dn * D);
 }
 
-// (τ_up, τ_down) at a world point: the column depths trilinear between voxel centres, clamped to
-// the edge (the CPU twin: volume/column_depth.h columnDepthAt).
-vec2 columnDepthAt(vec3 world_m) { return texture(u_column_depth, volumeUvw(world_m)).rg; }
+// (τ_up, τ_down) at a world point: the column depths reconstructed by the extinction's own filter
+// (trilinear or the cubic B-spline between voxel centres), clamped to the edge (the CPU twin:
+// volume/column_depth.h columnDepthAt). The same filter matters: trilinear depths under a cubic
+// field would put the grid back into the sky light and the two-stream term (issue 13's artefact
+// metric: the power at the column spacing).
+vec2 columnDepthAt(vec3 world_m) {
+  vec3 uvw = volumeUvw(world_m);
+  return RECONSTRUCTION_CUBIC ? cubicBSplineRgba(u_column_depth, uvw).rg : texture(u_column_depth, uvw).rg;
+}
 
 // Sky light reaching a point through the cloud around it, scattered isotropically (the two
 // hemispheres, each attenuated by the diffuse transmittance of its column depths τ = (τ_up,

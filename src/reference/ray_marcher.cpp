@@ -75,7 +75,7 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
   const glm::dvec3 lightDir = -sun.toSun();
   const glm::dvec3 sunRadiance = sun.colour * sun.intensity;
   const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
-  const ColumnDepths depths = columnDepths(volumes);
+  const ColumnDepths depths = columnDepths(volumes, s.reconstruction);
   const glm::dvec3 sunFrame = lighting::twoStreamSunFrame(sun.toSun().z, frame.height_exaggeration);
   const scene::TerrainField terrain = scene::terrainOf(volumes, frame);
   const auto pixel = [&](int x, int y) { return std::size_t(y) * std::size_t(img.width) + std::size_t(x); };

@@ -1,6 +1,7 @@
 #include "volume/column_depth.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/gtc/packing.hpp>
@@ -11,8 +12,9 @@ namespace {
 float asHalf(double x) { return glm::unpackHalf1x16(glm::packHalf1x16(float(std::min(x, 65504.0)))); }
 }  // namespace
 
-ColumnDepths columnDepths(const ExtinctionVolumes& v) {
+ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reconstruction) {
   ColumnDepths d;
+  d.reconstruction = reconstruction;
   d.nx = v.nx;
   d.ny = v.ny;
   d.nz = v.nz;
@@ -47,16 +49,27 @@ glm::dvec2 columnDepthAt(const ColumnDepths& d, const scene::VolumeFrame& frame,
   if (d.nx <= 0 || d.ny <= 0 || d.nz <= 0) return glm::dvec2(0.0);
   const glm::dvec3 g = frame.gridFromWorld(world_m) - 0.5;  // voxel centres at integers
   const glm::ivec3 n(d.nx, d.ny, d.nz);
-  glm::dvec3 lo = glm::floor(g);
+  const glm::dvec3 lo = glm::floor(g);
   const glm::dvec3 f = g - lo;
+  // Per axis the voxels lo + first … lo + first + taps − 1 with their filter weights: the hat's two
+  // (trilinear) or the B-spline's four (cubic, volume/reconstruction.h).
+  const bool cubic = d.reconstruction == scene::Reconstruction::Cubic;
+  const int taps = cubic ? 4 : 2, first = cubic ? -1 : 0;
+  std::array<std::array<double, 4>, 3> w{};
+  for (int a = 0; a < 3; ++a)
+    w[std::size_t(a)] = cubic ? scene::cubicBSplineWeights(f[a]) : std::array<double, 4>{1.0 - f[a], f[a], 0.0, 0.0};
   glm::dvec2 out(0.0);
-  for (int c = 0; c < 8; ++c) {
-    const glm::ivec3 o(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-    const glm::ivec3 idx = glm::clamp(glm::ivec3(lo) + o, glm::ivec3(0), n - 1);
-    const double w = (o.x ? f.x : 1.0 - f.x) * (o.y ? f.y : 1.0 - f.y) * (o.z ? f.z : 1.0 - f.z);
-    const std::size_t k =
-        (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);
-    out += w * glm::dvec2(d.up[k], d.down[k]);
+  for (int cz = 0; cz < taps; ++cz) {
+    for (int cy = 0; cy < taps; ++cy) {
+      for (int cx = 0; cx < taps; ++cx) {
+        const glm::ivec3 idx =
+            glm::clamp(glm::ivec3(lo) + glm::ivec3(cx, cy, cz) + first, glm::ivec3(0), n - 1);  // clamp to edge
+        const double wt = w[0][std::size_t(cx)] * w[1][std::size_t(cy)] * w[2][std::size_t(cz)];
+        const std::size_t k =
+            (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);
+        out += wt * glm::dvec2(d.up[k], d.down[k]);
+      }
+    }
   }
   return out;
 }

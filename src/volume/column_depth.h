@@ -8,14 +8,18 @@
 //   τ_down(i, j, k) = ½·β(i, j, k)·dz + Σ_{k' < k} β(i, j, k')·dz
 // with β = β_ice + β_water and dz the data's layer thickness (not exaggerated: height
 // exaggeration keeps the data's vertical optical depth, docs/rendering.md "Conventions").
-// Sampled like the extinction volumes — trilinear between voxel centres — but clamped to the edge
-// (outside the grid the nearest column's depths hold; above the top τ_up → its value at the top
-// centre, which is ½β·dz, small).
+// Sampled like the extinction volumes — by the same reconstruction filter (volume/reconstruction.h:
+// trilinear or the cubic B-spline between voxel centres) — but clamped to the edge (outside the
+// grid the nearest column's depths hold; above the top τ_up → its value at the top centre, which
+// is ½β·dz, small). The filter must match the extinction's: trilinear depths under a cubic field
+// bring the grid back into the sky light and the two-stream term (issue 12/13: the power at the
+// column spacing of the coarse storm went from 2.2 to 14.1 with two_stream).
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "volume/extinction_volumes.h"
+#include "volume/reconstruction.h"
 #include "volume/volume_frame.h"
 
 namespace nph {
@@ -26,13 +30,18 @@ struct ColumnDepths {
   int nx = 0, ny = 0, nz = 0;
   std::vector<float> up;    ///< τ_up per voxel, ExtinctionVolumes::index layout
   std::vector<float> down;  ///< τ_down per voxel
+  /// The filter columnDepthAt applies: the extinction's (the eye pass's RECONSTRUCTION_CUBIC).
+  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
 };
 
-/// The vertical optical depths of `volumes` (O(voxels), one pass per column).
-ColumnDepths columnDepths(const ExtinctionVolumes& volumes);
+/// The vertical optical depths of `volumes` (O(voxels), one pass per column), to be sampled with
+/// `reconstruction`.
+ColumnDepths columnDepths(const ExtinctionVolumes& volumes,
+                          scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
 
-/// (τ_up, τ_down) at a world point: trilinear between voxel centres, clamped to the edge (the GPU
-/// rule of the RG texture UNIT_COLUMN_DEPTH: GL_LINEAR, GL_CLAMP_TO_EDGE).
+/// (τ_up, τ_down) at a world point: trilinear or cubic B-spline between voxel centres
+/// (depths.reconstruction), clamped to the edge (the GPU rule of the RG texture UNIT_COLUMN_DEPTH:
+/// GL_LINEAR, GL_CLAMP_TO_EDGE; clouds.comp columnDepthAt).
 glm::dvec2 columnDepthAt(const ColumnDepths& depths, const scene::VolumeFrame& frame, const glm::dvec3& world_m);
 
 }  // namespace nph

@@ -2,6 +2,7 @@
 // and the column depths of volume/column_depth.h against closed forms (issue 12).
 #include "lighting/cloud_light.h"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -170,6 +171,32 @@ TEST(ColumnDepth, SumsTheColumnAboveAndBelowAtTheDataScale) {
   const glm::dvec3 between = frame.worldFromGrid(glm::dvec3(0.5, 0.5, 2.0));
   EXPECT_NEAR(columnDepthAt(d, frame, between).x, 0.5 * (0.5 + 0.4), 1e-3);
   EXPECT_NEAR(columnDepthAt(d, frame, frame.worldFromGrid(glm::dvec3(0.5, 0.5, 9.0))).x, 0.2, 1e-3);
+}
+
+TEST(ColumnDepth, CubicDepthsAreTheBSplineOfTheVoxelDepthsClampedToTheEdge) {
+  // The column's up depths (0.65, 0.5, 0.4, 0.2 bottom to top, as above) read by the cubic
+  // B-spline (volume/reconstruction.h): at a voxel centre the weights are 1/6, 2/3, 1/6 of the
+  // layers below, at and above; past the grid the edge voxel repeats (GL_CLAMP_TO_EDGE). A
+  // horizontal neighbour column of twice the extinction enters with the same weights across.
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 100.0, 0.0);
+  for (int k = 0; k < 4; ++k) {
+    const float b = std::array{1e-3f, 2e-3f, 0.0f, 4e-3f}[std::size_t(k)];
+    v.water_per_m[v.index(0, 0, k)] = b;
+    v.water_per_m[v.index(1, 0, k)] = 2.0f * b;
+  }
+  const ColumnDepths d = columnDepths(v, scene::Reconstruction::Cubic);
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const double up0[4] = {0.65, 0.5, 0.4, 0.2};
+  // Column x = 0 at the centre of layer 1: x-weights 1/6 (clamped: itself) + 2/3 + 1/6 (column 1).
+  const double ownAt1 = (up0[0] + 4.0 * up0[1] + up0[2]) / 6.0;
+  EXPECT_NEAR(columnDepthAt(d, frame, frame.worldFromGrid(glm::dvec3(0.5, 0.5, 1.5))).x,
+              (5.0 / 6.0) * ownAt1 + (1.0 / 6.0) * 2.0 * ownAt1, 2e-3);
+  // The top centre: the layer above is the edge (0.2 again).
+  const double ownAt3 = (up0[2] + 4.0 * up0[3] + up0[3]) / 6.0;
+  EXPECT_NEAR(columnDepthAt(d, frame, frame.worldFromGrid(glm::dvec3(0.5, 0.5, 3.5))).x, (7.0 / 6.0) * ownAt3, 2e-3);
+  // Trilinear depths of the same volume still interpolate the voxels.
+  const ColumnDepths tri = columnDepths(v);
+  EXPECT_NEAR(columnDepthAt(tri, frame, frame.worldFromGrid(glm::dvec3(0.5, 0.5, 1.5))).x, 0.5, 1e-3);
 }
 
 TEST(VolumeFrame, OpticalDepthScaleKeepsTheDataDepthAlongEveryDirection) {

@@ -90,30 +90,54 @@ TEST_F(ReconstructionTest, EmptySpaceSkippingGivesTheSameImageWithCubic) {
 
 // Issue 13's "Done means" asks for ≥ 10× less power at the model's column spacing with the cubic
 // filter, on the coarse storm at the demo's view (here closer: distance × 0.5, 640 × 360, so that a
-// column spans ~6 pixels). Measured on llvmpipe (docs/rendering.md): 2.5× in the band 0.75 … 1.25
-// cycles per column, 9× at 1.75 … 2.25 — the 10× of the issue is NOT reached at the column
-// spacing itself by this metric; the test holds what was measured, with a 20–25 % margin, so a
-// regression of the filter shows. Reference-preset view steps, no jitter, DLM texels of ¼ voxel
-// (grid_artefacts.h).
+// column spans ~6 pixels). Reference-preset view steps, no jitter, DLM texels of ¼ voxel
+// (grid_artefacts.h). Measured on llvmpipe (docs/rendering.md "Reconstruction"):
+//   - single scattering, the filter alone: 2.6× in the band 0.75 … 1.25 cycles per column, 8× at
+//     1.75 … 2.25 (the 10× of the issue is NOT reached at the column spacing by this metric);
+//   - the default, two_stream (issue 12): trilinear 2.20, cubic 1.75 (1.26×) — the two-stream
+//     term already lowers trilinear's power 5× below the octaves' (10.9), and the cubic filter
+//     reaches its column depths too (volume/column_depth.h; before they were trilinear under a
+//     cubic field the cubic power was 14.1) — and cubic two_stream has a third of the power of
+//     cubic octaves (5.0), the default before.
+// The test holds these with a 20–25 % margin, so a regression of the filter or of the column
+// depths' filter shows.
 TEST_F(ReconstructionTest, CubicLowersTheGridArtefactsOfTheCoarseStorm) {
   const ExtinctionVolumes v = coarseStorm();
   const DemoView d = demoView(v, 640, 360, 0.5);
-  render::RenderSettings rs;
-  rs.jitter = false;
-  rs.step_voxels = 0.25;
   const double zMid_m = d.frame.min_m().z + 0.5 * d.frame.size_m().z;
-  const auto tri = renderWith(v, d, Reconstruction::Trilinear, rs, 0.25);
-  const auto cub = renderWith(v, d, Reconstruction::Cubic, rs, 0.25);
-  const double pTri = gridArtefactPower(tri.cloud_layer, d.camera, d.frame, zMid_m);
-  const double pCub = gridArtefactPower(cub.cloud_layer, d.camera, d.frame, zMid_m);
-  const double pTri2 = gridArtefactPower(tri.cloud_layer, d.camera, d.frame, zMid_m, 1.75, 2.25);
-  const double pCub2 = gridArtefactPower(cub.cloud_layer, d.camera, d.frame, zMid_m, 1.75, 2.25);
-  std::printf("[ cubic    ] coarse storm 640x360, power at 0.75-1.25 cycles/column: trilinear %.4g, cubic %.4g, "
-              "ratio %.2f; at 1.75-2.25: %.4g, %.4g, ratio %.2f\n",
-              pTri, pCub, pTri / pCub, pTri2, pCub2, pTri2 / pCub2);
-  EXPECT_GT(pTri, 0.0);
-  EXPECT_GE(pTri, 2.0 * pCub);
-  EXPECT_GE(pTri2, 7.0 * pCub2);
+  struct Power {
+    double column, harmonic;  // bands 0.75 … 1.25 and 1.75 … 2.25 cycles per column
+  };
+  auto measure = [&](Reconstruction r, lighting::MultipleScattering ms) {
+    render::RenderSettings rs;
+    rs.jitter = false;
+    rs.step_voxels = 0.25;
+    rs.multiple_scattering = ms;
+    const auto out = renderWith(v, d, r, rs, 0.25);
+    return Power{gridArtefactPower(out.cloud_layer, d.camera, d.frame, zMid_m),
+                 gridArtefactPower(out.cloud_layer, d.camera, d.frame, zMid_m, 1.75, 2.25)};
+  };
+  using lighting::MultipleScattering;
+  const Power triSingle = measure(Reconstruction::Trilinear, MultipleScattering::Single);
+  const Power cubSingle = measure(Reconstruction::Cubic, MultipleScattering::Single);
+  const Power triTwo = measure(Reconstruction::Trilinear, MultipleScattering::TwoStream);
+  const Power cubTwo = measure(Reconstruction::Cubic, MultipleScattering::TwoStream);
+  const Power cubOctaves = measure(Reconstruction::Cubic, MultipleScattering::Octaves);
+  std::printf("[ cubic    ] coarse storm 640x360, power at 0.75-1.25 / 1.75-2.25 cycles per column:\n"
+              "             single: trilinear %.4g / %.4g, cubic %.4g / %.4g (ratios %.2f / %.2f)\n"
+              "             two_stream: trilinear %.4g / %.4g, cubic %.4g / %.4g (ratios %.2f / %.2f)\n"
+              "             octaves: cubic %.4g / %.4g\n",
+              triSingle.column, triSingle.harmonic, cubSingle.column, cubSingle.harmonic,
+              triSingle.column / cubSingle.column, triSingle.harmonic / cubSingle.harmonic, triTwo.column,
+              triTwo.harmonic, cubTwo.column, cubTwo.harmonic, triTwo.column / cubTwo.column,
+              triTwo.harmonic / cubTwo.harmonic, cubOctaves.column, cubOctaves.harmonic);
+  EXPECT_GT(triSingle.column, 0.0);
+  EXPECT_GE(triSingle.column, 2.0 * cubSingle.column);
+  EXPECT_GE(triSingle.harmonic, 6.5 * cubSingle.harmonic);
+  EXPECT_GE(triTwo.column, 1.1 * cubTwo.column);
+  EXPECT_GE(triTwo.harmonic, 1.6 * cubTwo.harmonic);
+  EXPECT_LE(cubTwo.column, 0.5 * cubOctaves.column);
+  EXPECT_LE(cubTwo.harmonic, 0.7 * cubOctaves.harmonic);
 }
 
 }  // namespace
