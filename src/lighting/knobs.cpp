@@ -75,13 +75,12 @@ constexpr std::array kKnobs{
          .choices = scene::kDetailNames},
     // The multiple-scattering term (issue 12; glsl/common/cloud_light.glsl cloudSunFactor). The
     // two-stream term has no fitted constant and halves the octaves' error against the path tracer
-    // on the accuracy scenes at the same cost (docs/accuracy.md "Issue 12, third phase"), but it
-    // reads the per-voxel column depths, which put the model grid back into the lighting of a
-    // coarse grid: with cubic reconstruction its power at the column spacing is 6x trilinear's
-    // (ReconstructionTest.CubicLowersTheGridArtefactsOfTheCoarseStorm). Octaves stay the default
-    // until the column depths are reconstructed like the extinction.
+    // on the accuracy scenes at the same cost (docs/accuracy.md "Issue 12, third phase"). It reads
+    // the column depths through the extinction's own reconstruction filter (volume/column_depth.h),
+    // so the cubic B-spline keeps the model grid out of its light as well
+    // (ReconstructionTest.CubicLowersTheGridArtefactsOfTheCoarseStorm).
     Knob{.name = "multiple_scattering", .unit = "", .min = 0, .max = 2, .field = &Q::multiple_scattering,
-         .preset = {1, 1, 1}, .doc = "multiple scattering: single (none), octaves (fitted series) or two_stream (column δ-Eddington)",
+         .preset = {2, 2, 2}, .doc = "multiple scattering: single (none), octaves (fitted series) or two_stream (column δ-Eddington)",
          .choices = kMultipleScatteringNames},
     Knob{.name = "g_ice", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_ice,
          .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},

@@ -60,7 +60,7 @@ struct RenderSettings : StyleSettings {
   OctaveSeries octaves{3, 0.65, 0.75, 0.0, {}};
   /// Which multiple-scattering term lights the clouds (the knob `multiple_scattering`); the
   /// octaves above are read only by MultipleScattering::Octaves.
-  MultipleScattering multiple_scattering = MultipleScattering::Octaves;
+  MultipleScattering multiple_scattering = MultipleScattering::TwoStream;
   /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
   /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.
   scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
