@@ -52,4 +52,10 @@ std::uint64_t memoryBudgetBytesFromEnv() {
   return parseUnsignedStrict("NEPHELE_IO_MEMORY_BUDGET_MB (MiB)", *mb, 1, kMaxMemoryBudgetMiB) << 20;
 }
 
+std::uint64_t hdf5OpenTimeoutSecondsFromEnv() {
+  const auto s = env::get("NEPHELE_HDF5_OPEN_TIMEOUT_S");
+  if (!s) return 300;
+  return parseUnsignedStrict("NEPHELE_HDF5_OPEN_TIMEOUT_S (seconds)", *s, 1, 86400);
+}
+
 }  // namespace nph::limits

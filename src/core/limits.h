@@ -70,6 +70,11 @@ std::optional<Int> toIntChecked(double v) {
 /// "12abc", too large) -> UsageError naming the variable and the accepted range.
 std::uint64_t memoryBudgetBytesFromEnv();
 
+/// NEPHELE_HDF5_OPEN_TIMEOUT_S parsed strictly: unset -> 300; a whole number of seconds in
+/// [1, 86400] -> it; anything else -> UsageError naming the variable and the range. How long a
+/// netCDF-4 file's metadata may take to parse (io/netcdf_reader.cpp probeHdf5OpenInChild).
+std::uint64_t hdf5OpenTimeoutSecondsFromEnv();
+
 /// Parses `text` as an unsigned integer in [lo, hi] (decimal digits only, nothing else);
 /// UsageError "<what> = "<text>": expected a whole number in [lo, hi]" otherwise.
 std::uint64_t parseUnsignedStrict(const std::string& what, const std::string& text, std::uint64_t lo, std::uint64_t hi);

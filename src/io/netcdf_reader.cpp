@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <netcdf.h>
 
+#include <poll.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <cerrno>
 #include <cmath>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -44,8 +46,10 @@ namespace {
 /// library's own parsing of the HDF5 metadata, so a file with the HDF5 signature is first opened
 /// by a forked child that calls only nc_open/nc_inq/nc_close and _exit(); this process opens it
 /// only when the child came back cleanly, and a crashed child becomes an InputError naming the
-/// file. Cost: one fork per netCDF-4 open (copy-on-write; milliseconds). Not covered: a libhdf5
-/// that loops forever in the child (no timeout: the parent would wait with it).
+/// file. Cost: one fork per netCDF-4 open (copy-on-write; milliseconds). A child that has not
+/// finished after NEPHELE_HDF5_OPEN_TIMEOUT_S seconds (default 300: a metadata parse takes
+/// milliseconds, a damaged file can make libhdf5 loop forever) is killed and the file refused; the
+/// parent waits on a pipe the child holds open (poll(2)), so no time is spent polling.
 void probeHdf5OpenInChild(const std::string& path) {
   static constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
   unsigned char head[8] = {};
@@ -57,18 +61,46 @@ void probeHdf5OpenInChild(const std::string& path) {
     return;  // nc_open reports it
   }
   constexpr int kOpened = 0, kRefused = 3;
+  const std::uint64_t timeout_s = limits::hdf5OpenTimeoutSecondsFromEnv();  // UsageError before forking
+  int alive[2] = {-1, -1};  // the child holds alive[1] until it exits: EOF on alive[0] = finished
+  if (::pipe(alive) != 0) return;
   const pid_t child = ::fork();
-  if (child < 0) return;  // no process to spare: open it here, as before
+  if (child < 0) {  // no process to spare: open it here, as before
+    ::close(alive[0]);
+    ::close(alive[1]);
+    return;
+  }
   if (child == 0) {
-    // Fault injection for the test of this guard (reliability.HostileNetcdf...): the child dies
-    // the way libhdf5 makes it die.
+    ::close(alive[0]);
+    // Fault injection for the tests of this guard (reliability.HostileNetcdf...): the child dies
+    // the way libhdf5 makes it die, or never comes back.
     if (std::getenv("NEPHELE_TEST_HDF5_PROBE_CRASH") != nullptr) std::raise(SIGSEGV);
+    if (std::getenv("NEPHELE_TEST_HDF5_PROBE_HANG") != nullptr) {
+      for (;;) ::pause();
+    }
     int id = -1;
     if (nc_open(path.c_str(), NC_NOWRITE, &id) != NC_NOERR) ::_exit(kRefused);
     int ndims = 0, nvars = 0, natts = 0, unlimited = -1;
     nc_inq(id, &ndims, &nvars, &natts, &unlimited);
     nc_close(id);
     ::_exit(kOpened);
+  }
+  ::close(alive[1]);
+  pollfd pfd{alive[0], POLLIN, 0};
+  int ready = 0;
+  const int timeout_ms = int(std::min<std::uint64_t>(timeout_s * 1000, std::uint64_t(INT32_MAX)));
+  while ((ready = ::poll(&pfd, 1, timeout_ms)) < 0 && errno == EINTR) {
+  }
+  ::close(alive[0]);
+  if (ready == 0) {  // still parsing after the limit
+    ::kill(child, SIGKILL);
+    int ignored = 0;
+    while (::waitpid(child, &ignored, 0) < 0 && errno == EINTR) {
+    }
+    throw InputError(fmt::format("{}: the HDF5 library did not finish reading this NetCDF-4 file's metadata in {} s "
+                                 "(in a separate process nephele opens such files in first): the file is damaged, or "
+                                 "raise NEPHELE_HDF5_OPEN_TIMEOUT_S",
+                                 path, timeout_s));
   }
   int status = 0;
   while (::waitpid(child, &status, 0) < 0) {

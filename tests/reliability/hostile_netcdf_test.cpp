@@ -214,6 +214,27 @@ TEST(HostileNetcdf, Hdf5CrashingInItsOwnParserIsContainedInAChildProcess) {
   expectError<InputError>([&] { (void)io::openModelFile(found); }, {found});
 }
 
+TEST(HostileNetcdf, Hdf5ParserThatNeverReturnsIsKilledAfterTheOpenTimeout) {
+  // A damaged netCDF-4 file can make libhdf5 loop forever while parsing its metadata. The child
+  // that opens it first is killed after NEPHELE_HDF5_OPEN_TIMEOUT_S and the file refused. The
+  // child is made to hang on purpose (NEPHELE_TEST_HDF5_PROBE_HANG: it never returns, so the
+  // outcome does not depend on the machine's speed; the limit is 1 s to keep the test short).
+  const Scratch dir;
+  const std::string path = dir.file("netcdf4.nc");
+  int nc = -1;
+  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER | NC_NETCDF4, &nc), NC_NOERR);
+  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  ::setenv("NEPHELE_TEST_HDF5_PROBE_HANG", "1", 1);
+  ::setenv("NEPHELE_HDF5_OPEN_TIMEOUT_S", "1", 1);
+  expectError<InputError>([&] { (void)io::openModelFile(path); },
+                          {path, "did not finish reading", "in 1 s", "NEPHELE_HDF5_OPEN_TIMEOUT_S"});
+  ::unsetenv("NEPHELE_TEST_HDF5_PROBE_HANG");
+  // A limit that is not a whole number of seconds in [1, 86400] is a usage error naming it.
+  ::setenv("NEPHELE_HDF5_OPEN_TIMEOUT_S", "0", 1);
+  expectError<UsageError>([&] { (void)io::openModelFile(path); }, {"NEPHELE_HDF5_OPEN_TIMEOUT_S", "86400"});
+  ::unsetenv("NEPHELE_HDF5_OPEN_TIMEOUT_S");
+}
+
 // --- special files --------------------------------------------------------------------------------
 
 TEST(HostileNetcdf, FifoAndDirectoryAreRefusedByFileTypeWithoutBlocking) {
