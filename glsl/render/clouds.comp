@@ -316,8 +316,12 @@ void main() {
       if (b > 0.0) {
         if (!sunAtCloudsSet) {
           float muS = VIEW_GLOBE ? dot(normalize(p), u_to_sun) : u_to_sun.z;
-          sunAtClouds = u_sun_radiance * sunlightAt(w.z, muS);
-          skyAtClouds = u_sun_radiance * skyIrradiance(w.z, muS) / kPi;
+          // At the cloud's true altitude (world z / exaggeration): the light that reaches a cloud
+          // depends on the air above the real cloud, not on the height it is drawn at (an 8×
+          // cloud at 10 km would be drawn at 80 km, above the air: no golden hour on it).
+          float trueAltitude_m = w.z / u_height_exaggeration;
+          sunAtClouds = u_sun_radiance * sunlightAt(trueAltitude_m, muS);
+          skyAtClouds = u_sun_radiance * skyIrradiance(trueAltitude_m, muS) / kPi;
           sunAtCloudsSet = true;
         }
         float T = exp(-b * u_step_m);
@@ -405,10 +409,12 @@ void main() {
     float skyShadow = (u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0) * skyView;
     sky = vec3(0.0);
     if (ATMOSPHERE_ON) {
-      // The atmosphere's altitude of a ground point is its world z, as for the clouds' samples;
-      // not below the model's ground (the tables are NaN under r = R: the bisection leaves g.z a
-      // hair below a sea-level surface, and land may lie below sea level).
-      float altitude = HAS_TERRAIN ? max(g.z, 0.0) : 0.0;
+      // The light reaching a ground point is taken at its true altitude (world z / exaggeration),
+      // as for the clouds' samples; not below the model's ground (the tables are NaN under r = R:
+      // the bisection leaves g.z a hair below a sea-level surface, and land may lie below sea
+      // level). The air between the eye and the point stays in the drawn world (docs/atmosphere.md
+      // "Height exaggeration and the air").
+      float altitude = HAS_TERRAIN ? max(g.z, 0.0) / u_height_exaggeration : 0.0;
       ground = albedo / kPi * u_sun_radiance *
                (sunlightAt(altitude, u_to_sun.z) * sunCos * shadow * sunVisible +
                 skyIrradiance(altitude, u_to_sun.z) * skyShadow);

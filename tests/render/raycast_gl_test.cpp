@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "atmosphere/atmosphere.h"
@@ -199,6 +200,43 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
     EXPECT_LE(d.mean, 1e-5) << name;
     EXPECT_LE(d.max, 0.02) << name;
   }
+}
+
+}  // namespace
+}  // namespace nph::test
+
+namespace nph::test {
+namespace {
+
+// The light that reaches a cloud comes through the air above the real cloud: the atmosphere's
+// sunlight and sky irradiance are taken at the sample's true altitude, world z / exaggeration
+// (glsl/render/clouds.comp sunAtClouds; docs/atmosphere.md "Height exaggeration and the air").
+// A dense 2 km slab (τ = 10) at sea level, sun 8° high, seen straight down from 10 m above its top
+// (the aerial perspective over the cloud's short visible depth is negligible): drawn ×1 and ×8 its
+// light has nearly the same colour. Measured on llvmpipe, red chromaticity r/(r+g+b) of the
+// cloud layer's centre: ×1 0.381, ×8 0.392 (before, lit as if the ×8 slab stood at 0–16 km, above
+// most of the air: 0.347). The remaining 0.012 is the exaggerated world's light geometry (the DLM
+// and the two-stream frame); the tolerance 0.02 lies below the old difference 0.034.
+TEST_F(RaycastTest, CloudsAreLitThroughTheAirAboveTheirTrueAltitude) {
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 5e-3f);
+  const scene::Sun sun{120.0, 8.0};
+  render::RenderSettings rs;
+  rs.jitter = false;
+  ASSERT_TRUE(rs.atmosphere);
+  auto redness = [&](double e) {
+    LookingDown view;
+    view.height_exaggeration = e;
+    view.camera_world_z_m = e * 2000.0 + 10.0;
+    const auto r = renderLookingDown(v, sun, rs, nullptr, view);
+    const std::size_t centre = (std::size_t(16) * 33 + 16) * 4;
+    const float* c = &r.out.cloud_layer.rgba[centre];
+    EXPECT_GT(c[3], 0.5f) << "the camera must look into the slab";
+    return double(c[0]) / (double(c[0]) + double(c[1]) + double(c[2]));
+  };
+  const double r1 = redness(1.0), r8 = redness(8.0);
+  std::printf("[ air      ] slab at sea level, sun 8 deg: red chromaticity x1 %.4f, x8 %.4f\n", r1, r8);
+  EXPECT_GT(r1, 1.0 / 3.0) << "a low sun's light is reddened";
+  EXPECT_NEAR(r8, r1, 0.02);
 }
 
 }  // namespace
