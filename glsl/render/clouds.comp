@@ -38,6 +38,7 @@
 // irradiance), instead of the analytic clear sky of issue 12.
 #include "common/math.glsl"
 #include "common/ray_box.glsl"
+#include "common/imagery.glsl"
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
@@ -164,13 +165,6 @@ float flatGroundDistance(vec3 o, vec3 d) {
 // differentials of the hit point to the next pixel right and down), which picks the mipmap level
 // and the anisotropic filter's axis (imagery seen at a slant does not alias; compute shaders have
 // no implicit derivatives, so textureGrad gets them explicitly).
-// A texture gradient no longer than a quarter of the texture (its 4×4 level): grazing rays at the
-// horizon have near-infinite footprints.
-vec2 footprintClamped(vec2 g) {
-  float l = length(g);
-  return l > 0.25 ? g * (0.25 / l) : g;
-}
-
 vec3 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
   if (u_has_basemap) {
     vec2 extent = u_basemap_max_m - u_basemap_min_m;
@@ -211,6 +205,21 @@ vec3 surfaceDifferential(vec3 D, vec3 dD, vec3 n, float t) {
   float dn = dot(D, n);
   dn = dn < 0.0 ? min(dn, -1e-4) : max(dn, 1e-4);
   return t * (dD - dot(dD, n) / dn * D);
+}
+
+// The pixel's footprint on the globe's ground along one pixel axis (dD: the direction to the next
+// pixel's ray minus this one's; g = o + t·D the ground point): the step to where the neighbouring
+// rays meet the sphere, a central difference of exact hits when both do, one-sided when only one
+// does. Igehy's linear transfer (surfaceDifferential) diverges towards the limb, where the
+// neighbour above misses the Earth, and would send limb pixels to the basemap's coarsest levels.
+// It stays as the last resort, for a pixel whose neighbours both miss.
+vec3 globeFootprint(vec3 o, vec3 D, vec3 dD, vec3 g, float t) {
+  float tNext = globeGroundDistance(o, normalize(D + dD)), tPrev = globeGroundDistance(o, normalize(D - dD));
+  vec3 next = o + tNext * normalize(D + dD), prev = o + tPrev * normalize(D - dD);
+  if (tNext < kNoHit_m && tPrev < kNoHit_m) return 0.5 * (next - prev);
+  if (tNext < kNoHit_m) return next - g;
+  if (tPrev < kNoHit_m) return g - prev;
+  return surfaceDifferential(D, dD, normalize(g), t);
 }
 
 // (τ_up, τ_down) at a world point: the column depths reconstructed by the extinction's own filter
@@ -366,15 +375,18 @@ void main() {
   if (VIEW_GLOBE) {
     if (tGround < kNoHit_m) {
       vec3 g = origin + tGround * dir;
-      float sunCos = dot(normalize(g), u_to_sun);
+      vec3 gn = normalize(g);
+      vec3 albedo = globeAlbedo(g, globeFootprint(origin, dir, dirDx, g, tGround),
+                                globeFootprint(origin, dir, dirDy, g, tGround), u_ocean_albedo);
+      float sunCos = dot(gn, u_to_sun);
       vec3 gw = globeWorldFromEcef(g);
       shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
       sky = vec3(0.0);
       if (ATMOSPHERE_ON) {
-        ground = globeAlbedo(g, u_ocean_albedo) / kPi * u_sun_radiance *
+        ground = albedo / kPi * u_sun_radiance *
                  (sunlightAt(0.0, sunCos) * max(sunCos, 0.0) * shadow + skyIrradiance(0.0, sunCos));
       } else {
-        ground = globeAlbedo(g, u_ocean_albedo) / kPi *
+        ground = albedo / kPi *
                  (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
       }
     } else {

@@ -4,6 +4,7 @@
 // light map live: z = |p| − R, xy through a rotated-lon/lat → world look-up table built with the
 // scene's PROJ transform on the CPU. Requires dlm/volume.glsl.
 #include "common/math.glsl"
+#include "common/imagery.glsl"
 layout(binding = UNIT_GLOBE_WORLD_XY) uniform sampler2D u_globe_world_xy;  // RG32F world x, y at texel centres
 layout(binding = UNIT_GLOBE_BASEMAP) uniform sampler2D u_globe_basemap;   // equirectangular linear RGB, row 0 = 90°N
 
@@ -101,13 +102,30 @@ float globeEmptySkip(vec3 w) {
   return max(max(gap.x, gap.y) / u_lipschitz_h, gap.z);
 }
 
-// Albedo of the ground at the ECEF point g: the whole equirectangular basemap by true lon/lat.
-vec3 globeAlbedo(vec3 g, vec3 fallback) {
+// The change of the equirectangular texture coordinates (scene::equirectUv: u = λ/2π + ½,
+// v = ½ − φ/π) when the ground point g (ECEF) moves by dP along the sphere (dP·g = 0): with
+// ρ² = g_x² + g_y² the squared distance from the polar axis,
+//   dλ = (g_x dP_y − g_y dP_x)/ρ²,   dφ = dP_z/ρ        (λ = atan(g_y, g_x), φ = asin(g_z/|g|)).
+// ρ is kept from 0 (a pixel on the pole: the widest footprint in u, the clamp below takes it).
+vec2 equirectUvDifferential(vec3 g, vec3 dP) {
+  float rho2 = max(dot(g.xy, g.xy), 1.0);
+  return vec2((g.x * dP.y - g.y * dP.x) / rho2 / (2.0 * kPi), -dP.z * inversesqrt(rho2) / kPi);
+}
+
+// Albedo of the ground at the ECEF point g: the whole equirectangular basemap by true lon/lat,
+// filtered over the pixel's footprint (issue 14 item 3: mipmaps and anisotropic filtering, as the
+// flat view's imagery): dPx, dPy are the ray differentials transferred to the ground (Igehy 1999;
+// clouds.comp surfaceDifferential), turned into texture gradients for textureGrad (a compute
+// shader has no implicit derivatives; common/imagery.glsl filters). The gradients are analytic, so the u seam at the
+// antimeridian (u wraps from 1 to 0) does not widen the footprint.
+vec3 globeAlbedo(vec3 g, vec3 dPx, vec3 dPy, vec3 fallback) {
   if (!u_has_globe_basemap) return fallback;
   vec3 n = normalize(g);
   float lon = atan(n.y, n.x), lat = asin(clamp(n.z, -1.0, 1.0));
   vec2 uv = vec2(lon / (2.0 * kPi) + 0.5, 0.5 - lat / kPi);  // scene::equirectUv
-  return texture(u_globe_basemap, uv).rgb;
+  return textureAnisotropic(u_globe_basemap, uv, footprintClamped(equirectUvDifferential(g, dPx)),
+                            footprintClamped(equirectUvDifferential(g, dPy)))
+      .rgb;
 }
 
 // Smooth day/night factor of the sky light at a point whose local vertical has cosine cosSun

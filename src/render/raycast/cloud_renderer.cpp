@@ -62,12 +62,17 @@ void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage&
   globe_table_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   globe_basemap_ = gl::Texture();
   if (equirect.width > 0 && equirect.height > 0) {
-    globe_basemap_ = gl::Texture::create2D(GL_RGB32F, equirect.width, equirect.height).label("globe basemap");
+    globe_basemap_ = gl::Texture::create2D(GL_RGB32F, equirect.width, equirect.height,
+                                           gl::mipLevelsFor(equirect.width, equirect.height))
+                         .label("globe basemap");
     glTextureSubImage2D(globe_basemap_.id(), 0, 0, 0, equirect.width, equirect.height, GL_RGB, GL_FLOAT,
                         equirect.rgb.data());
-    // Not mipmapped: with textureGrad/textureLod from the ray differentials, llvmpipe drew specks
-    // of wrong colour along the limb (issue 14 item 3, open); the globe is seen from far away.
-    globe_basemap_.sampling(GL_LINEAR, GL_REPEAT);  // wraps across the antimeridian in u
+    // Mipmapped (issue 14 item 3): the whole Earth is seen from far away and at grazing angles
+    // towards the limb. The anisotropic taps are the shader's (glsl/common/imagery.glsl
+    // textureAnisotropic: llvmpipe's own drew specks at the limb), so the sampler's is 1.
+    globe_basemap_.mipmapped(GL_REPEAT);  // wraps across the antimeridian in u ...
+    glTextureParameteri(globe_basemap_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);  // ... not over the poles in v
+    if (gl::maxAnisotropy() > 1.0f) glTextureParameterf(globe_basemap_.id(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
   }
 }
 
