@@ -24,7 +24,8 @@
 // L_ground = ρ/π · (E_sun·cos θ_sun·I_DLM(ground) + π·L_sky·T_d(τ_up)) — the cloud shadow (Nes
 // §5.4.1) and the sky the cloud above hides.
 // Globe view (u_globe, render/globe.glsl): the rays are in ECEF, each sample is looked up at its
-// world point; the ground is the sphere R with the whole equirectangular basemap, lit by the true
+// world point; the ground is the sphere R (displaced by the terrain inside the data's table:
+// render/globe_terrain.glsl) with the whole equirectangular basemap, lit by the true
 // sun direction at each point (day/night), shadowed by the DLM inside the footprint; rays that
 // miss the Earth see black space with a glow at the limb.
 // Atmosphere (u_atmosphere, issue 14; glsl/atmosphere/, Hillaire 2020): the sunlight reaching the
@@ -151,6 +152,7 @@ TerrainGrid terrainGrid() {
   return TerrainGrid(u_terrain_size, u_terrain_cell_m, u_terrain_exaggeration, u_terrain_fade_m, u_terrain_max_m,
                      u_terrain_min_m, u_terrain_lipschitz);
 }
+#include "render/globe_terrain.glsl"
 
 // Flat view: distance along the ray to the ground — the displaced terrain, or the plane z = 0
 // without terrain (then exactly the division of before, so images without terrain keep their bits).
@@ -291,7 +293,10 @@ void main() {
   vec3 C = vec3(0.0);
   float Tacc = 1.0;
   uint samples = 0u;  // extinction look-ups (empty-brick jumps not counted)
-  float tGround = VIEW_GLOBE ? globeGroundDistance(origin, dir) : kNoHit_m;
+  // The globe's ground: the sphere R, or the displaced terrain (it also ends the cloud march: the
+  // lens interval stops at it, so clouds behind a mountain are hidden).
+  float tGround = VIEW_GLOBE ? (HAS_TERRAIN ? globeTerrainDistance(origin, dir) : globeGroundDistance(origin, dir))
+                             : kNoHit_m;
   vec2 span = VIEW_GLOBE ? globeVolumeInterval(origin, dir, tGround) : volumeInterval(origin, dir);
   span.y = min(span.y, hostDistance);
   vec3 twoStreamSun = twoStreamSunFrame(VIEW_GLOBE ? dot(normalize(origin + span.x * dir), u_to_sun) : u_to_sun.z,
@@ -374,20 +379,35 @@ void main() {
   float shadow = 1.0;
   if (VIEW_GLOBE) {
     if (tGround < kNoHit_m) {
+      // The globe's ground (issue 14): the sphere R, displaced by the terrain inside the data's
+      // table (render/globe_terrain.glsl), lit as the flat view's ground (Lambertian, normal n,
+      // the cloud shadow at the 3-D ground point, the terrain's own shadow V, the sky a tilted
+      // surface sees); day and night and the air's altitude follow the local vertical.
       vec3 g = origin + tGround * dir;
-      vec3 gn = normalize(g);
+      vec3 gn = normalize(g);  // the local vertical
+      vec3 n = HAS_TERRAIN ? globeTerrainNormal(g) : gn;
       vec3 albedo = globeAlbedo(g, globeFootprint(origin, dir, dirDx, g, tGround),
                                 globeFootprint(origin, dir, dirDy, g, tGround), u_ocean_albedo);
       float sunCos = dot(gn, u_to_sun);
+      float sunLambert = max(dot(n, u_to_sun), 0.0);
       vec3 gw = globeWorldFromEcef(g);
-      shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(vec3(gw.xy, 0.0)) : 1.0;
+      shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(HAS_TERRAIN ? gw : vec3(gw.xy, 0.0)) : 1.0;
+      float sunVisible = 1.0, skyView = 1.0;  // V and (1 + n·up)/2
+      float altitude = 0.0;
+      if (HAS_TERRAIN) {
+        vec3 lifted = g + n * (0.01 * min(u_terrain_cell_m.x, u_terrain_cell_m.y));
+        if (sunLambert > 0.0 && sunCos > 0.0 && globeTerrainShadows(lifted, u_to_sun)) sunVisible = 0.0;
+        skyView = 0.5 * (1.0 + dot(n, gn));
+        altitude = max(length(g) - u_earth_radius_m, 0.0);
+      }
       sky = vec3(0.0);
       if (ATMOSPHERE_ON) {
         ground = albedo / kPi * u_sun_radiance *
-                 (sunlightAt(0.0, sunCos) * max(sunCos, 0.0) * shadow + skyIrradiance(0.0, sunCos));
+                 (sunlightAt(altitude, sunCos) * sunLambert * shadow * sunVisible +
+                  skyIrradiance(altitude, sunCos) * skyView);
       } else {
         ground = albedo / kPi *
-                 (u_sun_radiance * max(sunCos, 0.0) * shadow + kPi * u_sky_radiance * globeDaylight(sunCos));
+                 (u_sun_radiance * sunLambert * shadow * sunVisible + kPi * u_sky_radiance * globeDaylight(sunCos) * skyView);
       }
     } else {
       sky = ATMOSPHERE_ON ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);

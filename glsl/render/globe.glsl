@@ -21,6 +21,11 @@ layout(std140, binding = UBO_GLOBE) uniform GlobeBlock {
   vec2 u_ab_min_rad;        // rotated lon/lat box of the table
   vec2 u_ab_max_rad;
   bool u_has_globe_basemap;
+  // Terrain on the globe (render/globe_terrain.glsl), read when the eye pass has terrain:
+  float u_terrain_cap_min_dot_m;  // (R + min − 1 m)·cos α of the table's cone
+  float u_terrain_rate;           // bound of |df/dt| along a ray: 1 + L·L_h + H_max/edge
+  float u_terrain_edge_m;         // the table's margin: heights ramp to 0 over it at the table's edge
+  vec2 u_terrain_c_m2;            // |o|² − r² for r = R + max, R + min − 1 m; double on the CPU
 };
 
 const float kOutsideTable_m = -1.0e30;
@@ -61,12 +66,21 @@ vec2 globeVolumeInterval(vec3 o, vec3 d, float tGround) {
   return vec2(lo, hi);
 }
 
+// Latitude-like angles by atan(y, ρ), not asin(y/r): llvmpipe's asin (Mesa 22.3) is off by
+// ≈ 1.6·10⁻⁴ rad near 24° — a kilometre on the ground, which put the globe's imagery and table
+// 1 km south of where the CPU's exact transform puts them (found by the globe's terrain placement
+// test, issue 14: every pixel's decoded latitude 0.0093° low, longitude exact); its atan is exact
+// to float rounding.
+// The rotated lon/lat (a, b) of the point q given in the footprint centre's local frame (east,
+// north, up): a = atan(east, up), b = atan(north, |(east, up)|) (render/raycast/globe.h).
+vec2 globeRotatedLonLat(vec3 q) { return vec2(atan(q.x, q.z), atan(q.y, length(q.xz))); }
+
 // World position of an ECEF point; xy = kOutsideTable_m outside the table's box. Bilinear between
 // texel centres by hand: fixed-point filter weights (8 bits on many GPUs) would cost ~1/256 texel.
 vec3 globeWorldFromEcef(vec3 p) {
   vec3 q = u_local_from_ecef * p;
   float r = length(q);
-  vec2 ab = vec2(atan(q.x, q.z), asin(clamp(q.y / r, -1.0, 1.0)));
+  vec2 ab = globeRotatedLonLat(q);
   vec2 uv = (ab - u_ab_min_rad) / (u_ab_max_rad - u_ab_min_rad);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
     return vec3(kOutsideTable_m, kOutsideTable_m, r - u_earth_radius_m);
@@ -121,7 +135,7 @@ vec2 equirectUvDifferential(vec3 g, vec3 dP) {
 vec3 globeAlbedo(vec3 g, vec3 dPx, vec3 dPy, vec3 fallback) {
   if (!u_has_globe_basemap) return fallback;
   vec3 n = normalize(g);
-  float lon = atan(n.y, n.x), lat = asin(clamp(n.z, -1.0, 1.0));
+  float lon = atan(n.y, n.x), lat = atan(n.z, length(n.xy));  // not asin: see globeRotatedLonLat
   vec2 uv = vec2(lon / (2.0 * kPi) + 0.5, 0.5 - lat / kPi);  // scene::equirectUv
   return textureAnisotropic(u_globe_basemap, uv, footprintClamped(equirectUvDifferential(g, dPx)),
                             footprintClamped(equirectUvDifferential(g, dPy)))

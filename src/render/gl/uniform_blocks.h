@@ -213,28 +213,41 @@ struct GlobeBlock {
   glm::vec2 ab_min_rad{0.0f};           ///< u_ab_min_rad: rotated lon/lat box of the table
   glm::vec2 ab_max_rad{0.0f};           ///< u_ab_max_rad
   std::uint32_t has_globe_basemap = 0;  ///< u_has_globe_basemap (bool)
-  std::uint32_t pad[3] = {0, 0, 0};     ///< to a multiple of 16 bytes (std140 block rounding)
+  // Terrain on the globe (glsl/render/globe_terrain.glsl; CloudRenderer::updateGlobeBlock):
+  float terrain_cap_min_dot_m = 0.0f;  ///< u_terrain_cap_min_dot_m: (R + min − 1 m)·cos α_table
+  float terrain_rate = 1.0f;           ///< u_terrain_rate: bound of |df/dt| along a ray
+  float terrain_edge_m = 1.0f;         ///< u_terrain_edge_m: the table's margin (heights ramp to 0)
+  glm::vec2 terrain_c_m2{0.0f};        ///< u_terrain_c_m2: |o|² − r², r = R + max, R + min − 1 m
+  std::uint32_t pad[2] = {0, 0};       ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(GlobeBlock, cap_axis) == 48 && offsetof(GlobeBlock, cap_min_dot_m) == 60 &&
               offsetof(GlobeBlock, sphere_c_m2) == 64 && offsetof(GlobeBlock, lipschitz_h) == 76);
 static_assert(offsetof(GlobeBlock, limb_radiance) == 80 && offsetof(GlobeBlock, earth_radius_m) == 92 &&
               offsetof(GlobeBlock, ab_min_rad) == 96 && offsetof(GlobeBlock, ab_max_rad) == 104 &&
               offsetof(GlobeBlock, has_globe_basemap) == 112);
-static_assert(sizeof(GlobeBlock) == 128, "std140 size of GlobeBlock, rounded to 16");
-inline constexpr BlockMember kGlobeMembers[] = {{"u_local_from_ecef", offsetof(GlobeBlock, local_from_ecef)},
-                                                {"u_cap_axis", offsetof(GlobeBlock, cap_axis)},
-                                                {"u_cap_min_dot_m", offsetof(GlobeBlock, cap_min_dot_m)},
-                                                {"u_sphere_c_m2", offsetof(GlobeBlock, sphere_c_m2)},
-                                                {"u_lipschitz_h", offsetof(GlobeBlock, lipschitz_h)},
-                                                {"u_limb_radiance", offsetof(GlobeBlock, limb_radiance)},
-                                                {"u_earth_radius_m", offsetof(GlobeBlock, earth_radius_m)},
-                                                {"u_ab_min_rad", offsetof(GlobeBlock, ab_min_rad)},
-                                                {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
-                                                {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)}};
+static_assert(offsetof(GlobeBlock, terrain_cap_min_dot_m) == 116 && offsetof(GlobeBlock, terrain_rate) == 120 &&
+              offsetof(GlobeBlock, terrain_edge_m) == 124 && offsetof(GlobeBlock, terrain_c_m2) == 128);
+static_assert(sizeof(GlobeBlock) == 144, "std140 size of GlobeBlock, rounded to 16");
+inline constexpr BlockMember kGlobeMembers[] = {
+    {"u_local_from_ecef", offsetof(GlobeBlock, local_from_ecef)},
+    {"u_cap_axis", offsetof(GlobeBlock, cap_axis)},
+    {"u_cap_min_dot_m", offsetof(GlobeBlock, cap_min_dot_m)},
+    {"u_sphere_c_m2", offsetof(GlobeBlock, sphere_c_m2)},
+    {"u_lipschitz_h", offsetof(GlobeBlock, lipschitz_h)},
+    {"u_limb_radiance", offsetof(GlobeBlock, limb_radiance)},
+    {"u_earth_radius_m", offsetof(GlobeBlock, earth_radius_m)},
+    {"u_ab_min_rad", offsetof(GlobeBlock, ab_min_rad)},
+    {"u_ab_max_rad", offsetof(GlobeBlock, ab_max_rad)},
+    {"u_has_globe_basemap", offsetof(GlobeBlock, has_globe_basemap)},
+    {"u_terrain_cap_min_dot_m", offsetof(GlobeBlock, terrain_cap_min_dot_m)},
+    {"u_terrain_rate", offsetof(GlobeBlock, terrain_rate)},
+    {"u_terrain_edge_m", offsetof(GlobeBlock, terrain_edge_m)},
+    {"u_terrain_c_m2", offsetof(GlobeBlock, terrain_c_m2)}};
 
 /// glsl/render/clouds.comp `TerrainBlock` (issue 14): the ground's height field
 /// (volume/terrain_field.h; the march of glsl/common/terrain.glsl) and the far basemap that
-/// carries the ground beyond the near one (item 4, no void). Flat view only.
+/// carries the ground beyond the near one (item 4, no void, flat view only). The globe marches the
+/// same height field (glsl/render/globe_terrain.glsl, with GlobeBlock's terrain members).
 struct TerrainBlock {
   static constexpr unsigned kBinding = binding::UBO_TERRAIN;
   static constexpr const char* kGlslName = "TerrainBlock";

@@ -92,7 +92,8 @@ ViewRays ViewRays::fromMatrices(const glm::dmat4& view_from_world, const glm::dm
   return r;
 }
 
-void CloudRenderer::updateGlobeBlock(const ViewRays& view, const RenderSettings& s, double sun_intensity) {
+void CloudRenderer::updateGlobeBlock(const ViewRays& view, const VolumeTextures& volume, const RenderSettings& s,
+                                     double sun_intensity) {
   glBindTextureUnit(gl::binding::UNIT_GLOBE_WORLD_XY, globe_ ? globe_table_.id() : blank_.id());
   glBindTextureUnit(gl::binding::UNIT_GLOBE_BASEMAP, globe_basemap_ ? globe_basemap_.id() : blank_.id());
   globe_block_.bind();
@@ -111,6 +112,23 @@ void CloudRenderer::updateGlobeBlock(const ViewRays& view, const RenderSettings&
   b.lipschitz_h = float(m.horizontal_lipschitz);
   b.has_globe_basemap = globe_basemap_ ? 1u : 0u;
   b.limb_radiance = glm::vec3(s.limb_radiance * sun_intensity);
+  // Terrain on the globe (glsl/render/globe_terrain.glsl): the shell of its heights, the table's
+  // cone and margin, and the march's rate bound
+  //   |df/dt| ≤ 1 + L·L_h + H_max/edge
+  // (the radius changes at most 1 m per metre; the world point moves at most L_h world metres per
+  // ECEF metre and the surface rises at most L per world metre; the margin's ramp at most
+  // H_max/edge per metre), +1 %.
+  const scene::TerrainField& t = volume.terrain();
+  const double top = R + std::max(t.max_m, 0.0), bottom = R + std::min(t.min_m, 0.0) - 1.0;
+  b.terrain_c_m2 = glm::vec2(float(o2 - top * top), float(o2 - bottom * bottom));
+  const double edge_m = std::max(m.margin_rad * R, 1.0);
+  b.terrain_edge_m = float(edge_m);
+  b.terrain_rate = float(1.01 * (1.0 + t.lipschitz * m.horizontal_lipschitz + std::max(t.max_m, -t.min_m) / edge_m));
+  // The table's (a, b) box seen from the footprint centre's axis: its farthest point is a corner,
+  // cos of its angle cos a·cos b (a, b the rotated lon/lat).
+  const double aMax = std::max(std::abs(m.ab_min_rad.x), std::abs(m.ab_max_rad.x));
+  const double bMax = std::max(std::abs(m.ab_min_rad.y), std::abs(m.ab_max_rad.y));
+  b.terrain_cap_min_dot_m = float(bottom * std::cos(aMax) * std::cos(bMax));
   globe_block_.update(b);
 }
 
@@ -125,8 +143,8 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   b.max_m = float(t.max_m);
   b.min_m = float(t.min_m);
   b.lipschitz = float(t.lipschitz);
-  // The globe keeps the sphere R as its ground (terrain on the globe is not drawn; docs/terrain.md).
-  b.has_terrain = s.terrain && t.present() && !globe_ ? 1u : 0u;
+  // Flat view and globe (render/globe_terrain.glsl) alike.
+  b.has_terrain = s.terrain && t.present() ? 1u : 0u;
   b.has_far_basemap = far_basemap_ && !globe_ ? 1u : 0u;
   b.far_basemap_min_m = glm::vec2(far_basemap_rect_.min_m);
   b.far_basemap_max_m = glm::vec2(far_basemap_rect_.max_m);
@@ -138,7 +156,7 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Rend
   EyePassFeatures f;
   f.globe = globe_.has_value();
   // The same conditions as the blocks' switches (updateTerrainBlock, dispatch, VolumeTextures).
-  f.terrain = s.terrain && volume.terrain().present() && !globe_;
+  f.terrain = s.terrain && volume.terrain().present();
   f.atmosphere = s.atmosphere;
   f.passes = passes_;
   f.detail = volume.detail().on();
@@ -225,7 +243,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   }
   raycast_block_.update(b);
   raycast_block_.bind();
-  updateGlobeBlock(view, s, sun.intensity);
+  updateGlobeBlock(view, volume, s, sun.intensity);
   updateTerrainBlock(volume, s);
   glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);

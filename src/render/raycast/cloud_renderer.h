@@ -70,7 +70,7 @@ struct RenderOutput {
 /// view pays only for what it draws. CloudRenderer keeps one program per distinct set.
 struct EyePassFeatures {
   bool globe = false;       ///< rays in ECEF (setGlobe)
-  bool terrain = false;     ///< displaced ground (flat view only)
+  bool terrain = false;     ///< displaced ground (flat view and globe)
   bool atmosphere = false;  ///< RenderSettings::atmosphere
   bool passes = false;      ///< compositing passes written (setPasses)
   bool detail = false;      ///< sub-grid detail in extinctionAt (VolumeTextures::detail)
@@ -134,7 +134,8 @@ class CloudRenderer {
   const gl::Texture& skyPass() const { return sky_pass_tex_; }
 
  private:
-  void updateGlobeBlock(const ViewRays& view, const RenderSettings& settings, double sun_intensity);
+  void updateGlobeBlock(const ViewRays& view, const VolumeTextures& volume, const RenderSettings& settings,
+                        double sun_intensity);
   void updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& settings);
 
   const gl::Program& program(const EyePassFeatures& features);

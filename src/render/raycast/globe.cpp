@@ -66,6 +66,7 @@ GlobeMapping buildGlobeMapping(const scene::SceneGeoreference& geo, int long_sid
   const glm::dvec2 grow = 0.02 * (abHi - abLo);
   m.ab_min_rad = abLo - grow;
   m.ab_max_rad = abHi + grow;
+  m.margin_rad = std::min(grow.x, grow.y);
   m.cap_cos = std::cos(std::min(1.02 * std::acos(std::min(minCos, 1.0)), 1.5));
 
   const glm::dvec2 extent = m.ab_max_rad - m.ab_min_rad;

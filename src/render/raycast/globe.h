@@ -45,6 +45,9 @@ struct GlobeMapping {
   double shell_max_m = 0.0;                ///< R + z_max (grown box top)
   double horizontal_lipschitz = 1.0;       ///< L_h: world-xy metres per ECEF metre, upper bound
   double max_interpolation_error_m = 0.0;  ///< table vs PROJ at texel-cell centres (measured)
+  /// The table's margin beyond the grown footprint's outline [rad of arc]: terrain on the globe
+  /// ramps to 0 over it (glsl/render/globe_terrain.glsl), so the ground has no cliff at the edge.
+  double margin_rad = 0.0;
 };
 
 /// Rotated lon/lat (a, b) [rad] of an ECEF point: a = atan2(east, up), b = asin(north / |p|).
