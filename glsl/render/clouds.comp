@@ -398,7 +398,8 @@ void main() {
         vec3 lifted = g + n * (0.01 * min(u_terrain_cell_m.x, u_terrain_cell_m.y));
         if (sunLambert > 0.0 && sunCos > 0.0 && globeTerrainShadows(lifted, u_to_sun)) sunVisible = 0.0;
         skyView = 0.5 * (1.0 + dot(n, gn));
-        altitude = max(length(g) - u_earth_radius_m, 0.0);
+        // The light at the true altitude (drawn height / exaggeration), as in the flat view.
+        altitude = max(length(g) - u_earth_radius_m, 0.0) / u_height_exaggeration;
       }
       sky = vec3(0.0);
       if (ATMOSPHERE_ON) {
