@@ -10,7 +10,8 @@
 // F single scattering E·p_v(ψ)·I_DLM (p_v the β-weighted ice/water Henyey–Greenstein mix, Nes eq.
 // 5.12) plus the multiple-scattering term of u_cloud_ms_model [1/sr] (glsl/common/
 // cloud_light.glsl cloudSunFactor: the octave series, or by default the column's two-stream
-// diffuse light from the column depths), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl). The sky light:
+// diffuse light from the column depths), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl,
+// or its light cache: sampleSunlight below). The sky light:
 // the upper hemisphere's clear-sky radiance L_sky reaches the sample through the cloud column
 // above it, the lower hemisphere's L_below (ground-reflected light) through the column below, each
 // attenuated by the two-stream diffuse transmittance T_d of that column's vertical optical depth
@@ -109,6 +110,19 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
 #define WRITE_PASSES (SPEC_PASSES != 0)
 #else
 #define WRITE_PASSES u_write_passes
+#endif
+
+// The sunlight at a cloud sample (issue 19 item 1b): with SPEC_LIGHT_CACHE = 1 (CloudRenderer, when
+// the map was built with DlmSettings::light_cache_voxels > 0) one trilinear fetch from the light
+// cache the map baked over the volume's box (glsl/dlm/light_cache.comp); otherwise the map's
+// four-texel look-up (glsl/dlm/lookup.glsl), the reference path. The ground's shadow keeps the
+// look-up either way: the ground lies outside the cache's box below sea level and on the globe,
+// and it is one look-up per pixel, not per step.
+#if defined(SPEC_LIGHT_CACHE) && SPEC_LIGHT_CACHE != 0
+layout(binding = UNIT_LIGHT_CACHE) uniform sampler3D u_light_cache;  // R16F I_DLM per world cell
+float sampleSunlight(vec3 world_m) { return texture(u_light_cache, volumeUvw(world_m)).r; }
+#else
+float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 #endif
 
 #include "render/globe.glsl"
@@ -327,7 +341,7 @@ void main() {
         float T = exp(-b * u_step_m);
         float iceWeight = beta.x / b;  // Nes eq. 5.12
         vec2 tau = columnDepthAt(w);  // one look-up for the sky light and the two-stream term
-        float sun = cloudSunFactor(u_cloud_ms_model, dlmIntensity(w), cosPsi, iceWeight, u_g_ice, u_g_water,
+        float sun = cloudSunFactor(u_cloud_ms_model, sampleSunlight(w), cosPsi, iceWeight, u_g_ice, u_g_water,
                                    u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
                                    tau.x, tau.y, twoStreamSun, muOut);
         vec3 L = sunAtClouds * sun + skyLightAt(tau, mix(u_g_water, u_g_ice, iceWeight), skyAtClouds);

@@ -50,6 +50,14 @@ constexpr std::array kKnobs{
          .preset = {0.04, 0.01, 0.0025}, .doc = "Lokovic–Veach error bound of the stored I(depth)"},
     Knob{.name = "dlm_max_nodes", .unit = "nodes", .min = 2, .max = 256, .field = &Q::dlm_max_nodes,
          .preset = {16, 16, 32}, .doc = "node budget per deep light map texel"},
+    // The light cache (issue 19 item 1b; glsl/dlm/light_cache.comp): the map's sunlight baked per
+    // world cell of this many voxels, read with one trilinear fetch per eye-pass sample instead of
+    // the four-texel node-list look-up; 0 keeps the look-up (the reference path). 0 in every
+    // preset, by measurement (BM_LightCache in tests/bench/frame_benchmark.cpp, docs/benchmarks.md
+    // "Light cache"): the ray cast gains 1.42–1.50× CPU, but a cell of 2 voxels costs 5 8-bit levels
+    // on the demo storm and 55 on the coarse storm (light changes within a voxel at cloud tops).
+    Knob{.name = "light_cache_voxels", .unit = "voxels", .min = 0.0, .max = 8.0, .field = &Q::light_cache_voxels,
+         .preset = {0.0, 0.0, 0.0}, .doc = "light cache cell in voxel sizes (0: the deep light map's look-up per sample)"},
     Knob{.name = "early_termination_transmittance", .unit = "1", .min = 0.0, .max = 1.0,
          .field = &Q::early_termination_transmittance,
          .preset = {0.02, 0.01, 0.001}, .doc = "a ray stops below this transmittance"},
@@ -161,6 +169,7 @@ scene::DlmSettings dlmSettingsFor(const QualitySettings& q) {
   d.max_nodes = q.dlm_max_nodes;
   d.max_texels = q.dlm_resolution;
   d.empty_space_skipping = q.empty_space_skipping;
+  d.light_cache_voxels = q.light_cache_voxels;
   return d;
 }
 

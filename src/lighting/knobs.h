@@ -42,6 +42,7 @@ struct QualitySettings {
   double dlm_step_voxels{};                  ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
   double dlm_texel_voxels{};                 ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
   int dlm_max_nodes{};                       ///< node budget per DLM texel (DlmSettings::max_nodes)
+  double light_cache_voxels{};               ///< light cache cell in voxels, 0 = none (DlmSettings::light_cache_voxels)
   double early_termination_transmittance{};  ///< stop a ray below this T
   bool empty_space_skipping{};               ///< skip empty occupancy bricks (DLM and ray caster)
   bool jitter{};                             ///< per-pixel start offset against banding

@@ -35,6 +35,7 @@
 #include "bench_hurricane.h"
 #include "bench_stats.h"
 #include "fetch_kernel.h"
+#include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/context.h"
 #include "render/raycast/cloud_renderer.h"
@@ -331,6 +332,112 @@ BENCHMARK(BM_MultipleScatteringCost)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(7);
+
+// Issue 19 item 1b: the light cache (DlmSettings::light_cache_voxels; glsl/dlm/light_cache.comp)
+// against the map's direct look-up, on the demo's view. Variants: the direct look-up (cell 0, the
+// reference path) and caches of 1, 2 and 4 voxels per cell. Timed, interleaved in rotating order:
+// the ray cast with the default settings; the bake once per variant (it runs inside the DLM build).
+// Errors in 8-bit sRGB levels (default exposure, ACES): each cached frame against the direct
+// look-up's (default settings), and each cloud layer against the CPU reference ray marcher
+// evaluating the map per sample (reference::marchCloudLayer; no jitter, no atmosphere, which the
+// reference lacks). Reported: max levels and the share of 8-bit values that differ by more than 2.
+struct LevelStats {
+  int max = 0;
+  double over2 = 0.0;  ///< share of values differing by more than 2 levels
+};
+LevelStats levelStats(const scene::RgbaImage& a, const scene::RgbaImage& b) {
+  scene::ImageOutputOptions o;
+  o.exposure_ev = scene::kDefaultExposureEv;
+  const auto ca = scene::encodeSrgb8(a, o), cb = scene::encodeSrgb8(b, o);
+  LevelStats l;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < ca.size() && i < cb.size(); ++i) {
+    const int d = std::abs(int(ca[i]) - int(cb[i]));
+    l.max = std::max(l.max, d);
+    n += d > 2;
+  }
+  l.over2 = ca.empty() ? 0.0 : double(n) / double(ca.size());
+  return l;
+}
+
+void BM_LightCache(benchmark::State& state) {
+  const bool demo = state.range(0) == 0;
+  const int width = int(state.range(1)), height = width * 9 / 16;
+  const auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes v = benchVolumes(demo);
+  const auto frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  const scene::Camera camera = demoCamera(frame, width, height);
+  const render::RenderSettings rs;
+  render::RenderSettings rsRef;  // the CPU reference's settings
+  rsRef.jitter = false;
+  rsRef.atmosphere = false;
+  constexpr int kVariants = 4;
+  const double cellVoxels[kVariants] = {0.0, 1.0, 2.0, 4.0};
+  std::vector<std::unique_ptr<render::DeepLightMap>> dlm;
+  std::vector<double> buildMs, bakeMs;
+  for (const double c : cellVoxels) {
+    scene::DlmSettings ds;
+    ds.light_cache_voxels = c;
+    dlm.push_back(std::make_unique<render::DeepLightMap>());
+    buildMs.push_back(timed([&] { dlm.back()->build(tex, -sun.toSun(), ds); }).wall_ms);
+    bakeMs.push_back(dlm.back()->stats().light_cache_ms);
+  }
+  render::CloudRenderer renderer;
+  render::RenderOutput out[kVariants];
+  LevelStats vsDirect[kVariants], vsCpu[kVariants];
+  const auto map = dlm[0]->readBack();
+  const auto& ls = dlm[0]->lightSpace();
+  const scene::RgbaImage cpu = reference::marchCloudLayer(
+      v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, rsRef);
+  for (int k = 0; k < kVariants; ++k) {
+    out[k] = renderer.render(tex, *dlm[std::size_t(k)], camera, sun, rs);  // compiles, warms up
+    vsCpu[k] = levelStats(renderer.render(tex, *dlm[std::size_t(k)], camera, sun, rsRef).cloud_layer, cpu);
+  }
+  for (int k = 0; k < kVariants; ++k) vsDirect[k] = levelStats(out[k].frame, out[0].frame);
+
+  Series cast[kVariants];
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < kVariants; ++j) {
+      const int k = (j + round) % kVariants;
+      const Timing t = timed([&] { renderer.render(tex, *dlm[std::size_t(k)], camera, sun, rs); });
+      cast[k].add(t);
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  auto& c = state.counters;
+  std::fprintf(stderr, "light cache, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
+               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str());
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = k == 0 ? "direct" : "cache" + std::to_string(int(cellVoxels[k]));
+    c["cast_ms_" + name] = median(cast[k].wall);
+    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
+    c["cast_ratio_" + name] = median(cast[0].cpu) / median(cast[k].cpu);
+    c["bake_ms_" + name] = bakeMs[std::size_t(k)];
+    c["levels_vs_direct_" + name] = vsDirect[k].max;
+    c["levels_vs_cpu_" + name] = vsCpu[k].max;
+    const glm::ivec3 n = dlm[std::size_t(k)]->stats().light_cache_texels;
+    std::fprintf(stderr,
+                 "  %-7s cells %dx%dx%d: ray cast wall %.0f ms, CPU %.0f ms, CPU direct/this %.2f; bake %.0f ms "
+                 "(DLM build %.0f ms); vs direct max %d levels, %.2f %% > 2; vs CPU reference max %d levels, "
+                 "%.2f %% > 2\n",
+                 name.c_str(), n.x, n.y, n.z, median(cast[k].wall), median(cast[k].cpu),
+                 median(cast[0].cpu) / median(cast[k].cpu), bakeMs[std::size_t(k)], buildMs[std::size_t(k)],
+                 vsDirect[k].max, 100.0 * vsDirect[k].over2, vsCpu[k].max, 100.0 * vsCpu[k].over2);
+  }
+}
+BENCHMARK(BM_LightCache)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 1280})  // coarse storm, 1280 × 720
+    ->Args({0, 640})   // demo storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 }  // namespace
 
