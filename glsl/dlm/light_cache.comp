@@ -12,7 +12,7 @@
 // holds the edge value in the filter's pad outside the box). Stored as R16F: I ∈ [0, 1] keeps
 // 11 significant bits, a relative step of 2⁻¹¹ ≈ 5e-4 (≪ the map's own ε = 0.01).
 // The error against the direct look-up is the interpolation of I between the cache's centres;
-// it is measured per cache resolution in tests/render/light_cache_gl_test.cpp and
+// it is measured per cache resolution in tests/render/frame_time_gl_test.cpp and
 // tests/bench/frame_benchmark.cpp (docs/benchmarks.md).
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"

@@ -40,6 +40,15 @@ using S = StyleSettings;
 constexpr std::array kKnobs{
     Knob{.name = "step_voxels", .unit = "voxels", .min = 0.01, .max = 10.0, .field = &Q::step_voxels,
          .preset = {1.0, 0.5, 0.25}, .doc = "ray-march step in voxel sizes"},
+    // Adaptive steps (issue 19; Muth 2026 §3.4.3 eq. 3.6; glsl/render/clouds.comp adaptiveStep):
+    // far away (a pixel's footprint) and in thin cloud (τ ≤ 0.05 per step) the view step grows up
+    // to this factor. 1 (fixed) in every preset, by measurement (BM_AdaptiveSteps in
+    // tests/bench/frame_benchmark.cpp, docs/benchmarks.md "Adaptive steps"): 4 gives the demo storm
+    // 2.6x CPU in the ray cast at ≤ 2 8-bit levels, but the coarse storm only 1.11x, and on small
+    // storms seen from afar steps of a pixel's footprint pass thin cloud edges (single values off
+    // by up to 208 levels, AdaptiveStepsTest), beyond the broadcast golden tolerance.
+    Knob{.name = "step_growth_max", .unit = "steps", .min = 1.0, .max = 16.0, .field = &Q::step_growth_max,
+         .preset = {1.0, 1.0, 1.0}, .doc = "adaptive view steps grow up to this × step_voxels far away and in thin cloud (1: fixed)"},
     Knob{.name = "dlm_step_voxels", .unit = "voxels", .min = 0.01, .max = 10.0, .field = &Q::dlm_step_voxels,
          .preset = {1.0, 0.5, 0.25}, .doc = "deep light map march step in voxel sizes"},
     Knob{.name = "dlm_texel_voxels", .unit = "voxels", .min = 0.1, .max = 16.0, .field = &Q::dlm_texel_voxels,
@@ -179,6 +188,7 @@ RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& 
   r.detail = detailOf(q);
   static_cast<StyleSettings&>(r) = style;
   r.step_voxels = q.step_voxels;
+  r.step_growth_max = q.step_growth_max;
   r.min_transmittance = q.early_termination_transmittance;
   r.jitter = q.jitter;
   r.empty_space_skipping = q.empty_space_skipping;

@@ -439,6 +439,88 @@ BENCHMARK(BM_LightCache)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
+// Issue 19 item 1: adaptive steps (RenderSettings::step_growth_max, the knob; Muth 2026 eq. 3.6;
+// glsl/render/clouds.comp adaptiveStep) against the fixed step, on the demo's view: growth caps 1
+// (fixed, the reference path), 2, 4 and 8, the ray cast interleaved in rotating order. Errors in
+// 8-bit levels as BM_LightCache: the frame against the fixed step's, the cloud layer (no jitter, no
+// atmosphere) against the CPU reference ray marcher (fixed steps, the map per sample). Also the
+// volume samples per frame.
+void BM_AdaptiveSteps(benchmark::State& state) {
+  const bool demo = state.range(0) == 0;
+  const int width = int(state.range(1)), height = width * 9 / 16;
+  const auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes v = benchVolumes(demo);
+  const auto frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  const scene::Camera camera = demoCamera(frame, width, height);
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  constexpr int kVariants = 4;
+  const double growth[kVariants] = {1.0, 2.0, 4.0, 8.0};
+  render::RenderSettings rs[kVariants], rsRef[kVariants];
+  const auto map = dlm.readBack();
+  const auto& ls = dlm.lightSpace();
+  render::RenderSettings cpuSettings;
+  cpuSettings.jitter = false;
+  cpuSettings.atmosphere = false;
+  const scene::RgbaImage cpu = reference::marchCloudLayer(
+      v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); },
+      cpuSettings);
+  render::CloudRenderer renderer;
+  render::RenderOutput out[kVariants];
+  LevelStats vsFixed[kVariants], vsCpu[kVariants];
+  double samples[kVariants];
+  for (int k = 0; k < kVariants; ++k) {
+    rs[k].step_growth_max = growth[k];
+    rsRef[k] = cpuSettings;
+    rsRef[k].step_growth_max = growth[k];
+    renderer.countSamples(true);
+    out[k] = renderer.render(tex, dlm, camera, sun, rs[k]);  // compiles, warms up
+    samples[k] = double(renderer.sampleCount());
+    renderer.countSamples(false);
+    vsCpu[k] = levelStats(renderer.render(tex, dlm, camera, sun, rsRef[k]).cloud_layer, cpu);
+  }
+  for (int k = 0; k < kVariants; ++k) vsFixed[k] = levelStats(out[k].frame, out[0].frame);
+  Series cast[kVariants];
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < kVariants; ++j) {
+      const int k = (j + round) % kVariants;
+      const Timing t = timed([&] { renderer.render(tex, dlm, camera, sun, rs[k]); });
+      cast[k].add(t);
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  auto& c = state.counters;
+  std::fprintf(stderr, "adaptive steps, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
+               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str());
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = "growth" + std::to_string(int(growth[k]));
+    c["cast_ms_" + name] = median(cast[k].wall);
+    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
+    c["cast_ratio_" + name] = median(cast[0].cpu) / median(cast[k].cpu);
+    c["samples_" + name] = samples[k];
+    c["levels_vs_fixed_" + name] = vsFixed[k].max;
+    c["levels_vs_cpu_" + name] = vsCpu[k].max;
+    std::fprintf(stderr,
+                 "  %-8s ray cast wall %.0f ms, CPU %.0f ms, CPU fixed/this %.2f; %.3g samples; vs fixed max %d "
+                 "levels, %.2f %% > 2; vs CPU reference max %d levels, %.2f %% > 2\n",
+                 name.c_str(), median(cast[k].wall), median(cast[k].cpu), median(cast[0].cpu) / median(cast[k].cpu),
+                 samples[k], vsFixed[k].max, 100.0 * vsFixed[k].over2, vsCpu[k].max, 100.0 * vsCpu[k].over2);
+  }
+}
+BENCHMARK(BM_AdaptiveSteps)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 1280})  // coarse storm, 1280 × 720
+    ->Args({0, 640})   // demo storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -205,6 +205,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.g_water = float(s.g_water);
   const glm::dvec3 voxel = volume.frame().voxel_size_m;
   b.step_m = float(s.step_voxels * std::min({voxel.x, voxel.y, voxel.z}));
+  b.step_growth_max = float(std::max(s.step_growth_max, 1.0));
   b.min_transmittance = float(s.min_transmittance);
   b.jitter = s.jitter ? 1u : 0u;
   b.skip_empty = s.empty_space_skipping ? 1u : 0u;

@@ -1,4 +1,5 @@
-// Light cache (issue 19 item 1b; glsl/dlm/light_cache.comp): the deep light map's sunlight baked
+// Frame time (issue 19): the light cache and adaptive steps against the reference paths.
+// Light cache (item 1b; glsl/dlm/light_cache.comp): the deep light map's sunlight baked
 // into a world volume when the map is built, read by the eye pass with one trilinear fetch.
 // Checked against the map's own look-up: exact at the cache's cell centres up to R16F rounding,
 // and the frame against the CPU reference ray marcher (which evaluates the map per sample) within
@@ -21,32 +22,12 @@ namespace nph::test {
 namespace {
 
 using LightCacheTest = GlTest;
+using AdaptiveStepsTest = GlTest;
 
 scene::DlmSettings withCache(double cell_voxels) {
   scene::DlmSettings s;
   s.light_cache_voxels = cell_voxels;
   return s;
-}
-
-// Largest difference of the 8-bit sRGB codes (default exposure, ACES) of two premultiplied
-// layers, and the share of values that differ at all.
-struct Levels {
-  int max = 0;
-  double differing = 0.0;
-};
-Levels levelDifference(const scene::RgbaImage& a, const scene::RgbaImage& b) {
-  scene::ImageOutputOptions o;
-  o.exposure_ev = scene::kDefaultExposureEv;
-  const auto ca = scene::encodeSrgb8(a, o), cb = scene::encodeSrgb8(b, o);
-  Levels l;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < ca.size() && i < cb.size(); ++i) {
-    const int d = std::abs(int(ca[i]) - int(cb[i]));
-    l.max = std::max(l.max, d);
-    n += d > 0;
-  }
-  l.differing = ca.empty() ? 0.0 : double(n) / double(ca.size());
-  return l;
 }
 
 // At each cell centre the cache holds the map's look-up (the CPU twin DeepLightMap::lookup on the
@@ -136,7 +117,7 @@ TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
   const scene::RgbaImage cpu = reference::marchCloudLayer(
       v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, {});
   render::CloudRenderer renderer;
-  const Levels directLevels = levelDifference(renderer.render(tex, direct, cam, sun, rs).cloud_layer, cpu);
+  const LevelDifference directLevels = levelDifference(renderer.render(tex, direct, cam, sun, rs).cloud_layer, cpu);
   std::printf("[ cache    ] 192x108 hurricane, direct look-up vs CPU: max %d levels, %.2f %% of values differ\n",
               directLevels.max, 100.0 * directLevels.differing);
   EXPECT_LE(directLevels.max, 1);
@@ -147,10 +128,66 @@ TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
   for (const Case c : {Case{1.0, 14}, Case{2.0, 34}, Case{4.0, 44}}) {
     render::DeepLightMap cached;
     cached.build(tex, -sun.toSun(), withCache(c.cell_voxels));
-    const Levels l = levelDifference(renderer.render(tex, cached, cam, sun, rs).cloud_layer, cpu);
+    const LevelDifference l = levelDifference(renderer.render(tex, cached, cam, sun, rs).cloud_layer, cpu);
     std::printf("[ cache    ] cell %.0f voxels: max %d levels, %.2f %% of values differ\n", c.cell_voxels, l.max,
                 100.0 * l.differing);
     EXPECT_LE(l.max, c.max_levels) << "cell " << c.cell_voxels << " voxels";
+  }
+}
+
+// Adaptive steps (RenderSettings::step_growth_max; Muth 2026 eq. 3.6; glsl/render/clouds.comp
+// adaptiveStep) on the same view: a growth cap of 1 is the fixed step bit for bit; caps of 2 and 4
+// take about 1/2 and 1/3 of the volume samples. Far from this small storm a pixel's footprint
+// exceeds the cap, so every step grows to it, and a step of 4·Δ can pass a thin cloud edge that
+// the fixed step samples: single values then differ by up to 208 levels (the pixel flips between
+// cloud and ground), on 1.6 % (cap 2) and 3.5 % (cap 4) of the 8-bit values against the CPU
+// reference (fixed steps) — why the presets keep the fixed step (docs/benchmarks.md "Adaptive
+// steps"). Bounds: the measured shares and sample ratios with a little room.
+TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
+  const ExtinctionVolumes v = generatedHurricane();
+  const auto frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "hurricane-x8");
+  const scene::Sun sun{140.0, 35.0};
+  scene::Camera cam;
+  const glm::dvec3 size = frame.size_m();
+  cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};
+  cam.position_m = cam.target_m + glm::dvec3(-0.3 * size.x, -1.1 * size.y, 0.6 * size.x);
+  cam.vertical_fov_deg = 40.0;
+  cam.width = 192;
+  cam.height = 108;
+  render::RenderSettings rs;
+  rs.jitter = false;
+  rs.atmosphere = false;  // the CPU reference ray marcher has no atmosphere
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  const auto map = dlm.readBack();
+  const scene::RgbaImage cpu = reference::marchCloudLayer(
+      v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, dlm.lightSpace(), p); },
+      rs);
+  render::CloudRenderer renderer;
+  renderer.countSamples(true);
+  const render::RenderOutput fixed = renderer.render(tex, dlm, cam, sun, rs);
+  const double fixedSamples = double(renderer.sampleCount());
+  rs.step_growth_max = 1.0;
+  const render::RenderOutput one = renderer.render(tex, dlm, cam, sun, rs);
+  EXPECT_EQ(one.cloud_layer.rgba, fixed.cloud_layer.rgba) << "a growth cap of 1 is the fixed step";
+  struct Case {
+    double growth;
+    double max_sample_ratio, max_differing;
+  };
+  for (const Case c : {Case{2.0, 0.55, 0.02}, Case{4.0, 0.35, 0.04}}) {
+    rs.step_growth_max = c.growth;
+    const render::RenderOutput out = renderer.render(tex, dlm, cam, sun, rs);
+    const double samples = double(renderer.sampleCount());
+    const LevelDifference vsCpu = levelDifference(out.cloud_layer, cpu);
+    const LevelDifference vsFixed = levelDifference(out.cloud_layer, fixed.cloud_layer);
+    std::printf("[ adaptive ] growth %.0f: %.0f samples (fixed %.0f); vs CPU max %d levels (%.2f %% differ), "
+                "vs fixed max %d (%.2f %%)\n",
+                c.growth, samples, fixedSamples, vsCpu.max, 100.0 * vsCpu.differing, vsFixed.max,
+                100.0 * vsFixed.differing);
+    EXPECT_LT(samples, c.max_sample_ratio * fixedSamples) << "growth " << c.growth;
+    EXPECT_LE(vsCpu.differing, c.max_differing) << "growth " << c.growth;
+    EXPECT_LE(vsFixed.differing, c.max_differing) << "growth " << c.growth;
   }
 }
 
