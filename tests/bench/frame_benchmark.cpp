@@ -360,19 +360,60 @@ LevelStats levelStats(const scene::RgbaImage& a, const scene::RgbaImage& b) {
   return l;
 }
 
+// The demo's view of a benchmark storm (BM_LightCache, BM_AdaptiveSteps): the volumes uploaded,
+// the sun of the demo, the oblique camera, and the CPU reference ray marcher's cloud layer for a
+// map (no jitter, no atmosphere: referenceSettings).
+struct DemoScene {
+  bool demo;
+  int width, height;
+  std::unique_ptr<gl::Context> ctx = bench::hiddenContext();
+  ExtinctionVolumes v = benchVolumes(demo);
+  scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  render::VolumeTextures tex = render::VolumeTextures::upload(v, frame, "bench");
+  scene::Sun sun{140.0, 35.0};
+  scene::Camera camera = demoCamera(frame, width, height);
+
+  static render::RenderSettings referenceSettings() {
+    render::RenderSettings rs;
+    rs.jitter = false;
+    rs.atmosphere = false;
+    return rs;
+  }
+  scene::RgbaImage cpuReference(const render::DeepLightMap& dlm) const {
+    const auto map = dlm.readBack();
+    const auto& ls = dlm.lightSpace();
+    return reference::marchCloudLayer(
+        v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); },
+        referenceSettings());
+  }
+  void printHeader(const char* what, int rounds) const {
+    std::fprintf(stderr, "%s, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n", what,
+                 demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, rounds, ctx->info().renderer.c_str());
+  }
+};
+
+// kVariants ray casts per round in rotating order (cast(k) renders variant k); returns the rounds.
+template <int kVariants, class Cast>
+int interleavedCasts(benchmark::State& state, Series (&series)[kVariants], Cast&& cast) {
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < kVariants; ++j) {
+      const int k = (j + round) % kVariants;
+      const Timing t = timed([&] { cast(k); });
+      series[k].add(t);
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  return round;
+}
+
 void BM_LightCache(benchmark::State& state) {
-  const bool demo = state.range(0) == 0;
-  const int width = int(state.range(1)), height = width * 9 / 16;
-  const auto ctx = bench::hiddenContext();
-  const ExtinctionVolumes v = benchVolumes(demo);
-  const auto frame = scene::frameOf(v, 8.0);
-  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
-  const scene::Sun sun{140.0, 35.0};
-  const scene::Camera camera = demoCamera(frame, width, height);
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
   const render::RenderSettings rs;
-  render::RenderSettings rsRef;  // the CPU reference's settings
-  rsRef.jitter = false;
-  rsRef.atmosphere = false;
+  const render::RenderSettings rsRef = DemoScene::referenceSettings();
   constexpr int kVariants = 4;
   const double cellVoxels[kVariants] = {0.0, 1.0, 2.0, 4.0};
   std::vector<std::unique_ptr<render::DeepLightMap>> dlm;
@@ -381,38 +422,23 @@ void BM_LightCache(benchmark::State& state) {
     scene::DlmSettings ds;
     ds.light_cache_voxels = c;
     dlm.push_back(std::make_unique<render::DeepLightMap>());
-    buildMs.push_back(timed([&] { dlm.back()->build(tex, -sun.toSun(), ds); }).wall_ms);
+    buildMs.push_back(timed([&] { dlm.back()->build(sc.tex, -sc.sun.toSun(), ds); }).wall_ms);
     bakeMs.push_back(dlm.back()->stats().light_cache_ms);
   }
   render::CloudRenderer renderer;
   render::RenderOutput out[kVariants];
   LevelStats vsDirect[kVariants], vsCpu[kVariants];
-  const auto map = dlm[0]->readBack();
-  const auto& ls = dlm[0]->lightSpace();
-  const scene::RgbaImage cpu = reference::marchCloudLayer(
-      v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, rsRef);
+  const scene::RgbaImage cpu = sc.cpuReference(*dlm[0]);
   for (int k = 0; k < kVariants; ++k) {
-    out[k] = renderer.render(tex, *dlm[std::size_t(k)], camera, sun, rs);  // compiles, warms up
-    vsCpu[k] = levelStats(renderer.render(tex, *dlm[std::size_t(k)], camera, sun, rsRef).cloud_layer, cpu);
+    out[k] = renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rs);  // compiles, warms up
+    vsCpu[k] = levelStats(renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rsRef).cloud_layer, cpu);
   }
   for (int k = 0; k < kVariants; ++k) vsDirect[k] = levelStats(out[k].frame, out[0].frame);
-
   Series cast[kVariants];
-  int round = 0;
-  for (auto _ : state) {
-    double total = 0.0;
-    for (int j = 0; j < kVariants; ++j) {
-      const int k = (j + round) % kVariants;
-      const Timing t = timed([&] { renderer.render(tex, *dlm[std::size_t(k)], camera, sun, rs); });
-      cast[k].add(t);
-      total += t.wall_ms;
-    }
-    ++round;
-    state.SetIterationTime(total * 1e-3);
-  }
+  const int rounds = interleavedCasts<kVariants>(
+      state, cast, [&](int k) { renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rs); });
   auto& c = state.counters;
-  std::fprintf(stderr, "light cache, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
-               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str());
+  sc.printHeader("light cache", rounds);
   for (int k = 0; k < kVariants; ++k) {
     const std::string name = k == 0 ? "direct" : "cache" + std::to_string(int(cellVoxels[k]));
     c["cast_ms_" + name] = median(cast[k].wall);
@@ -446,58 +472,33 @@ BENCHMARK(BM_LightCache)
 // atmosphere) against the CPU reference ray marcher (fixed steps, the map per sample). Also the
 // volume samples per frame.
 void BM_AdaptiveSteps(benchmark::State& state) {
-  const bool demo = state.range(0) == 0;
-  const int width = int(state.range(1)), height = width * 9 / 16;
-  const auto ctx = bench::hiddenContext();
-  const ExtinctionVolumes v = benchVolumes(demo);
-  const auto frame = scene::frameOf(v, 8.0);
-  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
-  const scene::Sun sun{140.0, 35.0};
-  const scene::Camera camera = demoCamera(frame, width, height);
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(sc.tex, -sc.sun.toSun(), scene::DlmSettings{});
   constexpr int kVariants = 4;
   const double growth[kVariants] = {1.0, 2.0, 4.0, 8.0};
   render::RenderSettings rs[kVariants], rsRef[kVariants];
-  const auto map = dlm.readBack();
-  const auto& ls = dlm.lightSpace();
-  render::RenderSettings cpuSettings;
-  cpuSettings.jitter = false;
-  cpuSettings.atmosphere = false;
-  const scene::RgbaImage cpu = reference::marchCloudLayer(
-      v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); },
-      cpuSettings);
+  const scene::RgbaImage cpu = sc.cpuReference(dlm);
   render::CloudRenderer renderer;
   render::RenderOutput out[kVariants];
   LevelStats vsFixed[kVariants], vsCpu[kVariants];
   double samples[kVariants];
   for (int k = 0; k < kVariants; ++k) {
     rs[k].step_growth_max = growth[k];
-    rsRef[k] = cpuSettings;
+    rsRef[k] = DemoScene::referenceSettings();
     rsRef[k].step_growth_max = growth[k];
     renderer.countSamples(true);
-    out[k] = renderer.render(tex, dlm, camera, sun, rs[k]);  // compiles, warms up
+    out[k] = renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]);  // compiles, warms up
     samples[k] = double(renderer.sampleCount());
     renderer.countSamples(false);
-    vsCpu[k] = levelStats(renderer.render(tex, dlm, camera, sun, rsRef[k]).cloud_layer, cpu);
+    vsCpu[k] = levelStats(renderer.render(sc.tex, dlm, sc.camera, sc.sun, rsRef[k]).cloud_layer, cpu);
   }
   for (int k = 0; k < kVariants; ++k) vsFixed[k] = levelStats(out[k].frame, out[0].frame);
   Series cast[kVariants];
-  int round = 0;
-  for (auto _ : state) {
-    double total = 0.0;
-    for (int j = 0; j < kVariants; ++j) {
-      const int k = (j + round) % kVariants;
-      const Timing t = timed([&] { renderer.render(tex, dlm, camera, sun, rs[k]); });
-      cast[k].add(t);
-      total += t.wall_ms;
-    }
-    ++round;
-    state.SetIterationTime(total * 1e-3);
-  }
+  const int rounds =
+      interleavedCasts<kVariants>(state, cast, [&](int k) { renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]); });
   auto& c = state.counters;
-  std::fprintf(stderr, "adaptive steps, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
-               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str());
+  sc.printHeader("adaptive steps", rounds);
   for (int k = 0; k < kVariants; ++k) {
     const std::string name = "growth" + std::to_string(int(growth[k]));
     c["cast_ms_" + name] = median(cast[k].wall);

@@ -30,6 +30,35 @@ scene::DlmSettings withCache(double cell_voxels) {
   return s;
 }
 
+// The generated hurricane (heights × 8) seen obliquely at 192 × 108 (the view of
+// RaycastTest.GpuMatchesTheCpuReferenceRayMarcher, larger), with the settings the CPU reference
+// ray marcher shares: no jitter, no atmosphere (the reference has none).
+struct ObliqueHurricane {
+  ExtinctionVolumes volumes = generatedHurricane();
+  scene::VolumeFrame frame = scene::frameOf(volumes, 8.0);
+  render::VolumeTextures textures = render::VolumeTextures::upload(volumes, frame, "hurricane-x8");
+  scene::Sun sun{140.0, 35.0};
+  scene::Camera camera = obliqueCamera(frame);
+  render::RenderSettings settings = referenceSettings();
+
+  static scene::Camera obliqueCamera(const scene::VolumeFrame& f) {
+    scene::Camera cam;
+    const glm::dvec3 size = f.size_m();
+    cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};
+    cam.position_m = cam.target_m + glm::dvec3(-0.3 * size.x, -1.1 * size.y, 0.6 * size.x);
+    cam.vertical_fov_deg = 40.0;
+    cam.width = 192;
+    cam.height = 108;
+    return cam;
+  }
+  static render::RenderSettings referenceSettings() {
+    render::RenderSettings rs;
+    rs.jitter = false;
+    rs.atmosphere = false;
+    return rs;
+  }
+};
+
 // At each cell centre the cache holds the map's look-up (the CPU twin DeepLightMap::lookup on the
 // read-back map) in half precision: |ΔI| ≤ 2⁻¹¹ for I ≤ 1 (one half-float step: GL leaves the
 // float-to-half rounding mode open, and llvmpipe truncates, measured 4.9e-4) plus the float
@@ -96,20 +125,9 @@ TEST_F(LightCacheTest, TheCellSizeIsPartOfTheBuildAndZeroMeansNone) {
 // maxima on llvmpipe (printed) with one level of room, so that a change of the cache's accuracy
 // either way is seen.
 TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
-  const ExtinctionVolumes v = generatedHurricane();
-  const auto frame = scene::frameOf(v, 8.0);
-  const auto tex = render::VolumeTextures::upload(v, frame, "hurricane-x8");
-  const scene::Sun sun{140.0, 35.0};
-  scene::Camera cam;
-  const glm::dvec3 size = frame.size_m();
-  cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};
-  cam.position_m = cam.target_m + glm::dvec3(-0.3 * size.x, -1.1 * size.y, 0.6 * size.x);
-  cam.vertical_fov_deg = 40.0;
-  cam.width = 192;
-  cam.height = 108;
-  render::RenderSettings rs;
-  rs.jitter = false;
-  rs.atmosphere = false;  // the CPU reference ray marcher has no atmosphere
+  const ObliqueHurricane h;
+  const auto& [v, frame, tex, sun, cam, reference] = h;
+  render::RenderSettings rs = reference;
   render::DeepLightMap direct;
   direct.build(tex, -sun.toSun(), withCache(0.0));
   const auto map = direct.readBack();
@@ -144,20 +162,9 @@ TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
 // reference (fixed steps) — why the presets keep the fixed step (docs/benchmarks.md "Adaptive
 // steps"). Bounds: the measured shares and sample ratios with a little room.
 TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
-  const ExtinctionVolumes v = generatedHurricane();
-  const auto frame = scene::frameOf(v, 8.0);
-  const auto tex = render::VolumeTextures::upload(v, frame, "hurricane-x8");
-  const scene::Sun sun{140.0, 35.0};
-  scene::Camera cam;
-  const glm::dvec3 size = frame.size_m();
-  cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};
-  cam.position_m = cam.target_m + glm::dvec3(-0.3 * size.x, -1.1 * size.y, 0.6 * size.x);
-  cam.vertical_fov_deg = 40.0;
-  cam.width = 192;
-  cam.height = 108;
-  render::RenderSettings rs;
-  rs.jitter = false;
-  rs.atmosphere = false;  // the CPU reference ray marcher has no atmosphere
+  const ObliqueHurricane h;
+  const auto& [v, frame, tex, sun, cam, reference] = h;
+  render::RenderSettings rs = reference;
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
   const auto map = dlm.readBack();
