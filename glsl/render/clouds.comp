@@ -10,7 +10,8 @@
 // F single scattering E·p_v(ψ)·I_DLM (p_v the β-weighted ice/water Henyey–Greenstein mix, Nes eq.
 // 5.12) plus the multiple-scattering term of u_cloud_ms_model [1/sr] (glsl/common/
 // cloud_light.glsl cloudSunFactor: the octave series, or by default the column's two-stream
-// diffuse light from the column depths), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl). The sky light:
+// diffuse light from the column depths), I_DLM the deep light map's sunlight (glsl/dlm/lookup.glsl,
+// or its light cache: sampleSunlight below). The sky light:
 // the upper hemisphere's clear-sky radiance L_sky reaches the sample through the cloud column
 // above it, the lower hemisphere's L_below (ground-reflected light) through the column below, each
 // attenuated by the two-stream diffuse transmittance T_d of that column's vertical optical depth
@@ -90,6 +91,7 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   bool u_atmosphere;          // the physically based atmosphere (AtmosphereBlock and its tables)
   bool u_write_passes;        // fill u_pass_ground and u_pass_sky
   int u_cloud_ms_model;  // lighting::MultipleScattering: 0 single, 1 octaves, 2 two_stream
+  float u_step_growth_max;  // adaptive steps (adaptiveStep below): at most this × u_step_m; 1 = fixed
 };
 
 // Compile-time specialisation per view (issue 19, "Frame time"; see glsl/dlm/volume.glsl for the
@@ -111,6 +113,19 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
 #define WRITE_PASSES (SPEC_PASSES != 0)
 #else
 #define WRITE_PASSES u_write_passes
+#endif
+
+// The sunlight at a cloud sample (issue 19 item 1b): with SPEC_LIGHT_CACHE = 1 (CloudRenderer, when
+// the map was built with DlmSettings::light_cache_voxels > 0) one trilinear fetch from the light
+// cache the map baked over the volume's box (glsl/dlm/light_cache.comp); otherwise the map's
+// four-texel look-up (glsl/dlm/lookup.glsl), the reference path. The ground's shadow keeps the
+// look-up either way: the ground lies outside the cache's box below sea level and on the globe,
+// and it is one look-up per pixel, not per step.
+#if defined(SPEC_LIGHT_CACHE) && SPEC_LIGHT_CACHE != 0
+layout(binding = UNIT_LIGHT_CACHE) uniform sampler3D u_light_cache;  // R16F I_DLM per world cell
+float sampleSunlight(vec3 world_m) { return texture(u_light_cache, volumeUvw(world_m)).r; }
+#else
+float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 #endif
 
 #include "render/globe.glsl"
@@ -241,6 +256,26 @@ vec3 skyLightAt(vec2 tau, float g, vec3 skyAbove) {
   return 0.5 * (skyAbove * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
 }
 
+// Adaptive steps (issue 19 item 1; Muth 2026 §3.4.3 eq. 3.6: Δt = min(max(t/c_d, Δt_min) +
+// Δt_horizon, Δt_length)), larger far away and in thin cloud, never below the fixed step Δ and at
+// most u_step_growth_max·Δ (the knob `step_growth_max`; 1 = the fixed step, the reference path):
+//   far away:   Δ_far = t·|dΩ_px|, one pixel's footprint at distance t (Muth's t/c_d with c_d the
+//               reciprocal of the pixel's angle: a step never shorter than the pixel is wide), so
+//               the march's resolution along the ray follows the picture's across it;
+//   thin cloud: Δ_thin = τ_step / β_brick, β_brick the occupancy brick's maximum extinction
+//               (an upper bound of β in the brick, glsl/dlm/volume.glsl brickMaxAt) scaled along
+//               the ray, so that no step's optical depth exceeds τ_step = kThinStepOpticalDepth
+//               where the brick is thin; dense bricks keep Δ.
+//   Δt = Δ·clamp(max(Δ_far, Δ_thin)/Δ, 1, u_step_growth_max).
+// Muth's horizon and length terms are not used: the flat view's rays are clipped by the volume's
+// box, and the occupancy's empty-space skipping already jumps clear air.
+const float kThinStepOpticalDepth = 0.05;
+float adaptiveStep(float t, float pixelAngle, float brickMax_per_m) {
+  float far = t * pixelAngle;
+  float thin = brickMax_per_m > 0.0 ? kThinStepOpticalDepth / brickMax_per_m : u_step_m * u_step_growth_max;
+  return u_step_m * clamp(max(far, thin) / u_step_m, 1.0, u_step_growth_max);
+}
+
 // The Z pass where no cloud is seen: 10^10 m, the value Blender Cycles writes for its background,
 // finite so that compositors' depth operations (defocus, depth merge) stay defined.
 const float kNoCloudDepth_m = 1.0e10;
@@ -314,16 +349,20 @@ void main() {
   float depthSum = 0.0;  // Σ t·(opacity added): the cloud layer's mean depth for aerial perspective
   if (span.x < span.y) {
     float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
+    bool adaptive = u_step_growth_max > 1.0;
+    float pixelAngle = length(dirDx);  // radians between neighbouring pixels' rays
     while (t < span.y && Tacc > u_min_transmittance) {
       vec3 p = origin + t * dir;
       vec3 w = VIEW_GLOBE ? globeWorldFromEcef(p) : p;  // the sample in the volume's world frame
-      if (u_skip_empty && brickMaxAt(w) == 0.0) {
+      float brickMax = (u_skip_empty || adaptive) ? brickMaxAt(w) : 1.0;
+      if (u_skip_empty && brickMax == 0.0) {
         float skip = VIEW_GLOBE ? globeEmptySkip(w) : emptySkipDistance(p, dir);
         if (skip > 0.0) {  // jump whole steps, keeping the jittered lattice
           t += max(ceil(skip / u_step_m), 1.0) * u_step_m;
           continue;
         }
       }
+      float step_m = adaptive ? adaptiveStep(t, pixelAngle, brickMax * depthScale) : u_step_m;
       vec2 beta = extinctionAt(w) * depthScale;
       ++samples;
       float b = beta.x + beta.y;
@@ -338,10 +377,10 @@ void main() {
           skyAtClouds = u_sun_radiance * skyIrradiance(trueAltitude_m, muS) / kPi;
           sunAtCloudsSet = true;
         }
-        float T = exp(-b * u_step_m);
+        float T = exp(-b * step_m);
         float iceWeight = beta.x / b;  // Nes eq. 5.12
         vec2 tau = columnDepthAt(w);  // one look-up for the sky light and the two-stream term
-        float sun = cloudSunFactor(u_cloud_ms_model, dlmIntensity(w), cosPsi, iceWeight, u_g_ice, u_g_water,
+        float sun = cloudSunFactor(u_cloud_ms_model, sampleSunlight(w), cosPsi, iceWeight, u_g_ice, u_g_water,
                                    u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
                                    tau.x, tau.y, twoStreamSun, muOut);
         vec3 L = sunAtClouds * sun + skyLightAt(tau, mix(u_g_water, u_g_ice, iceWeight), skyAtClouds);
@@ -349,7 +388,7 @@ void main() {
         depthSum += Tacc * (1.0 - T) * t;
         Tacc *= T;
       }
-      t += u_step_m;
+      t += step_m;
     }
   }
   // Aerial perspective of the cloud layer, taken at its opacity-weighted mean depth d̄ (before the

@@ -10,10 +10,11 @@
 namespace nph::scene {
 
 std::string DlmSettings::key() const {
-  return fmt::format(
-      "eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};ss={}", epsilon,
-      step_voxels, texel_voxels, max_texels, max_nodes, max_epsilon_doublings, forward_angle_deg, cornette_shanks_g,
-      peripheral ? 1 : 0, scatter_downsample, scatter_slice_steps);
+  return fmt::format("eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};"
+                     "ss={};cache={:.9g}",
+                     epsilon, step_voxels, texel_voxels, max_texels, max_nodes, max_epsilon_doublings,
+                     forward_angle_deg, cornette_shanks_g, peripheral ? 1 : 0, scatter_downsample, scatter_slice_steps,
+                     light_cache_voxels);
 }
 
 ForwardFractions forwardFractions(const DlmSettings& s) {

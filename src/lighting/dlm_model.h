@@ -44,6 +44,11 @@ struct DlmSettings {
   int scatter_downsample = 4;        ///< scatter-map cell = this many DLM texels per side
   int scatter_slice_steps = 4;       ///< scatter-map slice = this many steps Δ
   bool empty_space_skipping = true;  ///< skip empty occupancy bricks in pass 1/3
+  /// Light cache (issue 19): after each build the map's sunlight is baked into a world volume of
+  /// this many extinction voxels per cell along each axis (R16F, glsl/dlm/light_cache.comp), and
+  /// the eye pass reads it with one trilinear fetch. 0: no cache, the eye pass evaluates the map
+  /// per sample (the reference path). Not part of the map itself, but of what a build produces.
+  double light_cache_voxels = 0.0;
 
   /// Fingerprint of everything that changes the map (part of the DLM cache key).
   std::string key() const;

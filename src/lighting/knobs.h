@@ -35,13 +35,15 @@ inline constexpr std::array<std::string_view, 3> kPresetNames{"draft", "broadcas
 struct QualitySettings {
   QualitySettings();  ///< the broadcast preset
 
-  std::string preset = "broadcast";          ///< the preset the values started from
-  double step_voxels{};                      ///< ray-march step in voxel sizes (Muth 2026 §3.4.3)
-  int dlm_resolution{};                      ///< cap on deep light map texels per side (DlmSettings::max_texels)
-  double dlm_epsilon{};                      ///< Lokovic–Veach error bound on I(depth) (DlmSettings::epsilon)
-  double dlm_step_voxels{};                  ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
-  double dlm_texel_voxels{};                 ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
-  int dlm_max_nodes{};                       ///< node budget per DLM texel (DlmSettings::max_nodes)
+  std::string preset = "broadcast";  ///< the preset the values started from
+  double step_voxels{};              ///< ray-march step in voxel sizes (Muth 2026 §3.4.3)
+  double step_growth_max{};          ///< adaptive steps up to this × step_voxels (RenderSettings::step_growth_max)
+  int dlm_resolution{};              ///< cap on deep light map texels per side (DlmSettings::max_texels)
+  double dlm_epsilon{};              ///< Lokovic–Veach error bound on I(depth) (DlmSettings::epsilon)
+  double dlm_step_voxels{};          ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
+  double dlm_texel_voxels{};         ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
+  int dlm_max_nodes{};               ///< node budget per DLM texel (DlmSettings::max_nodes)
+  double light_cache_voxels{};       ///< light cache cell in voxels, 0 = none (DlmSettings::light_cache_voxels)
   double early_termination_transmittance{};  ///< stop a ray below this T
   bool empty_space_skipping{};               ///< skip empty occupancy bricks (DLM and ray caster)
   bool jitter{};                             ///< per-pixel start offset against banding

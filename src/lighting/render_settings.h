@@ -50,7 +50,10 @@ struct StyleSettings {
 /// The ray caster's settings: sampling (from QualitySettings, lighting::renderSettingsFor) and
 /// style. The sampling defaults equal the broadcast preset (tests/lighting holds them equal).
 struct RenderSettings : StyleSettings {
-  double step_voxels = 0.5;         ///< view-ray step Δ in units of the smallest voxel side
+  double step_voxels = 0.5;  ///< view-ray step Δ in units of the smallest voxel side
+  /// Adaptive steps (issue 19; Muth 2026 eq. 3.6; glsl/render/clouds.comp adaptiveStep): far away
+  /// and in thin cloud the step grows up to this × Δ. 1: the fixed step (the reference path).
+  double step_growth_max = 1.0;
   double min_transmittance = 0.01;  ///< early ray termination
   bool jitter = true;               ///< per-pixel start offset against banding
   bool empty_space_skipping = true;

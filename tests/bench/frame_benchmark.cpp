@@ -35,6 +35,7 @@
 #include "bench_hurricane.h"
 #include "bench_stats.h"
 #include "fetch_kernel.h"
+#include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/context.h"
 #include "render/raycast/cloud_renderer.h"
@@ -331,6 +332,195 @@ BENCHMARK(BM_MultipleScatteringCost)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(7);
+
+// Issue 19 item 1b: the light cache (DlmSettings::light_cache_voxels; glsl/dlm/light_cache.comp)
+// against the map's direct look-up, on the demo's view. Variants: the direct look-up (cell 0, the
+// reference path) and caches of 1, 2 and 4 voxels per cell. Timed, interleaved in rotating order:
+// the ray cast with the default settings; the bake once per variant (it runs inside the DLM build).
+// Errors in 8-bit sRGB levels (default exposure, ACES): each cached frame against the direct
+// look-up's (default settings), and each cloud layer against the CPU reference ray marcher
+// evaluating the map per sample (reference::marchCloudLayer; no jitter, no atmosphere, which the
+// reference lacks). Reported: max levels and the share of 8-bit values that differ by more than 2.
+struct LevelStats {
+  int max = 0;
+  double over2 = 0.0;  ///< share of values differing by more than 2 levels
+};
+LevelStats levelStats(const scene::RgbaImage& a, const scene::RgbaImage& b) {
+  scene::ImageOutputOptions o;
+  o.exposure_ev = scene::kDefaultExposureEv;
+  const auto ca = scene::encodeSrgb8(a, o), cb = scene::encodeSrgb8(b, o);
+  LevelStats l;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < ca.size() && i < cb.size(); ++i) {
+    const int d = std::abs(int(ca[i]) - int(cb[i]));
+    l.max = std::max(l.max, d);
+    n += d > 2;
+  }
+  l.over2 = ca.empty() ? 0.0 : double(n) / double(ca.size());
+  return l;
+}
+
+// The demo's view of a benchmark storm (BM_LightCache, BM_AdaptiveSteps): the volumes uploaded,
+// the sun of the demo, the oblique camera, and the CPU reference ray marcher's cloud layer for a
+// map (no jitter, no atmosphere: referenceSettings).
+struct DemoScene {
+  bool demo;
+  int width, height;
+  std::unique_ptr<gl::Context> ctx = bench::hiddenContext();
+  ExtinctionVolumes v = benchVolumes(demo);
+  scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  render::VolumeTextures tex = render::VolumeTextures::upload(v, frame, "bench");
+  scene::Sun sun{140.0, 35.0};
+  scene::Camera camera = demoCamera(frame, width, height);
+
+  static render::RenderSettings referenceSettings() {
+    render::RenderSettings rs;
+    rs.jitter = false;
+    rs.atmosphere = false;
+    return rs;
+  }
+  scene::RgbaImage cpuReference(const render::DeepLightMap& dlm) const {
+    const auto map = dlm.readBack();
+    const auto& ls = dlm.lightSpace();
+    return reference::marchCloudLayer(
+        v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); },
+        referenceSettings());
+  }
+  void printHeader(const char* what, int rounds) const {
+    std::fprintf(stderr, "%s, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n", what,
+                 demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, rounds, ctx->info().renderer.c_str());
+  }
+};
+
+// kVariants ray casts per round in rotating order (cast(k) renders variant k); returns the rounds.
+template <int kVariants, class Cast>
+int interleavedCasts(benchmark::State& state, Series (&series)[kVariants], Cast&& cast) {
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < kVariants; ++j) {
+      const int k = (j + round) % kVariants;
+      const Timing t = timed([&] { cast(k); });
+      series[k].add(t);
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  return round;
+}
+
+void BM_LightCache(benchmark::State& state) {
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
+  const render::RenderSettings rs;
+  const render::RenderSettings rsRef = DemoScene::referenceSettings();
+  constexpr int kVariants = 4;
+  const double cellVoxels[kVariants] = {0.0, 1.0, 2.0, 4.0};
+  std::vector<std::unique_ptr<render::DeepLightMap>> dlm;
+  std::vector<double> buildMs, bakeMs;
+  for (const double c : cellVoxels) {
+    scene::DlmSettings ds;
+    ds.light_cache_voxels = c;
+    dlm.push_back(std::make_unique<render::DeepLightMap>());
+    buildMs.push_back(timed([&] { dlm.back()->build(sc.tex, -sc.sun.toSun(), ds); }).wall_ms);
+    bakeMs.push_back(dlm.back()->stats().light_cache_ms);
+  }
+  render::CloudRenderer renderer;
+  render::RenderOutput out[kVariants];
+  LevelStats vsDirect[kVariants], vsCpu[kVariants];
+  const scene::RgbaImage cpu = sc.cpuReference(*dlm[0]);
+  for (int k = 0; k < kVariants; ++k) {
+    out[k] = renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rs);  // compiles, warms up
+    vsCpu[k] = levelStats(renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rsRef).cloud_layer, cpu);
+  }
+  for (int k = 0; k < kVariants; ++k) vsDirect[k] = levelStats(out[k].frame, out[0].frame);
+  Series cast[kVariants];
+  const int rounds = interleavedCasts<kVariants>(
+      state, cast, [&](int k) { renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rs); });
+  auto& c = state.counters;
+  sc.printHeader("light cache", rounds);
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = k == 0 ? "direct" : "cache" + std::to_string(int(cellVoxels[k]));
+    c["cast_ms_" + name] = median(cast[k].wall);
+    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
+    c["cast_ratio_" + name] = median(cast[0].cpu) / median(cast[k].cpu);
+    c["bake_ms_" + name] = bakeMs[std::size_t(k)];
+    c["levels_vs_direct_" + name] = vsDirect[k].max;
+    c["levels_vs_cpu_" + name] = vsCpu[k].max;
+    const glm::ivec3 n = dlm[std::size_t(k)]->stats().light_cache_texels;
+    std::fprintf(stderr,
+                 "  %-7s cells %dx%dx%d: ray cast wall %.0f ms, CPU %.0f ms, CPU direct/this %.2f; bake %.0f ms "
+                 "(DLM build %.0f ms); vs direct max %d levels, %.2f %% > 2; vs CPU reference max %d levels, "
+                 "%.2f %% > 2\n",
+                 name.c_str(), n.x, n.y, n.z, median(cast[k].wall), median(cast[k].cpu),
+                 median(cast[0].cpu) / median(cast[k].cpu), bakeMs[std::size_t(k)], buildMs[std::size_t(k)],
+                 vsDirect[k].max, 100.0 * vsDirect[k].over2, vsCpu[k].max, 100.0 * vsCpu[k].over2);
+  }
+}
+BENCHMARK(BM_LightCache)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 1280})  // coarse storm, 1280 × 720
+    ->Args({0, 640})   // demo storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Issue 19 item 1: adaptive steps (RenderSettings::step_growth_max, the knob; Muth 2026 eq. 3.6;
+// glsl/render/clouds.comp adaptiveStep) against the fixed step, on the demo's view: growth caps 1
+// (fixed, the reference path), 2, 4 and 8, the ray cast interleaved in rotating order. Errors in
+// 8-bit levels as BM_LightCache: the frame against the fixed step's, the cloud layer (no jitter, no
+// atmosphere) against the CPU reference ray marcher (fixed steps, the map per sample). Also the
+// volume samples per frame.
+void BM_AdaptiveSteps(benchmark::State& state) {
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
+  render::DeepLightMap dlm;
+  dlm.build(sc.tex, -sc.sun.toSun(), scene::DlmSettings{});
+  constexpr int kVariants = 4;
+  const double growth[kVariants] = {1.0, 2.0, 4.0, 8.0};
+  render::RenderSettings rs[kVariants], rsRef[kVariants];
+  const scene::RgbaImage cpu = sc.cpuReference(dlm);
+  render::CloudRenderer renderer;
+  render::RenderOutput out[kVariants];
+  LevelStats vsFixed[kVariants], vsCpu[kVariants];
+  double samples[kVariants];
+  for (int k = 0; k < kVariants; ++k) {
+    rs[k].step_growth_max = growth[k];
+    rsRef[k] = DemoScene::referenceSettings();
+    rsRef[k].step_growth_max = growth[k];
+    renderer.countSamples(true);
+    out[k] = renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]);  // compiles, warms up
+    samples[k] = double(renderer.sampleCount());
+    renderer.countSamples(false);
+    vsCpu[k] = levelStats(renderer.render(sc.tex, dlm, sc.camera, sc.sun, rsRef[k]).cloud_layer, cpu);
+  }
+  for (int k = 0; k < kVariants; ++k) vsFixed[k] = levelStats(out[k].frame, out[0].frame);
+  Series cast[kVariants];
+  const int rounds =
+      interleavedCasts<kVariants>(state, cast, [&](int k) { renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]); });
+  auto& c = state.counters;
+  sc.printHeader("adaptive steps", rounds);
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = "growth" + std::to_string(int(growth[k]));
+    c["cast_ms_" + name] = median(cast[k].wall);
+    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
+    c["cast_ratio_" + name] = median(cast[0].cpu) / median(cast[k].cpu);
+    c["samples_" + name] = samples[k];
+    c["levels_vs_fixed_" + name] = vsFixed[k].max;
+    c["levels_vs_cpu_" + name] = vsCpu[k].max;
+    std::fprintf(stderr,
+                 "  %-8s ray cast wall %.0f ms, CPU %.0f ms, CPU fixed/this %.2f; %.3g samples; vs fixed max %d "
+                 "levels, %.2f %% > 2; vs CPU reference max %d levels, %.2f %% > 2\n",
+                 name.c_str(), median(cast[k].wall), median(cast[k].cpu), median(cast[0].cpu) / median(cast[k].cpu),
+                 samples[k], vsFixed[k].max, 100.0 * vsFixed[k].over2, vsCpu[k].max, 100.0 * vsCpu[k].over2);
+  }
+}
+BENCHMARK(BM_AdaptiveSteps)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 1280})  // coarse storm, 1280 × 720
+    ->Args({0, 640})   // demo storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 }  // namespace
 

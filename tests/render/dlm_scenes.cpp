@@ -77,6 +77,21 @@ LayerDifference layerDifference(const scene::RgbaImage& a, const scene::RgbaImag
   return d;
 }
 
+LevelDifference levelDifference(const scene::RgbaImage& a, const scene::RgbaImage& b) {
+  scene::ImageOutputOptions o;
+  o.exposure_ev = scene::kDefaultExposureEv;
+  const auto ca = scene::encodeSrgb8(a, o), cb = scene::encodeSrgb8(b, o);
+  LevelDifference l;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < ca.size() && i < cb.size(); ++i) {
+    const int d = std::abs(int(ca[i]) - int(cb[i]));
+    l.max = std::max(l.max, d);
+    n += d > 0;
+  }
+  l.differing = ca.empty() ? 0.0 : double(n) / double(ca.size());
+  return l;
+}
+
 ExtinctionVolumes generatedIconScene() {
   const std::string path = tempPath("icon_tiny.nc");
   datagen::writeIconScene(datagen::iconPreset(datagen::SampleSize::Tiny, false), path);

@@ -26,4 +26,12 @@ struct LayerDifference {
 };
 LayerDifference layerDifference(const scene::RgbaImage& a, const scene::RgbaImage& b);
 
+/// The largest difference of the 8-bit sRGB codes (default exposure, ACES) of two images of the
+/// same size, and the share of codes that differ at all.
+struct LevelDifference {
+  int max = 0;
+  double differing = 0.0;
+};
+LevelDifference levelDifference(const scene::RgbaImage& a, const scene::RgbaImage& b);
+
 }  // namespace nph::test

@@ -90,7 +90,8 @@ TEST_F(EyePassVariants, SpecialisedProgramsAndLinearScanMatchTheBaselineBitForBi
     const scene::Camera cam = session->prepared().camera;
     render::CloudRenderer& renderer = session->renderer();
     const render::RenderOutput fast = session->render(cam);  // uploads the volume, builds the DLM
-    const render::EyePassFeatures f = renderer.features(session->volumeTextures(), session->renderSettings());
+    const render::EyePassFeatures f =
+        renderer.features(session->volumeTextures(), session->deepLightMap(), session->renderSettings());
     EXPECT_EQ(f.globe, std::string(v.view) == "globe") << v.name;
     EXPECT_EQ(f.atmosphere, v.on) << v.name;
     EXPECT_EQ(f.passes, v.on) << v.name;

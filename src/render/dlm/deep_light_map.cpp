@@ -45,6 +45,7 @@ DeepLightMap::DeepLightMap()
       scatter_(gl::Program::compute("dlm/scatter.comp")),
       scatter_runs_(gl::Program::compute("dlm/scatter_runs.comp")),
       uncompressed_(gl::Program::compute("dlm/march.comp", {{"UNCOMPRESSED", "1"}})),
+      light_cache_bake_(gl::Program::compute("dlm/light_cache.comp")),
       light_space_block_(
           gl::UniformBuffer<gl::LightSpaceBlock>::create(lightSpaceBlock(light_space_), "light space block")) {}
 
@@ -83,7 +84,38 @@ double DeepLightMap::timeUncompressedLightVolume(const VolumeTextures& volume, s
 void DeepLightMap::bindForLookup() const {
   glBindTextureUnit(gl::binding::UNIT_DLM_NODES, nodes_.id());
   glBindTextureUnit(gl::binding::UNIT_DLM_COUNTS, counts_.id());
+  if (light_cache_) glBindTextureUnit(gl::binding::UNIT_LIGHT_CACHE, light_cache_.id());
   light_space_block_.bind();
+}
+
+// The light cache (glsl/dlm/light_cache.comp): ⌈n / light_cache_voxels⌉ cells per axis of the
+// extinction grid's n, at least 2 (GL_LINEAR then still interpolates across the box).
+double DeepLightMap::bakeLightCache(const VolumeTextures& volume) {
+  if (!(settings_.light_cache_voxels > 0.0)) {
+    light_cache_ = gl::Texture();
+    stats_.light_cache_texels = glm::ivec3(0);
+    return 0.0;
+  }
+  const glm::ivec3 voxels = volume.frame().voxels;
+  glm::ivec3 n;
+  for (int a = 0; a < 3; ++a)
+    n[a] = std::max(2, int(std::ceil(double(voxels[a]) / settings_.light_cache_voxels - 1e-9)));
+  const auto t0 = std::chrono::steady_clock::now();
+  if (light_cache_.width() != n.x || light_cache_.height() != n.y || light_cache_.depth() != n.z) {
+    light_cache_ = gl::Texture::create3D(GL_R16F, n.x, n.y, n.z).label("light cache (DLM sunlight per world cell)");
+    light_cache_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  }
+  light_cache_bake_.use();
+  volume.bind();
+  bindForLookup();
+  light_cache_bake_.set("u_cache_texels", n);
+  glBindImageTexture(gl::binding::IMAGE_LIGHT_CACHE, light_cache_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+  light_cache_bake_.dispatchCovering(n);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glFinish();
+  stats_.light_cache_texels = n;
+  gl::checkErrors("light cache bake");
+  return msSince(t0);
 }
 
 void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed) {
@@ -244,11 +276,13 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     glFinish();
     pass3 = msSince(t0);
   }
+  const double bake = bakeLightCache(volume);
   gl::checkErrors("deep light map build");
   key_ = key;
   ++stats_.builds;
   stats_.rebuilt = true;
   computeStats(pass1, pass2, pass3);
+  stats_.light_cache_ms = bake;
   log::debug("DLM built: {}x{} texels, {} steps of {:.1f} m, mean {:.2f} nodes, {} unbounded, {:.1f}+{:.1f}+{:.1f} ms",
              n.x, n.y, steps_, step_m_, stats_.mean_nodes, stats_.unbounded_texels, pass1, pass2, pass3);
   return true;

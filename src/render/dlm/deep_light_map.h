@@ -45,6 +45,8 @@ struct DlmStats {
   int unbounded_texels = 0;                      ///< still overflowing after all doublings
   glm::ivec3 scatter_cells{0};
   double pass1_ms = 0.0, pass2_ms = 0.0, pass3_ms = 0.0;  ///< wall time incl. glFinish
+  glm::ivec3 light_cache_texels{0};  ///< the light cache's size (0 without one; DlmSettings::light_cache_voxels)
+  double light_cache_ms = 0.0;       ///< its bake, wall time incl. glFinish
   bool rebuilt = false;
   std::uint64_t builds = 0, reuses = 0;
 };
@@ -71,10 +73,15 @@ class DeepLightMap {
   const scene::DlmSettings& settings() const { return settings_; }
   const std::string& cacheKey() const { return key_; }
 
-  /// Binds the node and count textures (UNIT_DLM_NODES, UNIT_DLM_COUNTS) and the LightSpaceBlock
-  /// of glsl/dlm/light_space.glsl (UBO_LIGHT_SPACE), for any program that includes
-  /// glsl/dlm/lookup.glsl.
+  /// Binds the node and count textures (UNIT_DLM_NODES, UNIT_DLM_COUNTS), the LightSpaceBlock
+  /// of glsl/dlm/light_space.glsl (UBO_LIGHT_SPACE) and the light cache if there is one
+  /// (UNIT_LIGHT_CACHE), for any program that includes glsl/dlm/lookup.glsl.
   void bindForLookup() const;
+
+  /// The light cache of the last build (DlmSettings::light_cache_voxels > 0; glsl/dlm/
+  /// light_cache.comp): R16F over the volume's box, GL_LINEAR, GL_CLAMP_TO_EDGE. Empty without one.
+  const gl::Texture& lightCache() const { return light_cache_; }
+  bool hasLightCache() const { return bool(light_cache_); }
 
   /// Benchmark/test baseline (DlmBaseline): recompiles passes 2 and 3; the next build() rebuilds.
   void setBaseline(const DlmBaseline& baseline);
@@ -98,9 +105,10 @@ class DeepLightMap {
  private:
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
   void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
+  double bakeLightCache(const VolumeTextures& volume);
 
-  gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_;
-  gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_;
+  gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_, light_cache_bake_;
+  gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_, light_cache_;
   DlmBaseline baseline_;
   scene::LightSpace light_space_;
   gl::UniformBuffer<gl::LightSpaceBlock> light_space_block_;  // light_space_ for the GLSL passes

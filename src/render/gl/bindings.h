@@ -42,6 +42,8 @@
   X(IMAGE_SCATTER_RUNS, 2)      /* iimage3D r32i: flat runs of the scatter map (scatter_runs.comp) */ \
   X(UNIT_SCATTER_RUNS, 6)       /* isampler3D: the same, read by pass 3 */                      \
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
+  X(IMAGE_LIGHT_CACHE, 0)       /* image3D r16f: the map's sunlight baked per world cell (light_cache.comp) */ \
+  X(UNIT_LIGHT_CACHE, 19)       /* sampler3D: the same, read by the eye pass (issue 19) */      \
   /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
   X(UBO_RAYCAST, 2)             /* RaycastBlock (render/gl/uniform_blocks.h) */                 \
   X(UBO_GLOBE, 3)               /* GlobeBlock (render/gl/uniform_blocks.h) */                   \

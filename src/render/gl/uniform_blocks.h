@@ -152,7 +152,7 @@ struct RaycastBlock {
   std::uint32_t atmosphere = 0;      ///< u_atmosphere (bool): AtmosphereBlock and its tables valid
   std::uint32_t write_passes = 0;    ///< u_write_passes (bool): fill the compositing-pass images
   std::int32_t cloud_ms_model = 0;   ///< u_cloud_ms_model: lighting::MultipleScattering
-  std::uint32_t pad[1] = {0};        ///< to a multiple of 16 bytes (std140 block rounding)
+  float step_growth_max = 1.0f;      ///< u_step_growth_max: adaptive steps up to this × Δ (1 = fixed)
 };
 static_assert(offsetof(RaycastBlock, world_from_view) == 64 && offsetof(RaycastBlock, cam_pos_m) == 112 &&
               offsetof(RaycastBlock, step_m) == 124);
@@ -164,7 +164,7 @@ static_assert(offsetof(RaycastBlock, basemap_min_m) == 192 && offsetof(RaycastBl
 static_assert(offsetof(RaycastBlock, below_radiance) == 240 && offsetof(RaycastBlock, ms_extinction_scale) == 252 &&
               offsetof(RaycastBlock, octaves) == 264 && offsetof(RaycastBlock, height_exaggeration) == 268);
 static_assert(offsetof(RaycastBlock, atmosphere) == 272 && offsetof(RaycastBlock, write_passes) == 276 &&
-              offsetof(RaycastBlock, cloud_ms_model) == 280);
+              offsetof(RaycastBlock, cloud_ms_model) == 280 && offsetof(RaycastBlock, step_growth_max) == 284);
 static_assert(sizeof(RaycastBlock) == 288, "std140 size of RaycastBlock, rounded to 16");
 inline constexpr BlockMember kRaycastMembers[] = {
     {"u_view_from_clip", offsetof(RaycastBlock, view_from_clip)},

@@ -16,8 +16,13 @@ namespace nph::render {
 
 gl::Defines EyePassFeatures::defines() const {
   auto bit = [](bool on) { return std::string(on ? "1" : "0"); };
-  return {{"SPEC_GLOBE", bit(globe)},   {"SPEC_TERRAIN", bit(terrain)}, {"SPEC_ATMOSPHERE", bit(atmosphere)},
-          {"SPEC_PASSES", bit(passes)}, {"SPEC_DETAIL", bit(detail)},   {"SPEC_CUBIC", bit(cubic)}};
+  return {{"SPEC_GLOBE", bit(globe)},
+          {"SPEC_TERRAIN", bit(terrain)},
+          {"SPEC_ATMOSPHERE", bit(atmosphere)},
+          {"SPEC_PASSES", bit(passes)},
+          {"SPEC_DETAIL", bit(detail)},
+          {"SPEC_CUBIC", bit(cubic)},
+          {"SPEC_LIGHT_CACHE", bit(light_cache)}};
 }
 
 CloudRenderer::CloudRenderer()
@@ -152,7 +157,8 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   terrain_block_.bind();
 }
 
-EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const RenderSettings& s) const {
+EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const DeepLightMap& dlm,
+                                        const RenderSettings& s) const {
   EyePassFeatures f;
   f.globe = globe_.has_value();
   // The same conditions as the blocks' switches (updateTerrainBlock, dispatch, VolumeTextures).
@@ -161,6 +167,7 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Rend
   f.passes = passes_;
   f.detail = volume.detail().on();
   f.cubic = volume.reconstruction() == scene::Reconstruction::Cubic;
+  f.light_cache = dlm.hasLightCache();
   return f;
 }
 
@@ -194,7 +201,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     ground_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("ground pass, shadow matte");
     sky_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("sky pass, cloud depth");
   }
-  const gl::Program& p = program(features(volume, s));
+  const gl::Program& p = program(features(volume, dlm, s));
   p.use();
   volume.bind();
   dlm.bindForLookup();
@@ -221,6 +228,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.g_water = float(s.g_water);
   const glm::dvec3 voxel = volume.frame().voxel_size_m;
   b.step_m = float(s.step_voxels * std::min({voxel.x, voxel.y, voxel.z}));
+  b.step_growth_max = float(std::max(s.step_growth_max, 1.0));
   b.min_transmittance = float(s.min_transmittance);
   b.jitter = s.jitter ? 1u : 0u;
   b.skip_empty = s.empty_space_skipping ? 1u : 0u;

@@ -75,6 +75,8 @@ struct EyePassFeatures {
   bool passes = false;      ///< compositing passes written (setPasses)
   bool detail = false;      ///< sub-grid detail in extinctionAt (VolumeTextures::detail)
   bool cubic = false;       ///< tricubic B-spline reconstruction (VolumeTextures::reconstruction)
+  /// the sunlight from the map's light cache (DeepLightMap::hasLightCache), not its look-up
+  bool light_cache = false;
   /// {"SPEC_GLOBE", "0|1"}, … for gl::Program::compute.
   gl::Defines defines() const;
 };
@@ -122,8 +124,8 @@ class CloudRenderer {
   std::uint64_t sampleCount() const;
   /// Benchmark/test baseline (EyePassBaseline); the default is the fast path.
   void setBaseline(const EyePassBaseline& baseline) { baseline_ = baseline; }
-  /// The features the next dispatch() with `volume` and `settings` compiles the eye pass for.
-  EyePassFeatures features(const VolumeTextures& volume, const RenderSettings& settings) const;
+  /// The features the next dispatch() with `volume`, `dlm` and `settings` compiles the eye pass for.
+  EyePassFeatures features(const VolumeTextures& volume, const DeepLightMap& dlm, const RenderSettings& settings) const;
   /// Eye-pass programs compiled so far (one per feature set and baseline used).
   std::size_t programCount() const { return programs_.size(); }
   /// The atmosphere's tables (nullptr until a frame with RenderSettings::atmosphere ran).

@@ -1,0 +1,202 @@
+// Frame time (issue 19): the light cache and adaptive steps against the reference paths.
+// Light cache (item 1b; glsl/dlm/light_cache.comp): the deep light map's sunlight baked
+// into a world volume when the map is built, read by the eye pass with one trilinear fetch.
+// Checked against the map's own look-up: exact at the cache's cell centres up to R16F rounding,
+// and the frame against the CPU reference ray marcher (which evaluates the map per sample) within
+// the 8-bit levels measured here and in tests/bench/frame_benchmark.cpp (docs/benchmarks.md).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "dlm_scenes.h"
+#include "reference/ray_marcher.h"
+#include "render/dlm/deep_light_map.h"
+#include "render/raycast/cloud_renderer.h"
+#include "scene/sun.h"
+#include "support/gl_fixture.h"
+
+namespace nph::test {
+namespace {
+
+using LightCacheTest = GlTest;
+using AdaptiveStepsTest = GlTest;
+
+scene::DlmSettings withCache(double cell_voxels) {
+  scene::DlmSettings s;
+  s.light_cache_voxels = cell_voxels;
+  return s;
+}
+
+// The generated hurricane (heights × 8) seen obliquely at 192 × 108 (the view of
+// RaycastTest.GpuMatchesTheCpuReferenceRayMarcher, larger), with the settings the CPU reference
+// ray marcher shares: no jitter, no atmosphere (the reference has none).
+struct ObliqueHurricane {
+  ExtinctionVolumes volumes = generatedHurricane();
+  scene::VolumeFrame frame = scene::frameOf(volumes, 8.0);
+  render::VolumeTextures textures = render::VolumeTextures::upload(volumes, frame, "hurricane-x8");
+  scene::Sun sun{140.0, 35.0};
+  scene::Camera camera = obliqueCamera(frame);
+  render::RenderSettings settings = referenceSettings();
+
+  static scene::Camera obliqueCamera(const scene::VolumeFrame& f) {
+    scene::Camera cam;
+    const glm::dvec3 size = f.size_m();
+    cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};
+    cam.position_m = cam.target_m + glm::dvec3(-0.3 * size.x, -1.1 * size.y, 0.6 * size.x);
+    cam.vertical_fov_deg = 40.0;
+    cam.width = 192;
+    cam.height = 108;
+    return cam;
+  }
+  static render::RenderSettings referenceSettings() {
+    render::RenderSettings rs;
+    rs.jitter = false;
+    rs.atmosphere = false;
+    return rs;
+  }
+};
+
+// At each cell centre the cache holds the map's look-up (the CPU twin DeepLightMap::lookup on the
+// read-back map) in half precision: |ΔI| ≤ 2⁻¹¹ for I ≤ 1 (one half-float step: GL leaves the
+// float-to-half rounding mode open, and llvmpipe truncates, measured 4.9e-4) plus the float
+// light-space transform's 1e-4 (DlmTest.GlslLookupMatchesCpuLookup).
+TEST_F(LightCacheTest, HoldsTheMapsLightAtItsCellCentres) {
+  const ExtinctionVolumes v = generatedHurricane();
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "hurricane-x8");
+  render::DeepLightMap dlm;
+  dlm.build(tex, -scene::Sun{140.0, 35.0}.toSun(), withCache(2.0));
+  ASSERT_TRUE(dlm.hasLightCache());
+  const glm::ivec3 n = dlm.stats().light_cache_texels;
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(n[a], (frame.voxels[a] + 1) / 2) << "axis " << a;
+  std::vector<float> cache(std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z));
+  glGetTextureImage(dlm.lightCache().id(), 0, GL_RED, GL_FLOAT, GLsizei(cache.size() * sizeof(float)), cache.data());
+  const auto map = dlm.readBack();
+  double maxDiff = 0.0;
+  int shadowed = 0;
+  for (int k = 0; k < n.z; ++k) {
+    for (int j = 0; j < n.y; ++j) {
+      for (int i = 0; i < n.x; ++i) {
+        const glm::dvec3 uvw = (glm::dvec3(i, j, k) + 0.5) / glm::dvec3(n);
+        const glm::vec3 world = glm::vec3(frame.min_m() + uvw * frame.size_m());  // the GPU's float point
+        const double cpu = render::DeepLightMap::lookup(map, dlm.lightSpace(), glm::dvec3(world));
+        const float got =
+            cache[(std::size_t(k) * std::size_t(n.y) + std::size_t(j)) * std::size_t(n.x) + std::size_t(i)];
+        maxDiff = std::max(maxDiff, std::abs(cpu - double(got)));
+        shadowed += cpu < 0.9;
+      }
+    }
+  }
+  std::printf("[ cache    ] %dx%dx%d cells, %d shadowed, max |cache - look-up| %.2e, bake %.1f ms\n", n.x, n.y, n.z,
+              shadowed, maxDiff, dlm.stats().light_cache_ms);
+  EXPECT_GT(shadowed, n.x * n.y / 4) << "the cells must sample the storm's shadow";
+  EXPECT_LE(maxDiff, std::ldexp(1.0, -11) + 1e-4);
+}
+
+// The cell size is part of the build (DlmSettings::key): changing it rebuilds, 0 drops the cache,
+// the same settings again reuse the map and its cache.
+TEST_F(LightCacheTest, TheCellSizeIsPartOfTheBuildAndZeroMeansNone) {
+  const ExtinctionVolumes v = noisyVolume(12, 10, 8, 3);
+  const auto tex = render::VolumeTextures::upload(v, scene::frameOf(v), "noisy");
+  const glm::dvec3 light = -scene::Sun{200.0, 40.0}.toSun();
+  render::DeepLightMap dlm;
+  EXPECT_TRUE(dlm.build(tex, light, withCache(0.0)));
+  EXPECT_FALSE(dlm.hasLightCache());
+  EXPECT_EQ(dlm.stats().light_cache_texels, glm::ivec3(0));
+  EXPECT_TRUE(dlm.build(tex, light, withCache(4.0)));
+  ASSERT_TRUE(dlm.hasLightCache());
+  EXPECT_EQ(dlm.stats().light_cache_texels, glm::ivec3(3, 3, 2));  // ⌈(12, 10, 8) / 4⌉
+  EXPECT_FALSE(dlm.build(tex, light, withCache(4.0)));
+  EXPECT_TRUE(dlm.hasLightCache());
+  EXPECT_TRUE(dlm.build(tex, light, withCache(0.0)));
+  EXPECT_FALSE(dlm.hasLightCache());
+}
+
+// The frame with the cache against the CPU reference ray marcher evaluating the map per sample
+// (the setting of RaycastTest.GpuMatchesTheCpuReferenceRayMarcher at 192 × 108), in 8-bit sRGB
+// levels of the cloud layer: the direct look-up agrees to float rounding (≤ 1 level); the cache
+// adds the interpolation of I between its cell centres, largest at sharp cloud tops and shadow
+// edges. Measured with the two-stream default: 1, 2 and 6 levels for cells of 1, 2 and 4 voxels
+// (with the octave series, before it, 13, 33 and 43: the single-scattering sun term carries the
+// sharp tops; docs/benchmarks.md "Light cache"). Bounds: the measured maxima on llvmpipe (printed)
+// with one level of room, so that a change of the cache's accuracy either way is seen.
+TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
+  const ObliqueHurricane h;
+  const auto& [v, frame, tex, sun, cam, reference] = h;
+  render::RenderSettings rs = reference;
+  render::DeepLightMap direct;
+  direct.build(tex, -sun.toSun(), withCache(0.0));
+  const auto map = direct.readBack();
+  const auto& ls = direct.lightSpace();
+  const scene::RgbaImage cpu = reference::marchCloudLayer(
+      v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, {});
+  render::CloudRenderer renderer;
+  const LevelDifference directLevels = levelDifference(renderer.render(tex, direct, cam, sun, rs).cloud_layer, cpu);
+  std::printf("[ cache    ] 192x108 hurricane, direct look-up vs CPU: max %d levels, %.2f %% of values differ\n",
+              directLevels.max, 100.0 * directLevels.differing);
+  EXPECT_LE(directLevels.max, 1);
+  struct Case {
+    double cell_voxels;
+    int max_levels;
+  };
+  for (const Case c : {Case{1.0, 2}, Case{2.0, 3}, Case{4.0, 7}}) {
+    render::DeepLightMap cached;
+    cached.build(tex, -sun.toSun(), withCache(c.cell_voxels));
+    const LevelDifference l = levelDifference(renderer.render(tex, cached, cam, sun, rs).cloud_layer, cpu);
+    std::printf("[ cache    ] cell %.0f voxels: max %d levels, %.2f %% of values differ\n", c.cell_voxels, l.max,
+                100.0 * l.differing);
+    EXPECT_LE(l.max, c.max_levels) << "cell " << c.cell_voxels << " voxels";
+  }
+}
+
+// Adaptive steps (RenderSettings::step_growth_max; Muth 2026 eq. 3.6; glsl/render/clouds.comp
+// adaptiveStep) on the same view: a growth cap of 1 is the fixed step bit for bit; caps of 2 and 4
+// take about 1/2 and 1/3 of the volume samples. Far from this small storm a pixel's footprint
+// exceeds the cap, so every step grows to it, and a step of 4·Δ can pass a thin cloud edge that
+// the fixed step samples: single values then differ by up to 144 levels (the pixel flips between
+// cloud and ground), on 1.0 % (cap 2) and 2.3 % (cap 4) of the 8-bit values against the CPU
+// reference (fixed steps; with the octave series before two-stream became the default: 208
+// levels, 1.6 % and 3.5 %) — why the presets keep the fixed step (docs/benchmarks.md "Adaptive
+// steps"). Bounds: the measured shares and sample ratios with a little room.
+TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
+  const ObliqueHurricane h;
+  const auto& [v, frame, tex, sun, cam, reference] = h;
+  render::RenderSettings rs = reference;
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  const auto map = dlm.readBack();
+  const scene::RgbaImage cpu = reference::marchCloudLayer(
+      v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, dlm.lightSpace(), p); },
+      rs);
+  render::CloudRenderer renderer;
+  renderer.countSamples(true);
+  const render::RenderOutput fixed = renderer.render(tex, dlm, cam, sun, rs);
+  const double fixedSamples = double(renderer.sampleCount());
+  rs.step_growth_max = 1.0;
+  const render::RenderOutput one = renderer.render(tex, dlm, cam, sun, rs);
+  EXPECT_EQ(one.cloud_layer.rgba, fixed.cloud_layer.rgba) << "a growth cap of 1 is the fixed step";
+  struct Case {
+    double growth;
+    double max_sample_ratio, max_differing;
+  };
+  for (const Case c : {Case{2.0, 0.55, 0.015}, Case{4.0, 0.35, 0.03}}) {
+    rs.step_growth_max = c.growth;
+    const render::RenderOutput out = renderer.render(tex, dlm, cam, sun, rs);
+    const double samples = double(renderer.sampleCount());
+    const LevelDifference vsCpu = levelDifference(out.cloud_layer, cpu);
+    const LevelDifference vsFixed = levelDifference(out.cloud_layer, fixed.cloud_layer);
+    std::printf("[ adaptive ] growth %.0f: %.0f samples (fixed %.0f); vs CPU max %d levels (%.2f %% differ), "
+                "vs fixed max %d (%.2f %%)\n",
+                c.growth, samples, fixedSamples, vsCpu.max, 100.0 * vsCpu.differing, vsFixed.max,
+                100.0 * vsFixed.differing);
+    EXPECT_LT(samples, c.max_sample_ratio * fixedSamples) << "growth " << c.growth;
+    EXPECT_LE(vsCpu.differing, c.max_differing) << "growth " << c.growth;
+    EXPECT_LE(vsFixed.differing, c.max_differing) << "growth " << c.growth;
+  }
+}
+
+}  // namespace
+}  // namespace nph::test
