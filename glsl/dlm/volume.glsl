@@ -114,6 +114,30 @@ vec2 plainExtinctionAt(vec3 world_m) {
   return vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0);
 }
 
+// The shape's coverage at a world position (glsl/common/detail.glsl detailShape): the largest
+// C_n of the 3×3 columns around the nearest column centre, each column's β read at its centre
+// (GL_LINEAR in height only; the zero border outside the grid). Columns farther than 1½ columns on
+// an axis add at most exp(−1.5²/2σ²) = 0.10, below any edge (coverage ≥ θ − w − A = 0.15), so the
+// switch of the 3×3 set at a column face leaves the shape continuous. CPU twin:
+// ExtinctionSampler::coverageAt.
+float detailCoverageAt(vec3 world_m) {
+  vec3 uvw = volumeUvw(world_m);
+  vec2 n = vec2(u_voxels.xy);
+  vec2 g = uvw.xy * n - 0.5;  // continuous column index, centres at integers
+  vec2 nearest = floor(g + 0.5);
+  float column_m = max(u_box_size_m.x / n.x, u_box_size_m.y / n.y);
+  float coverage = 0.0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      vec2 col = nearest + vec2(dx, dy);
+      vec3 t = vec3((col + 0.5) / n, uvw.z);
+      float b = (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
+      coverage = max(coverage, detailColumnCoverage(b, g - col, column_m));
+    }
+  }
+  return coverage;
+}
+
 // (β_ice, β_water) at a world position: the field every pass integrates. The CPU twin is
 // ExtinctionSampler::at (same order of operations, same detail.glsl).
 vec2 extinctionAt(vec3 world_m) {
@@ -122,13 +146,16 @@ vec2 extinctionAt(vec3 world_m) {
   if (!insideGrownVolume(uvw)) return vec2(0.0);
   vec4 c = texture(u_detail_controls, uvw);
   vec4 nd = texture(u_detail_noise, world_m / (2.0 * u_noise_period_m));
-  vec3 q = world_m + detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, u_noise_stats_gs.xy);
+  vec3 d = detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, u_noise_stats_gs.xy);
+  vec3 q = world_m + d;
   vec2 beta = plainExtinctionAt(q);
   if (!(beta.x + beta.y > 0.0)) return beta;
   vec3 qn = q / u_noise_period_m;
-  float rho = detailDensity(texture(u_detail_noise, qn), texture(u_detail_noise, detailSecondFrame(qn)), c,
-                            u_detail_amplitude, u_noise_stats_gs.zw, u_noise_stats_c.xy);
-  return beta * (rho * texture(u_detail_correction, uvw.xy).r);
+  vec4 n1 = texture(u_detail_noise, qn), n2 = texture(u_detail_noise, detailSecondFrame(qn));
+  float rho = detailDensity(n1, n2, c, u_detail_amplitude, u_noise_stats_gs.zw, u_noise_stats_c.xy);
+  float m = detailModulation(n1, n2, c.y, u_noise_stats_gs.zw, u_noise_stats_c.xy);
+  float shape = detailShape(detailCoverageAt(world_m + kDetailShapeDisplacement * d), m, u_detail_amplitude);
+  return beta * (rho * shape * texture(u_detail_correction, uvw.xy).r);
 }
 
 // Max β of the occupancy brick containing `world_m`; in the shell around the box (the filter's

@@ -11,6 +11,8 @@ namespace detail_f32 {
 using namespace nph::glsl;
 using Number = float;
 #include "../glsl/common/detail.glsl"
+static_assert(double(kDetailShapeDisplacement) == kDetailShapeDisplacementScale,
+              "volume/detail.h and detail.glsl must agree on the shape's displacement");
 }  // namespace detail_f32
 
 DetailParameters detailParameters(Detail detail, const VolumeFrame& frame) {
@@ -129,38 +131,24 @@ DetailControls buildDetailControls(const ExtinctionVolumes& v) {
 
 std::vector<float> solveDetailCorrection(const HalfColumnMasses& m) {
   const int nx = m.nx, ny = m.ny, hx = 2 * nx;
-  std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0);
+  std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0), detailed(plain.size(), 0.0);
   double maxPlain = 0.0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      double p = 0.0;
-      for (int q = 0; q < 4; ++q)
-        p += m.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
-      plain[std::size_t(j) * std::size_t(nx) + std::size_t(i)] = p;
-      maxPlain = std::max(maxPlain, p);
-    }
-  std::vector<double> c(plain.size(), 1.0), next(plain.size(), 1.0);
-  const auto at = [&](int i, int j) {
-    return c[std::size_t(std::clamp(j, 0, ny - 1)) * std::size_t(nx) + std::size_t(std::clamp(i, 0, nx - 1))];
-  };
-  for (int iteration = 0; iteration < 16; ++iteration) {
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const std::size_t J = std::size_t(j) * std::size_t(nx) + std::size_t(i);
-        next[J] = c[J];
-        if (!(plain[J] > 1e-3 * maxPlain)) continue;  // no cloud of its own: left at 1
-        double d = 0.0;
-        for (int q = 0; q < 4; ++q) {
-          const int sx = q % 2 ? 1 : -1, sy = q / 2 ? 1 : -1;  // the quadrant's side
-          const double w =
-              9.0 / 16.0 * at(i, j) + 3.0 / 16.0 * (at(i + sx, j) + at(i, j + sy)) + 1.0 / 16.0 * at(i + sx, j + sy);
-          d += m.detailed[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)] * w;
-        }
-        if (d > 0.0) next[J] = std::clamp(c[J] * plain[J] / d, 0.5, 2.0);
+      const std::size_t J = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+      for (int q = 0; q < 4; ++q) {
+        const std::size_t h = std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2);
+        plain[J] += m.plain[h];
+        detailed[J] += m.detailed[h];
       }
-    c.swap(next);
+      maxPlain = std::max(maxPlain, plain[J]);
+    }
+  std::vector<float> c(plain.size(), 1.0f);
+  for (std::size_t J = 0; J < plain.size(); ++J) {
+    if (!(plain[J] > 1e-6 * maxPlain) || !(detailed[J] > 0.0)) continue;  // no cloud: left at 1
+    c[J] = float(std::clamp(plain[J] / detailed[J], kMinCorrection, kMaxCorrection));
   }
-  return std::vector<float>(c.begin(), c.end());
+  return c;
 }
 
 glm::dvec3 detailDisplacement(const glm::dvec4& nd, double turbulence, const glm::dvec3& reach_m, const NoiseStats& s) {
@@ -175,6 +163,20 @@ double detailDensity(const glm::dvec4& n1, const glm::dvec4& n2, const glm::dvec
   return double(detail_f32::detailDensity(glm::vec4(n1), glm::vec4(n2), glm::vec4(controls), float(amplitude),
                                           glm::vec2(float(s.stratiform.mean), float(s.stratiform.half_range)),
                                           glm::vec2(float(s.convective.mean), float(s.convective.half_range))));
+}
+
+double detailModulation(const glm::dvec4& n1, const glm::dvec4& n2, double convective, const NoiseStats& s) {
+  return double(detail_f32::detailModulation(glm::vec4(n1), glm::vec4(n2), float(convective),
+                                             glm::vec2(float(s.stratiform.mean), float(s.stratiform.half_range)),
+                                             glm::vec2(float(s.convective.mean), float(s.convective.half_range))));
+}
+
+double detailColumnCoverage(double beta_per_m, const glm::dvec2& d_columns, double column_m) {
+  return double(detail_f32::detailColumnCoverage(float(beta_per_m), glm::vec2(d_columns), float(column_m)));
+}
+
+double detailShape(double coverage, double m, double amplitude) {
+  return double(detail_f32::detailShape(float(coverage), float(m), float(amplitude)));
 }
 
 glm::dvec3 detailSecondFrame(const glm::dvec3& q) { return glm::dvec3(detail_f32::detailSecondFrame(glm::vec3(q))); }

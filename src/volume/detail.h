@@ -75,24 +75,34 @@ struct DetailControls {
 };
 DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
 
-/// Mass correction (issue 13 "mass preserving"). E[ρ] = 1 over the noise, but one model column holds
-/// only a few noise cells and β varies inside its voxels, so a column's optical depth would change
-/// by up to ~15 % (95 % of the storm's columns within 3 %). The detailed field is therefore
-/// multiplied by a per-column factor c(x, y), interpolated bilinearly between column centres (a
-/// smooth factor: no steps at the column faces) and solved so that every column keeps its mean
-/// optical depth: measured masses of the plain and the uncorrected detailed field on half-columns
-/// (2×2 per column: the quadrants, whose bilinear weights on the column and its neighbours are
-/// 9/16, 3/16, 3/16, 1/16 on average), then a multiplicative Jacobi iteration
-///   c_J ← c_J · P_J / Σ_quadrants D_q · Σ_I w_q,I · c_I,
-/// c ∈ [½, 2], columns without plain mass fixed at 1. Measured by the GPU (glsl/render/
-/// detail_mass.comp) for rendering and by ExtinctionSampler for the CPU twin, same pattern.
+/// Mass correction (issue 13 "mass preserving"). The density factor moves extinction inside a
+/// column, the displacement moves it across column faces, and the shape (detail.glsl detailShape)
+/// erodes it at the visible edge, so the detailed field is multiplied by a factor c_J per model
+/// column J, constant over the column's footprint: c_J = P_J / D_J, the plain and the uncorrected
+/// detailed optical mass of the footprint, measured on 4×4 vertical rays (2×2 per half-column),
+/// clamped to [kMinCorrection, kMaxCorrection]; columns without plain mass stay at 1. The mass the
+/// shape removes at the visible edge goes back into the rest of the footprint, most of it optically
+/// thick and invisible. Every footprint with plain mass is corrected, also one whose plain mass is
+/// only a neighbour's reconstruction ramp (the square face the shape removes): its remaining cloud,
+/// between the cloudy neighbour and the eroded edge, carries the ramp's mass.
+/// Why constant per column and not bilinear between column centres (as before): a bilinear factor
+/// couples each footprint to its 8 neighbours, and the diagonal neighbours of an isolated thick
+/// column (footprint τ = 1/64 of the column's from the trilinear corner, of which the shape leaves
+/// a sliver) need ×40 where the axis neighbours need ≈ ×1 — no bilinear field does both (measured
+/// on the coarse storm: the axis neighbours then hit the range's floor, 20 footprints off by 30 %
+/// and more). Constant per column it is exact for the measured rays and independent per column; its
+/// steps at the column faces lie inside optically thick cloud or within the shape's soft edge band.
+/// Measured by the GPU (glsl/render/detail_mass.comp) for rendering and by ExtinctionSampler for
+/// the CPU twin, same pattern.
 struct HalfColumnMasses {
   int nx = 0, ny = 0;                   ///< model columns (the arrays hold 2nx × 2ny, x fastest)
   std::vector<double> plain, detailed;  ///< Σ β·Δz over the half-column's rays (any common unit)
 };
 /// Rays per half-column and axis, and the vertical step in layers, of the measurement.
 inline constexpr int kMassRaysPerAxis = 2;
-inline constexpr double kMassStepLayers = 0.5;
+inline constexpr double kMassStepLayers = 0.25;
+/// Range of the correction: the shape leaves a ramp-only diagonal footprint a sliver of its mass.
+inline constexpr double kMinCorrection = 1.0 / 64.0, kMaxCorrection = 64.0;
 /// c per model column (nx × ny, x fastest).
 std::vector<float> solveDetailCorrection(const HalfColumnMasses& masses);
 
@@ -101,5 +111,10 @@ glm::dvec3 detailDisplacement(const glm::dvec4& nd, double turbulence, const glm
 double detailDensity(const glm::dvec4& n1, const glm::dvec4& n2, const glm::dvec4& controls, double amplitude,
                      const NoiseStats& s);
 glm::dvec3 detailSecondFrame(const glm::dvec3& q);
+double detailModulation(const glm::dvec4& n1, const glm::dvec4& n2, double convective, const NoiseStats& s);
+double detailColumnCoverage(double beta_per_m, const glm::dvec2& d_columns, double column_m);
+double detailShape(double coverage, double m, double amplitude);
+/// detail.glsl's kDetailShapeDisplacement: the shape's coverage is read at x + this × d.
+inline constexpr double kDetailShapeDisplacementScale = 3.0;
 
 }  // namespace nph::scene

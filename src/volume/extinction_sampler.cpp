@@ -32,26 +32,48 @@ ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool c
   const NoiseVolume& noise = noiseVolume();
   const glm::dvec3 g = f_.gridFromWorld(world_m);
   const glm::dvec4 c = controls_->at(g);
-  const glm::dvec3 q =
-      world_m + detailDisplacement(noise.sample(world_m / (2.0 * detail_.period_m)), c.x, detail_.reach_m, noise.stats);
+  const glm::dvec3 d =
+      detailDisplacement(noise.sample(world_m / (2.0 * detail_.period_m)), c.x, detail_.reach_m, noise.stats);
+  const glm::dvec3 q = world_m + d;
   ExtinctionSample s = plainAt(q);
   if (!(s.total() > 0.0)) return s;
   const glm::dvec3 qn = q / detail_.period_m;
-  double rho = detailDensity(noise.sample(qn), noise.sample(detailSecondFrame(qn)), c, detail_.amplitude, noise.stats);
-  if (corrected) {
-    const glm::dvec2 cc = glm::dvec2(g) - 0.5;
-    const glm::dvec2 fl = glm::floor(cc), t = cc - fl;
-    const auto col = [&](int i, int j) {
-      return double(correction_[std::size_t(std::clamp(j, 0, f_.voxels.y - 1)) * std::size_t(f_.voxels.x) +
-                                std::size_t(std::clamp(i, 0, f_.voxels.x - 1))]);
-    };
-    const int i0 = int(fl.x), j0 = int(fl.y);
-    rho *= (1.0 - t.y) * ((1.0 - t.x) * col(i0, j0) + t.x * col(i0 + 1, j0)) +
-           t.y * ((1.0 - t.x) * col(i0, j0 + 1) + t.x * col(i0 + 1, j0 + 1));
+  const glm::dvec4 n1 = noise.sample(qn), n2 = noise.sample(detailSecondFrame(qn));
+  double rho = detailDensity(n1, n2, c, detail_.amplitude, noise.stats);
+  rho *= detailShape(coverageAt(world_m + kDetailShapeDisplacementScale * d),
+                     detailModulation(n1, n2, c.y, noise.stats), detail_.amplitude);
+  if (corrected) {  // constant per column (volume/detail.h), GL_NEAREST with GL_CLAMP_TO_EDGE
+    const int i = std::clamp(int(std::floor(g.x)), 0, f_.voxels.x - 1),
+              j = std::clamp(int(std::floor(g.y)), 0, f_.voxels.y - 1);
+    rho *= double(correction_[std::size_t(j) * std::size_t(f_.voxels.x) + std::size_t(i)]);
   }
   s.ice_per_m *= rho;
   s.water_per_m *= rho;
   return s;
+}
+
+// glsl/dlm/volume.glsl detailCoverageAt: the largest C_n of the 3×3 columns around the nearest
+// column centre, each column's β at its centre, linear in height (zero outside the grid).
+double ExtinctionSampler::coverageAt(const glm::dvec3& world_m) const {
+  const glm::dvec3 g = f_.gridFromWorld(world_m);
+  const double gz = g.z - 0.5;
+  const int k0 = int(std::floor(gz));
+  const double tz = gz - double(k0);
+  const double column_m = std::max(f_.voxel_size_m.x, f_.voxel_size_m.y);
+  const glm::dvec2 c(g.x - 0.5, g.y - 0.5);
+  const glm::ivec2 nearest(glm::floor(c + 0.5));
+  double coverage = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int i = nearest.x + dx, j = nearest.y + dy;
+      double b = 0.0;
+      for (const std::vector<float>* a : {&v_.ice_per_m, &v_.water_per_m}) {
+        if (a->empty()) continue;
+        b += (1.0 - tz) * fetch(*a, i, j, k0) + tz * fetch(*a, i, j, k0 + 1);
+      }
+      coverage = std::max(coverage, detailColumnCoverage(b, c - glm::dvec2(i, j), column_m));
+    }
+  return coverage;
 }
 
 // The measurement of glsl/render/detail_mass.comp: per half-column, kMassRaysPerAxis² vertical rays

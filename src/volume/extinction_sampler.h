@@ -40,6 +40,8 @@ class ExtinctionSampler {
   const std::vector<float>& detailCorrection() const { return correction_; }
   /// The plain and the uncorrected detailed masses on half-columns (volume/detail.h's pattern).
   HalfColumnMasses measureHalfColumnMasses() const;
+  /// The detail's shape coverage at a world position (glsl/dlm/volume.glsl detailCoverageAt).
+  double coverageAt(const glm::dvec3& world_m) const;
 
  private:
   double fetch(const std::vector<float>& a, int i, int j, int k) const;

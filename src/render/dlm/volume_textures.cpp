@@ -141,7 +141,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     maxScale = float(scene::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
     t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
     glTextureSubImage2D(t.correction_.id(), 0, 0, 0, n.x, n.y, GL_RED, GL_FLOAT, c.data());
-    t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // constant per column (volume/detail.h)
   }
   t.occupancy_ = t.detail_.on()
                      ? scene::buildOccupancy(v, brickVoxels, reconstruction, t.detail_.reach_voxels, maxScale)
