@@ -178,11 +178,14 @@ void Writer::stormCentre(int t, double& x_m, double& y_m) const {
 }
 
 // The coarse storm: a mesoscale convective system as a 10-km model resolves it. Deep cells are
-// 7–16 km in radius, so each fills one to three grid columns; their tops (7.5–12.5 km) end within
-// a few hundred metres, i.e. inside one model level. A stratiform ice/snow shield (a 260 × 170 km
-// ellipse) has a top that varies by a few hundred metres from column to column, so it ends at
-// different model levels in neighbouring columns: the terraces of real coarse output. Every field
-// carries a per-column (2Δx) factor, as model output does.
+// 7–16 km in radius, so each fills one to three grid columns; their summits (7.5–12.5 km) end
+// within a few hundred metres, i.e. inside one model level, and their tops fall towards the flanks
+// (domed towers; the tallest spread an anvil). A stratiform ice/snow shield (a 260 × 170 km
+// ellipse, thinning to a lens at its rim) has a top that varies by a few hundred metres from column
+// to column, so it ends at different model levels in neighbouring columns: the terraces of real
+// coarse output. Every field carries a per-column (2Δx) factor, as model output does. (Before
+// issue 13's shape work the cells were flat-topped cylinders and the shield a flat disc with a
+// vertical rim: no renderer can make those look like clouds.)
 std::vector<Writer::StormCell> Writer::stormCells(double hours) const {
   const double lx_km = (g_.nx - 1) * spec_.dx_m / 1000.0, ly_km = (g_.ny - 1) * spec_.dx_m / 1000.0;
   constexpr int kCells = 28;
@@ -207,20 +210,39 @@ Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i
   const double zk = z_m / 1000.0;
   const auto hour = static_cast<std::int64_t>(std::floor(hours));
   const double column = 0.7 + 0.6 * noise_.hash(i, j, 1000 + hour);  // grid-scale noise
-  double cell = 0.0, top_km = 0.0;
+  double cell = 0.0, top_km = 0.0, profile = 0.0, anvil = 0.0, anvil_top_km = 0.0;
   for (const StormCell& s : cells) {
-    const double w = s.strength * gaussian(std::hypot(x_km - s.x_km, y_km - s.y_km), 0.0, s.radius_km);
-    if (w > cell) {
-      cell = w;
+    const double r_km = std::hypot(x_km - s.x_km, y_km - s.y_km);
+    const double g = gaussian(r_km, 0.0, s.radius_km);
+    if (s.strength * g > cell) {
+      cell = s.strength * g;
+      profile = g;
       top_km = s.top_km;
+    }
+    // The tallest cells (tops above 9.5 km) spread an anvil at their top, 2.5× their radius.
+    const double a = s.top_km > 9.5 ? s.strength * gaussian(r_km, 0.0, 2.5 * s.radius_km) : 0.0;
+    if (a > anvil) {
+      anvil = a;
+      anvil_top_km = s.top_km;
     }
   }
   cell = cell < 0.05 ? 0.0 : cell * column;
+  anvil = anvil < 0.1 ? 0.0 : anvil;
+  // A cell's top falls from its summit towards its flanks (profile^0.35: 0.78 of the height at
+  // half the peak, 0.35 at the 0.05 cut), so a cell is a tower with a domed summit and lower
+  // flanking turrets, not a flat-topped cylinder; its anvil thins towards its rim (top 0.8 km lower,
+  // base 1.2 km higher).
+  top_km = 1.2 + (top_km - 1.2) * std::pow(profile, 0.35);
+  const double anvil_rim = 1.0 - std::min(anvil / 0.6, 1.0);
+  const double anvil_layer =
+      anvil > 0.0 ? layer(zk, anvil_top_km - 2.0 + 1.2 * anvil_rim, anvil_top_km - 0.2 - 0.8 * anvil_rim, 0.2) : 0.0;
   const double ellipse = std::hypot((x_km - 0.5 * (g_.nx - 1) * spec_.dx_m / 1000.0) / 260.0,
                                     (y_km - 0.55 * (g_.ny - 1) * spec_.dx_m / 1000.0) / 170.0);
   const double shield = (1.0 - smoothstep(0.8, 1.0, ellipse)) * column;
-  const double shield_top_km =
-      8.2 + 1.6 * noise_.fbm(x_km / 90.0, y_km / 90.0, 0.2 * hours, 2) + 0.6 * (noise_.hash(i, j, 2000) - 0.5);
+  // The shield is a lens: its top sinks by 2.5 km and its snow base rises by 1.5 km towards the rim.
+  const double shield_top_km = 8.2 + 1.6 * noise_.fbm(x_km / 90.0, y_km / 90.0, 0.2 * hours, 2) +
+                               0.6 * (noise_.hash(i, j, 2000) - 0.5) - 2.5 * smoothstep(0.3, 1.0, ellipse);
+  const double shield_base_km = 4.6 + 1.5 * smoothstep(0.5, 1.0, ellipse);
   const bool warm = temperature_k > kFreezingPoint_k;
   const double freezing_mix = smoothstep(kFreezingPoint_k - 25.0, kFreezingPoint_k - 2.0, temperature_k);
   // Convective cores: sharp tops (0.3 km edge) and bases at 1.2 km.
@@ -228,10 +250,12 @@ Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i
   p.q_cloud = 1.6e-3 * core * freezing_mix + 1.2e-4 * shield * layer(zk, 3.0, 4.6, 0.2) * freezing_mix;
   p.q_rain = (2.2e-3 * cell + 1.2e-4 * shield) * layer(zk, -1.0, 4.2, 0.6) * (warm ? 1.0 : 0.2);
   p.q_graupel = 1.0e-3 * cell * layer(zk, 4.5, std::min(top_km, 9.0), 0.5);
-  p.q_ice =
-      warm ? 0.0 : 4.0e-4 * core * smoothstep(6.0, 8.0, zk) + 8.0e-5 * shield * layer(zk, 6.0, shield_top_km, 0.05);
-  p.q_snow =
-      warm ? 0.0 : 6.0e-4 * core * smoothstep(5.0, 7.0, zk) + 2.5e-4 * shield * layer(zk, 4.6, shield_top_km, 0.05);
+  p.q_ice = warm ? 0.0
+                 : 4.0e-4 * core * smoothstep(6.0, 8.0, zk) + 8.0e-5 * shield * layer(zk, 6.0, shield_top_km, 0.05) +
+                       1.5e-4 * anvil * anvil_layer;
+  p.q_snow = warm ? 0.0
+                  : 6.0e-4 * core * smoothstep(5.0, 7.0, zk) +
+                        2.5e-4 * shield * layer(zk, shield_base_km, shield_top_km, 0.05);
   // Updrafts in the cores (8 m/s at mid-levels), gentle ascent in the shield.
   p.w_m_per_s = 8.0 * cell * std::sin(kPi * std::clamp((zk - 1.0) / std::max(top_km - 1.0, 1.0), 0.0, 1.0)) +
                 0.3 * shield * layer(zk, 4.6, shield_top_km, 0.5);
