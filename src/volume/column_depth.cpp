@@ -47,31 +47,14 @@ ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reco
 
 glm::dvec2 columnDepthAt(const ColumnDepths& d, const scene::VolumeFrame& frame, const glm::dvec3& world_m) {
   if (d.nx <= 0 || d.ny <= 0 || d.nz <= 0) return glm::dvec2(0.0);
-  const glm::dvec3 g = frame.gridFromWorld(world_m) - 0.5;  // voxel centres at integers
-  const glm::ivec3 n(d.nx, d.ny, d.nz);
-  const glm::dvec3 lo = glm::floor(g);
-  const glm::dvec3 f = g - lo;
-  // Per axis the voxels lo + first … lo + first + taps − 1 with their filter weights: the hat's two
-  // (trilinear) or the B-spline's four (cubic, volume/reconstruction.h).
-  const bool cubic = d.reconstruction == scene::Reconstruction::Cubic;
-  const int taps = cubic ? 4 : 2, first = cubic ? -1 : 0;
-  std::array<std::array<double, 4>, 3> w{};
-  for (int a = 0; a < 3; ++a)
-    w[std::size_t(a)] = cubic ? scene::cubicBSplineWeights(f[a]) : std::array<double, 4>{1.0 - f[a], f[a], 0.0, 0.0};
-  glm::dvec2 out(0.0);
-  for (int cz = 0; cz < taps; ++cz) {
-    for (int cy = 0; cy < taps; ++cy) {
-      for (int cx = 0; cx < taps; ++cx) {
-        const glm::ivec3 idx =
-            glm::clamp(glm::ivec3(lo) + glm::ivec3(cx, cy, cz) + first, glm::ivec3(0), n - 1);  // clamp to edge
-        const double wt = w[0][std::size_t(cx)] * w[1][std::size_t(cy)] * w[2][std::size_t(cz)];
-        const std::size_t k =
-            (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);
-        out += wt * glm::dvec2(d.up[k], d.down[k]);
-      }
-    }
-  }
-  return out;
+  // The extinction's own filter (volume/reconstruction.h), clamped to the edge (see the header).
+  const glm::ivec3 last(d.nx - 1, d.ny - 1, d.nz - 1);
+  return scene::reconstructAt(d.reconstruction, frame.gridFromWorld(world_m) - 0.5, [&](int i, int j, int k) {
+    const glm::ivec3 idx = glm::clamp(glm::ivec3(i, j, k), glm::ivec3(0), last);
+    const std::size_t n =
+        (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);
+    return glm::dvec2(d.up[n], d.down[n]);
+  });
 }
 
 }  // namespace nph

@@ -22,7 +22,10 @@
 // beyond `supportVoxels` = reach − ½ voxels outside the box. The occupancy bricks are dilated by
 // the reach and the grown boxes padded by it, so empty-space skipping stays exact for both.
 #include <array>
+#include <cmath>
 #include <string_view>
+
+#include <glm/glm.hpp>
 
 namespace nph::scene {
 
@@ -41,6 +44,35 @@ constexpr double supportVoxels(Reconstruction r) { return double(reachVoxels(r))
 inline std::array<double, 4> cubicBSplineWeights(double f) {
   const double g = 1.0 - f;
   return {g * g * g / 6.0, 2.0 / 3.0 - 0.5 * f * f * (2.0 - f), 2.0 / 3.0 - 0.5 * g * g * (1.0 + f), f * f * f / 6.0};
+}
+
+/// The filter's weighted sum of the voxels around a point at continuous index `c` relative to the
+/// voxel centres (voxel centres at integers: grid coordinate − ½): Σ w·fetch(i, j, k) over the
+/// 2³ (trilinear) or 4³ (cubic) voxels it reads. `fetch` applies the border rule — zero outside
+/// for β (GL_CLAMP_TO_BORDER), clamped to the edge for the column depths (column_depth.h) — and
+/// may return any type with + and scalar × (a double, or a glm vector for several channels read
+/// together). The one CPU evaluation of both filters; the shaders' is glsl/dlm/volume.glsl.
+template <class Fetch>
+auto reconstructAt(Reconstruction r, const glm::dvec3& c, Fetch&& fetch) -> decltype(fetch(0, 0, 0)) {
+  using Value = decltype(fetch(0, 0, 0));
+  const glm::dvec3 lo = glm::floor(c);
+  const glm::dvec3 f = c - lo;
+  const glm::ivec3 i0(lo);
+  const bool cubic = r == Reconstruction::Cubic;
+  const int taps = cubic ? 4 : 2, first = cubic ? -1 : 0;
+  std::array<std::array<double, 4>, 3> w{};
+  for (int a = 0; a < 3; ++a)
+    w[std::size_t(a)] = cubic ? cubicBSplineWeights(f[a]) : std::array<double, 4>{1.0 - f[a], f[a], 0.0, 0.0};
+  Value sum{};
+  for (int dz = 0; dz < taps; ++dz)
+    for (int dy = 0; dy < taps; ++dy) {
+      const double wyz = w[1][std::size_t(dy)] * w[2][std::size_t(dz)];
+      for (int dx = 0; dx < taps; ++dx) {
+        const double wt = w[0][std::size_t(dx)] * wyz;
+        if (wt != 0.0) sum += wt * fetch(i0.x + first + dx, i0.y + first + dy, i0.z + first + dz);
+      }
+    }
+  return sum;
 }
 
 }  // namespace nph::scene
