@@ -198,6 +198,9 @@ SceneSet standardScenes(int width, int height, bool quick, const std::string& sc
   add(2, "sun-high", 200.0, 40.0, 1.4, 40.0, 250.0, 65.0);
   add(2, "sun-behind", 200.0, 40.0, 1.4, 40.0, 200.0, 35.0);
   add(3, "sun-low", 180.0, 25.0, 1.2, 45.0, 0.0, 10.0);
+  // Golden hour (the sun 5° high, from the side of the view): towers lit through their sides.
+  add(0, "golden-hour", 190.0, 35.0, 1.3, 40.0, 270.0, 5.0);
+  add(2, "golden-hour", 200.0, 40.0, 1.4, 40.0, 290.0, 5.0);
   return set;
 }
 

@@ -9,6 +9,8 @@
 //   cumulus-sun-high              field of fair-weather cumuli (cores τ ≈ 30), sun at 65°
 //   cumulus-sun-behind            same field, sun behind the camera at 35°
 //   cirrus-sun-low                thin ice layer (τ ≈ 0.05-0.6), sun at 10° ahead of the camera
+//   hurricane-golden-hour         the hurricane's oblique view, sun at 5° from the west
+//   cumulus-golden-hour           the cumulus field, sun at 5° from the west-north-west
 // The stratus, cumulus and cirrus volumes are built in memory from smooth seeded noise; the
 // hurricane goes through the real chain (NetCDF writer → WRF loader → optics) at reduced size.
 #include <string>

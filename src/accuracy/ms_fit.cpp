@@ -23,6 +23,8 @@ enum Term : int {
   kTwoStreamData,   // two-stream with the data's μ₀, no beam or diffusion scaling (exaggeration half-kept)
   kTwoStreamWorld,  // two-stream with the world's μ₀ and μ_out (exaggeration ignored)
   kTwoStream,       // the eye pass's: twoStreamSunFrame (beam and diffusion scaled)
+  kSlabBoth,        // two-stream on sunPathSlab's equivalent slab, both ways (a candidate, not kept)
+  kSlabSide,        // same, only shorter paths (side light; a candidate, not kept)
   kAlpha,           // Σ w (diagnostics)
   kTauColumn,       // Σ w·(τ_a + τ_b) (diagnostics)
   kColumn0,         // kColumnBins × 2 octaves
@@ -43,6 +45,24 @@ struct SceneTerms {
   std::vector<double> y_truth, y_sky;
   std::vector<std::array<double, kTerms>> terms;
 };
+
+// A candidate against the independent column's dark side-lit towers at low sun (tried in session 9,
+// docs/accuracy.md "Golden hour"; not kept): the column assumes the beam enters at the column's
+// top, e^{−(1−f)τ_a/μ₀} at the sample, while the deep light map carries the beam that arrived by
+// whatever path (its forward peak kept, Nes 2008 §5.2.3), I = e^{−(1−f)τ_s}. The equivalent slab
+// keeps the map's beam: incidence μ_e = clamp(τ_a/τ_s, μ₀, 1), depth below its lit face τ_s·μ_e,
+// the column below unchanged — side-lit (τ_s < τ_a/μ₀): the face turns to the sun and takes the
+// full beam instead of its μ₀ share; `shadow`: also deeper for a sample in another cloud's shadow.
+// Returns (τ_above, τ_below, μ₀) for twoStreamDiffuse.
+glm::dvec3 sunPathSlab(double tau_above, double tau_below, double sunlight, double mu0, double g, bool shadow) {
+  if (mu0 <= 0.0 || sunlight <= 1e-12) return {tau_above, tau_below, mu0};
+  const double ts = -std::log(std::min(sunlight, 1.0)) / (1.0 - g * g);
+  const double ta = std::max(tau_above, 0.0);
+  const double me = std::clamp(ta / std::max(ts, 1e-6), mu0, 1.0);
+  const double te = ts * me;
+  if (!shadow && te >= ta) return {tau_above, tau_below, mu0};
+  return {te, tau_below, me};
+}
 
 // Least squares of the free weights θ over `free` terms with `fixed` terms at weight 1.
 struct Model {
@@ -184,6 +204,11 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
           t[kTwoStreamWorld] += s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, toSun.z, 1.0, 1.0, -dir.z, g);
           t[kTwoStream] +=
               s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+          for (const bool shadow : {true, false}) {
+            const glm::dvec3 slab = sunPathSlab(tau.x, tau.y, I, sunFrame.x, g, shadow);
+            t[shadow ? kSlabBoth : kSlabSide] +=
+                s.weight * lighting::twoStreamDiffuse(slab.x, slab.y, slab.z, sunFrame.y, sunFrame.z, muOut, g);
+          }
           const double total = tau.x + tau.y;
           t[kAlpha] += s.weight;
           t[kTauColumn] += s.weight * total;
@@ -250,6 +275,8 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       {"two_stream, world's mu0 (exaggeration ignored)", {kTwoStreamWorld}, {}},
       {"**two_stream** (eye pass: sun frame scaled)", {kTwoStream}, {}},
       {"two_stream, scale fitted", {}, {kTwoStream}},
+      {"two_stream on the sun-path slab, both ways", {kSlabBoth}, {}},
+      {"two_stream on the sun-path slab, side light only", {kSlabSide}, {}},
       {"two_stream + octaves, both fitted", {}, {kTwoStream, kOctaves}},
   };
   for (const Model& m : models) {

@@ -199,4 +199,17 @@ glm::dvec3 skyIrradiance(const Parameters& p, double altitude_m, double sun_elev
   return e;
 }
 
+double horizontalIlluminance(const Parameters& p, double altitude_m, double sun_elevation_rad) {
+  Parameters once = p;
+  once.multiple_scattering = false;
+  Quadrature q;
+  q.irradiance_mu = q.irradiance_phi = 6;
+  q.view_steps = q.transmittance_steps = 48;
+  const double mu_s = std::sin(sun_elevation_rad);
+  const glm::dvec3 direct =
+      std::max(mu_s, 0.0) * sunTransmittance(p, p.bottom_radius_m + altitude_m, mu_s, q.transmittance_steps);
+  const glm::dvec3 e = direct + skyIrradiance(once, altitude_m, sun_elevation_rad, q);
+  return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
+}
+
 }  // namespace nph::atmosphere

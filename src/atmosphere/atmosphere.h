@@ -127,6 +127,14 @@ glm::dvec3 skyRadiance(const Parameters& p, const glm::dvec3& origin_m, const gl
 /// per unit solar irradiance — the sky-light term of the ground and of the clouds' shadowed sides.
 glm::dvec3 skyIrradiance(const Parameters& p, double altitude_m, double sun_elevation_rad, const Quadrature& q);
 
+/// What a light meter reads (issue 14, the exposure that follows the sun): the illuminance of a
+/// horizontal surface at `altitude_m` per unit solar irradiance, as luminance (Rec. 709 weights of
+/// the model's 680/550/440 nm channels): the direct sun μ_s·T_sun plus the sky's E_sky, the sky
+/// integrated coarsely (6 × 6 directions, 48 steps) and once scattered only — a meter, not the
+/// image's light: Hillaire's Ψ_ms adds ≈ 10 % to E_sky at noon and more at twilight, and a meter's
+/// ±0.1 EV does not show. 0.1 ms.
+double horizontalIlluminance(const Parameters& p, double altitude_m, double sun_elevation_rad);
+
 /// The observer at altitude h above the ground at the north pole of the planet-centred frame:
 /// (0, 0, R + h); local directions (x, y horizontal, z up) are then planet-frame directions.
 inline glm::dvec3 observerAt(const Parameters& p, double altitude_m) {

@@ -339,7 +339,7 @@ int runAnimate(const AnimateOptions& o) {
                                    "again to resume",
                                    k, when, f.time_index, files, e.what()));
     }
-    scene::ImageOutputOptions image = s.output.image;
+    scene::ImageOutputOptions image = scene::imageOptionsFor(s.output, f.sun.elevation_deg);
     image.date_time = exrDateTime(f);
     const scene::FramePasses* passes = out.passes ? &*out.passes : nullptr;
     for (const auto& [pass, path] : outputsOf(k)) {

@@ -27,6 +27,12 @@ SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene:
   log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
   const scene::FramePasses* passes = f.out.passes ? &*f.out.passes : nullptr;
   f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
+  f.options = scene::imageOptionsFor(scene.output, prepared.sun.elevation_deg);
+  if (scene.output.exposure == scene::ExposureMode::Sun) {
+    log::info("exposure follows the sun ({:.1f} deg): {:+.2f} EV ({:+.2f} over output.exposure_ev)",
+              prepared.sun.elevation_deg, f.options.exposure_ev,
+              f.options.exposure_ev - scene.output.image.exposure_ev);
+  }
   return f;
 }
 
@@ -36,16 +42,16 @@ void writeSceneOutputs(const scene::SceneDescription& s, const SceneFrame& f, co
   };
   for (const auto& path : s.output.paths) {
     prepare(path);
-    scene::writeImage(f.image, path, s.output.image);
+    scene::writeImage(f.image, path, f.options);
     log::info("wrote {}{}", path, f.image.layers.empty() ? "" : " (with the compositing passes)");
   }
   for (const auto& [pass, path] : s.output.pass_files) {
     prepare(path);
-    scene::writeImage(scene::passImage(pass, f.out.frame, f.out.cloud_layer, *f.out.passes), path, s.output.image);
+    scene::writeImage(scene::passImage(pass, f.out.frame, f.out.cloud_layer, *f.out.passes), path, f.options);
     log::info("wrote {} ({} pass)", path, scene::passName(pass));
   }
   if (!layer_path.empty()) {
-    scene::writeImage(f.out.cloud_layer, layer_path, s.output.image);
+    scene::writeImage(f.out.cloud_layer, layer_path, f.options);
     log::info("wrote {} (premultiplied cloud layer)", layer_path);
   }
 }

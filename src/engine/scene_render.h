@@ -13,8 +13,9 @@
 namespace nph::engine {
 
 struct SceneFrame {
-  render::RenderOutput out;  ///< frame, premultiplied cloud layer, passes (when the scene wants them)
-  scene::RgbaImage image;    ///< what output.paths receive: the frame with Z or the pass layers (outputFrame)
+  render::RenderOutput out;           ///< frame, premultiplied cloud layer, passes (when the scene wants them)
+  scene::RgbaImage image;             ///< what output.paths receive: the frame with Z or the pass layers (outputFrame)
+  scene::ImageOutputOptions options;  ///< how they are written: output.image, exposure resolved for the sun
 };
 
 /// Renders `scene` of `dataset` once (Session: its timestep, camera, sun, quality), logging the

@@ -199,9 +199,9 @@ py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, c
     if (dtype == "uint8") {
       const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
       if (s.output.image.display.empty()) {
-        codes = scene::encodeSrgb8(img, s.output.image);
+        codes = scene::encodeSrgb8(img, frame.options);
       } else {  // an OpenColorIO display: its code values, 8-bit as writePng stores SDR displays
-        const std::vector<float> v = scene::encodeDisplay(img, s.output.image);
+        const std::vector<float> v = scene::encodeDisplay(img, frame.options);
         codes.resize(v.size());
         for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint8_t>(std::lround(v[i] * 255.0f));
       }
@@ -209,10 +209,10 @@ py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, c
   }
   const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
   if (dtype == "uint8") return imageArray(codes, img.height, img.width, 4);
-  // float32: what the OpenEXR output stores, the linear values times 2^exposure_ev
+  // float32: what the OpenEXR output stores, the linear values times 2^exposure (sun-resolved)
   // (scene/output_image.h), in float instead of half.
   std::vector<float> linear = img.rgba;
-  const auto exposure = static_cast<float>(std::exp2(s.output.image.exposure_ev));
+  const auto exposure = static_cast<float>(std::exp2(frame.options.exposure_ev));
   for (std::size_t i = 0; i < linear.size(); ++i) {
     if (i % 4 != 3) linear[i] *= exposure;
   }

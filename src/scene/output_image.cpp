@@ -10,12 +10,26 @@
 #include <cmath>
 #include <filesystem>
 
+#include "atmosphere/atmosphere.h"
 #include "core/error.h"
 #include "core/temp_files.h"
 #include "scene/colour_output.h"
 #include "scene/display_transform.h"
 
 namespace nph::scene {
+
+double sunExposureOffsetEv(double sun_elevation_deg) {
+  if (!std::isfinite(sun_elevation_deg)) return 0.0;
+  constexpr double kMeterAltitude_m = 2000.0;  // a typical cloud base: the light the clouds stand in
+  constexpr double kDegToRad = 0.017453292519943295;
+  const atmosphere::Parameters earth = atmosphere::Parameters::earth();
+  static const double reference =
+      atmosphere::horizontalIlluminance(earth, kMeterAltitude_m, kExposureReferenceSunElevationDeg * kDegToRad);
+  const double e = atmosphere::horizontalIlluminance(earth, kMeterAltitude_m,
+                                                     std::clamp(sun_elevation_deg, -90.0, 90.0) * kDegToRad);
+  if (!(e > 0.0)) return 4.0;
+  return std::clamp(0.5 * std::log2(reference / e), -1.0, 4.0);
+}
 namespace fs = std::filesystem;
 
 namespace {

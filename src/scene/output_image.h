@@ -19,6 +19,7 @@
 //                (x(2.51x + 0.03)) / (x(2.43x + 0.59) + 0.14), clamped to [0, 1]; a fit of the
 //                ACES RRT+ODT luminance response (toe, shoulder, white at c ≈ 13). The default:
 //                it keeps sunlit cloud tops (c ≈ 1-3) from clipping while keeping contrast.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -67,6 +68,27 @@ float linearToSrgb(float linear);
 /// clipped) and keeps shadowed sides and the ground readable (chosen by looking at the demo, before
 /// and after pictures in docs/light-transport.md).
 inline constexpr double kDefaultExposureEv = 2.5;
+
+/// How the exposure is chosen (scene key `output.exposure`, docs/scene-file.md).
+///   Fixed: 2^exposure_ev, whatever the light.
+///   Sun:   exposure_ev is the exposure under the reference sun (35° high, where kDefaultExposureEv
+///          was chosen), plus sunExposureOffsetEv for the frame's sun — a camera that follows the
+///          daylight, so a golden-hour or twilight shot is not 3 EV darker than noon, and a
+///          time-of-day animation brightens smoothly and the same in every render-farm chunk (it
+///          depends on the sun alone, not on the picture).
+enum class ExposureMode { Fixed = 0, Sun = 1 };
+inline constexpr std::array<std::string_view, 2> kExposureModeNames{"fixed", "sun"};
+/// The sun elevation at which ExposureMode::Sun adds nothing.
+inline constexpr double kExposureReferenceSunElevationDeg = 35.0;
+/// The EV that ExposureMode::Sun adds for a sun at `sun_elevation_deg`: half the drop in log₂ of
+/// the horizontal illuminance 2 km up (atmosphere::horizontalIlluminance: direct sun + sky, Earth
+///   atmosphere) against the reference sun,
+///     ΔEV = ½·log₂(E_h(35°) / E_h(h)),   clamped to [−1, +4] EV.
+/// Half: the eye adapts only partly, and a viewer expects a golden-hour scene darker than noon —
+/// the full compensation (+3.3 EV at 5°) makes the haze of a low oblique view glare, none leaves
+/// the clouds a dim grey (pictures in docs/atmosphere.md). Values: 60° −0.33, 35° 0, 20° +0.43,
+/// 10° +1.03, 5° +1.65, 0° +3.1, −2° +3.9, the clamp +4 below (night: the sky, not the sun, lights it).
+double sunExposureOffsetEv(double sun_elevation_deg);
 
 struct ImageOutputOptions {
   double exposure_ev = 0.0;  ///< radiance scale 2^ev (EXR and PNG alike); scenes default to kDefaultExposureEv

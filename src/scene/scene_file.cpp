@@ -271,6 +271,15 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
                                           out.width, out.height, limits::kMaxImagePixels));
     }
     out.image.exposure_ev = o->number("exposure_ev", kDefaultExposureEv, -20.0, 20.0);
+    if (const auto mode = o->optString("exposure")) {
+      const auto it = std::find(kExposureModeNames.begin(), kExposureModeNames.end(), *mode);
+      if (it == kExposureModeNames.end()) {
+        o->fail(o->at("exposure"), fmt::format("unknown exposure '{}': expected \"fixed\" (2^exposure_ev) or \"sun\" "
+                                               "(exposure_ev at a 35° sun, following the daylight)",
+                                               *mode));
+      }
+      out.exposure = ExposureMode(it - kExposureModeNames.begin());
+    }
     if (const auto curve = o->optString("tone_curve")) {
       try {
         out.image.tone_curve = toneCurveFromName(*curve);
@@ -317,6 +326,12 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
   }
   top.finish();
   return s;
+}
+
+ImageOutputOptions imageOptionsFor(const OutputSpec& spec, double sun_elevation_deg) {
+  ImageOutputOptions o = spec.image;
+  if (spec.exposure == ExposureMode::Sun) o.exposure_ev += sunExposureOffsetEv(sun_elevation_deg);
+  return o;
 }
 
 RgbaImage outputFrame(const OutputSpec& spec, const RgbaImage& frame, const RgbaImage& cloud,

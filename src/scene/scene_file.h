@@ -66,12 +66,18 @@ struct OutputSpec {
   int width = 1920;
   int height = 1080;
   ImageOutputOptions image{kDefaultExposureEv, ToneCurve::AcesFitted, /*write_depth=*/false,
-                           /*date_time=*/{}};  ///< exposure, tone curve, Z in EXR
+                           /*date_time=*/{}};   ///< exposure, tone curve, Z in EXR
+  ExposureMode exposure = ExposureMode::Fixed;  ///< "exposure": fixed, or following the sun (image.exposure_ev at 35°)
   bool passes = false;  ///< "passes": .exr outputs carry the compositing passes as layers (scene/passes.h)
   std::vector<std::pair<Pass, std::string>> pass_files;  ///< "pass_files": {"shadow": "matte.png", ...}
   /// Whether the renderer must produce the passes (Z, layers or pass files).
   bool wantsPasses() const { return image.write_depth || passes || !pass_files.empty(); }
 };
+
+/// The image options of a frame lit by a sun at `sun_elevation_deg`: spec.image with, under
+/// ExposureMode::Sun, sunExposureOffsetEv added to its exposure. Every writer of a frame (render,
+/// animate, view, the Python module) takes its options from here.
+ImageOutputOptions imageOptionsFor(const OutputSpec& spec, double sun_elevation_deg);
 
 /// The image written to output.paths: the frame, with Z (output.depth) or with every pass as a
 /// layer (output.passes; Z included). `passes` may be null only when !spec.wantsPasses().

@@ -260,6 +260,39 @@ XML
     run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/none-out.png" --basemap "$out/missing.tif"
     expect_rc 1; expect_err "missing.tif"
     ;;
+  exposure)  # output.exposure "sun": the EXR is the fixed-exposure one times 2^(the offset logged)
+    animate_cache
+    for mode in fixed sun; do
+      python3 - "$out/scene.json" "$mode" "$out/$mode.json" <<'PY' || fail "could not write $mode.json"
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["sun"] = {"azimuth_deg": 250, "elevation_deg": 5}
+del s["animation"]
+s["output"]["exposure"] = sys.argv[2]
+json.dump(s, open(sys.argv[3], "w"))
+PY
+      run "$nephele" render "$out/$mode.json" -o "$out/$mode.exr"
+      expect_rc 0
+    done
+    expect_err "exposure follows the sun (5.0 deg)"
+    offset=$(sed -n 's/.*exposure follows the sun (5.0 deg): [^(]*(\([-+0-9.]*\) over.*/\1/p' "$out/stderr")
+    [ -n "$offset" ] || fail "no exposure offset logged: $stderr"
+    for mode in fixed sun; do
+      oiiotool "$out/$mode.exr" --printstats 2>&1 | sed -n 's/.*Stats Avg: *\([0-9.e+-]*\) \([0-9.e+-]*\) \([0-9.e+-]*\) \([0-9.e+-]*\).*/\1 \2 \3 \4/p' >"$out/$mode.avg"
+    done
+    python3 - "$offset" "$out/fixed.avg" "$out/sun.avg" <<'PY' || fail "the sun exposure is not the fixed one times 2^$offset"
+import math, sys
+offset = float(sys.argv[1])
+fixed, sun = ([float(x) for x in open(p).read().split()] for p in sys.argv[2:4])
+assert 1.4 < offset < 1.9, f"offset {offset} EV at 5 deg: expected about +1.65 (half the 3.3 EV daylight drop)"
+for c in range(3):  # colour scaled by 2^offset (half floats: 1e-3; the logged offset: 0.005 EV)
+    assert fixed[c] > 0, f"channel {c} is black"
+    ev = math.log2(sun[c] / fixed[c])
+    assert abs(ev - offset) < 0.01, f"channel {c}: {ev:.4f} EV, logged {offset}"
+assert abs(sun[3] - fixed[3]) < 1e-6, f"alpha changed: {fixed[3]} -> {sun[3]}"
+print(f"sun exposure {offset:+.2f} EV, measured {math.log2(sun[1] / fixed[1]):+.4f}")
+PY
+    ;;
   passes)  # compositing passes: a multi-layer EXR as iinfo lists it, pass files, bad pass names, animate --passes
     animate_cache
     run "$nephele" render "$out/scene.json" -o "$out/p.exr" -o "$out/p.png" --passes \

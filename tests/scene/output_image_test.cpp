@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "atmosphere/atmosphere.h"
 #include "core/error.h"
 #include "scene/output_image.h"
 #include "scene_test_support.h"
@@ -181,6 +182,39 @@ TEST(OutputImage, FailedWritesLeaveNoPartialFile) {
   EXPECT_THROW(writeImage(img, dir.file("frame.tiff")), InputError);
   writeImage(img, dir.file("UPPER.PNG"));
   EXPECT_TRUE(fs::exists(dir.file("UPPER.PNG")));
+}
+
+}  // namespace
+}  // namespace nph::scene
+
+namespace nph::scene {
+namespace {
+
+// The exposure that follows the sun (output.exposure "sun", issue 14): half the log₂ drop of the
+// horizontal illuminance (direct sun + sky, atmosphere::horizontalIlluminance) 2 km up against
+// a 35° sun. Invariants, and the value at 5° against the meter evaluated here by its definition.
+TEST(OutputImage, SunExposureFollowsHalfTheDaylightDrop) {
+  EXPECT_EQ(sunExposureOffsetEv(kExposureReferenceSunElevationDeg), 0.0);
+  double previous = 4.0;
+  for (double el = -10.0; el <= 90.0; el += 0.5) {
+    const double ev = sunExposureOffsetEv(el);
+    EXPECT_LE(ev, previous + 1e-12) << "a higher sun never needs more exposure, at " << el << " deg";
+    EXPECT_GE(ev, -1.0);
+    EXPECT_LE(ev, 4.0);
+    previous = ev;
+  }
+  EXPECT_EQ(sunExposureOffsetEv(-10.0), 4.0);  // night: clamped
+  EXPECT_LT(sunExposureOffsetEv(60.0), 0.0);   // a higher sun than the reference: a little less
+  const atmosphere::Parameters earth;
+  const double rad = 3.14159265358979323846 / 180.0;
+  const double expected = 0.5 * std::log2(atmosphere::horizontalIlluminance(earth, 2000.0, 35.0 * rad) /
+                                          atmosphere::horizontalIlluminance(earth, 2000.0, 5.0 * rad));
+  EXPECT_NEAR(sunExposureOffsetEv(5.0), expected, 1e-12);
+  // The meter itself: at 5° the sky's share is large and the sun's small (a golden-hour scene is
+  // ≈ 10× darker than at 35°: 3.3 EV, of which the exposure makes up half).
+  EXPECT_GT(expected, 1.4);
+  EXPECT_LT(expected, 1.9);
+  EXPECT_EQ(sunExposureOffsetEv(std::nan("")), 0.0);
 }
 
 }  // namespace

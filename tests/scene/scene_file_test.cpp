@@ -53,6 +53,7 @@ TEST(SceneFile, Defaults) {
   EXPECT_EQ(s.output.width, 1920);
   EXPECT_EQ(s.output.height, 1080);
   EXPECT_EQ(s.output.image.exposure_ev, kDefaultExposureEv);  // +2.5 EV since issue 12
+  EXPECT_EQ(s.output.exposure, ExposureMode::Fixed);
   EXPECT_FALSE(s.output.image.write_depth);
   EXPECT_EQ(s.height_exaggeration, 1.0);
   EXPECT_EQ(s.view, ViewMode::Flat);
@@ -88,6 +89,13 @@ TEST(SceneFile, ValuesAndOverrides) {
   EXPECT_EQ(s.output.paths[0], "/scenes/a.PNG");
   EXPECT_EQ(s.output.image.exposure_ev, -1.5);
   EXPECT_EQ(s.output.image.tone_curve, ToneCurve::Reinhard);
+  EXPECT_EQ(s.output.exposure, ExposureMode::Fixed);
+  // "exposure": "sun": exposure_ev holds at the 35° reference sun and the frame's sun adds to it.
+  const SceneDescription sun = parseSceneText(R"({"output": {"exposure": "sun", "exposure_ev": 1}})", "s.json");
+  EXPECT_EQ(sun.output.exposure, ExposureMode::Sun);
+  EXPECT_EQ(imageOptionsFor(sun.output, kExposureReferenceSunElevationDeg).exposure_ev, 1.0);
+  EXPECT_EQ(imageOptionsFor(sun.output, 5.0).exposure_ev, 1.0 + sunExposureOffsetEv(5.0));
+  EXPECT_EQ(imageOptionsFor(s.output, 5.0).exposure_ev, -1.5);  // fixed: the sun changes nothing
   EXPECT_EQ(s.view, ViewMode::Globe);
   EXPECT_EQ(s.lonlat_offset.lon_deg, 0.3);
   EXPECT_EQ(s.lonlat_offset.lat_deg, -0.1);
@@ -114,6 +122,8 @@ TEST(SceneFile, StrictErrorsNameFileAndJsonPath) {
       {R"({"output": {"paths": "a.png"}})", "output.paths: expected an array of file paths, got a string"},
       {R"({"output": {"depth": "yes"}})", "output.depth: expected true or false, got a string"},
       {R"({"output": {"tone_curve": "filmic"}})", "output.tone_curve: tone curve 'filmic'"},
+      {R"({"output": {"exposure": "auto"}})",
+       "scene.json: output.exposure: unknown exposure 'auto': expected \"fixed\""},
       {R"({"quality": "ultra"})", "scene.json: quality: quality preset 'ultra'"},
       {R"({"quality": {"preset": "draft", "overrides": {"step_voxel": 1}}})",
        "quality.overrides.step_voxel: unknown key"},

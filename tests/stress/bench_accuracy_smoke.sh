@@ -15,8 +15,8 @@ python3 - "$csv" <<'PY'
 import csv, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 scenes = {r["scene"] for r in rows}
-assert len(scenes) == 7, f"expected 7 scenes, got {sorted(scenes)}"
-assert len(rows) >= 7 * 10, f"only {len(rows)} rows"
+assert len(scenes) == 9, f"expected 9 scenes, got {sorted(scenes)}"
+assert len(rows) >= 9 * 10, f"only {len(rows)} rows"
 for r in rows:
     for k, v in r.items():
         if k in ("scene", "knob", "value"):
