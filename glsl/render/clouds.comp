@@ -41,6 +41,7 @@
 #include "common/math.glsl"
 #include "common/ray_box.glsl"
 #include "common/imagery.glsl"
+#include "common/night_lights.glsl"
 #include "dlm/volume.glsl"
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
@@ -54,7 +55,7 @@ layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform writeonly uimage2D u_sample_
 // C + T_acc·(ground + sky), so a compositor can rebuild it or lay the clouds over its own map.
 layout(rgba32f, binding = IMAGE_PASS_GROUND) uniform writeonly image2D u_pass_ground;  // ground radiance, shadow matte
 layout(rgba32f, binding = IMAGE_PASS_SKY) uniform writeonly image2D u_pass_sky;        // sky radiance, cloud depth Z [m]
-layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // linear RGB over u_basemap_min..max (world m)
+layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // RGB linear albedo, A city lights, over u_basemap_min..max (world m)
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
 layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;  // (τ_up, τ_down) per voxel centre
 
@@ -135,7 +136,7 @@ float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 // The ground's height field (issue 14; glsl/common/terrain.glsl) and the far basemap (item 4). One
 // std140 block, declared in C++ as gl::TerrainBlock (render/gl/uniform_blocks.h).
 layout(binding = UNIT_TERRAIN) uniform sampler2D u_terrain;  // R32F height [m] per mass point
-layout(binding = UNIT_FAR_BASEMAP) uniform sampler2D u_far_basemap;  // linear RGB over u_far_basemap_min..max
+layout(binding = UNIT_FAR_BASEMAP) uniform sampler2D u_far_basemap;  // as u_basemap, over u_far_basemap_min..max
 layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
   ivec2 u_terrain_size;          // mass points nx, ny
   vec2 u_terrain_cell_m;         // world dx, dy
@@ -148,6 +149,7 @@ layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
   vec2 u_far_basemap_min_m;      // the far basemap's world rectangle (item 4: no void)
   vec2 u_far_basemap_max_m;
   bool u_has_far_basemap;
+  float u_city_lights;           // the night side's lights: k of common/night_lights.glsl (0 = none)
 };
 #ifdef SPEC_TERRAIN
 #define HAS_TERRAIN (SPEC_TERRAIN != 0)
@@ -181,16 +183,16 @@ float flatGroundDistance(vec3 o, vec3 d) {
 // global), else the ocean albedo. dx, dy: the pixel's footprint on the ground (world metres, the
 // differentials of the hit point to the next pixel right and down), which picks the mipmap level
 // and the anisotropic filter's axis (imagery seen at a slant does not alias; compute shaders have
-// no implicit derivatives, so textureGrad gets them explicitly).
-vec3 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
+// no implicit derivatives, so textureGrad gets them explicitly). A: the night side's city lights
+// on the same grid (0 without, and over the ocean albedo; common/night_lights.glsl).
+vec4 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
   if (u_has_basemap) {
     vec2 extent = u_basemap_max_m - u_basemap_min_m;
     vec2 uv = (xy - u_basemap_min_m) / extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
       // image row 0 = north edge: v = 1 − uv.y, so the v gradients change sign
       return textureGrad(u_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
-                         footprintClamped(vec2(dy.x, -dy.y) / extent))
-          .rgb;
+                         footprintClamped(vec2(dy.x, -dy.y) / extent));
     }
   }
   if (u_has_far_basemap) {
@@ -198,11 +200,10 @@ vec3 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
     vec2 uv = (xy - u_far_basemap_min_m) / extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
       return textureGrad(u_far_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
-                         footprintClamped(vec2(dy.x, -dy.y) / extent))
-          .rgb;
+                         footprintClamped(vec2(dy.x, -dy.y) / extent));
     }
   }
-  return u_ocean_albedo;
+  return vec4(u_ocean_albedo, 0.0);
 }
 
 // The ray through a pixel position (pixel units, row 0 at the top; centres at i + ½): the same ray
@@ -425,8 +426,9 @@ void main() {
       vec3 g = origin + tGround * dir;
       vec3 gn = normalize(g);  // the local vertical
       vec3 n = HAS_TERRAIN ? globeTerrainNormal(g) : gn;
-      vec3 albedo = globeAlbedo(g, globeFootprint(origin, dir, dirDx, g, tGround),
-                                globeFootprint(origin, dir, dirDy, g, tGround), u_ocean_albedo);
+      vec4 imagery = globeAlbedo(g, globeFootprint(origin, dir, dirDx, g, tGround),
+                                 globeFootprint(origin, dir, dirDy, g, tGround), u_ocean_albedo);
+      vec3 albedo = imagery.rgb;
       float sunCos = dot(gn, u_to_sun);
       float sunLambert = max(dot(n, u_to_sun), 0.0);
       vec3 gw = globeWorldFromEcef(g);
@@ -449,6 +451,9 @@ void main() {
         ground = albedo / kPi *
                  (u_sun_radiance * sunLambert * shadow * sunVisible + kPi * u_sky_radiance * globeDaylight(sunCos) * skyView);
       }
+      // The night side's city lights, emitted: the air below (aerial perspective) and the clouds
+      // in front dim them as the lit ground (common/night_lights.glsl). Exactly 0 where the sun is up.
+      if (u_city_lights > 0.0) ground += cityLightsRadiance(imagery.a, sunCos, u_sun_radiance, u_city_lights);
     } else {
       sky = ATMOSPHERE_ON ? vec3(0.0) : globeSpace(origin, dir, u_to_sun);
     }
@@ -467,8 +472,14 @@ void main() {
     // above (two-stream T_d) over the part of the sky a tilted surface sees, (1 + n_z)/2.
     vec3 g = origin + tFlatGround * dir;
     vec3 n = HAS_TERRAIN ? terrainNormal(terrainGrid(), g.xy) : vec3(0.0, 0.0, 1.0);
-    vec3 albedo = flatGroundAlbedo(g.xy, surfaceDifferential(dir, dirDx, n, tFlatGround).xy,
-                                   surfaceDifferential(dir, dirDy, n, tFlatGround).xy);
+    vec4 imagery = flatGroundAlbedo(g.xy, surfaceDifferential(dir, dirDx, n, tFlatGround).xy,
+                                    surfaceDifferential(dir, dirDy, n, tFlatGround).xy);
+    vec3 albedo = imagery.rgb;
+    // The night side's city lights (common/night_lights.glsl), emitted: added before the air's
+    // transmittance and the clouds in front dim them. The flat view's sun has one elevation,
+    // u_to_sun.z; exactly 0 while it is up.
+    vec3 lights = u_city_lights > 0.0 ? cityLightsRadiance(imagery.a, u_to_sun.z, u_sun_radiance, u_city_lights)
+                                      : vec3(0.0);
     float sunCos = max(dot(n, u_to_sun), 0.0);
     shadow = u_shadows ? dlmIntensity(g) : 1.0;
     float sunVisible = 1.0;  // V
@@ -488,13 +499,15 @@ void main() {
       // "Height exaggeration and the air").
       float altitude = HAS_TERRAIN ? max(g.z, 0.0) / u_height_exaggeration : 0.0;
       ground = albedo / kPi * u_sun_radiance *
-               (sunlightAt(altitude, u_to_sun.z) * sunCos * shadow * sunVisible +
-                skyIrradiance(altitude, u_to_sun.z) * skyShadow);
+                   (sunlightAt(altitude, u_to_sun.z) * sunCos * shadow * sunVisible +
+                    skyIrradiance(altitude, u_to_sun.z) * skyShadow) +
+               lights;
       AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, tFlatGround, u_to_sun);
       ground *= ap.transmittance;
       sky = u_sun_radiance * ap.inscattered;
     } else {
-      ground = albedo / kPi * (u_sun_radiance * sunCos * shadow * sunVisible + kPi * u_sky_radiance * skyShadow);
+      ground = albedo / kPi * (u_sun_radiance * sunCos * shadow * sunVisible + kPi * u_sky_radiance * skyShadow) +
+               lights;
     }
   } else if (ATMOSPHERE_ON) {  // the sky above the flat view's horizon
     sky = u_sun_radiance * skyViewRadiance(dir, u_to_sun);

@@ -6,7 +6,7 @@
 #include "common/math.glsl"
 #include "common/imagery.glsl"
 layout(binding = UNIT_GLOBE_WORLD_XY) uniform sampler2D u_globe_world_xy;  // RG32F world x, y at texel centres
-layout(binding = UNIT_GLOBE_BASEMAP) uniform sampler2D u_globe_basemap;   // equirectangular linear RGB, row 0 = 90°N
+layout(binding = UNIT_GLOBE_BASEMAP) uniform sampler2D u_globe_basemap;   // equirectangular: RGB linear albedo, A city lights; row 0 = 90°N
 
 // One std140 block, declared in C++ as gl::GlobeBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocksMatchTheLinkedPrograms checks every offset.
@@ -132,14 +132,14 @@ vec2 equirectUvDifferential(vec3 g, vec3 dP) {
 // clouds.comp surfaceDifferential), turned into texture gradients for textureGrad (a compute
 // shader has no implicit derivatives; common/imagery.glsl filters). The gradients are analytic, so the u seam at the
 // antimeridian (u wraps from 1 to 0) does not widen the footprint.
-vec3 globeAlbedo(vec3 g, vec3 dPx, vec3 dPy, vec3 fallback) {
-  if (!u_has_globe_basemap) return fallback;
+// A: the night side's city lights on the same grid, filtered alike (0 without; night_lights.glsl).
+vec4 globeAlbedo(vec3 g, vec3 dPx, vec3 dPy, vec3 fallback) {
+  if (!u_has_globe_basemap) return vec4(fallback, 0.0);
   vec3 n = normalize(g);
   float lon = atan(n.y, n.x), lat = atan(n.z, length(n.xy));  // not asin: see globeRotatedLonLat
   vec2 uv = vec2(lon / (2.0 * kPi) + 0.5, 0.5 - lat / kPi);  // scene::equirectUv
   return textureAnisotropic(u_globe_basemap, uv, footprintClamped(equirectUvDifferential(g, dPx)),
-                            footprintClamped(equirectUvDifferential(g, dPy)))
-      .rgb;
+                            footprintClamped(equirectUvDifferential(g, dPy)));
 }
 
 // Smooth day/night factor of the sky light at a point whose local vertical has cosine cosSun

@@ -28,11 +28,14 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
   sun_ = prepared_.sun;
   style_ = scene_.style;
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
-  if (prepared_.basemap_rect) renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect);
+  if (prepared_.basemap_rect)
+    renderer_.setBasemap(prepared_.basemap, *prepared_.basemap_rect, prepared_.basemap_lights);
   renderer_.setPasses(scene_.output.wantsPasses());
-  if (prepared_.far_basemap_rect) renderer_.setFarBasemap(prepared_.far_basemap, *prepared_.far_basemap_rect);
+  if (prepared_.far_basemap_rect)
+    renderer_.setFarBasemap(prepared_.far_basemap, *prepared_.far_basemap_rect, prepared_.far_basemap_lights);
   if (prepared_.to_sun_ecef) {  // globe view (scene_setup.h): rays in ECEF
-    renderer_.setGlobe(render::buildGlobeMapping(*prepared_.geo), prepared_.basemap_equirect, *prepared_.to_sun_ecef);
+    renderer_.setGlobe(render::buildGlobeMapping(*prepared_.geo), prepared_.basemap_equirect, *prepared_.to_sun_ecef,
+                       prepared_.basemap_equirect_lights);
   }
 }
 

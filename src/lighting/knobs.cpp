@@ -115,6 +115,8 @@ constexpr std::array kKnobs{
          .doc = "physically based sky, sunlight and aerial perspective (0: uniform ambient sky)"},
     Knob{.name = "terrain", .unit = "", .min = 0, .max = 1, .field = &S::terrain,
          .doc = "ground displaced by the model's terrain height (WRF HGT, ICON HSURF), exaggerated as the clouds"},
+    Knob{.name = "city_lights", .unit = "E/π", .min = 0.0, .max = 1.0, .field = &S::city_lights,
+         .doc = "night side: city lights (basemap.night_lights, default Marble's citylights.jpg) at this fraction of E/π; 0 = off"},
 };
 // clang-format on
 

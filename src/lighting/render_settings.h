@@ -45,6 +45,12 @@ struct StyleSettings {
   /// height exaggeration of the clouds. Off: the plane z = 0 of before (the clouds then reach down
   /// to the data's lowest layer wherever the terrain is).
   bool terrain = true;
+  /// City lights on the night side (issue 14; glsl/common/night_lights.glsl): the radiance of a
+  /// fully lit texel as a fraction of E/π (a white Lambertian ground under the overhead sun),
+  /// faded in as the sun sets at the ground point; 0 = off (the lights raster is then not read).
+  /// The default is a look, not physics (real lights are some 10⁶ times dimmer and need a night
+  /// exposure): at the day's exposure a city core reads as sunlit dark land.
+  double city_lights = 0.1;
 };
 
 /// The ray caster's settings: sampling (from QualitySettings, lighting::renderSettingsFor) and

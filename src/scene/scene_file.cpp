@@ -191,6 +191,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     bm.path = o.path("path", true);
     bm.margin = o.number("margin", bm.margin, 0.0, 10.0);
     bm.pixels_long_side = o.integer("pixels_long_side", bm.pixels_long_side, 16, kMaxImageSide);
+    bm.night_lights = o.path("night_lights", false);
     o.finish();
     s.basemap = bm;
   }

@@ -59,6 +59,10 @@ struct BasemapSpec {
   std::string path;             ///< equirectangular image
   double margin = 0.25;         ///< around the footprint, fraction of its larger side
   int pixels_long_side = 2048;  ///< resolution of the reprojected basemap
+  /// The night side's city lights (issue 14; scene/night_lights.h), warped onto the basemap's
+  /// grids: any GDAL raster as `path`; empty = night_lights.h kCityLightsPath where installed.
+  /// Drawn with the style knob city_lights (0 = off, then not read).
+  std::string night_lights;
 };
 
 struct OutputSpec {

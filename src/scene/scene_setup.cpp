@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/night_lights.h"
 #include "scene/solar_position.h"
 
 namespace nph::scene {
@@ -78,12 +79,29 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
       layers.insert(layers.begin(), BasemapRaster::open(kBlueMarblePath));
     }
     p.basemap = reprojectBasemap(layers, *geo, rect, w, h);
+    // The night side's lights on the same grids (issue 14): the scene's raster, else Debian's.
+    std::optional<BasemapRaster> lights;
+    if (s.style.city_lights > 0.0) {
+      if (!s.basemap->night_lights.empty()) {
+        lights = BasemapRaster::open(s.basemap->night_lights);
+      } else if (std::filesystem::exists(kCityLightsPath)) {
+        lights = BasemapRaster::open(kCityLightsPath);
+      }
+    }
+    if (lights) p.basemap_lights = cityLightsIntensity(reprojectBasemap(*lights, *geo, rect, w, h));
     if (s.view == ViewMode::Globe) {
       const glm::ivec2 globeSize = equirectangularSizeFor(layers.back());
       p.basemap_equirect = reprojectEquirectangular(layers, globeSize.x, globeSize.y);
+      if (lights) {
+        p.basemap_equirect_lights = cityLightsIntensity(reprojectEquirectangular({*lights}, globeSize.x, globeSize.y));
+      }
     } else {
       p.far_basemap_rect = farBasemapRectangle(p.frame);
       p.far_basemap = reprojectBasemap(layers, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
+      if (lights) {
+        p.far_basemap_lights = cityLightsIntensity(
+            reprojectBasemap(*lights, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels));
+      }
     }
     p.basemap_rect = rect;
     log::info("basemap {}: {}x{} pixels over {:.0f}x{:.0f} km", s.basemap->path, w, h, extent.x / 1000.0,

@@ -38,6 +38,10 @@ struct PreparedScene {
   /// atmosphere's aerial perspective fades it into the sky) instead of ending at the near one.
   std::optional<WorldRect> far_basemap_rect;
   LinearRgbImage far_basemap;
+  /// The night side's city lights (issue 14; scene/night_lights.h cityLightsIntensity), one
+  /// intensity per pixel of basemap, far_basemap and basemap_equirect; each empty where that image
+  /// is, or when the style's city_lights is 0 or no lights raster is given nor installed.
+  std::vector<float> basemap_lights, far_basemap_lights, basemap_equirect_lights;
 };
 
 /// The far basemap's rectangle: the footprint's centre ± max(2000 km, 3 × its longer side). At

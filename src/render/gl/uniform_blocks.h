@@ -262,12 +262,13 @@ struct TerrainBlock {
   glm::vec2 far_basemap_min_m{0.0f};  ///< u_far_basemap_min_m
   glm::vec2 far_basemap_max_m{0.0f};  ///< u_far_basemap_max_m
   std::uint32_t has_far_basemap = 0;  ///< u_has_far_basemap (bool)
-  std::uint32_t pad[1] = {0};         ///< to a multiple of 16 bytes (std140 block rounding)
+  /// u_city_lights: the night side's lights, k of glsl/common/night_lights.glsl (0 = none; both views)
+  float city_lights = 0.0f;
 };
 static_assert(offsetof(TerrainBlock, cell_m) == 8 && offsetof(TerrainBlock, exaggeration) == 16 &&
               offsetof(TerrainBlock, lipschitz) == 32 && offsetof(TerrainBlock, has_terrain) == 36);
 static_assert(offsetof(TerrainBlock, far_basemap_min_m) == 40 && offsetof(TerrainBlock, far_basemap_max_m) == 48 &&
-              offsetof(TerrainBlock, has_far_basemap) == 56);
+              offsetof(TerrainBlock, has_far_basemap) == 56 && offsetof(TerrainBlock, city_lights) == 60);
 static_assert(sizeof(TerrainBlock) == 64, "std140 size of TerrainBlock, rounded to 16");
 inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(TerrainBlock, size)},
                                                   {"u_terrain_cell_m", offsetof(TerrainBlock, cell_m)},
@@ -279,7 +280,8 @@ inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(Te
                                                   {"u_has_terrain", offsetof(TerrainBlock, has_terrain)},
                                                   {"u_far_basemap_min_m", offsetof(TerrainBlock, far_basemap_min_m)},
                                                   {"u_far_basemap_max_m", offsetof(TerrainBlock, far_basemap_max_m)},
-                                                  {"u_has_far_basemap", offsetof(TerrainBlock, has_far_basemap)}};
+                                                  {"u_has_far_basemap", offsetof(TerrainBlock, has_far_basemap)},
+                                                  {"u_city_lights", offsetof(TerrainBlock, city_lights)}};
 
 /// glsl/atmosphere/model.glsl `AtmosphereBlock`: the atmosphere's constants (atmosphere/atmosphere.h
 /// Parameters) and the sky-view table's observer and sun (render/atmosphere/atmosphere_luts.h).

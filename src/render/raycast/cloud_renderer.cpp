@@ -34,47 +34,68 @@ CloudRenderer::CloudRenderer()
   glTextureSubImage2D(blank_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
 }
 
-void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect) {
+namespace {
+// An imagery texture of the eye pass: RGB the linear albedo, A the night side's city lights on the
+// same grid (scene::cityLightsIntensity; 0 without), filtered together. Mipmapped (issue 14 item
+// 3): oblique views and the globe's limb see the ground at a slant.
+gl::Texture imageryTexture(const scene::LinearRgbImage& image, const std::vector<float>& lights, const char* label) {
+  const std::size_t n = std::size_t(image.width) * std::size_t(image.height);
+  if (!lights.empty() && lights.size() != n) {
+    throw UsageError(
+        fmt::format("{}: {} city-light values for {}x{} pixels", label, lights.size(), image.width, image.height));
+  }
+  std::vector<float> rgba(4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t c = 0; c < 3; ++c) rgba[4 * i + c] = image.rgb[3 * i + c];
+    rgba[4 * i + 3] = lights.empty() ? 0.0f : lights[i];
+  }
+  gl::Texture t =
+      gl::Texture::create2D(GL_RGBA32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
+          .label(label);
+  glTextureSubImage2D(t.id(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT, rgba.data());
+  return t;
+}
+}  // namespace
+
+void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
+                               const std::vector<float>& city_lights) {
+  basemap_lights_ = false;
   if (image.width <= 0 || image.height <= 0) {
     basemap_ = gl::Texture();
     return;
   }
-  // Mipmapped and anisotropic (issue 14 item 3): oblique views see the ground at a slant.
-  basemap_ = gl::Texture::create2D(GL_RGB32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
-                 .label("basemap (linear RGB)");
-  glTextureSubImage2D(basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
+  basemap_ = imageryTexture(image, city_lights, "basemap (linear RGB, city lights)");
   basemap_.mipmapped(GL_CLAMP_TO_EDGE);
   basemap_rect_ = rect;
+  basemap_lights_ = !city_lights.empty();
 }
 
-void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect) {
+void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
+                                  const std::vector<float>& city_lights) {
   far_basemap_ = gl::Texture();
+  far_basemap_lights_ = false;
   if (image.width <= 0 || image.height <= 0) return;
-  far_basemap_ =
-      gl::Texture::create2D(GL_RGB32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
-          .label("far basemap (linear RGB)");
-  glTextureSubImage2D(far_basemap_.id(), 0, 0, 0, image.width, image.height, GL_RGB, GL_FLOAT, image.rgb.data());
+  far_basemap_ = imageryTexture(image, city_lights, "far basemap (linear RGB, city lights)");
   far_basemap_.mipmapped(GL_CLAMP_TO_EDGE);
   far_basemap_rect_ = rect;
+  far_basemap_lights_ = !city_lights.empty();
 }
 
 void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage& equirect,
-                             const glm::dvec3& to_sun_ecef) {
+                             const glm::dvec3& to_sun_ecef, const std::vector<float>& city_lights) {
   globe_ = m;
   globe_to_sun_ = to_sun_ecef;
   globe_table_ = gl::Texture::create2D(GL_RG32F, m.width, m.height).label("globe lon/lat -> world");
   glTextureSubImage2D(globe_table_.id(), 0, 0, 0, m.width, m.height, GL_RG, GL_FLOAT, m.world_xy_m.data());
   globe_table_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   globe_basemap_ = gl::Texture();
+  globe_lights_ = false;
   if (equirect.width > 0 && equirect.height > 0) {
-    globe_basemap_ = gl::Texture::create2D(GL_RGB32F, equirect.width, equirect.height,
-                                           gl::mipLevelsFor(equirect.width, equirect.height))
-                         .label("globe basemap");
-    glTextureSubImage2D(globe_basemap_.id(), 0, 0, 0, equirect.width, equirect.height, GL_RGB, GL_FLOAT,
-                        equirect.rgb.data());
-    // Mipmapped (issue 14 item 3): the whole Earth is seen from far away and at grazing angles
-    // towards the limb. The anisotropic taps are the shader's (glsl/common/imagery.glsl
-    // textureAnisotropic: llvmpipe's own drew specks at the limb), so the sampler's is 1.
+    globe_basemap_ = imageryTexture(equirect, city_lights, "globe basemap (linear RGB, city lights)");
+    globe_lights_ = !city_lights.empty();
+    // The whole Earth is seen from far away and at grazing angles towards the limb. The
+    // anisotropic taps are the shader's (glsl/common/imagery.glsl textureAnisotropic: llvmpipe's
+    // own drew specks at the limb), so the sampler's is 1.
     globe_basemap_.mipmapped(GL_REPEAT);  // wraps across the antimeridian in u ...
     glTextureParameteri(globe_basemap_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);  // ... not over the poles in v
     if (gl::maxAnisotropy() > 1.0f) glTextureParameterf(globe_basemap_.id(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
@@ -153,6 +174,9 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   b.has_far_basemap = far_basemap_ && !globe_ ? 1u : 0u;
   b.far_basemap_min_m = glm::vec2(far_basemap_rect_.min_m);
   b.far_basemap_max_m = glm::vec2(far_basemap_rect_.max_m);
+  // The night side's lights (glsl/common/night_lights.glsl), where any imagery of the view has them.
+  const bool lights = globe_ ? globe_lights_ : basemap_lights_ || far_basemap_lights_;
+  b.city_lights = lights ? float(s.city_lights) : 0.0f;
   terrain_block_.update(b);
   terrain_block_.bind();
 }

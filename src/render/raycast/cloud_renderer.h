@@ -93,10 +93,15 @@ class CloudRenderer {
  public:
   CloudRenderer();
   /// Sets (uploads) the basemap: linear RGB covering `rect` of the world (row 0 = north).
-  void setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect);
+  /// `city_lights`: the night side's lights on the same pixels (scene::cityLightsIntensity; empty =
+  /// none), drawn with RenderSettings::city_lights (glsl/common/night_lights.glsl). The same for
+  /// the far basemap and the globe's.
+  void setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
+                  const std::vector<float>& city_lights = {});
   /// Sets the far basemap (issue 14 item 4): drawn on the flat view's ground outside the near
   /// basemap's rectangle, inside `rect` (scene::farBasemapRectangle). Empty image: none.
-  void setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect);
+  void setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
+                     const std::vector<float>& city_lights = {});
   RenderOutput render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
                       const scene::Sun& sun, const RenderSettings& settings);
 
@@ -109,7 +114,8 @@ class CloudRenderer {
   /// Switches to the globe view: rays (ViewRays, cameras) are then in ECEF; `equirect` is the whole
   /// equirectangular basemap (linear RGB, row 0 = 90°N; empty = ocean albedo everywhere) and
   /// `to_sun_ecef` the direction to the sun (scene::toSunEcef). The DLM stays in the world frame.
-  void setGlobe(const GlobeMapping& mapping, const scene::LinearRgbImage& equirect, const glm::dvec3& to_sun_ecef);
+  void setGlobe(const GlobeMapping& mapping, const scene::LinearRgbImage& equirect, const glm::dvec3& to_sun_ecef,
+                const std::vector<float>& city_lights = {});
   /// Globe: a new sun direction (the world-frame sun given to dispatch() still builds the light).
   void setGlobeSun(const glm::dvec3& to_sun_ecef) { globe_to_sun_ = to_sun_ecef; }
   bool globe() const { return globe_.has_value(); }
@@ -152,6 +158,7 @@ class CloudRenderer {
   std::optional<GlobeMapping> globe_;
   gl::Texture globe_table_, globe_basemap_, sample_count_tex_;
   bool count_samples_ = false;
+  bool basemap_lights_ = false, far_basemap_lights_ = false, globe_lights_ = false;  // A = city lights
   gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
   gl::UniformBuffer<gl::GlobeBlock> globe_block_;      // globe.glsl's mapping
   gl::UniformBuffer<gl::TerrainBlock> terrain_block_;  // the ground's height field, the far basemap
