@@ -73,6 +73,16 @@ class BasemapRaster {
   int height() const;
   /// Whether the source covers the whole Earth in lon/lat (it wraps across the antimeridian).
   bool wholeEarth() const;
+  /// Issue 14 item 3, imagery LOD: the widths of the file's reduced-resolution levels (GeoTIFF/COG
+  /// internal overviews, external .ovr), finest first; empty when it has none. The warp
+  /// (reprojectBasemap, reprojectEquirectangular) reads the coarsest level that still has at least
+  /// one source pixel per output pixel, as gdalwarp's `-ovr AUTO`, instead of the full resolution.
+  const std::vector<int>& overviewWidths() const;
+  /// The same file opened at overview `level` (an index into overviewWidths(); GDAL's OVERVIEW_LEVEL
+  /// open option, the geotransform scaled to it). Throws UsageError for a level it does not have.
+  BasemapRaster atOverview(int level) const;
+  /// The overview level this raster reads (-1: full resolution).
+  int overviewLevel() const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }

@@ -109,6 +109,10 @@ struct BasemapRaster::Impl {
   Encoding encoding = Encoding::Linear;
   bool whole_earth = false;
   std::vector<float> memory;  ///< fromEquirectangular: the pixels a MEM dataset points at
+  /// The file's reduced-resolution levels (GeoTIFF/COG overviews, .ovr files): width of each,
+  /// finest first; empty for sources without (or from memory). See overviewFor.
+  std::vector<int> overview_widths;
+  int overview_level = -1;  ///< this raster is the file at that overview level (-1: full resolution)
 
   Impl() = default;
   Impl(const Impl&) = delete;
@@ -122,6 +126,8 @@ const std::string& BasemapRaster::name() const { return impl_->name; }
 int BasemapRaster::width() const { return impl_->width; }
 int BasemapRaster::height() const { return impl_->height; }
 bool BasemapRaster::wholeEarth() const { return impl_->whole_earth; }
+const std::vector<int>& BasemapRaster::overviewWidths() const { return impl_->overview_widths; }
+int BasemapRaster::overviewLevel() const { return impl_->overview_level; }
 
 namespace {
 
@@ -279,10 +285,39 @@ BasemapRaster BasemapRaster::open(const std::string& path) {
   impl->keep.emplace_back(ds);
   impl->dataset = ds;
   describe(*impl);
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  for (int i = 0; i < GDALGetOverviewCount(band); ++i) {
+    if (GDALRasterBandH o = GDALGetOverview(band, i)) impl->overview_widths.push_back(GDALGetRasterBandXSize(o));
+  }
   BasemapRaster r;
   r.impl_ = std::move(impl);
   log::debug("basemap {}: {}x{} pixels through GDAL ({}){}", path, r.width(), r.height(),
              GDALGetDriverShortName(GDALGetDatasetDriver(ds)), r.wholeEarth() ? ", whole Earth" : "");
+  return r;
+}
+
+BasemapRaster BasemapRaster::atOverview(int level) const {
+  if (level < 0 || std::size_t(level) >= impl_->overview_widths.size()) {
+    throw UsageError(
+        fmt::format("{}: no overview level {} (the file has {})", impl_->name, level, impl_->overview_widths.size()));
+  }
+  auto impl = std::make_shared<Impl>();
+  impl->name = impl_->name;
+  impl->overview_level = level;
+  const std::string option = fmt::format("OVERVIEW_LEVEL={}", level);
+  const char* options[] = {option.c_str(), nullptr};
+  GdalErrors errors;
+  GDALDatasetH ds = GDALOpenEx(impl_->name.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
+                               options, nullptr);
+  if (!ds) {
+    throw InputError(fmt::format("{}: cannot open its overview level {}: {}", impl_->name, level,
+                                 errors.message("GDAL gave no reason")));
+  }
+  impl->keep.emplace_back(ds);
+  impl->dataset = ds;
+  describe(*impl);
+  BasemapRaster r;
+  r.impl_ = std::move(impl);
   return r;
 }
 
@@ -306,6 +341,10 @@ BasemapRaster BasemapRaster::fromEquirectangular(const LinearRgbImage& image, co
   impl->keep.emplace_back(ds);
   impl->dataset = ds;
   describe(*impl);
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  for (int i = 0; i < GDALGetOverviewCount(band); ++i) {
+    if (GDALRasterBandH o = GDALGetOverview(band, i)) impl->overview_widths.push_back(GDALGetRasterBandXSize(o));
+  }
   BasemapRaster r;
   r.impl_ = std::move(impl);
   return r;
@@ -410,6 +449,35 @@ int chainTransform(void* arg, int dstToSrc, int n, double* x, double* y, double*
   return TRUE;
 }
 
+/// Source pixels per destination pixel along the destination's x and y at its centre, through
+/// `chain` (1 where the chain fails there).
+std::array<double, 2> sourcePerDestination(ChainArg& chain, int w, int h) {
+  double x[3] = {0.5 * w, 0.5 * w + 1.0, 0.5 * w}, y[3] = {0.5 * h, 0.5 * h, 0.5 * h + 1.0}, z[3] = {};
+  int ok[3] = {};
+  chainTransform(&chain, TRUE, 3, x, y, z, ok);
+  return {ok[0] && ok[1] ? std::hypot(x[1] - x[0], y[1] - y[0]) : 1.0,
+          ok[0] && ok[2] ? std::hypot(x[2] - x[0], y[2] - y[0]) : 1.0};
+}
+
+/// The overview of `raster` to read for `ratio` source pixels per destination pixel: the coarsest
+/// whose reduction factor (full width / its width) is at most the smaller ratio, so the output
+/// still gets at least one source pixel per pixel — gdalwarp's `-ovr AUTO` rule; -1 = full
+/// resolution. The rest of the reduction is the warper's widened bilinear kernel (XSCALE/YSCALE).
+int overviewFor(const BasemapRaster& raster, const std::array<double, 2>& ratio) {
+  const double wanted = std::min(ratio[0], ratio[1]);
+  int best = -1;
+  double bestFactor = 1.0;
+  const std::vector<int>& widths = raster.overviewWidths();
+  for (std::size_t i = 0; i < widths.size(); ++i) {
+    const double factor = double(raster.width()) / double(std::max(widths[i], 1));
+    if (factor <= wanted * (1.0 + 1e-9) && factor > bestFactor) {
+      best = int(i);
+      bestFactor = factor;
+    }
+  }
+  return best;
+}
+
 /// Warps `layers` (bottom first) onto `grid` into `rgb` (w·h·3, pixel-interleaved, linear).
 /// Returns the number of pixels no layer covered.
 std::size_t warpInto(const std::vector<BasemapRaster>& layers, const DestinationGrid& grid, int w, int h,
@@ -419,18 +487,33 @@ std::size_t warpInto(const std::vector<BasemapRaster>& layers, const Destination
   // Bands 1-3: colour as read (codes or linear values); band 4: coverage (the warper's alpha).
   DatasetPtr dst(GDALCreate(memDriver, "", w, h, 4, GDT_Float32, nullptr));
   std::vector<float> decoded(std::size_t(w) * std::size_t(h) * 3, 0.0f), coverage(std::size_t(w) * std::size_t(h));
-  for (const BasemapRaster& layer : layers) {
-    const BasemapRaster::Impl& src = layer.impl();
+  for (const BasemapRaster& fullLayer : layers) {
     GdalErrors errors;
     const char* toLonLat[] = {"DST_SRS=+proj=longlat +datum=WGS84 +no_defs", nullptr};
-    void* genImg = GDALCreateGenImgProjTransformer2(src.dataset, nullptr, const_cast<char**>(toLonLat));
-    if (!genImg) {
-      throw InputError(fmt::format("{}: cannot transform the basemap's coordinate reference system to lon/lat: {}",
-                                   src.name, errors.message("GDAL gave no reason")));
-    }
+    const auto transformerOf = [&](const BasemapRaster::Impl& raster) {
+      void* t = GDALCreateGenImgProjTransformer2(raster.dataset, nullptr, const_cast<char**>(toLonLat));
+      if (!t) {
+        throw InputError(fmt::format("{}: cannot transform the basemap's coordinate reference system to lon/lat: {}",
+                                     raster.name, errors.message("GDAL gave no reason")));
+      }
+      return t;
+    };
     ChainArg chain;
     chain.destination = &grid;
-    chain.lonlat_to_source = genImg;
+    chain.lonlat_to_source = transformerOf(fullLayer.impl());
+    // Imagery LOD (issue 14 item 3): read the coarsest overview that still has a source pixel per
+    // output pixel (gdalwarp -ovr AUTO), not the full resolution to filter it down here.
+    BasemapRaster layer = fullLayer;
+    const int level = overviewFor(fullLayer, sourcePerDestination(chain, w, h));
+    if (level >= 0) {
+      layer = fullLayer.atOverview(level);
+      GDALDestroyGenImgProjTransformer(chain.lonlat_to_source);
+      chain.lonlat_to_source = transformerOf(layer.impl());
+      log::info("basemap {}: read at overview level {} ({} pixels wide, {} at full resolution)", layer.name(), level,
+                layer.width(), fullLayer.width());
+    }
+    const BasemapRaster::Impl& src = layer.impl();
+    void* genImg = chain.lonlat_to_source;
     void* approx = GDALCreateApproxTransformer(chainTransform, &chain, kApproxError_px);
 
     GDALWarpOptions* wo = GDALCreateWarpOptions();
@@ -469,16 +552,12 @@ std::size_t warpInto(const std::vector<BasemapRaster>& layers, const Destination
     // kernel is not exact on a linear ramp (its discrete weights are not centred: a bias up to
     // ~0.1 source pixel, measured), so it is kept for where it is needed.
     {
-      double x[3] = {0.5 * w, 0.5 * w + 1.0, 0.5 * w}, y[3] = {0.5 * h, 0.5 * h, 0.5 * h + 1.0}, z[3] = {};
-      int ok[3] = {};
-      chainTransform(&chain, TRUE, 3, x, y, z, ok);
       auto scale = [](double sourcePerDestination) {
         return fmt::format("{:.9g}", sourcePerDestination > 2.0 ? 1.0 / sourcePerDestination : 1.0);
       };
-      const double sx = ok[0] && ok[1] ? std::hypot(x[1] - x[0], y[1] - y[0]) : 1.0;
-      const double sy = ok[0] && ok[2] ? std::hypot(x[2] - x[0], y[2] - y[0]) : 1.0;
-      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "XSCALE", scale(sx).c_str());
-      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "YSCALE", scale(sy).c_str());
+      const std::array<double, 2> ratio = sourcePerDestination(chain, w, h);
+      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "XSCALE", scale(ratio[0]).c_str());
+      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "YSCALE", scale(ratio[1]).c_str());
     }
     GDALWarpOperationH op = GDALCreateWarpOperation(wo);
     CPLErr err = op ? GDALChunkAndWarpImage(op, 0, 0, w, h) : CE_Failure;

@@ -288,5 +288,69 @@ TEST(Basemap, BlueMarbleFromMarbleQtData) {
   EXPECT_GT(antarctica.g, 0.3f);
 }
 
+// Imagery LOD (issue 14 item 3): a raster with overviews is read at the level that matches the
+// output, not at full resolution. The GeoTIFF (EPSG:4326, whole Earth, 2048 × 1024, 8-bit) is red
+// at full resolution; GDAL builds its overviews (×2, ×4, ×8), whose pixels are then painted a
+// different colour each, so the warped image says which level was read.
+TEST(Basemap, OverviewMatchingTheOutputIsReadNotTheFullResolution) {
+  nph::test::ScratchDir dir("scene");
+  const std::string path = dir.file("overviews.tif");
+  constexpr int kW = 2048, kH = 1024;
+  std::vector<double> red(std::size_t(kW) * kH * 3, 0.0);
+  for (std::size_t i = 0; i < red.size(); i += 3) red[i] = 255.0;
+  test::writeGeoTiff(
+      path, {kW, kH, 3, GDT_Byte, std::array<double, 6>{-180.0, 360.0 / kW, 0.0, 90.0, 0.0, -180.0 / kH}, "EPSG:4326"},
+      red);
+  // Overview k (factor 2^(k+1)) gets the code (0, 80·(k+1), 255 − 80·k) in every pixel.
+  {
+    GDALDatasetH ds = GDALOpen(path.c_str(), GA_Update);
+    ASSERT_NE(ds, nullptr);
+    int factors[] = {2, 4, 8};
+    ASSERT_EQ(GDALBuildOverviews(ds, "NEAREST", 3, factors, 0, nullptr, nullptr, nullptr), CE_None);
+    for (int b = 1; b <= 3; ++b) {
+      GDALRasterBandH band = GDALGetRasterBand(ds, b);
+      ASSERT_EQ(GDALGetOverviewCount(band), 3);
+      for (int k = 0; k < 3; ++k) {
+        GDALRasterBandH o = GDALGetOverview(band, k);
+        const int ow = GDALGetRasterBandXSize(o), oh = GDALGetRasterBandYSize(o);
+        const double code = b == 1 ? 0.0 : b == 2 ? 80.0 * (k + 1) : 255.0 - 80.0 * k;
+        std::vector<double> fill(std::size_t(ow) * std::size_t(oh), code);
+        ASSERT_EQ(GDALRasterIO(o, GF_Write, 0, 0, ow, oh, fill.data(), ow, oh, GDT_Float64, 0, 0), CE_None);
+      }
+    }
+    GDALClose(ds);
+  }
+  const BasemapRaster raster = BasemapRaster::open(path);
+  ASSERT_EQ(raster.overviewWidths(), (std::vector<int>{1024, 512, 256}));
+  const auto levelRead = [&](int w) {
+    const LinearRgbImage img = reprojectEquirectangular({raster}, w, w / 2);
+    const glm::vec3 c = img.at(w / 3, w / 5);  // any pixel: each level is uniform
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 painted(0.0f, srgbToLinear(80.0f * float(k + 1) / 255.0f),
+                              srgbToLinear((255.0f - 80.0f * float(k)) / 255.0f));
+      if (glm::length(c - painted) < 1e-4f) return k;
+    }
+    EXPECT_LT(glm::length(c - glm::vec3(1.0f, 0.0f, 0.0f)), 1e-4f) << "neither full resolution nor an overview";
+    return -1;
+  };
+  // Source pixels per output pixel: 1 → full resolution; 2 → ×2; 3 → still ×2 (×4 would give
+  // fewer source pixels than output pixels); 4, 5.3 → ×4; 8 and beyond → ×8 (the coarsest).
+  EXPECT_EQ(levelRead(2048), -1);
+  EXPECT_EQ(levelRead(1024), 0);
+  EXPECT_EQ(levelRead(682), 0);
+  EXPECT_EQ(levelRead(512), 1);
+  EXPECT_EQ(levelRead(384), 1);
+  EXPECT_EQ(levelRead(256), 2);
+  EXPECT_EQ(levelRead(128), 2);
+  // Into the data's projection too (reprojectBasemap): the test footprint with its margin
+  // (≈ 600 km) at 2 × 2 pixels, ≈ 2.7° each against the source's 0.18°: the coarsest level.
+  const auto v = test::lambertVolumes();
+  const VolumeFrame frame = frameOf(v);
+  const SceneGeoreference geo(v, frame);
+  const LinearRgbImage flat = reprojectBasemap(raster, geo, basemapRectangle(frame, 0.5), 2, 2);
+  const glm::vec3 c = flat.at(1, 1);
+  EXPECT_NEAR(c.g, srgbToLinear(240.0f / 255.0f), 1e-4f) << "expected the ×8 overview's colour";
+}
+
 }  // namespace
 }  // namespace nph::scene
