@@ -276,6 +276,28 @@ float adaptiveStep(float t, float pixelAngle, float brickMax_per_m) {
   return u_step_m * clamp(max(far, thin) / u_step_m, 1.0, u_step_growth_max);
 }
 
+// Adaptive steps clipped at the brick (issue 19 item 1, the safe default asked for after the first
+// measurement, docs/benchmarks.md "Adaptive steps"): a grown step ends at the face of the occupancy
+// brick it starts in, so it never jumps past the first samples of the next brick, where a thin
+// cloud can lie just beyond a long empty stretch (the occupancy is dilated by the filter's reach,
+// so the brick before such a cloud is occupied, and there the far term grows the step). Inside
+// the next brick the step grows again from its own bound. A step is never clipped below Δ: the
+// fixed step crosses a face by up to Δ as well. Flat view: the exact distance to the brick's exit
+// along the ray (glsl/dlm/volume.glsl brickExitDistance; 0 beyond the box's far faces, so there
+// the step is Δ). Globe: the world frame bends along an ECEF ray, so the landing point's brick is
+// compared with the start's (one more table mapping per grown step) and a step that would leave
+// the brick falls back to Δ. ADAPTIVE_STEPS_UNCLIPPED (render::EyePassBaseline::unclipped_steps,
+// benchmarks and tests only) keeps the unclipped step of the first version to measure against.
+ivec3 brickIndexAt(vec3 world_m) {
+  return ivec3(floor(volumeUvw(world_m) * vec3(u_voxels) / float(u_brick_voxels)));
+}
+float stepClippedAtBrick(vec3 p, vec3 w, vec3 dir, float step_m) {
+  if (VIEW_GLOBE) {
+    return all(equal(brickIndexAt(globeWorldFromEcef(p + step_m * dir)), brickIndexAt(w))) ? step_m : u_step_m;
+  }
+  return max(min(step_m, brickExitDistance(w, dir)), u_step_m);
+}
+
 // The Z pass where no cloud is seen: 10^10 m, the value Blender Cycles writes for its background,
 // finite so that compositors' depth operations (defocus, depth merge) stay defined.
 const float kNoCloudDepth_m = 1.0e10;
@@ -363,6 +385,9 @@ void main() {
         }
       }
       float step_m = adaptive ? adaptiveStep(t, pixelAngle, brickMax * depthScale) : u_step_m;
+#ifndef ADAPTIVE_STEPS_UNCLIPPED
+      if (step_m > u_step_m) step_m = stepClippedAtBrick(p, w, dir, step_m);
+#endif
       vec2 beta = extinctionAt(w) * depthScale;
       ++samples;
       float b = beta.x + beta.y;

@@ -87,6 +87,9 @@ struct EyePassFeatures {
 struct EyePassBaseline {
   bool uniform_branches = false;  ///< one program for every view: the switches are uniforms
   bool binary_search = false;     ///< DLM look-up by binary search (glsl/dlm/lookup.glsl)
+  /// adaptive steps not clipped at the occupancy brick's face (glsl/render/clouds.comp
+  /// stepClippedAtBrick): the first version of RenderSettings::step_growth_max
+  bool unclipped_steps = false;
 };
 
 class CloudRenderer {
