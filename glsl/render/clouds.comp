@@ -128,6 +128,32 @@ float sampleSunlight(vec3 world_m) { return texture(u_light_cache, volumeUvw(wor
 float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 #endif
 
+// The packed texture (issue 19 item 3): with SPEC_PACKED = 1 (CloudRenderer, when the upload built
+// one: VolumeTextures::hasPacked, the trilinear filter without sub-grid detail) a step reads
+// (β_ice, β_water, τ_up, τ_down) with one RGBA16F fetch instead of three fetches (ice, water, the
+// column depths; Muth 2026 §3.4 packs the cloud's channels the same way). The texture clamps to
+// the edge, as the column depths need; the extinction's zero border (glsl/dlm/volume.glsl: β fades
+// to 0 over the ½ voxel outside the box) is the trilinear filter's weight on the texels inside the
+// grid, per axis 1 + min(c, n − 1 − c) clamped to [0, 1] for the continuous index c = uvw·n − ½,
+// multiplied onto β: the same value as GL_CLAMP_TO_BORDER with a zero border. β is stored in units
+// of u_packed_beta_unit_per_m (1e-3: per km, in the half's normal range).
+#if defined(SPEC_PACKED) && SPEC_PACKED != 0
+#define PACKED_VOLUME true
+layout(binding = UNIT_PACKED_VOLUME) uniform sampler3D u_packed_volume;
+uniform float u_packed_beta_unit_per_m;
+vec4 packedAt(vec3 world_m) {
+  vec3 uvw = volumeUvw(world_m);
+  if (!insideGrownVolume(uvw)) return vec4(0.0);
+  vec4 s = texture(u_packed_volume, uvw);
+  vec3 c = uvw * vec3(u_voxels) - 0.5;
+  vec3 inGrid = clamp(1.0 + min(c, vec3(u_voxels) - 1.0 - c), 0.0, 1.0);
+  return vec4(s.xy * (u_packed_beta_unit_per_m * inGrid.x * inGrid.y * inGrid.z), s.zw);
+}
+#else
+#define PACKED_VOLUME false
+vec4 packedAt(vec3 world_m) { return vec4(0.0); }
+#endif
+
 #include "render/globe.glsl"
 #include "atmosphere/model.glsl"
 #include "atmosphere/sky.glsl"
@@ -388,7 +414,8 @@ void main() {
 #ifndef ADAPTIVE_STEPS_UNCLIPPED
       if (step_m > u_step_m) step_m = stepClippedAtBrick(p, w, dir, step_m);
 #endif
-      vec2 beta = extinctionAt(w) * depthScale;
+      vec4 packedSample = PACKED_VOLUME ? packedAt(w) : vec4(0.0);  // (β_ice, β_water, τ_up, τ_down)
+      vec2 beta = (PACKED_VOLUME ? packedSample.xy : extinctionAt(w)) * depthScale;
       ++samples;
       float b = beta.x + beta.y;
       if (b > 0.0) {
@@ -404,7 +431,8 @@ void main() {
         }
         float T = exp(-b * step_m);
         float iceWeight = beta.x / b;  // Nes eq. 5.12
-        vec2 tau = columnDepthAt(w);  // one look-up for the sky light and the two-stream term
+        // one look-up for the sky light and the two-stream term (in the packed texel already)
+        vec2 tau = PACKED_VOLUME ? packedSample.zw : columnDepthAt(w);
         float sun = cloudSunFactor(u_cloud_ms_model, sampleSunlight(w), cosPsi, iceWeight, u_g_ice, u_g_water,
                                    u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
                                    tau.x, tau.y, twoStreamSun, muOut);

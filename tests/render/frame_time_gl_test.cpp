@@ -118,9 +118,12 @@ TEST_F(LightCacheTest, TheCellSizeIsPartOfTheBuildAndZeroMeansNone) {
 
 // The frame with the cache against the CPU reference ray marcher evaluating the map per sample
 // (the setting of RaycastTest.GpuMatchesTheCpuReferenceRayMarcher at 192 × 108), in 8-bit sRGB
-// levels of the cloud layer: the direct look-up agrees to float rounding (≤ 1 level); the cache
+// levels of the cloud layer: the direct look-up agrees to float rounding (≤ 1 level with the
+// separate R32F textures; 3 since the packed RGBA16F texture, on 0.11 % of the values, where a
+// ray's transmittance ends at the termination threshold: PackedTextureDiffersOnlyAt…); the cache
 // adds the interpolation of I between its cell centres, largest at sharp cloud tops and shadow
 // edges. Measured with the two-stream default: 1, 2 and 6 levels for cells of 1, 2 and 4 voxels
+// (with the packed texture 3, 3 and 6)
 // (with the octave series, before it, 13, 33 and 43: the single-scattering sun term carries the
 // sharp tops; docs/benchmarks.md "Light cache"). Bounds: the measured maxima on llvmpipe (printed)
 // with one level of room, so that a change of the cache's accuracy either way is seen.
@@ -138,12 +141,12 @@ TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
   const LevelDifference directLevels = levelDifference(renderer.render(tex, direct, cam, sun, rs).cloud_layer, cpu);
   std::printf("[ cache    ] 192x108 hurricane, direct look-up vs CPU: max %d levels, %.2f %% of values differ\n",
               directLevels.max, 100.0 * directLevels.differing);
-  EXPECT_LE(directLevels.max, 1);
+  EXPECT_LE(directLevels.max, 3);
   struct Case {
     double cell_voxels;
     int max_levels;
   };
-  for (const Case c : {Case{1.0, 2}, Case{2.0, 3}, Case{4.0, 7}}) {
+  for (const Case c : {Case{1.0, 3}, Case{2.0, 4}, Case{4.0, 7}}) {
     render::DeepLightMap cached;
     cached.build(tex, -sun.toSun(), withCache(c.cell_voxels));
     const LevelDifference l = levelDifference(renderer.render(tex, cached, cam, sun, rs).cloud_layer, cpu);
@@ -260,6 +263,66 @@ TEST_F(AdaptiveStepsTest, AGrownStepDoesNotJumpAThinCloudBeyondClearAir) {
   EXPECT_GT(unclippedMissed, sheetPixels / 10) << "the scene must make an unclipped grown step miss the sheet";
   EXPECT_EQ(clippedOff, 0) << "a clipped step must sample the sheet on every ray the fixed step does (worst "
                            << clippedWorst << ")";
+}
+
+// The packed texture (VolumeTextures::hasPacked; glsl/render/clouds.comp packedAt): one RGBA16F
+// fetch of (β_ice, β_water, τ_up, τ_down) per step against the separate R32F ice and water and
+// RG16F column-depth textures (EyePassBaseline::separate_textures), on the small hurricane and on
+// a homogeneous slab that fills the whole box (every face: the zero border's fade, which the packed
+// path computes instead of sampling). The difference is β's half precision (11 bits, relative
+// 2⁻¹¹) and the fade's weights computed in float rather than by the sampler. It shows only where a
+// ray's transmittance ends next to the early-termination threshold T_min = 0.01: one side stops
+// and is renormalised to α = 1, the other leaves the box with α = 1 − T ≈ 0.99, a step of at most
+// T_min in a value (3 levels of the straight-alpha code). Measured: 0.11 % (hurricane) and 0.12 %
+// (slab) of the values differ, max |Δ| = 0.0100, 3 levels. Bounds: |Δ| ≤ T_min + 1e-4, ≤ 3 levels,
+// ≤ 0.5 % of the values, and against the CPU reference no worse than that step.
+// A cubic upload has no packed texture (the B-spline reads the zero border at 8 positions) and
+// renders bit for bit as the separate path.
+TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
+  const ObliqueHurricane h;
+  struct Scene {
+    const char* name;
+    ExtinctionVolumes volumes;
+  };
+  for (const Scene& sc :
+       {Scene{"hurricane", generatedHurricane()}, Scene{"slab", homogeneousSlab(24, 20, 12, 4e-4f)}}) {
+    const scene::VolumeFrame frame = scene::frameOf(sc.volumes, 8.0);
+    const auto tex = render::VolumeTextures::upload(sc.volumes, frame, sc.name);
+    ASSERT_TRUE(tex.hasPacked());
+    const scene::Camera cam = ObliqueHurricane::obliqueCamera(frame);
+    render::DeepLightMap dlm;
+    dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
+    const auto map = dlm.readBack();
+    const scene::RgbaImage cpu = reference::marchCloudLayer(
+        sc.volumes, frame, cam, h.sun,
+        [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, dlm.lightSpace(), p); }, h.settings);
+    render::CloudRenderer packed, separate;
+    separate.setBaseline({.separate_textures = true});
+    const render::RenderOutput a = packed.render(tex, dlm, cam, h.sun, h.settings);
+    const render::RenderOutput b = separate.render(tex, dlm, cam, h.sun, h.settings);
+    const LevelDifference vsSeparate = levelDifference(a.cloud_layer, b.cloud_layer);
+    const LevelDifference packedVsCpu = levelDifference(a.cloud_layer, cpu);
+    const LevelDifference separateVsCpu = levelDifference(b.cloud_layer, cpu);
+    const LayerDifference layer = layerDifference(a.cloud_layer, b.cloud_layer);
+    std::printf("[ packed   ] %s: vs separate max %d levels (%.2f %% differ), max |d| %.2e; vs CPU packed %d, "
+                "separate %d levels\n",
+                sc.name, vsSeparate.max, 100.0 * vsSeparate.differing, layer.max, packedVsCpu.max, separateVsCpu.max);
+    EXPECT_GT(layer.coverage, 0.05) << sc.name << ": the view must see cloud";
+    EXPECT_LE(layer.max, h.settings.min_transmittance + 1e-4) << sc.name;
+    EXPECT_LE(vsSeparate.max, 3) << sc.name;
+    EXPECT_LE(vsSeparate.differing, 0.005) << sc.name;
+    EXPECT_LE(packedVsCpu.max, std::max(separateVsCpu.max, 3)) << sc.name;
+  }
+  const ExtinctionVolumes v = generatedHurricane();
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const auto cubic = render::VolumeTextures::upload(v, frame, "hurricane", scene::Reconstruction::Cubic);
+  EXPECT_FALSE(cubic.hasPacked()) << "the cubic B-spline keeps the separate textures";
+  render::DeepLightMap dlm;
+  dlm.build(cubic, -h.sun.toSun(), scene::DlmSettings{});
+  render::CloudRenderer renderer, separate;
+  separate.setBaseline({.separate_textures = true});
+  EXPECT_EQ(renderer.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba,
+            separate.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba);
 }
 
 }  // namespace

@@ -77,6 +77,8 @@ struct EyePassFeatures {
   bool cubic = false;       ///< tricubic B-spline reconstruction (VolumeTextures::reconstruction)
   /// the sunlight from the map's light cache (DeepLightMap::hasLightCache), not its look-up
   bool light_cache = false;
+  /// one fetch per step from the packed texture (VolumeTextures::hasPacked), not three
+  bool packed = false;
   /// {"SPEC_GLOBE", "0|1"}, … for gl::Program::compute.
   gl::Defines defines() const;
 };
@@ -90,6 +92,8 @@ struct EyePassBaseline {
   /// adaptive steps not clipped at the occupancy brick's face (glsl/render/clouds.comp
   /// stepClippedAtBrick): the first version of RenderSettings::step_growth_max
   bool unclipped_steps = false;
+  /// the separate ice, water and column-depth textures even where the packed one serves
+  bool separate_textures = false;
 };
 
 class CloudRenderer {
