@@ -80,7 +80,7 @@ TEST_F(EyePassVariants, SpecialisedProgramsAndLinearScanMatchTheBaselineBitForBi
                              R"(", "margin": 0.4, "pixels_long_side": 256},
       "style": {"terrain": )" +
                              b + R"(, "atmosphere": )" + b + R"(},
-      "quality": {"preset": "broadcast", "overrides": {"detail": ")" +
+      "quality": {"preset": "broadcast", "overrides": {"light_cache_voxels": 0, "detail": ")" +
                              (v.on ? "full" : "none") + R"(", "reconstruction": ")" + (v.on ? "cubic" : "trilinear") +
                              R"("}},
       "output": {"width": 96, "height": 54}, "height_exaggeration": 8, "view": ")" +
@@ -92,6 +92,7 @@ TEST_F(EyePassVariants, SpecialisedProgramsAndLinearScanMatchTheBaselineBitForBi
     // The packed texture (one fetch of β and the column depths in half precision; its own test:
     // LightCacheTest.PackedTextureDiffersOnlyAtTheTerminationThreshold) is a specialisation the
     // uniform-branch program does not have: compared here with the separate textures on both sides.
+    // So is the light cache (on in the broadcast preset; LightCacheTest): off in the scene above.
     renderer.setBaseline({.separate_textures = true});
     const render::RenderOutput fast = session->render(cam);  // uploads the volume, builds the DLM
     const render::EyePassFeatures f =
