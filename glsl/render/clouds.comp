@@ -129,6 +129,32 @@ float sampleSunlight(vec3 world_m) { return texture(u_light_cache, volumeUvw(wor
 float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 #endif
 
+// The packed texture (issue 19 item 3): with SPEC_PACKED = 1 (CloudRenderer, when the upload built
+// one: VolumeTextures::hasPacked, the trilinear filter without sub-grid detail) a step reads
+// (β_ice, β_water, τ_up, τ_down) with one RGBA16F fetch instead of three fetches (ice, water, the
+// column depths; Muth 2026 §3.4 packs the cloud's channels the same way). The texture clamps to
+// the edge, as the column depths need; the extinction's zero border (glsl/dlm/volume.glsl: β fades
+// to 0 over the ½ voxel outside the box) is the trilinear filter's weight on the texels inside the
+// grid, per axis 1 + min(c, n − 1 − c) clamped to [0, 1] for the continuous index c = uvw·n − ½,
+// multiplied onto β: the same value as GL_CLAMP_TO_BORDER with a zero border. β is stored in units
+// of u_packed_beta_unit_per_m (1e-3: per km, in the half's normal range).
+#if defined(SPEC_PACKED) && SPEC_PACKED != 0
+#define PACKED_VOLUME true
+layout(binding = UNIT_PACKED_VOLUME) uniform sampler3D u_packed_volume;
+uniform float u_packed_beta_unit_per_m;
+vec4 packedAt(vec3 world_m) {
+  vec3 uvw = volumeUvw(world_m);
+  if (!insideGrownVolume(uvw)) return vec4(0.0);
+  vec4 s = texture(u_packed_volume, uvw);
+  vec3 c = uvw * vec3(u_voxels) - 0.5;
+  vec3 inGrid = clamp(1.0 + min(c, vec3(u_voxels) - 1.0 - c), 0.0, 1.0);
+  return vec4(s.xy * (u_packed_beta_unit_per_m * inGrid.x * inGrid.y * inGrid.z), s.zw);
+}
+#else
+#define PACKED_VOLUME false
+vec4 packedAt(vec3 world_m) { return vec4(0.0); }
+#endif
+
 #include "render/globe.glsl"
 #include "atmosphere/model.glsl"
 #include "atmosphere/sky.glsl"
@@ -277,6 +303,28 @@ float adaptiveStep(float t, float pixelAngle, float brickMax_per_m) {
   return u_step_m * clamp(max(far, thin) / u_step_m, 1.0, u_step_growth_max);
 }
 
+// Adaptive steps clipped at the brick (issue 19 item 1, the safe default asked for after the first
+// measurement, docs/benchmarks.md "Adaptive steps"): a grown step ends at the face of the occupancy
+// brick it starts in, so it never jumps past the first samples of the next brick, where a thin
+// cloud can lie just beyond a long empty stretch (the occupancy is dilated by the filter's reach,
+// so the brick before such a cloud is occupied, and there the far term grows the step). Inside
+// the next brick the step grows again from its own bound. A step is never clipped below Δ: the
+// fixed step crosses a face by up to Δ as well. Flat view: the exact distance to the brick's exit
+// along the ray (glsl/dlm/volume.glsl brickExitDistance; 0 beyond the box's far faces, so there
+// the step is Δ). Globe: the world frame bends along an ECEF ray, so the landing point's brick is
+// compared with the start's (one more table mapping per grown step) and a step that would leave
+// the brick falls back to Δ. ADAPTIVE_STEPS_UNCLIPPED (render::EyePassBaseline::unclipped_steps,
+// benchmarks and tests only) keeps the unclipped step of the first version to measure against.
+ivec3 brickIndexAt(vec3 world_m) {
+  return ivec3(floor(volumeUvw(world_m) * vec3(u_voxels) / float(u_brick_voxels)));
+}
+float stepClippedAtBrick(vec3 p, vec3 w, vec3 dir, float step_m) {
+  if (VIEW_GLOBE) {
+    return all(equal(brickIndexAt(globeWorldFromEcef(p + step_m * dir)), brickIndexAt(w))) ? step_m : u_step_m;
+  }
+  return max(min(step_m, brickExitDistance(w, dir)), u_step_m);
+}
+
 // The Z pass where no cloud is seen: 10^10 m, the value Blender Cycles writes for its background,
 // finite so that compositors' depth operations (defocus, depth merge) stay defined.
 const float kNoCloudDepth_m = 1.0e10;
@@ -364,7 +412,11 @@ void main() {
         }
       }
       float step_m = adaptive ? adaptiveStep(t, pixelAngle, brickMax * depthScale) : u_step_m;
-      vec2 beta = extinctionAt(w) * depthScale;
+#ifndef ADAPTIVE_STEPS_UNCLIPPED
+      if (step_m > u_step_m) step_m = stepClippedAtBrick(p, w, dir, step_m);
+#endif
+      vec4 packedSample = PACKED_VOLUME ? packedAt(w) : vec4(0.0);  // (β_ice, β_water, τ_up, τ_down)
+      vec2 beta = (PACKED_VOLUME ? packedSample.xy : extinctionAt(w)) * depthScale;
       ++samples;
       float b = beta.x + beta.y;
       if (b > 0.0) {
@@ -380,7 +432,8 @@ void main() {
         }
         float T = exp(-b * step_m);
         float iceWeight = beta.x / b;  // Nes eq. 5.12
-        vec2 tau = columnDepthAt(w);  // one look-up for the sky light and the two-stream term
+        // one look-up for the sky light and the two-stream term (in the packed texel already)
+        vec2 tau = PACKED_VOLUME ? packedSample.zw : columnDepthAt(w);
         float sun = cloudSunFactor(u_cloud_ms_model, sampleSunlight(w), cosPsi, iceWeight, u_g_ice, u_g_water,
                                    u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
                                    tau.x, tau.y, twoStreamSun, muOut);

@@ -42,11 +42,13 @@ constexpr std::array kKnobs{
          .preset = {1.0, 0.5, 0.25}, .doc = "ray-march step in voxel sizes"},
     // Adaptive steps (issue 19; Muth 2026 §3.4.3 eq. 3.6; glsl/render/clouds.comp adaptiveStep):
     // far away (a pixel's footprint) and in thin cloud (τ ≤ 0.05 per step) the view step grows up
-    // to this factor. 1 (fixed) in every preset, by measurement (BM_AdaptiveSteps in
-    // tests/bench/frame_benchmark.cpp, docs/benchmarks.md "Adaptive steps"): 4 gives the demo storm
-    // 2.6x CPU in the ray cast at ≤ 2 8-bit levels, but the coarse storm only 1.11x, and on small
-    // storms seen from afar steps of a pixel's footprint pass thin cloud edges (single values off
-    // by up to 208 levels, AdaptiveStepsTest), beyond the broadcast golden tolerance.
+    // to this factor, never across an occupancy brick's face. 1 (fixed) in every preset, by
+    // measurement with two-stream (BM_EyePassDefaults in tests/bench/frame_benchmark.cpp,
+    // docs/benchmarks.md "Eye-pass defaults"): 4 gives the demo storm 2.1x CPU in the ray cast at
+    // ≤ 2 8-bit levels, the coarse storm 1.3x with single values 202 levels off the CPU reference,
+    // and on small storms seen from afar steps of a pixel's footprint pass thin cloud edges inside
+    // occupied bricks (144 levels on 1-3 % of the values, AdaptiveStepsTest), beyond the broadcast
+    // golden tolerance.
     Knob{.name = "step_growth_max", .unit = "steps", .min = 1.0, .max = 16.0, .field = &Q::step_growth_max,
          .preset = {1.0, 1.0, 1.0}, .doc = "adaptive view steps grow up to this × step_voxels far away and in thin cloud (1: fixed)"},
     Knob{.name = "dlm_step_voxels", .unit = "voxels", .min = 0.01, .max = 10.0, .field = &Q::dlm_step_voxels,
@@ -61,14 +63,16 @@ constexpr std::array kKnobs{
          .preset = {16, 16, 32}, .doc = "node budget per deep light map texel"},
     // The light cache (issue 19 item 1b; glsl/dlm/light_cache.comp): the map's sunlight baked per
     // world cell of this many voxels, read with one trilinear fetch per eye-pass sample instead of
-    // the four-texel node-list look-up; 0 keeps the look-up (the reference path). 0 in every
-    // preset, by measurement (BM_LightCache in tests/bench/frame_benchmark.cpp, docs/benchmarks.md
-    // "Light cache"): the ray cast gains 1.42–1.50× CPU, but a cell of 2 voxels costs 5 8-bit levels
-    // on the demo storm and 55 on the coarse storm (light changes within a voxel at cloud tops),
-    // measured with the octave series; two-stream (now the default) lowers the small storm's
-    // error from 33 to 2 levels, so this is to be re-measured (docs/benchmarks.md).
+    // the four-texel node-list look-up; 0 keeps the look-up (the reference path, the reference
+    // preset's). 2 (half the grid's resolution) in draft and broadcast, by measurement under the
+    // two-stream default (BM_EyePassDefaults in tests/bench/frame_benchmark.cpp, docs/benchmarks.md
+    // "Eye-pass defaults"): the ray cast gains 1.63-1.65x CPU on the demo and the coarse storm,
+    // for p99 ≤ 1 8-bit level against the direct look-up (max 1 level on the demo, 5 on 0.02 % of
+    // the coarse storm's values) and the golden images within their broadcast tolerance; ¼ gains
+    // little more (1.71-1.75x) for max 8 levels. (With the octave series the coarse storm's error
+    // was 55 levels: its sun term carried the sharp cloud tops.)
     Knob{.name = "light_cache_voxels", .unit = "voxels", .min = 0.0, .max = 8.0, .field = &Q::light_cache_voxels,
-         .preset = {0.0, 0.0, 0.0}, .doc = "light cache cell in voxel sizes (0: the deep light map's look-up per sample)"},
+         .preset = {2.0, 2.0, 0.0}, .doc = "light cache cell in voxel sizes (0: the deep light map's look-up per sample)"},
     Knob{.name = "early_termination_transmittance", .unit = "1", .min = 0.0, .max = 1.0,
          .field = &Q::early_termination_transmittance,
          .preset = {0.02, 0.01, 0.001}, .doc = "a ray stops below this transmittance"},

@@ -4,7 +4,8 @@
 //   ray cast  old       one program for every view (uniform branches), DLM look-up by binary search
 //             scan      + look-up by linear scan (glsl/dlm/lookup.glsl)
 //             spec      + programs specialised per view at compile time (EyePassFeatures)
-//             new       both (the default)
+//             new       both (the default), with the packed texture (one fetch per step)
+//             preset    new + the light cache of the broadcast preset (light_cache_voxels 2)
 //   DLM build old       binary search in pass 2, pass 3 stopping at every scatter-slice centre
 //             new       linear scan, pass 3 skipping across the scatter map's flat runs (default)
 //   fetch     the foundation's fetch kernel (fetch_kernel.h) on a volume of the scene's size and
@@ -19,6 +20,7 @@
 // storm), `coarse` = datagen::coarseStormSpec (72 × 64 × 30). Image width is the second argument
 // (16:9); this 2-core VM renders the demo at 960 × 540.
 // BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
+// BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
 // Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
@@ -30,11 +32,13 @@
 #include <ctime>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_hurricane.h"
 #include "bench_stats.h"
 #include "fetch_kernel.h"
+#include "lighting/knobs.h"
 #include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
 #include "render/gl/context.h"
@@ -138,6 +142,10 @@ void BM_FrameVariants(benchmark::State& state) {
   dlmOld.setBaseline({.binary_search = true, .slice_breaks = true});
   dlmNew.build(tex, -sun.toSun(), ds);
   dlmOld.build(tex, -sun.toSun(), ds);
+  // The defaults of the broadcast preset (issue 19 item 1): the new eye pass reading the light
+  // cache the preset bakes (light_cache_voxels 2) instead of the map's look-up.
+  render::DeepLightMap dlmPreset;
+  dlmPreset.build(tex, -sun.toSun(), lighting::dlmSettingsFor(lighting::qualityPreset(lighting::Preset::Broadcast)));
 
   // The eye-pass variants: one renderer each (each keeps its programs compiled).
   const render::EyePassBaseline eye[4] = {{.uniform_branches = true, .binary_search = true},
@@ -151,11 +159,17 @@ void BM_FrameVariants(benchmark::State& state) {
     renderer[k].setBaseline(eye[k]);
     out[k] = renderer[k].render(tex, dlmNew, camera, sun, rs);  // compiles, warms up
   }
+  // Bit for bit within each texture path: old = scan (separate textures: the uniform-branch program
+  // has no packed texture), spec = new (packed); new against old in 8-bit levels (the packed
+  // texture's half precision: LightCacheTest.PackedTextureDiffersOnlyAtTheTerminationThreshold).
   long differing = 0;
-  for (int k = 0; k < 3; ++k) {
-    differing += differingFloats(out[k].frame.rgba, out[3].frame.rgba);
-    differing += differingFloats(out[k].cloud_layer.rgba, out[3].cloud_layer.rgba);
+  for (const auto& [a, b] : {std::pair{0, 1}, std::pair{2, 3}}) {
+    differing += differingFloats(out[a].frame.rgba, out[b].frame.rgba);
+    differing += differingFloats(out[a].cloud_layer.rgba, out[b].cloud_layer.rgba);
   }
+  const int packedLevels = maxLevelDifference(out[0].frame, out[3].frame);
+  state.counters["packed_max_levels"] = packedLevels;
+  std::fprintf(stderr, "  new (packed) against old (separate textures): frame max %d 8-bit levels\n", packedLevels);
   const render::RenderOutput withOldDlm = renderer[3].render(tex, dlmOld, camera, sun, rs);
   const int dlmLevels = maxLevelDifference(withOldDlm.frame, out[3].frame);
   const double dlmLight = maxLightDifference(dlmOld, dlmNew);
@@ -173,20 +187,20 @@ void BM_FrameVariants(benchmark::State& state) {
   const glm::vec3 step = glm::vec3(1.0f / kSteps) * 0.57735f;  // oblique, like the camera's rays
   kernel.dispatch(volume, step);                               // warm-up
 
-  Series ray[4], dlm[2], fetch;
+  Series ray[5], dlm[2], fetch;  // ray[4]: the new eye pass with the preset's light cache
   std::vector<double> pass[2][3];
   int round = 0;
   for (auto _ : state) {
     double total = 0.0;
-    // Seven jobs per round (4 ray casts, 2 DLM builds, the fetch kernel), at a rotating offset.
-    for (int j = 0; j < 7; ++j) {
-      const int job = (j + round) % 7;
+    // Eight jobs per round (5 ray casts, 2 DLM builds, the fetch kernel), at a rotating offset.
+    for (int j = 0; j < 8; ++j) {
+      const int job = (j + round) % 8;
       Timing t;
-      if (job < 4) {
-        t = timed([&] { renderer[job].render(tex, dlmNew, camera, sun, rs); });
+      if (job < 5) {
+        t = timed([&] { renderer[std::min(job, 3)].render(tex, job == 4 ? dlmPreset : dlmNew, camera, sun, rs); });
         ray[job].add(t);
-      } else if (job < 6) {
-        const int d = job - 4;  // 0 old, 1 new
+      } else if (job < 7) {
+        const int d = job - 5;  // 0 old, 1 new
         render::DeepLightMap map;
         if (d == 0) map.setBaseline({.binary_search = true, .slice_breaks = true});
         t = timed([&] { map.build(tex, -sun.toSun(), ds); });
@@ -224,7 +238,12 @@ void BM_FrameVariants(benchmark::State& state) {
     c["pass" + std::to_string(p + 1) + "_ms_new"] = median(pass[1][p]);
   }
   const double fetchPerCpuS = kernel.fetchesPerDispatch() / (median(fetch.cpu) * 1e-3);
-  const double samplesPerCpuS[2] = {samples / (median(ray[0].cpu) * 1e-3), samples / (median(ray[3].cpu) * 1e-3)};
+  const double samplesPerCpuS[3] = {samples / (median(ray[0].cpu) * 1e-3), samples / (median(ray[3].cpu) * 1e-3),
+                                    samples / (median(ray[4].cpu) * 1e-3)};
+  c["ray_ms_preset"] = median(ray[4].wall);
+  c["ray_cpu_ms_preset"] = median(ray[4].cpu);
+  c["ray_cpu_ratio_old_preset"] = median(ray[0].cpu) / median(ray[4].cpu);
+  c["fraction_of_fetch_limit_preset"] = samplesPerCpuS[2] / fetchPerCpuS;
   c["fetches_per_cpu_s"] = fetchPerCpuS;
   c["samples"] = samples;
   c["fraction_of_fetch_limit_old"] = samplesPerCpuS[0] / fetchPerCpuS;
@@ -240,6 +259,8 @@ void BM_FrameVariants(benchmark::State& state) {
                "             CPU ms  old %.0f  scan %.0f  spec %.0f  new %.0f   old/new %.2f\n"
                "             %.3g samples; %.3g samples per CPU-s = %.1f %% of the fetch kernel's %.3g "
                "fetches per CPU-s (old %.1f %%); frames differ in %ld floats\n"
+               "  preset     (new + the broadcast preset's light cache) wall ms %.0f, CPU ms %.0f, old/preset CPU "
+               "%.2f, %.1f %% of the fetch kernel's rate\n"
                "  DLM build  wall ms old %.0f (passes %.0f + %.0f + %.0f)  new %.0f (%.0f + %.0f + %.0f)  old/new %.2f;"
                " CPU old/new %.2f\n"
                "             max |dI| %.4f, frame max %d 8-bit levels; %.2f nodes per texel\n",
@@ -249,8 +270,9 @@ void BM_FrameVariants(benchmark::State& state) {
                median(ray[2].wall) / median(ray[3].wall), median(ray[0].cpu), median(ray[1].cpu), median(ray[2].cpu),
                median(ray[3].cpu), median(ray[0].cpu) / median(ray[3].cpu), samples, samplesPerCpuS[1],
                100.0 * samplesPerCpuS[1] / fetchPerCpuS, fetchPerCpuS, 100.0 * samplesPerCpuS[0] / fetchPerCpuS,
-               differing, median(dlm[0].wall), median(pass[0][0]), median(pass[0][1]), median(pass[0][2]),
-               median(dlm[1].wall), median(pass[1][0]), median(pass[1][1]), median(pass[1][2]),
+               differing, median(ray[4].wall), median(ray[4].cpu), median(ray[0].cpu) / median(ray[4].cpu),
+               100.0 * samplesPerCpuS[2] / fetchPerCpuS, median(dlm[0].wall), median(pass[0][0]), median(pass[0][1]),
+               median(pass[0][2]), median(dlm[1].wall), median(pass[1][0]), median(pass[1][1]), median(pass[1][2]),
                median(dlm[0].wall) / median(dlm[1].wall), median(dlm[0].cpu) / median(dlm[1].cpu), dlmLight, dlmLevels,
                dlmNew.stats().mean_nodes);
 }
@@ -333,15 +355,20 @@ BENCHMARK(BM_MultipleScatteringCost)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(7);
 
-// Issue 19 item 1b: the light cache (DlmSettings::light_cache_voxels; glsl/dlm/light_cache.comp)
-// against the map's direct look-up, on the demo's view. Variants: the direct look-up (cell 0, the
-// reference path) and caches of 1, 2 and 4 voxels per cell. Timed, interleaved in rotating order:
-// the ray cast with the default settings; the bake once per variant (it runs inside the DLM build).
-// Errors in 8-bit sRGB levels (default exposure, ACES): each cached frame against the direct
-// look-up's (default settings), and each cloud layer against the CPU reference ray marcher
-// evaluating the map per sample (reference::marchCloudLayer; no jitter, no atmosphere, which the
-// reference lacks). Reported: max levels and the share of 8-bit values that differ by more than 2.
+// Issue 19 item 1: the eye pass's sampling options measured together under the default light
+// model (two_stream), to choose the defaults: the DLM's direct look-up (the reference path), the
+// light cache (DlmSettings::light_cache_voxels; glsl/dlm/light_cache.comp) at ½ and ¼ of the
+// volume's resolution, adaptive steps (RenderSettings::step_growth_max; Muth 2026 eq. 3.6;
+// glsl/render/clouds.comp adaptiveStep, clipped at the brick face, and the first, unclipped
+// version) and both together; all with the packed texture (VolumeTextures::hasPacked, one fetch
+// per step), and the direct path once more with the separate textures (three fetches per step). The ray casts are
+// interleaved in rotating order; the bake is timed inside each cache's DLM build (one build each). Errors in 8-bit sRGB
+// levels (default exposure, ACES; mean, 99th percentile, max and the share of values more than 2 levels off): each
+// frame (default settings) against the direct path's frame, and each cloud layer (no jitter, no atmosphere, which the
+// reference lacks) against the CPU reference ray marcher evaluating the map per sample at the fixed step
+// (reference::marchCloudLayer). Also the volume samples per frame.
 struct LevelStats {
+  double mean = 0.0, p99 = 0.0;
   int max = 0;
   double over2 = 0.0;  ///< share of values differing by more than 2 levels
 };
@@ -349,20 +376,28 @@ LevelStats levelStats(const scene::RgbaImage& a, const scene::RgbaImage& b) {
   scene::ImageOutputOptions o;
   o.exposure_ev = scene::kDefaultExposureEv;
   const auto ca = scene::encodeSrgb8(a, o), cb = scene::encodeSrgb8(b, o);
+  std::vector<int> d(std::min(ca.size(), cb.size()));
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::abs(int(ca[i]) - int(cb[i]));
   LevelStats l;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < ca.size() && i < cb.size(); ++i) {
-    const int d = std::abs(int(ca[i]) - int(cb[i]));
-    l.max = std::max(l.max, d);
-    n += d > 2;
+  if (d.empty()) return l;
+  double sum = 0.0;
+  std::size_t over = 0;
+  for (const int x : d) {
+    sum += x;
+    over += x > 2;
+    l.max = std::max(l.max, x);
   }
-  l.over2 = ca.empty() ? 0.0 : double(n) / double(ca.size());
+  l.mean = sum / double(d.size());
+  l.over2 = double(over) / double(d.size());
+  const auto nth = d.begin() + std::ptrdiff_t(double(d.size() - 1) * 0.99);
+  std::nth_element(d.begin(), nth, d.end());
+  l.p99 = *nth;
   return l;
 }
 
-// The demo's view of a benchmark storm (BM_LightCache, BM_AdaptiveSteps): the volumes uploaded,
-// the sun of the demo, the oblique camera, and the CPU reference ray marcher's cloud layer for a
-// map (no jitter, no atmosphere: referenceSettings).
+// The demo's view of a benchmark storm: the volumes uploaded, the sun of the demo, the oblique
+// camera, and the CPU reference ray marcher's cloud layer for a map (no jitter, no atmosphere:
+// referenceSettings).
 struct DemoScene {
   bool demo;
   int width, height;
@@ -386,10 +421,6 @@ struct DemoScene {
         v, frame, camera, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); },
         referenceSettings());
   }
-  void printHeader(const char* what, int rounds) const {
-    std::fprintf(stderr, "%s, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n", what,
-                 demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, rounds, ctx->info().renderer.c_str());
-  }
 };
 
 // kVariants ray casts per round in rotating order (cast(k) renders variant k); returns the rounds.
@@ -410,111 +441,97 @@ int interleavedCasts(benchmark::State& state, Series (&series)[kVariants], Cast&
   return round;
 }
 
-void BM_LightCache(benchmark::State& state) {
+void BM_EyePassDefaults(benchmark::State& state) {
   const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
-  const render::RenderSettings rs;
-  const render::RenderSettings rsRef = DemoScene::referenceSettings();
-  constexpr int kVariants = 4;
-  const double cellVoxels[kVariants] = {0.0, 1.0, 2.0, 4.0};
-  std::vector<std::unique_ptr<render::DeepLightMap>> dlm;
-  std::vector<double> buildMs, bakeMs;
-  for (const double c : cellVoxels) {
+  struct Variant {
+    const char* name;
+    double cache_voxels;  ///< DlmSettings::light_cache_voxels (0: the direct look-up)
+    double growth;        ///< RenderSettings::step_growth_max (1: fixed steps)
+    int renderer;         ///< 0 the default eye pass, 1 unclipped steps, 2 separate textures
+  };
+  constexpr int kVariants = 8;
+  const Variant variants[kVariants] = {{"direct", 0, 1, 0},
+                                       {"direct_separate", 0, 1, 2},
+                                       {"cache_half", 2, 1, 0},
+                                       {"cache_quarter", 4, 1, 0},
+                                       {"adaptive4", 0, 4, 0},
+                                       {"adaptive4_unclipped", 0, 4, 1},
+                                       {"cache_half+adaptive4", 2, 4, 0},
+                                       {"cache_quarter+adaptive4", 4, 4, 0}};
+  // One map per cache cell size (the bake runs inside the build), one renderer per baseline.
+  std::vector<std::unique_ptr<render::DeepLightMap>> maps;
+  std::vector<double> cells;
+  std::vector<double> bakeMs, buildMs;
+  auto mapFor = [&](double cell) -> const render::DeepLightMap& {
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      if (cells[i] == cell) return *maps[i];
     scene::DlmSettings ds;
-    ds.light_cache_voxels = c;
-    dlm.push_back(std::make_unique<render::DeepLightMap>());
-    buildMs.push_back(timed([&] { dlm.back()->build(sc.tex, -sc.sun.toSun(), ds); }).wall_ms);
-    bakeMs.push_back(dlm.back()->stats().light_cache_ms);
-  }
-  render::CloudRenderer renderer;
+    ds.light_cache_voxels = cell;
+    maps.push_back(std::make_unique<render::DeepLightMap>());
+    buildMs.push_back(timed([&] { maps.back()->build(sc.tex, -sc.sun.toSun(), ds); }).wall_ms);
+    bakeMs.push_back(maps.back()->stats().light_cache_ms);
+    cells.push_back(cell);
+    return *maps.back();
+  };
+  render::CloudRenderer renderers[3];
+  renderers[1].setBaseline({.unclipped_steps = true});
+  renderers[2].setBaseline({.separate_textures = true});
+  const scene::RgbaImage cpu = sc.cpuReference(mapFor(0.0));
+  render::RenderSettings rs[kVariants];
   render::RenderOutput out[kVariants];
   LevelStats vsDirect[kVariants], vsCpu[kVariants];
-  const scene::RgbaImage cpu = sc.cpuReference(*dlm[0]);
+  double samples[kVariants];
+  auto cast = [&](int k, const render::RenderSettings& settings) {
+    const Variant& var = variants[k];
+    return renderers[var.renderer].render(sc.tex, mapFor(var.cache_voxels), sc.camera, sc.sun, settings);
+  };
   for (int k = 0; k < kVariants; ++k) {
-    out[k] = renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rs);  // compiles, warms up
-    vsCpu[k] = levelStats(renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rsRef).cloud_layer, cpu);
+    const Variant& var = variants[k];
+    rs[k].step_growth_max = var.growth;
+    render::RenderSettings ref = DemoScene::referenceSettings();
+    ref.step_growth_max = var.growth;
+    render::CloudRenderer& r = renderers[var.renderer];
+    r.countSamples(true);
+    out[k] = cast(k, rs[k]);  // compiles, warms up
+    samples[k] = double(r.sampleCount());
+    r.countSamples(false);
+    vsCpu[k] = levelStats(cast(k, ref).cloud_layer, cpu);
   }
   for (int k = 0; k < kVariants; ++k) vsDirect[k] = levelStats(out[k].frame, out[0].frame);
-  Series cast[kVariants];
-  const int rounds = interleavedCasts<kVariants>(
-      state, cast, [&](int k) { renderer.render(sc.tex, *dlm[std::size_t(k)], sc.camera, sc.sun, rs); });
-  auto& c = state.counters;
-  sc.printHeader("light cache", rounds);
-  for (int k = 0; k < kVariants; ++k) {
-    const std::string name = k == 0 ? "direct" : "cache" + std::to_string(int(cellVoxels[k]));
-    c["cast_ms_" + name] = median(cast[k].wall);
-    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
-    c["cast_ratio_" + name] = median(cast[0].cpu) / median(cast[k].cpu);
-    c["bake_ms_" + name] = bakeMs[std::size_t(k)];
-    c["levels_vs_direct_" + name] = vsDirect[k].max;
-    c["levels_vs_cpu_" + name] = vsCpu[k].max;
-    const glm::ivec3 n = dlm[std::size_t(k)]->stats().light_cache_texels;
-    std::fprintf(stderr,
-                 "  %-7s cells %dx%dx%d: ray cast wall %.0f ms, CPU %.0f ms, CPU direct/this %.2f; bake %.0f ms "
-                 "(DLM build %.0f ms); vs direct max %d levels, %.2f %% > 2; vs CPU reference max %d levels, "
-                 "%.2f %% > 2\n",
-                 name.c_str(), n.x, n.y, n.z, median(cast[k].wall), median(cast[k].cpu),
-                 median(cast[0].cpu) / median(cast[k].cpu), bakeMs[std::size_t(k)], buildMs[std::size_t(k)],
-                 vsDirect[k].max, 100.0 * vsDirect[k].over2, vsCpu[k].max, 100.0 * vsCpu[k].over2);
-  }
-}
-BENCHMARK(BM_LightCache)
-    ->ArgNames({"scene", "width"})
-    ->Args({1, 1280})  // coarse storm, 1280 × 720
-    ->Args({0, 640})   // demo storm, 640 × 360
-    ->UseManualTime()
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(3);
+  Series series[kVariants];
+  const int rounds = interleavedCasts<kVariants>(state, series, [&](int k) { cast(k, rs[k]); });
 
-// Issue 19 item 1: adaptive steps (RenderSettings::step_growth_max, the knob; Muth 2026 eq. 3.6;
-// glsl/render/clouds.comp adaptiveStep) against the fixed step, on the demo's view: growth caps 1
-// (fixed, the reference path), 2, 4 and 8, the ray cast interleaved in rotating order. Errors in
-// 8-bit levels as BM_LightCache: the frame against the fixed step's, the cloud layer (no jitter, no
-// atmosphere) against the CPU reference ray marcher (fixed steps, the map per sample). Also the
-// volume samples per frame.
-void BM_AdaptiveSteps(benchmark::State& state) {
-  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
-  render::DeepLightMap dlm;
-  dlm.build(sc.tex, -sc.sun.toSun(), scene::DlmSettings{});
-  constexpr int kVariants = 4;
-  const double growth[kVariants] = {1.0, 2.0, 4.0, 8.0};
-  render::RenderSettings rs[kVariants], rsRef[kVariants];
-  const scene::RgbaImage cpu = sc.cpuReference(dlm);
-  render::CloudRenderer renderer;
-  render::RenderOutput out[kVariants];
-  LevelStats vsFixed[kVariants], vsCpu[kVariants];
-  double samples[kVariants];
-  for (int k = 0; k < kVariants; ++k) {
-    rs[k].step_growth_max = growth[k];
-    rsRef[k] = DemoScene::referenceSettings();
-    rsRef[k].step_growth_max = growth[k];
-    renderer.countSamples(true);
-    out[k] = renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]);  // compiles, warms up
-    samples[k] = double(renderer.sampleCount());
-    renderer.countSamples(false);
-    vsCpu[k] = levelStats(renderer.render(sc.tex, dlm, sc.camera, sc.sun, rsRef[k]).cloud_layer, cpu);
-  }
-  for (int k = 0; k < kVariants; ++k) vsFixed[k] = levelStats(out[k].frame, out[0].frame);
-  Series cast[kVariants];
-  const int rounds =
-      interleavedCasts<kVariants>(state, cast, [&](int k) { renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]); });
+  std::fprintf(stderr, "eye-pass defaults (%s), %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
+               std::string(lighting::kMultipleScatteringNames[std::size_t(rs[0].multiple_scattering)]).c_str(),
+               sc.demo ? "demo" : "coarse", sc.v.nx, sc.v.ny, sc.v.nz, sc.width, sc.height, rounds,
+               sc.ctx->info().renderer.c_str());
   auto& c = state.counters;
-  sc.printHeader("adaptive steps", rounds);
   for (int k = 0; k < kVariants; ++k) {
-    const std::string name = "growth" + std::to_string(int(growth[k]));
-    c["cast_ms_" + name] = median(cast[k].wall);
-    c["cast_cpu_ms_" + name] = median(cast[k].cpu);
-    c["cast_ratio_" + name] = median(cast[0].cpu) / median(cast[k].cpu);
+    const Variant& var = variants[k];
+    const std::string name = var.name;
+    std::size_t m = 0;
+    while (cells[m] != var.cache_voxels) ++m;
+    const double ratio = median(series[0].cpu) / median(series[k].cpu);
+    c["cast_ms_" + name] = median(series[k].wall);
+    c["cast_cpu_ms_" + name] = median(series[k].cpu);
+    c["cast_cpu_ratio_" + name] = ratio;
     c["samples_" + name] = samples[k];
-    c["levels_vs_fixed_" + name] = vsFixed[k].max;
-    c["levels_vs_cpu_" + name] = vsCpu[k].max;
+    c["levels_vs_direct_p99_" + name] = vsDirect[k].p99;
+    c["levels_vs_direct_max_" + name] = vsDirect[k].max;
+    c["levels_vs_cpu_p99_" + name] = vsCpu[k].p99;
+    c["levels_vs_cpu_max_" + name] = vsCpu[k].max;
+    const glm::ivec3 n = maps[m]->stats().light_cache_texels;
     std::fprintf(stderr,
-                 "  %-8s ray cast wall %.0f ms, CPU %.0f ms, CPU fixed/this %.2f; %.3g samples; vs fixed max %d "
-                 "levels, %.2f %% > 2; vs CPU reference max %d levels, %.2f %% > 2\n",
-                 name.c_str(), median(cast[k].wall), median(cast[k].cpu), median(cast[0].cpu) / median(cast[k].cpu),
-                 samples[k], vsFixed[k].max, 100.0 * vsFixed[k].over2, vsCpu[k].max, 100.0 * vsCpu[k].over2);
+                 "  %-24s ray cast wall %6.0f ms, CPU %6.0f ms, direct/this %.2f; %.3g samples; cache %dx%dx%d, bake "
+                 "%.0f ms (DLM build %.0f ms)\n"
+                 "  %-24s vs direct: mean %.3f p99 %.0f max %d, %.3f %% > 2; vs CPU reference: mean %.3f p99 %.0f "
+                 "max %d, %.3f %% > 2\n",
+                 var.name, median(series[k].wall), median(series[k].cpu), ratio, samples[k], n.x, n.y, n.z, bakeMs[m],
+                 buildMs[m], "", vsDirect[k].mean, vsDirect[k].p99, vsDirect[k].max, 100.0 * vsDirect[k].over2,
+                 vsCpu[k].mean, vsCpu[k].p99, vsCpu[k].max, 100.0 * vsCpu[k].over2);
   }
 }
-BENCHMARK(BM_AdaptiveSteps)
+BENCHMARK(BM_EyePassDefaults)
     ->ArgNames({"scene", "width"})
     ->Args({1, 1280})  // coarse storm, 1280 × 720
     ->Args({0, 640})   // demo storm, 640 × 360

@@ -80,7 +80,7 @@ TEST_F(EyePassVariants, SpecialisedProgramsAndLinearScanMatchTheBaselineBitForBi
                              R"(", "margin": 0.4, "pixels_long_side": 256},
       "style": {"terrain": )" +
                              b + R"(, "atmosphere": )" + b + R"(},
-      "quality": {"preset": "broadcast", "overrides": {"detail": ")" +
+      "quality": {"preset": "broadcast", "overrides": {"light_cache_voxels": 0, "detail": ")" +
                              (v.on ? "full" : "none") + R"(", "reconstruction": ")" + (v.on ? "cubic" : "trilinear") +
                              R"("}},
       "output": {"width": 96, "height": 54}, "height_exaggeration": 8, "view": ")" +
@@ -89,6 +89,11 @@ TEST_F(EyePassVariants, SpecialisedProgramsAndLinearScanMatchTheBaselineBitForBi
     session->setPasses(v.on);
     const scene::Camera cam = session->prepared().camera;
     render::CloudRenderer& renderer = session->renderer();
+    // The packed texture (one fetch of β and the column depths in half precision; its own test:
+    // LightCacheTest.PackedTextureDiffersOnlyAtTheTerminationThreshold) is a specialisation the
+    // uniform-branch program does not have: compared here with the separate textures on both sides.
+    // So is the light cache (on in the broadcast preset; LightCacheTest): off in the scene above.
+    renderer.setBaseline({.separate_textures = true});
     const render::RenderOutput fast = session->render(cam);  // uploads the volume, builds the DLM
     const render::EyePassFeatures f =
         renderer.features(session->volumeTextures(), session->deepLightMap(), session->renderSettings());
@@ -98,9 +103,11 @@ TEST_F(EyePassVariants, SpecialisedProgramsAndLinearScanMatchTheBaselineBitForBi
     EXPECT_EQ(f.detail, v.on) << v.name;
     EXPECT_EQ(f.cubic, v.on) << v.name;
     EXPECT_EQ(f.terrain, v.on) << v.name << " (terrain is drawn in both views)";
+    EXPECT_FALSE(f.packed) << v.name << " (separate textures asked for)";
+    EXPECT_EQ(session->volumeTextures().hasPacked(), !v.on) << v.name << " (packed for trilinear without detail)";
     renderer.setBaseline({.uniform_branches = true, .binary_search = false});
     const render::RenderOutput uniforms = session->render(cam);
-    renderer.setBaseline({.uniform_branches = false, .binary_search = true});
+    renderer.setBaseline({.uniform_branches = false, .binary_search = true, .separate_textures = true});
     const render::RenderOutput binary = session->render(cam);
     renderer.setBaseline({});
     EXPECT_EQ(renderer.programCount(), 3u) << v.name << ": specialised, uniform branches, binary search";

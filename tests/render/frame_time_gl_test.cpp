@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <vector>
 
 #include "dlm_scenes.h"
@@ -117,9 +118,12 @@ TEST_F(LightCacheTest, TheCellSizeIsPartOfTheBuildAndZeroMeansNone) {
 
 // The frame with the cache against the CPU reference ray marcher evaluating the map per sample
 // (the setting of RaycastTest.GpuMatchesTheCpuReferenceRayMarcher at 192 × 108), in 8-bit sRGB
-// levels of the cloud layer: the direct look-up agrees to float rounding (≤ 1 level); the cache
+// levels of the cloud layer: the direct look-up agrees to float rounding (≤ 1 level with the
+// separate R32F textures; 3 since the packed RGBA16F texture, on 0.11 % of the values, where a
+// ray's transmittance ends at the termination threshold: PackedTextureDiffersOnlyAt…); the cache
 // adds the interpolation of I between its cell centres, largest at sharp cloud tops and shadow
 // edges. Measured with the two-stream default: 1, 2 and 6 levels for cells of 1, 2 and 4 voxels
+// (with the packed texture 3, 3 and 6)
 // (with the octave series, before it, 13, 33 and 43: the single-scattering sun term carries the
 // sharp tops; docs/benchmarks.md "Light cache"). Bounds: the measured maxima on llvmpipe (printed)
 // with one level of room, so that a change of the cache's accuracy either way is seen.
@@ -137,12 +141,12 @@ TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
   const LevelDifference directLevels = levelDifference(renderer.render(tex, direct, cam, sun, rs).cloud_layer, cpu);
   std::printf("[ cache    ] 192x108 hurricane, direct look-up vs CPU: max %d levels, %.2f %% of values differ\n",
               directLevels.max, 100.0 * directLevels.differing);
-  EXPECT_LE(directLevels.max, 1);
+  EXPECT_LE(directLevels.max, 3);
   struct Case {
     double cell_voxels;
     int max_levels;
   };
-  for (const Case c : {Case{1.0, 2}, Case{2.0, 3}, Case{4.0, 7}}) {
+  for (const Case c : {Case{1.0, 3}, Case{2.0, 4}, Case{4.0, 7}}) {
     render::DeepLightMap cached;
     cached.build(tex, -sun.toSun(), withCache(c.cell_voxels));
     const LevelDifference l = levelDifference(renderer.render(tex, cached, cam, sun, rs).cloud_layer, cpu);
@@ -160,7 +164,10 @@ TEST_F(LightCacheTest, FrameAgainstTheCpuReferenceWithinMeasuredLevels) {
 // cloud and ground), on 1.0 % (cap 2) and 2.3 % (cap 4) of the 8-bit values against the CPU
 // reference (fixed steps; with the octave series before two-stream became the default: 208
 // levels, 1.6 % and 3.5 %) — why the presets keep the fixed step (docs/benchmarks.md "Adaptive
-// steps"). Bounds: the measured shares and sample ratios with a little room.
+// steps"). Since the steps are clipped at the brick faces (stepClippedAtBrick): 1.4 % and 3.3 %,
+// max still 144 levels, 0.55 and 0.36 of the samples — the flips here are thin edges inside an
+// occupied brick, which the far term still steps over; the clip guards the next brick (test
+// below). Bounds: the measured shares and sample ratios with a little room.
 TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
   const ObliqueHurricane h;
   const auto& [v, frame, tex, sun, cam, reference] = h;
@@ -182,7 +189,7 @@ TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
     double growth;
     double max_sample_ratio, max_differing;
   };
-  for (const Case c : {Case{2.0, 0.55, 0.015}, Case{4.0, 0.35, 0.03}}) {
+  for (const Case c : {Case{2.0, 0.60, 0.02}, Case{4.0, 0.40, 0.04}}) {
     rs.step_growth_max = c.growth;
     const render::RenderOutput out = renderer.render(tex, dlm, cam, sun, rs);
     const double samples = double(renderer.sampleCount());
@@ -196,6 +203,126 @@ TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
     EXPECT_LE(vsCpu.differing, c.max_differing) << "growth " << c.growth;
     EXPECT_LE(vsFixed.differing, c.max_differing) << "growth " << c.growth;
   }
+}
+
+// Adaptive steps clipped at the brick (glsl/render/clouds.comp stepClippedAtBrick): a dense sheet
+// (one voxel layer at x = 16, the first of the third occupancy brick, τ = 5 across it) lies just
+// beyond 16 voxels of clear air, seen obliquely (30° off its normal) from 1 500 km, where a
+// pixel's footprint (the far term) grows the step to ≈ 2.7 voxels. The occupancy is dilated by
+// the filter's reach, so the brick before the sheet is occupied although clear: unclipped, a
+// grown step from there passes the sheet's two-voxel support on some rays (the pixel shows the
+// ground); clipped at the brick's face, every ray samples the sheet, as the fixed step does.
+// Jitter on: the lattice's phase differs per pixel, as in a real frame.
+TEST_F(AdaptiveStepsTest, AGrownStepDoesNotJumpAThinCloudBeyondClearAir) {
+  constexpr int nx = 32, ny = 96, nz = 32, sheetX = 16;
+  constexpr float sheetBeta_per_m = 5.0f / 3000.0f;  // τ = 5 across one 3 km voxel
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(nx, ny, nz, 3000.0, 250.0, 0.0);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) v.water_per_m[(std::size_t(k) * ny + std::size_t(j)) * nx + sheetX] = sheetBeta_per_m;
+  v.updateMaxima();
+  const scene::VolumeFrame frame = scene::frameOf(v, 12.0);  // voxels of 3 km on every axis
+  const auto tex = render::VolumeTextures::upload(v, frame, "sheet");
+  const scene::Sun sun{200.0, 40.0};
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  scene::Camera cam;
+  const glm::dvec3 size = frame.size_m();
+  cam.target_m = frame.min_m() + glm::dvec3((sheetX + 0.5) / nx * size.x, 0.5 * size.y, 0.5 * size.z);
+  const double azimuth = 30.0 * std::numbers::pi / 180.0, distance_m = 1.5e6;
+  cam.position_m = cam.target_m + distance_m * glm::dvec3(-std::cos(azimuth), -std::sin(azimuth), 0.02);
+  cam.width = 48;
+  cam.height = 24;
+  cam.vertical_fov_deg = 24 * 8.0e3 / distance_m * 180.0 / std::numbers::pi;  // 8 km per pixel at the sheet
+  render::RenderSettings rs;
+  rs.atmosphere = false;
+  render::CloudRenderer renderer, unclipped;
+  unclipped.setBaseline({.unclipped_steps = true});
+  const render::RenderOutput fixed = renderer.render(tex, dlm, cam, sun, rs);
+  rs.step_growth_max = 8.0;
+  renderer.countSamples(true);
+  const render::RenderOutput clipped = renderer.render(tex, dlm, cam, sun, rs);
+  const double clippedSamples = double(renderer.sampleCount());
+  unclipped.countSamples(true);
+  const render::RenderOutput jumped = unclipped.render(tex, dlm, cam, sun, rs);
+  const double unclippedSamples = double(unclipped.sampleCount());
+  int sheetPixels = 0, clippedOff = 0, unclippedMissed = 0;
+  double clippedWorst = 0.0;
+  for (std::size_t i = 3; i < fixed.cloud_layer.rgba.size(); i += 4) {
+    const float a = fixed.cloud_layer.rgba[i];
+    if (a < 0.9f) continue;
+    ++sheetPixels;
+    const double d = std::abs(double(clipped.cloud_layer.rgba[i]) - double(a));
+    clippedWorst = std::max(clippedWorst, d);
+    clippedOff += d > 0.05;
+    unclippedMissed += jumped.cloud_layer.rgba[i] < 0.5f;
+  }
+  std::printf("[ adaptive ] sheet beyond clear air: %d sheet pixels (fixed alpha > 0.9); clipped: %d off by > 0.05 "
+              "(worst %.3f), %.0f samples; unclipped: %d missed (alpha < 0.5), %.0f samples\n",
+              sheetPixels, clippedOff, clippedWorst, clippedSamples, unclippedMissed, unclippedSamples);
+  ASSERT_GT(sheetPixels, 200) << "the sheet must fill a good part of the 48 x 24 frame";
+  EXPECT_GT(unclippedMissed, sheetPixels / 10) << "the scene must make an unclipped grown step miss the sheet";
+  EXPECT_EQ(clippedOff, 0) << "a clipped step must sample the sheet on every ray the fixed step does (worst "
+                           << clippedWorst << ")";
+}
+
+// The packed texture (VolumeTextures::hasPacked; glsl/render/clouds.comp packedAt): one RGBA16F
+// fetch of (β_ice, β_water, τ_up, τ_down) per step against the separate R32F ice and water and
+// RG16F column-depth textures (EyePassBaseline::separate_textures), on the small hurricane and on
+// a homogeneous slab that fills the whole box (every face: the zero border's fade, which the packed
+// path computes instead of sampling). The difference is β's half precision (11 bits, relative
+// 2⁻¹¹) and the fade's weights computed in float rather than by the sampler. It shows only where a
+// ray's transmittance ends next to the early-termination threshold T_min = 0.01: one side stops
+// and is renormalised to α = 1, the other leaves the box with α = 1 − T ≈ 0.99, a step of at most
+// T_min in a value (3 levels of the straight-alpha code). Measured: 0.11 % (hurricane) and 0.12 %
+// (slab) of the values differ, max |Δ| = 0.0100, 3 levels. Bounds: |Δ| ≤ T_min + 1e-4, ≤ 3 levels,
+// ≤ 0.5 % of the values, and against the CPU reference no worse than that step.
+// A cubic upload has no packed texture (the B-spline reads the zero border at 8 positions) and
+// renders bit for bit as the separate path.
+TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
+  const ObliqueHurricane h;
+  struct Scene {
+    const char* name;
+    ExtinctionVolumes volumes;
+  };
+  for (const Scene& sc :
+       {Scene{"hurricane", generatedHurricane()}, Scene{"slab", homogeneousSlab(24, 20, 12, 4e-4f)}}) {
+    const scene::VolumeFrame frame = scene::frameOf(sc.volumes, 8.0);
+    const auto tex = render::VolumeTextures::upload(sc.volumes, frame, sc.name);
+    ASSERT_TRUE(tex.hasPacked());
+    const scene::Camera cam = ObliqueHurricane::obliqueCamera(frame);
+    render::DeepLightMap dlm;
+    dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
+    const auto map = dlm.readBack();
+    const scene::RgbaImage cpu = reference::marchCloudLayer(
+        sc.volumes, frame, cam, h.sun,
+        [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, dlm.lightSpace(), p); }, h.settings);
+    render::CloudRenderer packed, separate;
+    separate.setBaseline({.separate_textures = true});
+    const render::RenderOutput a = packed.render(tex, dlm, cam, h.sun, h.settings);
+    const render::RenderOutput b = separate.render(tex, dlm, cam, h.sun, h.settings);
+    const LevelDifference vsSeparate = levelDifference(a.cloud_layer, b.cloud_layer);
+    const LevelDifference packedVsCpu = levelDifference(a.cloud_layer, cpu);
+    const LevelDifference separateVsCpu = levelDifference(b.cloud_layer, cpu);
+    const LayerDifference layer = layerDifference(a.cloud_layer, b.cloud_layer);
+    std::printf("[ packed   ] %s: vs separate max %d levels (%.2f %% differ), max |d| %.2e; vs CPU packed %d, "
+                "separate %d levels\n",
+                sc.name, vsSeparate.max, 100.0 * vsSeparate.differing, layer.max, packedVsCpu.max, separateVsCpu.max);
+    EXPECT_GT(layer.coverage, 0.05) << sc.name << ": the view must see cloud";
+    EXPECT_LE(layer.max, h.settings.min_transmittance + 1e-4) << sc.name;
+    EXPECT_LE(vsSeparate.max, 3) << sc.name;
+    EXPECT_LE(vsSeparate.differing, 0.005) << sc.name;
+    EXPECT_LE(packedVsCpu.max, std::max(separateVsCpu.max, 3)) << sc.name;
+  }
+  const ExtinctionVolumes v = generatedHurricane();
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const auto cubic = render::VolumeTextures::upload(v, frame, "hurricane", scene::Reconstruction::Cubic);
+  EXPECT_FALSE(cubic.hasPacked()) << "the cubic B-spline keeps the separate textures";
+  render::DeepLightMap dlm;
+  dlm.build(cubic, -h.sun.toSun(), scene::DlmSettings{});
+  render::CloudRenderer renderer, separate;
+  separate.setBaseline({.separate_textures = true});
+  EXPECT_EQ(renderer.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba,
+            separate.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba);
 }
 
 }  // namespace

@@ -76,6 +76,32 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     t.column_depth_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("column optical depth (up, down)");
     glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_FLOAT, rg.data());
     t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    // The packed texture of the eye pass (issue 19 item 3; hasPacked): (β_ice, β_water, τ_up,
+    // τ_down) per voxel, RGBA16F, one trilinear fetch per view-ray step instead of three. β is
+    // stored per kilometre (a half's normal range starts at 6.1e-5: β of thin cloud, ~1e-6 /m,
+    // keeps 11 significant bits as 1e-3 /km), or coarser where the largest β would overflow the
+    // half's 65504. Clamp to edge, as the column depths need; the zero border the extinction's
+    // trilinear filter fades to outside the box is applied in the shader instead (packedAt).
+    // Uploaded slice by slice: the interleaved float slice is the only transient copy.
+    if (reconstruction == scene::Reconstruction::Trilinear && !t.detail_.on()) {
+      const float maxBeta = std::max({v.max_ice_per_m, v.max_water_per_m, 1e-30f});
+      const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
+      t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
+      const bool ice = v.ice_per_m.size() == v.voxelCount(), water = v.water_per_m.size() == v.voxelCount();
+      t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
+      std::vector<float> slice(4 * std::size_t(n.x) * std::size_t(n.y));
+      for (int k = 0; k < n.z; ++k) {
+        const std::size_t base = std::size_t(k) * std::size_t(n.x) * std::size_t(n.y);
+        for (std::size_t i = 0; i < slice.size() / 4; ++i) {
+          slice[4 * i] = ice ? v.ice_per_m[base + i] * storedPerM : 0.0f;
+          slice[4 * i + 1] = water ? v.water_per_m[base + i] * storedPerM : 0.0f;
+          slice[4 * i + 2] = rg[2 * (base + i)];
+          slice[4 * i + 3] = rg[2 * (base + i) + 1];
+        }
+        glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RGBA, GL_FLOAT, slice.data());
+      }
+      t.packed_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    }
   }
   // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
   // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
@@ -200,6 +226,7 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CONTROLS, controls_ ? controls_.id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_NOISE, noise_ ? noise_->texture().id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, correction_.id());
+  glBindTextureUnit(gl::binding::UNIT_PACKED_VOLUME, packed_ ? packed_.id() : zero_rgba_.id());
   block_.bind();
 }
 

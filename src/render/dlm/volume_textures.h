@@ -41,6 +41,13 @@ class VolumeTextures {
   /// The noise tile in use (null without detail): pass it to the next upload to reuse it.
   const std::shared_ptr<const NoiseTexture>& noise() const { return noise_; }
   bool hasIce() const { return bool(ice_); }
+  /// The packed texture of the eye pass (issue 19 item 3; glsl/render/clouds.comp packedAt): one
+  /// RGBA16F texel per voxel holding (β_ice, β_water) in units of packedBetaUnit_per_m() and the
+  /// column depths (τ_up, τ_down), GL_LINEAR, GL_CLAMP_TO_EDGE, so a view-ray step is one fetch.
+  /// Built for the trilinear filter without sub-grid detail only (the cubic B-spline reads the zero
+  /// border, the detail displaces its fetches): otherwise the separate textures serve.
+  bool hasPacked() const { return bool(packed_); }
+  float packedBetaUnit_per_m() const { return packed_beta_unit_per_m_; }
   bool hasWater() const { return bool(water_); }
   /// World AABB of the non-empty voxels grown by the filter's reach (1 voxel trilinear, 2 cubic);
   /// empty → the volume's bottom face.
@@ -55,12 +62,14 @@ class VolumeTextures {
   /// (the per-column mass correction, 1 texel of 1 without detail) and the
   /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program,
   /// and the terrain heights (R32F, one texel per mass point, 1×1 zero without terrain) to
-  /// UNIT_TERRAIN.
+  /// UNIT_TERRAIN, and the packed texture (or a 1-texel zero) to UNIT_PACKED_VOLUME.
   void bind() const;
 
  private:
   scene::HalfColumnMasses measureHalfColumnMasses() const;  ///< glsl/render/detail_mass.comp
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, controls_, zero_rgba_, correction_;
+  gl::Texture packed_;
+  float packed_beta_unit_per_m_ = 0.0f;
   scene::TerrainField terrain_;
   std::shared_ptr<const NoiseTexture> noise_;
   scene::DetailParameters detail_;

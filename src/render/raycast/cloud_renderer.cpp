@@ -22,7 +22,8 @@ gl::Defines EyePassFeatures::defines() const {
           {"SPEC_PASSES", bit(passes)},
           {"SPEC_DETAIL", bit(detail)},
           {"SPEC_CUBIC", bit(cubic)},
-          {"SPEC_LIGHT_CACHE", bit(light_cache)}};
+          {"SPEC_LIGHT_CACHE", bit(light_cache)},
+          {"SPEC_PACKED", bit(packed)}};
 }
 
 CloudRenderer::CloudRenderer()
@@ -192,12 +193,14 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Deep
   f.detail = volume.detail().on();
   f.cubic = volume.reconstruction() == scene::Reconstruction::Cubic;
   f.light_cache = dlm.hasLightCache();
+  f.packed = volume.hasPacked() && !baseline_.separate_textures;
   return f;
 }
 
 const gl::Program& CloudRenderer::program(const EyePassFeatures& features) {
   gl::Defines defines = baseline_.uniform_branches ? gl::Defines{} : features.defines();
   if (baseline_.binary_search) defines.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
+  if (baseline_.unclipped_steps) defines.emplace_back("ADAPTIVE_STEPS_UNCLIPPED", "1");
   std::string key;
   for (const auto& [name, value] : defines) key += name + "=" + value + ";";
   auto it = programs_.find(key);
@@ -225,8 +228,10 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     ground_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("ground pass, shadow matte");
     sky_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("sky pass, cloud depth");
   }
-  const gl::Program& p = program(features(volume, dlm, s));
+  const EyePassFeatures f = features(volume, dlm, s);
+  const gl::Program& p = program(f);
   p.use();
+  if (f.packed && !baseline_.uniform_branches) p.set("u_packed_beta_unit_per_m", volume.packedBetaUnit_per_m());
   volume.bind();
   dlm.bindForLookup();
   glBindTextureUnit(gl::binding::UNIT_BASEMAP, basemap_ ? basemap_.id() : blank_.id());

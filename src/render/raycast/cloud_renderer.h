@@ -77,6 +77,8 @@ struct EyePassFeatures {
   bool cubic = false;       ///< tricubic B-spline reconstruction (VolumeTextures::reconstruction)
   /// the sunlight from the map's light cache (DeepLightMap::hasLightCache), not its look-up
   bool light_cache = false;
+  /// one fetch per step from the packed texture (VolumeTextures::hasPacked), not three
+  bool packed = false;
   /// {"SPEC_GLOBE", "0|1"}, … for gl::Program::compute.
   gl::Defines defines() const;
 };
@@ -87,6 +89,11 @@ struct EyePassFeatures {
 struct EyePassBaseline {
   bool uniform_branches = false;  ///< one program for every view: the switches are uniforms
   bool binary_search = false;     ///< DLM look-up by binary search (glsl/dlm/lookup.glsl)
+  /// adaptive steps not clipped at the occupancy brick's face (glsl/render/clouds.comp
+  /// stepClippedAtBrick): the first version of RenderSettings::step_growth_max
+  bool unclipped_steps = false;
+  /// the separate ice, water and column-depth textures even where the packed one serves
+  bool separate_textures = false;
 };
 
 class CloudRenderer {
