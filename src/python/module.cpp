@@ -164,16 +164,13 @@ PyDataset fromExtinction(const FloatArray& ice, const FloatArray& water, double 
   return {engine::Dataset::fromVolumes(name, std::move(volumes))};
 }
 
-/// Renders one frame: the scene from `scene_path` (a JSON file) or `scene_text` (JSON text named
-/// `scene_name`, relative paths against `base_dir`), the dataset given or else the scene's
-/// data.path. Writes the scene's outputs; returns the frame (or the premultiplied cloud layer).
-py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, const std::string& scene_text,
-                      const std::string& scene_name, const std::string& base_dir, const std::string& gl,
-                      std::optional<std::vector<std::string>> outputs, int width, int height, int timestep,
-                      const std::string& dtype, bool cloud_layer) {
-  if (dtype != "float32" && dtype != "uint8") {
-    throw UsageError(fmt::format("dtype {}: expected \"float32\" (scene-linear) or \"uint8\" (display codes)", dtype));
-  }
+/// The scene of a render call: the JSON file `scene_path`, or `scene_text` (JSON named
+/// `scene_name`, relative paths against `base_dir`), with the overrides of `nephele render`'s
+/// -o/--width/--height/--timestep (0 or negative: none).
+scene::SceneDescription sceneOf(const std::string& scene_path, const std::string& scene_text,
+                                const std::string& scene_name, const std::string& base_dir,
+                                const std::optional<std::vector<std::string>>& outputs, int width, int height,
+                                int timestep) {
   scene::SceneDescription s =
       scene_path.empty() ? scene::parseSceneText(scene_text, scene_name, base_dir) : scene::loadSceneFile(scene_path);
   if (width > 0) s.output.width = width;
@@ -184,10 +181,64 @@ py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, c
     s.data->timestep = timestep;
     s.data->time_utc.reset();
   }
-  std::shared_ptr<const engine::Dataset> data = dataset ? dataset->dataset : nullptr;
-  if (!data && (!s.data || s.data->path.empty())) {
+  return s;
+}
+
+void requireDtype(const std::string& dtype) {
+  if (dtype != "float32" && dtype != "uint8") {
+    throw UsageError(fmt::format("dtype {}: expected \"float32\" (scene-linear) or \"uint8\" (display codes)", dtype));
+  }
+}
+
+/// The 8-bit codes a .png output stores of the frame (or the cloud layer); empty for float32.
+/// Touches no Python object (called with the GIL released).
+std::vector<std::uint8_t> displayCodes(const engine::SceneFrame& frame, const std::string& dtype, bool cloud_layer) {
+  if (dtype != "uint8") return {};
+  const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
+  if (frame.options.display.empty()) return scene::encodeSrgb8(img, frame.options);
+  // an OpenColorIO display: its code values, 8-bit as writePng stores SDR displays
+  const std::vector<float> v = scene::encodeDisplay(img, frame.options);
+  std::vector<std::uint8_t> codes(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint8_t>(std::lround(v[i] * 255.0f));
+  return codes;
+}
+
+/// The frame as numpy: `codes` (uint8) or, for float32, what the OpenEXR output stores, the
+/// linear values times 2^exposure (resolved for the frame's sun: frame.options,
+/// scene/output_image.h), in float instead of half.
+py::array frameArray(const engine::SceneFrame& frame, const std::vector<std::uint8_t>& codes, const std::string& dtype,
+                     bool cloud_layer) {
+  const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
+  if (dtype == "uint8") return imageArray(codes, img.height, img.width, 4);
+  std::vector<float> linear = img.rgba;
+  const auto exposure = static_cast<float>(std::exp2(frame.options.exposure_ev));
+  for (std::size_t i = 0; i < linear.size(); ++i) {
+    if (i % 4 != 3) linear[i] *= exposure;
+  }
+  return imageArray(linear, img.height, img.width, 4);
+}
+
+/// The dataset given, else the scene's data.path (opened later, without the GIL); InputError
+/// when there is neither.
+std::shared_ptr<const engine::Dataset> datasetOrScenePath(const PyDataset* dataset, const scene::SceneDescription& s) {
+  if (dataset) return dataset->dataset;
+  if (!s.data || s.data->path.empty()) {
     throw InputError(s.source_file + ": no dataset given and no \"data\" section: which .nph or model file to render?");
   }
+  return nullptr;
+}
+
+/// Renders one frame: the scene (sceneOf), the dataset given or else the scene's data.path, in a
+/// new session and GL context. Writes the scene's outputs; returns the frame (or the
+/// premultiplied cloud layer).
+py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, const std::string& scene_text,
+                      const std::string& scene_name, const std::string& base_dir, const std::string& gl,
+                      std::optional<std::vector<std::string>> outputs, int width, int height, int timestep,
+                      const std::string& dtype, bool cloud_layer) {
+  requireDtype(dtype);
+  const scene::SceneDescription s =
+      sceneOf(scene_path, scene_text, scene_name, base_dir, outputs, width, height, timestep);
+  std::shared_ptr<const engine::Dataset> data = datasetOrScenePath(dataset, s);
   engine::SceneFrame frame;
   std::vector<std::uint8_t> codes;
   {
@@ -196,28 +247,118 @@ py::array renderFrame(const PyDataset* dataset, const std::string& scene_path, c
     const auto ctx = gl::createHeadlessContext(gl);
     frame = engine::renderSceneFrame(data, s);
     engine::writeSceneOutputs(s, frame);
-    if (dtype == "uint8") {
-      const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
-      if (s.output.image.display.empty()) {
-        codes = scene::encodeSrgb8(img, frame.options);
-      } else {  // an OpenColorIO display: its code values, 8-bit as writePng stores SDR displays
-        const std::vector<float> v = scene::encodeDisplay(img, frame.options);
-        codes.resize(v.size());
-        for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint8_t>(std::lround(v[i] * 255.0f));
-      }
-    }
+    codes = displayCodes(frame, dtype, cloud_layer);
   }
-  const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
-  if (dtype == "uint8") return imageArray(codes, img.height, img.width, 4);
-  // float32: what the OpenEXR output stores, the linear values times 2^exposure (sun-resolved)
-  // (scene/output_image.h), in float instead of half.
-  std::vector<float> linear = img.rgba;
-  const auto exposure = static_cast<float>(std::exp2(frame.options.exposure_ev));
-  for (std::size_t i = 0; i < linear.size(); ++i) {
-    if (i % 4 != 3) linear[i] *= exposure;
-  }
-  return imageArray(linear, img.height, img.width, 4);
+  return frameArray(frame, codes, dtype, cloud_layer);
 }
+
+/// A persistent renderer (issue #16 item 3): one GL context and one engine::Session kept between
+/// frames, so a frame rebuilds only what changed since the last (session.h; Nes 2008 §6.3 table
+/// 6.1): a new timestep uploads a volume and rebuilds the deep light map, a new sun rebuilds the
+/// DLM, a new camera only ray casts. Each frame is made by the engine function of
+/// `nephele render` (engine::renderSceneFrame), so it equals a one-off render of the same scene.
+class PyRenderer {
+ public:
+  PyRenderer(const PyDataset* dataset, const std::string& scene_path, const std::string& scene_text,
+             const std::string& scene_name, const std::string& base_dir, const std::string& gl, int width, int height,
+             int timestep)
+      : scene_(sceneOf(scene_path, scene_text, scene_name, base_dir, std::nullopt, width, height, timestep)),
+        base_dir_(base_dir) {
+    std::shared_ptr<const engine::Dataset> data = datasetOrScenePath(dataset, scene_);
+    py::gil_scoped_release release;
+    if (!data) data = engine::Dataset::open(scene_.data->path);
+    context_ = gl::createHeadlessContext(gl);
+    session_ = std::make_unique<engine::Session>(std::move(data), scene_);
+    timestep_ = std::size_t(session_->time());
+  }
+  ~PyRenderer() { close(); }
+  PyRenderer(const PyRenderer&) = delete;
+  PyRenderer& operator=(const PyRenderer&) = delete;
+
+  /// One frame. `time_index`: a timestep index (fractional: the blend of its two neighbours,
+  /// dataset.h), NaN to keep the current one; `time_utc` instead: the timestep at that time.
+  /// `overrides`: JSON of a scene's "camera" and/or "sun" sections, each replacing the current one
+  /// when `has_camera`/`has_sun`. `outputs`: files written as output.paths (none: the scene's).
+  py::array render(double time_index, const std::string& time_utc, const std::string& overrides, bool has_camera,
+                   bool has_sun, std::optional<std::vector<std::string>> outputs, const std::string& dtype,
+                   bool cloud_layer) {
+    requireOpen();
+    requireDtype(dtype);
+    if (has_camera || has_sun) {  // parsed as a scene, so keys and values are checked as in a scene file
+      const scene::SceneDescription o = scene::parseSceneText(overrides, "<Renderer.render camera/sun>", base_dir_);
+      if (has_camera) scene_.camera = o.camera;
+      if (has_sun) scene_.sun = o.sun;
+    }
+    const engine::Dataset& data = session_->dataset();
+    if (!time_utc.empty()) {
+      scene::DataSpec spec;
+      spec.time_utc = time_utc;
+      timestep_ = scene::timestepIndexFor(spec, data.times(), data.path());
+      time_index = double(timestep_);
+    } else if (!std::isnan(time_index)) {
+      timestep_ = engine::bracketTime(time_index, data.timestepCount()).first;  // UsageError when infinite
+    }
+    scene::SceneDescription s = scene_;
+    if (outputs) s.output.paths = *outputs;
+    engine::SceneFrame frame;
+    std::vector<std::uint8_t> codes;
+    {
+      py::gil_scoped_release release;
+      context_->makeCurrent();  // another Renderer or nephele.render may have made theirs current
+      if (!std::isnan(time_index)) {
+        session_->setTime(time_index);
+        session_->setPlaybackDirection(0);  // decode only what is shown: no reading ahead
+      }
+      session_->setSun(session_->sunFor(s.sun, timestep_));
+      frame = engine::renderSceneFrame(*session_, s, session_->cameraFor(s.camera));
+      engine::writeSceneOutputs(s, frame);
+      codes = displayCodes(frame, dtype, cloud_layer);
+    }
+    return frameArray(frame, codes, dtype, cloud_layer);
+  }
+
+  /// The session's counters (engine::FrameStats, PrefetchStats): what the last frame rebuilt and
+  /// how often the volume was uploaded, the DLM built and a timestep decoded since the start.
+  py::dict stats() const {
+    requireOpen();
+    const engine::FrameStats& f = session_->stats();
+    const engine::PrefetchStats p = session_->prefetchStats();
+    py::dict d;
+    d["time_index"] = f.time_index;
+    d["volume_changed"] = f.volume_changed;
+    d["dlm_rebuilt"] = f.dlm_rebuilt;
+    d["volume_uploads"] = f.volume_uploads;
+    d["dlm_builds"] = f.dlm_builds;
+    d["dlm_reuses"] = f.dlm_reuses;
+    d["timestep_decodes"] = p.misses + p.waits + p.prefetched;  // loads (model files: conversions)
+    d["load_ms"] = f.load_ms;
+    d["upload_ms"] = f.upload_ms;
+    d["dlm_ms"] = f.dlm_ms;
+    d["raycast_ms"] = f.raycast_ms;
+    return d;
+  }
+
+  /// Frees the session's GL objects in its own context, then the context. Idempotent.
+  void close() {
+    if (!context_) return;
+    py::gil_scoped_release release;
+    context_->makeCurrent();
+    session_.reset();
+    context_.reset();
+  }
+  bool closed() const { return !context_; }
+
+ private:
+  void requireOpen() const {
+    if (!context_) throw UsageError("nephele.Renderer: used after close()");
+  }
+
+  scene::SceneDescription scene_;  ///< the current scene: the camera and sun of the last frame
+  std::string base_dir_;
+  std::size_t timestep_ = 0;              ///< integer timestep of the current time (for the sun's time)
+  std::unique_ptr<gl::Context> context_;  ///< declared before session_: destroyed after it
+  std::unique_ptr<engine::Session> session_;
+};
 
 }  // namespace
 }  // namespace nph::python
@@ -291,6 +432,16 @@ PYBIND11_MODULE(_nephele, m) {
   m.def("from_extinction", &fromExtinction, py::arg("ice_per_m"), py::arg("water_per_m"), py::arg("dx"), py::arg("dy"),
         py::arg("dz_m"), py::arg("z_bottom_m"), py::arg("proj"), py::arg("x0"), py::arg("y0"), py::arg("geographic"),
         py::arg("times_utc"), py::arg("terrain_height_m"), py::arg("name"));
+  py::class_<PyRenderer>(m, "Renderer")
+      .def(py::init<const PyDataset*, const std::string&, const std::string&, const std::string&, const std::string&,
+                    const std::string&, int, int, int>(),
+           py::arg("dataset"), py::arg("scene_path"), py::arg("scene_text"), py::arg("scene_name"), py::arg("base_dir"),
+           py::arg("gl"), py::arg("width"), py::arg("height"), py::arg("timestep"))
+      .def("render", &PyRenderer::render, py::arg("time_index"), py::arg("time_utc"), py::arg("overrides"),
+           py::arg("has_camera"), py::arg("has_sun"), py::arg("outputs"), py::arg("dtype"), py::arg("cloud_layer"))
+      .def("stats", &PyRenderer::stats)
+      .def("close", &PyRenderer::close)
+      .def_property_readonly("closed", &PyRenderer::closed);
   m.def("render", &renderFrame, py::arg("dataset"), py::arg("scene_path"), py::arg("scene_text"), py::arg("scene_name"),
         py::arg("base_dir"), py::arg("gl"), py::arg("outputs"), py::arg("width"), py::arg("height"),
         py::arg("timestep"), py::arg("dtype"), py::arg("cloud_layer"));

@@ -15,6 +15,10 @@ difference is a bug in the module (a scene key lost, a dataset read differently)
   * numpy: the .nph's extinction of timestep 1 as arrays and as an xarray Dataset of extinction
     against the .nph at timestep 1 (`timestep=`);
   * float32: scene-linear times 2^exposure_ev, the frame opaque: exposure +1 EV doubles RGB exactly;
+  * Renderer: a sequence of frames through one persistent renderer (camera, sun, timestep by index
+    and by time, the wrfout converted once) equals separate nephele.render calls code for code,
+    and the session's counters show what each frame rebuilt: a camera-only frame decodes,
+    uploads and lights nothing (counted, not timed);
   * dataset facts: timesteps, times, grid against the .nph header and the wrfout's XLAT/XLONG;
   * errors: Python exceptions of the documented types naming the file and the variable.
 """
@@ -90,6 +94,39 @@ cloud = nephele.render(ds, keys, cloud_layer=True)
 check((cloud[..., 3] >= 0).all() and (cloud[..., 3] <= 1).all() and 0 < cloud[..., 3].mean() < 1,
       f"cloud layer alpha outside [0, 1] or empty/full (mean {cloud[..., 3].mean()})")
 
+# ---- Renderer: one GL context and session for a sequence of frames ----------------------------------
+top, low_sun = {"preset": "top"}, {"azimuth_deg": 90, "elevation_deg": 20}
+with nephele.Renderer(ds, keys, gl="egl") as r:
+    counts = []  # (timestep_decodes, volume_uploads, dlm_builds) after each frame
+    frames = []
+    for call in (dict(), dict(camera=top), dict(sun=low_sun), dict(time=1), dict(time="2026-09-01T12:00:00Z"),
+                 dict(camera=keys["camera"], outputs=[work / "py_renderer.png"])):
+        frames.append(r.render(dtype="uint8", **call))
+        st = r.stats()
+        counts.append((st["timestep_decodes"], st["volume_uploads"], st["dlm_builds"]))
+    print(f"Renderer counters (decodes, uploads, DLM builds) after each frame: {counts}")
+    expect_counts = [(1, 1, 1), (1, 1, 1), (1, 1, 2), (2, 2, 3), (2, 3, 4), (2, 3, 4)]
+    check(counts == expect_counts, f"Renderer counters {counts}, expected {expect_counts}: a camera-only frame must "
+          "not decode, upload or light again; a sun change rebuilds only the DLM; a timestep change all (t0 cached)")
+    check(not r.stats()["dlm_rebuilt"] and not r.stats()["volume_changed"], f"last frame stats {r.stats()}")
+check(r.closed, "Renderer not closed at the end of its with block")
+separate = [nephele.render(ds, keys, dtype="uint8"), nephele.render(ds, dict(keys, camera=top), dtype="uint8"),
+            nephele.render(ds, dict(keys, camera=top, sun=low_sun), dtype="uint8"),
+            nephele.render(ds, dict(keys, camera=top, sun=low_sun), timestep=1, dtype="uint8"),
+            nephele.render(ds, dict(keys, camera=top, sun=low_sun), timestep=0, dtype="uint8"),
+            nephele.render(ds, dict(keys, sun=low_sun), dtype="uint8")]
+for n, (a, b) in enumerate(zip(frames, separate)):
+    same_codes(a, b, f"Renderer frame {n} vs nephele.render")
+same_codes(png(work / "py_renderer.png"), separate[-1], "Renderer: the PNG of outputs=")
+same_codes(frames[0], cli_nph, "Renderer frame 0 vs nephele render")
+# a model file: converted once for any number of camera moves (the counters), frames as the CLI's
+with nephele.Renderer(nephele.open(nc), keys, gl="egl") as r:
+    same_codes(r.render(dtype="uint8"), cli_nc, "Renderer of the wrfout vs nephele render")
+    r.render(camera=top)
+    r.render(camera={"preset": "overview"}, sun=low_sun)
+    check(r.stats()["timestep_decodes"] == 1 and r.stats()["volume_uploads"] == 1,
+          f"Renderer of the wrfout converted again: {r.stats()}")
+
 # grid: the header's figures and the footprint against the wrfout's corner mass points
 grid = ds.grid(1)
 x = xr.open_dataset(nc)
@@ -163,6 +200,13 @@ expect_error(nephele.InputError, ["scene_bad.json", "output.paths[0]"],
              lambda: (work / "scene_bad.json").write_text('{"output": {"paths": ["frame.jpg"]}}') and
              nephele.render(ds, work / "scene_bad.json"), "scene file: bad output")
 expect_error(nephele.UsageError, ["--gl vulkan"], lambda: nephele.render(ds, keys, gl="vulkan"), "unknown gl")
+expect_error(nephele.InputError, ["<Renderer.render camera/sun>", "camera.fvo_deg"],
+             lambda: nephele.Renderer(ds, keys).render(camera={"fvo_deg": 30}), "Renderer: camera typo")
+expect_error(nephele.InputError, [str(nph), "2030-01-01"],
+             lambda: nephele.Renderer(ds, keys).render(time="2030-01-01T00:00:00Z"), "Renderer: a time not in the data")
+closed = nephele.Renderer(ds, keys)
+closed.close()
+expect_error(nephele.UsageError, ["after close"], lambda: closed.render(), "Renderer: render after close")
 check(issubclass(nephele.InputError, ValueError) and issubclass(nephele.IoError, OSError),
       "InputError is not a ValueError or IoError not an OSError")
 

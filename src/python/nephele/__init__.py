@@ -22,8 +22,8 @@ import tempfile
 from . import _nephele
 from ._nephele import Error, GlError, InputError, IoError, UsageError
 
-__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "UsageError", "from_extinction", "from_xarray",
-           "open", "render"]
+__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "Renderer", "UsageError", "from_extinction",
+           "from_xarray", "open", "render"]
 
 # Variable names an xarray Dataset of extinction may use (the first of each pair that exists):
 # the grids of `nephele export-vdb` and the arrays of ExtinctionVolumes.
@@ -145,19 +145,89 @@ def render(dataset=None, scene=None, *, gl="auto", outputs=None, width=None, hei
     dtype:   "float32": scene-linear RGBA times 2^output.exposure_ev, as an .exr output stores it
              (the frame is composited over the ground: alpha 1); "uint8": the display codes of a
              .png output (tone curve + sRGB, or output.display through OpenColorIO), straight alpha.
-    cloud_layer: return the premultiplied cloud layer alone instead of the frame (`--layer`)."""
-    scene_path, scene_text, scene_name = "", "", "<scene dict>"
-    if scene is None:
-        scene_text = "{}"
-    elif isinstance(scene, dict):
-        scene_text = json.dumps(scene)
-    else:
-        scene_path = os.fspath(scene)
+    cloud_layer: return the premultiplied cloud layer alone instead of the frame (`--layer`).
+
+    Each call is a new GL context and session: for several frames of one dataset use Renderer."""
     aliases = dataset._aliases if dataset is not None else {}
     with _named_errors(aliases):
-        return _nephele.render(None if dataset is None else dataset._handle, scene_path, scene_text, scene_name, os.getcwd(), gl,
+        return _nephele.render(None if dataset is None else dataset._handle, *_scene_args(scene), os.getcwd(), gl,
                                None if outputs is None else [os.fspath(p) for p in outputs], int(width or 0),
                                int(height or 0), -1 if timestep is None else int(timestep), dtype, bool(cloud_layer))
+
+
+class Renderer:
+    """A renderer kept between frames: one GL context, the uploaded volume and the deep light map.
+
+        with nephele.Renderer(ds, scene, gl="egl", width=960, height=540) as r:
+            a = r.render()                                        # the scene as nephele.render renders it
+            b = r.render(camera={"preset": "top"})                # only the ray cast runs again
+            c = r.render(sun={"azimuth_deg": 90, "elevation_deg": 20})   # the light map is rebuilt
+            d = r.render(time=1)                                  # a new volume and light map
+
+    dataset, scene, gl, width, height, timestep: as for render(). Each render() call changes what
+    it is given and keeps the rest from the previous call:
+    time:    a timestep index (a fraction blends the two neighbouring timesteps, as `nephele
+             animate`), or an ISO 8601 UTC time matching one of the dataset's times;
+    camera:  a dict of the scene file's "camera" keys, replacing the camera section;
+    sun:     a dict of the scene file's "sun" keys, replacing the sun section ({"from_time": true}
+             follows the timestep's time);
+    outputs, dtype, cloud_layer: as for render() (outputs: this frame's files; without them the
+             scene's output.paths are written).
+    The frame equals nephele.render of the same scene and timestep, byte for byte on the same GL
+    backend; the volume frame (preset framing, georeference) is the first rendered timestep's, as
+    in `nephele animate`. stats(): what the last frame rebuilt and counters since the start.
+    close() (or the end of a `with` block) frees the GL context; use it from one thread at a time."""
+
+    def __init__(self, dataset=None, scene=None, *, gl="auto", width=None, height=None, timestep=None):
+        self._aliases = dataset._aliases if dataset is not None else {}
+        self._dataset = dataset  # keeps from_xarray's temporary file alive
+        with _named_errors(self._aliases):
+            self._handle = _nephele.Renderer(None if dataset is None else dataset._handle, *_scene_args(scene),
+                                             os.getcwd(), gl, int(width or 0), int(height or 0),
+                                             -1 if timestep is None else int(timestep))
+
+    def render(self, *, time=None, camera=None, sun=None, outputs=None, dtype="float32", cloud_layer=False):
+        time_index, time_utc = float("nan"), ""
+        if isinstance(time, str):
+            time_utc = time
+        elif time is not None:
+            time_index = float(time)
+        overrides = {k: v for k, v in (("camera", camera), ("sun", sun)) if v is not None}
+        with _named_errors(self._aliases):
+            return self._handle.render(time_index, time_utc, json.dumps(overrides), camera is not None, sun is not None,
+                                       None if outputs is None else [os.fspath(p) for p in outputs], dtype,
+                                       bool(cloud_layer))
+
+    def stats(self):
+        """The last frame's volume_changed, dlm_rebuilt, time_index and *_ms timings; since the
+        start: volume_uploads, dlm_builds, dlm_reuses, timestep_decodes (model files: conversions)."""
+        return self._handle.stats()
+
+    def close(self):
+        self._handle.close()
+
+    @property
+    def closed(self):
+        return self._handle.closed
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __repr__(self):
+        return f"<nephele.Renderer {'closed' if self.closed else 'open'}>"
+
+
+def _scene_args(scene):
+    """(scene_path, scene_text, scene_name) of a scene dict, JSON file path or None."""
+    if scene is None:
+        return "", "{}", "<scene dict>"
+    if isinstance(scene, dict):
+        return "", json.dumps(scene), "<scene dict>"
+    return os.fspath(scene), "", "<scene dict>"
 
 
 def _extinction_from_xarray(dataset, names, label):
