@@ -12,20 +12,26 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/error.h"
 #include "engine/dataset.h"
 #include "engine/scene_render.h"
+#include "io/field_checks.h"
+#include "io/model_fields.h"
+#include "io/model_file.h"
 #include "render/gl/context.h"
 #include "scene/georeference.h"
 #include "scene/output_image.h"
@@ -162,6 +168,209 @@ PyDataset fromExtinction(const FloatArray& ice, const FloatArray& water, double 
     v.terrain_height_m = terrain;
   }
   return {engine::Dataset::fromVolumes(name, std::move(volumes))};
+}
+
+/// from_arrays' hydrometeor keywords in io::kAllHydrometeors order: WRF's Q* names in lower case.
+constexpr std::array<const char*, io::kAllHydrometeors.size()> kMixingRatioArgs = {"qcloud", "qrain",    "qice",
+                                                                                   "qsnow",  "qgraupel", "qhail"};
+/// Their number concentrations [1/kg] (two-moment schemes: WRF's QN*, effective_radius.h).
+constexpr std::array<const char*, io::kAllHydrometeors.size()> kNumberArgs = {"qncloud", "qnrain",    "qnice",
+                                                                              "qnsnow",  "qngraupel", "qnhail"};
+
+/// One 3-D field argument of from_arrays, split into timesteps: a numpy array of a floating-point
+/// dtype, (z, y, x) or (time, z, y, x), of the same shape as the first field (`shape`, set by the
+/// first call), with finite values. InputError naming `name`, the argument and what was expected.
+std::vector<std::vector<float>> fieldArgument(const py::handle& value, const std::string& arg, const std::string& name,
+                                              std::optional<std::array<py::ssize_t, 4>>& shape) {
+  const py::array a = py::array::ensure(value);
+  if (!a)
+    throw InputError(
+        fmt::format("{}: {} is not an array, expected a numpy array (z, y, x) or (time, z, y, x)", name, arg));
+  if (a.dtype().kind() != 'f') {
+    throw InputError(fmt::format("{}: {} has dtype {}, expected floating-point values (float32 or float64)", name, arg,
+                                 std::string(py::str(a.dtype()))));
+  }
+  const FloatArray f = FloatArray::ensure(a);
+  const std::array<py::ssize_t, 4> s = timestepShape(f, name, arg.c_str());
+  const auto text = [](const std::array<py::ssize_t, 4>& d) {
+    return fmt::format("(time {}, z {}, y {}, x {})", d[0], d[1], d[2], d[3]);
+  };
+  if (shape && *shape != s) {
+    throw InputError(
+        fmt::format("{}: {} has the shape {}, expected that of the first field, {}", name, arg, text(s), text(*shape)));
+  }
+  if (s[1] < 2 || s[2] < 1 || s[3] < 1) {
+    throw InputError(
+        fmt::format("{}: {} has the shape {}, expected at least 2 levels and one column", name, arg, text(s)));
+  }
+  shape = s;
+  const std::size_t voxels = std::size_t(s[1] * s[2] * s[3]);
+  std::vector<std::vector<float>> out(static_cast<std::size_t>(s[0]));
+  for (std::size_t t = 0; t < out.size(); ++t) {
+    out[t].assign(f.data() + t * voxels, f.data() + (t + 1) * voxels);
+    io::requireFinite(name, out.size() > 1 ? fmt::format("{} (timestep {})", arg, t) : arg, out[t]);
+  }
+  return out;
+}
+
+/// InputError unless every value of mixing ratio `var` lies in [0, kMaxMixingRatio] (the loaders'
+/// gate, io/field_checks.h). The file loaders clamp negative values (advection noise); arrays
+/// are refused instead, so a sign error in the caller's arithmetic does not pass for clear air.
+void requireMixingRatio(const std::string& name, const std::string& var, const std::vector<float>& q) {
+  const auto negative = std::find_if(q.begin(), q.end(), [](float v) { return v < 0.0f; });
+  if (negative != q.end()) {
+    throw InputError(fmt::format("{}: {} is {} at element {}, expected a mixing ratio [kg/kg] >= 0 (clip advection "
+                                 "noise first: numpy.clip({}, 0, None), as the file loaders do)",
+                                 name, var, *negative, negative - q.begin(), var));
+  }
+  io::requireAtMost(name, var, q, io::kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
+}
+
+/// A dataset of hydrometeor arrays (`fields`: keyword → array, the keywords of from_arrays),
+/// converted per timestep by the file loaders' optics and vertical resampling
+/// (engine::convertModelTimestep). The values pass the loaders' gates (io/field_checks.h).
+PyDataset fromArrays(const py::dict& fields, std::optional<FloatArray> terrain_height_m, const std::string& proj,
+                     double dx, double dy, double x0, double y0, bool geographic, std::optional<FloatArray> lon_deg,
+                     std::optional<FloatArray> lat_deg, const std::string& model, int microphysics_scheme,
+                     const std::vector<std::string>& times_utc, const std::string& name) {
+  if (model != "wrf" && model != "icon") {
+    throw UsageError(fmt::format("{}: model {:?}: expected \"wrf\" (mixing ratios per kg of dry air) or \"icon\" "
+                                 "(specific contents, per kg of moist air)",
+                                 name, model));
+  }
+  std::optional<std::array<py::ssize_t, 4>> shape;
+  std::map<std::string, std::vector<std::vector<float>>> values;
+  for (const auto& [key, value] : fields) values[py::str(key)] = fieldArgument(value, py::str(key), name, shape);
+  const auto take = [&](const std::string& arg) {
+    const auto it = values.find(arg);
+    return it == values.end() ? std::vector<std::vector<float>>{} : std::move(it->second);
+  };
+  const auto required = [&](const std::string& arg, const char* what) {
+    if (!values.count(arg)) throw InputError(fmt::format("{}: {} is missing, expected {} (z, y, x)", name, arg, what));
+    return take(arg);
+  };
+  bool any_q = false;
+  for (const char* q : kMixingRatioArgs) any_q |= values.count(q) > 0;
+  if (!any_q) {
+    throw InputError(fmt::format("{}: no hydrometeor array, expected at least one of {} [kg/kg]", name,
+                                 fmt::join(kMixingRatioArgs, ", ")));
+  }
+  auto pressure = required("pressure_pa", "the full pressure [Pa]");
+  auto temperature = required("temperature_k", "the air temperature [K]");
+  auto heights = required("heights_m", "the mass levels' heights above sea level [m]");
+  auto vapour = take("qvapor");
+  auto cover = take("cloud_cover");
+  const std::size_t nt = std::size_t((*shape)[0]);
+  if (!times_utc.empty() && times_utc.size() != nt) {
+    throw InputError(fmt::format("{}: {} times_utc for {} timesteps", name, times_utc.size(), nt));
+  }
+  const int nz = int((*shape)[1]), ny = int((*shape)[2]), nx = int((*shape)[3]);
+  const auto surface = [&](const std::optional<FloatArray>& a, const char* arg) {
+    if (!a) return std::vector<float>{};
+    if (a->ndim() != 2 || a->shape(0) != ny || a->shape(1) != nx) {
+      throw InputError(fmt::format("{}: {} has {} dimensions{}, expected (y {}, x {})", name, arg, a->ndim(),
+                                   a->ndim() == 2 ? fmt::format(" ({}, {})", a->shape(0), a->shape(1)) : "", ny, nx));
+    }
+    std::vector<float> v(a->data(), a->data() + a->size());
+    io::requireFinite(name, arg, v);
+    return v;
+  };
+  const std::vector<float> terrain = surface(terrain_height_m, "terrain_height_m");
+  if (!terrain.empty()) {
+    io::requireRange(name, "terrain_height_m", terrain, io::kLowestHeight_m, io::kHighestTerrain_m,
+                     "a terrain height [m]");
+  }
+  std::vector<io::ModelTimestep> steps(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    io::ModelTimestep& ts = steps[t];
+    const auto var = [&](const char* arg) {
+      return nt > 1 ? fmt::format("{} (timestep {})", arg, t) : std::string(arg);
+    };
+    ts.source_file = name;
+    ts.model = model == "icon" ? io::ModelKind::Icon : io::ModelKind::Wrf;
+    ts.microphysics_scheme = microphysics_scheme;
+    ts.nx = nx;
+    ts.ny = ny;
+    ts.nz = nz;
+    if (!times_utc.empty() && !times_utc[t].empty()) ts.time_utc = geo::UtcTime::parse(times_utc[t]);
+    for (std::size_t c = 0; c < kMixingRatioArgs.size(); ++c) {
+      const auto it = values.find(kMixingRatioArgs[c]);
+      if (it == values.end()) continue;
+      requireMixingRatio(name, var(kMixingRatioArgs[c]), it->second[t]);
+      ts.q_kg_per_kg[io::kAllHydrometeors[c]] = std::move(it->second[t]);
+    }
+    for (std::size_t c = 0; c < kNumberArgs.size(); ++c) {
+      const auto it = values.find(kNumberArgs[c]);
+      if (it == values.end()) continue;
+      io::requireRange(name, var(kNumberArgs[c]), it->second[t], 0.0, io::kMaxNumberConcentration_per_kg,
+                       "a number concentration [1/kg]");
+      ts.number_per_kg[io::kAllHydrometeors[c]] = std::move(it->second[t]);
+    }
+    if (!vapour.empty()) {
+      requireMixingRatio(name, var("qvapor"), vapour[t]);
+      ts.water_vapour_kg_per_kg = std::move(vapour[t]);
+    }
+    io::requireRange(name, var("pressure_pa"), pressure[t], 1.0, 2.0e5, "a pressure [Pa]");
+    io::requireRange(name, var("temperature_k"), temperature[t], 100.0, 400.0, "a temperature [K]");
+    io::requireRange(name, var("heights_m"), heights[t], io::kLowestHeight_m, io::kHighestHeight_m, "a height [m]");
+    ts.pressure_pa = std::move(pressure[t]);
+    ts.temperature_k = std::move(temperature[t]);
+    ts.height_m = std::move(heights[t]);
+    if (!cover.empty()) {
+      io::requireRange(name, var("cloud_cover"), cover[t], 0.0, 1.0, "a cloud cover fraction");
+      ts.cloud_cover_fraction = std::move(cover[t]);
+    }
+    ts.terrain_height_m = terrain;
+    ts.georef.proj_definition = proj;
+    ts.georef.dx_m = dx;
+    ts.georef.dy_m = dy;
+    ts.georef.x0 = x0;
+    ts.georef.y0 = y0;
+    ts.georef.geographic = geographic;
+    ts.georef.lon_deg = surface(lon_deg, "lon");
+    ts.georef.lat_deg = surface(lat_deg, "lat");
+  }
+  return {engine::Dataset::fromModelFields(name, std::move(steps))};
+}
+
+/// Timestep t of a model file as the loaders read it (io::ModelSeries): the keywords of
+/// from_arrays, so arrays from a file round-trip through it (and can be edited in between).
+py::dict modelFieldsOf(const std::string& path, std::size_t t) {
+  io::ModelTimestep ts;
+  {
+    py::gil_scoped_release release;
+    ts = io::ModelSeries::open(io::expandModelInputs({path})).load(t);  // folders and patterns too
+  }
+  const auto volume = [&](const std::vector<float>& v) { return volumeArray(v, ts.nz, ts.ny, ts.nx); };
+  const auto surface = [&](const std::vector<float>& v) {
+    return v.empty() ? py::object(py::none())
+                     : py::object(volumeArray(v, 1, ts.ny, ts.nx).reshape({py::ssize_t(ts.ny), py::ssize_t(ts.nx)}));
+  };
+  py::dict d;
+  for (std::size_t c = 0; c < kMixingRatioArgs.size(); ++c) {
+    const auto it = ts.q_kg_per_kg.find(io::kAllHydrometeors[c]);
+    if (it != ts.q_kg_per_kg.end()) d[kMixingRatioArgs[c]] = volume(it->second);
+    const auto n = ts.number_per_kg.find(io::kAllHydrometeors[c]);
+    if (n != ts.number_per_kg.end()) d[kNumberArgs[c]] = volume(n->second);
+  }
+  if (!ts.water_vapour_kg_per_kg.empty()) d["qvapor"] = volume(ts.water_vapour_kg_per_kg);
+  d["pressure_pa"] = volume(ts.pressure_pa);
+  d["temperature_k"] = volume(ts.temperature_k);
+  d["heights_m"] = volume(ts.height_m);
+  if (!ts.cloud_cover_fraction.empty()) d["cloud_cover"] = volume(ts.cloud_cover_fraction);
+  d["terrain_height_m"] = surface(ts.terrain_height_m);
+  d["proj"] = ts.georef.proj_definition;
+  d["dx"] = ts.georef.dx_m;
+  d["dy"] = ts.georef.dy_m;
+  d["x0"] = ts.georef.x0;
+  d["y0"] = ts.georef.y0;
+  d["geographic"] = ts.georef.geographic;
+  d["lon"] = surface(ts.georef.lon_deg);
+  d["lat"] = surface(ts.georef.lat_deg);
+  d["model"] = ts.model == io::ModelKind::Icon ? "icon" : "wrf";
+  d["microphysics_scheme"] = ts.microphysics_scheme;
+  d["time_utc"] = geo::isoOrEmpty(ts.time_utc);
+  return d;
 }
 
 /// The scene of a render call: the JSON file `scene_path`, or `scene_text` (JSON named
@@ -442,6 +651,10 @@ PYBIND11_MODULE(_nephele, m) {
       .def("stats", &PyRenderer::stats)
       .def("close", &PyRenderer::close)
       .def_property_readonly("closed", &PyRenderer::closed);
+  m.def("from_arrays", &fromArrays, py::arg("fields"), py::arg("terrain_height_m"), py::arg("proj"), py::arg("dx"),
+        py::arg("dy"), py::arg("x0"), py::arg("y0"), py::arg("geographic"), py::arg("lon"), py::arg("lat"),
+        py::arg("model"), py::arg("microphysics_scheme"), py::arg("times_utc"), py::arg("name"));
+  m.def("model_fields", &modelFieldsOf, py::arg("path"), py::arg("timestep"));
   m.def("render", &renderFrame, py::arg("dataset"), py::arg("scene_path"), py::arg("scene_text"), py::arg("scene_name"),
         py::arg("base_dir"), py::arg("gl"), py::arg("outputs"), py::arg("width"), py::arg("height"),
         py::arg("timestep"), py::arg("dtype"), py::arg("cloud_layer"));

@@ -22,8 +22,8 @@ import tempfile
 from . import _nephele
 from ._nephele import Error, GlError, InputError, IoError, UsageError
 
-__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "Renderer", "UsageError", "from_extinction",
-           "from_xarray", "open", "render"]
+__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "Renderer", "UsageError", "from_arrays",
+           "from_extinction", "from_xarray", "open", "render"]
 
 # Variable names an xarray Dataset of extinction may use (the first of each pair that exists):
 # the grids of `nephele export-vdb` and the arrays of ExtinctionVolumes.
@@ -66,6 +66,25 @@ class Dataset:
         with _named_errors(self._aliases):
             return self._handle.extinction(timestep)
 
+    def model_fields(self, timestep=0):
+        """Timestep t's model fields as the WRF/ICON loaders read them, as numpy arrays: the
+        keywords of from_arrays (qcloud, ..., pressure_pa, temperature_k, heights_m, the grid), so
+        `nephele.from_arrays(**ds.model_fields(t))` converts exactly as the file does. Model files
+        only (not a .nph cache or arrays)."""
+        path, t = self._handle.path, timestep
+        if not os.path.exists(path) and not any(c in path for c in "*?["):  # a series of files: by file
+            path, t = self._handle.source_file(timestep), self._time_in_file(timestep)
+        with _named_errors(self._aliases):
+            f = _nephele.model_fields(path, t)
+        time_utc = f.pop("time_utc")
+        f["times_utc"] = [time_utc] if time_utc else None
+        return f
+
+    def _time_in_file(self, timestep):
+        """Index of timestep t in its own file (a series counts across files)."""
+        source = self._handle.source_file(timestep)
+        return sum(1 for t in range(timestep) if self._handle.source_file(t) == source)
+
     def __repr__(self):
         return f"<nephele.Dataset {self.path!r}: {self.timestep_count} timesteps>"
 
@@ -95,6 +114,77 @@ def from_extinction(ice_per_m, water_per_m, *, dx, dy, dz_m, z_bottom_m=0.0, pro
     return Dataset(_nephele.from_extinction(ice_per_m, water_per_m, float(dx), float(dy), float(dz_m), float(z_bottom_m),
                                     proj, float(x0), float(y0), bool(geographic), list(times_utc or []),
                                     terrain_height_m, name))
+
+
+# from_arrays' hydrometeor keywords: WRF's Q* names in lower case (io::Hydrometeor order)
+_MIXING_RATIOS = ("qcloud", "qrain", "qice", "qsnow", "qgraupel", "qhail")
+_NUMBERS = ("qncloud", "qnrain", "qnice", "qnsnow", "qngraupel", "qnhail")
+
+
+def from_arrays(*, pressure_pa, temperature_k, heights_m, qcloud=None, qrain=None, qice=None, qsnow=None,
+                qgraupel=None, qhail=None, qncloud=None, qnrain=None, qnice=None, qnsnow=None, qngraupel=None,
+                qnhail=None, qvapor=None, cloud_cover=None, terrain_height_m=None, lon=None, lat=None,
+                proj="", dx=None, dy=None, x0=0.0, y0=0.0, geographic=False, model="wrf", microphysics_scheme=-1,
+                times_utc=None, earth_radius_m=6370000.0, name="<numpy arrays>"):
+    """A dataset of hydrometeors on model levels as bare numpy arrays, converted to extinction by
+    the functions that convert WRF and ICON files (Nes 2008 eq. 5.3, the same vertical resampling).
+
+    Fields (z, y, x) or (time, z, y, x), level 0 at the bottom, x fastest (C order), float32 or
+    float64: qcloud, qrain, qice, qsnow, qgraupel, qhail (at least one) and qvapor [kg/kg]:
+    per kg of dry air for model="wrf" (WRF's Q*), per kg of moist air for model="icon" (ICON's
+    specific contents q*); qncloud, ..., qnhail: number concentrations [1/kg] of two-moment
+    schemes (WRF's QN*: the effective radii follow them); pressure_pa (full pressure, WRF P + PB), temperature_k (air temperature,
+    not WRF's perturbation potential temperature), heights_m (mass levels above sea level, WRF's
+    destaggered (PH + PHB)/g); cloud_cover (ICON clc / 100, enables its corrections).
+    terrain_height_m (y, x): ground above sea level. microphysics_scheme: WRF's MP_PHYSICS.
+    Grid: either lon and lat as 1-D increasing, uniformly spaced column centres [deg] (a regular
+    lat-lon grid on a sphere of earth_radius_m), or proj (PROJ string, "" for a Cartesian grid)
+    with dx, dy, x0, y0 (spacing and centre of column (0, 0) in its units; degrees when
+    geographic), optionally with 2-D lon and lat of every column (WRF's XLONG, XLAT).
+    times_utc: one ISO 8601 time per timestep. Values are checked as the loaders check a file's
+    (finite, in range; negative mixing ratios are refused, not clamped): InputError naming `name`
+    and the argument. Dataset.model_fields(t) of a model file gives these keywords."""
+    fields = {k: v for k, v in (("pressure_pa", pressure_pa), ("temperature_k", temperature_k),
+                                ("heights_m", heights_m), ("qvapor", qvapor), ("cloud_cover", cloud_cover),
+                                *((q, a) for q, a in zip(_MIXING_RATIOS, (qcloud, qrain, qice, qsnow, qgraupel, qhail))),
+                                *((n, a) for n, a in zip(_NUMBERS, (qncloud, qnrain, qnice, qnsnow, qngraupel, qnhail))))
+              if v is not None}
+    lon_2d = lat_2d = None
+    if lon is not None or lat is not None:
+        if lon is None or lat is None:
+            raise InputError(f"{name}: {'lat' if lon is None else 'lon'} given without "
+                             f"{'lon' if lon is None else 'lat'}, expected both")
+        import numpy as np
+        lon_a, lat_a = np.asarray(lon, dtype="float64"), np.asarray(lat, dtype="float64")
+        if lon_a.ndim == 1 and lat_a.ndim == 1:
+            if proj or dx is not None:
+                raise UsageError(f"{name}: 1-D lon and lat define a regular lat-lon grid: give them or proj/dx/dy, not both")
+            proj, geographic = f"+proj=longlat +R={earth_radius_m:.17g} +no_defs", True
+            (x0, dx), (y0, dy) = (_uniform_axis(a, n, name) for a, n in ((lon_a, "lon"), (lat_a, "lat")))
+        elif lon_a.ndim == 2 and lat_a.ndim == 2:
+            if dx is None or dy is None:
+                raise UsageError(f"{name}: 2-D lon and lat are the columns' positions only: give proj, dx, dy, x0 and "
+                                 "y0 of the grid's projection too (or 1-D lon and lat of a regular lat-lon grid)")
+            lon_2d, lat_2d = lon_a, lat_a
+        else:
+            raise InputError(f"{name}: lon has {lon_a.ndim} and lat {lat_a.ndim} dimensions, expected both 1-D "
+                             "(a regular lat-lon grid) or both 2-D (y, x)")
+    if dx is None or dy is None:
+        raise UsageError(f"{name}: no grid: give lon and lat (1-D, degrees) or dx and dy (with proj, x0, y0)")
+    return Dataset(_nephele.from_arrays(fields, terrain_height_m, proj, float(dx), float(dy), float(x0), float(y0),
+                                        bool(geographic), lon_2d, lat_2d, model, int(microphysics_scheme),
+                                        list(times_utc or []), name))
+
+
+def _uniform_axis(a, what, name):
+    """(first value, spacing) of a 1-D increasing, uniformly spaced coordinate."""
+    if a.size < 2 or not (a[1:] > a[:-1]).all():
+        raise InputError(f"{name}: {what} is not increasing (or has fewer than 2 values), expected the column "
+                         "centres of a regular grid in increasing order (flip the arrays' axis)")
+    step = (a[-1] - a[0]) / (a.size - 1)
+    if abs((a[1:] - a[:-1]) - step).max() > 1e-6 * step:
+        raise InputError(f"{name}: {what} is not uniformly spaced, expected a regular lat-lon grid")
+    return float(a[0]), float(step)
 
 
 def from_xarray(dataset, *, name=None):
