@@ -28,6 +28,7 @@
 
 #include "core/error.h"
 #include "engine/dataset.h"
+#include "engine/quick_look.h"
 #include "engine/scene_render.h"
 #include "io/field_checks.h"
 #include "io/model_fields.h"
@@ -168,6 +169,14 @@ PyDataset fromExtinction(const FloatArray& ice, const FloatArray& water, double 
     v.terrain_height_m = terrain;
   }
   return {engine::Dataset::fromVolumes(name, std::move(volumes))};
+}
+
+/// The scene text of the CLI's quick look at `d` (engine/quick_look.h: `nephele render DATA`
+/// with no scene file), `data_path` its file ("" for data in memory), output `width` x `height`.
+std::string quickLookOf(const PyDataset& d, const std::string& data_path, int width, int height) {
+  py::gil_scoped_release release;
+  const ExtinctionVolumes v = d.dataset->load(0);
+  return engine::quickLookSceneText({data_path, {}, width, height, d.dataset->path()}, v);
 }
 
 /// from_arrays' hydrometeor keywords in io::kAllHydrometeors order: WRF's Q* names in lower case.
@@ -654,6 +663,7 @@ PYBIND11_MODULE(_nephele, m) {
   m.def("from_arrays", &fromArrays, py::arg("fields"), py::arg("terrain_height_m"), py::arg("proj"), py::arg("dx"),
         py::arg("dy"), py::arg("x0"), py::arg("y0"), py::arg("geographic"), py::arg("lon"), py::arg("lat"),
         py::arg("model"), py::arg("microphysics_scheme"), py::arg("times_utc"), py::arg("name"));
+  m.def("quick_look", &quickLookOf, py::arg("dataset"), py::arg("data_path"), py::arg("width"), py::arg("height"));
   m.def("model_fields", &modelFieldsOf, py::arg("path"), py::arg("timestep"));
   m.def("render", &renderFrame, py::arg("dataset"), py::arg("scene_path"), py::arg("scene_text"), py::arg("scene_name"),
         py::arg("base_dir"), py::arg("gl"), py::arg("outputs"), py::arg("width"), py::arg("height"),

@@ -18,6 +18,9 @@ difference is a bug in the module (a scene key lost, a dataset read differently)
     them (Dataset.model_fields) give exactly the file's extinction and frame; the same fields
     computed from the raw wrfout variables with xarray (P+PB, θ and Exner, destaggered (PH+PHB)/g)
     agree within float32 rounding of the Exner power; bad arrays are refused naming the argument;
+  * quick look: with no scene, the module frames the data as `nephele render FILE` does: the
+    scene equals `--print-scene`'s for the .nph, the wrfout and the arrays (no data.path), and the
+    frame of a Renderer without a scene equals the CLI's quick look (160 x 90, broadcast);
   * float32: scene-linear times 2^exposure_ev, the frame opaque: exposure +1 EV doubles RGB exactly;
   * Renderer: a sequence of frames through one persistent renderer (camera, sun, timestep by index
     and by time, the wrfout converted once) equals separate nephele.render calls code for code,
@@ -222,6 +225,19 @@ for k in ("ice_per_m", "water_per_m"):
 d = np.abs(nephele.render(raw, keys, dtype="uint8").astype(int) - cli_nc.astype(int))
 print(f"from_arrays of xarray-computed fields vs nephele render: max {d.max()} codes, {(d > 0).sum()} values differ")
 check(d.max() <= 1, f"xarray fields: frame differs by {d.max()} codes (expected at most 1: ~1e-7 relative in beta)")
+
+# ---- quick look: the CLI's framing when no scene is given --------------------------------------------
+for what, data in (("nph", ds), ("wrfout", wrf)):
+    printed = json.loads(run(nephele_cli, "render", data.path, "--print-scene", "--width", 160, "--height", 90))
+    check(nephele.quick_look(data, width=160, height=90) == printed,
+          f"quick_look of the {what} differs from --print-scene: {nephele.quick_look(data, width=160, height=90)} "
+          f"vs {printed}")
+in_memory = nephele.quick_look(arrays_ds, width=160, height=90)
+check(in_memory["data"] == {"timestep": 0} and "wrfout arrays" in in_memory["description"]
+      and in_memory["height_exaggeration"] == printed["height_exaggeration"], f"quick_look of arrays: {in_memory}")
+run(nephele_cli, "render", nph, "--width", 160, "--height", 90, "-o", work / "cli_quick.png")
+with nephele.Renderer(ds, gl="egl", width=160, height=90) as r:
+    same_codes(r.render(dtype="uint8"), png(work / "cli_quick.png"), "Renderer without a scene vs the CLI's quick look")
 
 # ---- errors name the file and the variable ---------------------------------------------------------
 def expect_error(kind, words, call, what):

@@ -23,7 +23,7 @@ from . import _nephele
 from ._nephele import Error, GlError, InputError, IoError, UsageError
 
 __all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "Renderer", "UsageError", "from_arrays",
-           "from_extinction", "from_xarray", "open", "render"]
+           "from_extinction", "from_xarray", "open", "quick_look", "render"]
 
 # Variable names an xarray Dataset of extinction may use (the first of each pair that exists):
 # the grids of `nephele export-vdb` and the arrays of ExtinctionVolumes.
@@ -227,7 +227,8 @@ def render(dataset=None, scene=None, *, gl="auto", outputs=None, width=None, hei
 
     dataset: from open/from_xarray/from_extinction, or None to open the scene's data.path.
     scene:   a dict with the keys of a scene file (docs/scene-file.md; relative paths against the
-             working directory), the path of a scene file (JSON), or None for the defaults.
+             working directory), the path of a scene file (JSON), or None for the CLI's quick look
+             at the dataset (quick_look(): `nephele render FILE` without a scene file).
     gl:      "auto" (NEPHELE_GL, else EGL then OSMesa), "egl" or "osmesa".
     outputs: image files (.png/.exr), replacing output.paths as `nephele render -o` does; the
              scene's output.paths and output.pass_files are written either way.
@@ -239,6 +240,8 @@ def render(dataset=None, scene=None, *, gl="auto", outputs=None, width=None, hei
 
     Each call is a new GL context and session: for several frames of one dataset use Renderer."""
     aliases = dataset._aliases if dataset is not None else {}
+    if scene is None and dataset is not None:
+        scene = quick_look(dataset, width=width or 1920, height=height or 1080)
     with _named_errors(aliases):
         return _nephele.render(None if dataset is None else dataset._handle, *_scene_args(scene), os.getcwd(), gl,
                                None if outputs is None else [os.fspath(p) for p in outputs], int(width or 0),
@@ -271,6 +274,8 @@ class Renderer:
     def __init__(self, dataset=None, scene=None, *, gl="auto", width=None, height=None, timestep=None):
         self._aliases = dataset._aliases if dataset is not None else {}
         self._dataset = dataset  # keeps from_xarray's temporary file alive
+        if scene is None and dataset is not None:
+            scene = quick_look(dataset, width=width or 1920, height=height or 1080)
         with _named_errors(self._aliases):
             self._handle = _nephele.Renderer(None if dataset is None else dataset._handle, *_scene_args(scene),
                                              os.getcwd(), gl, int(width or 0), int(height or 0),
@@ -309,6 +314,18 @@ class Renderer:
 
     def __repr__(self):
         return f"<nephele.Renderer {'closed' if self.closed else 'open'}>"
+
+
+def quick_look(dataset, *, width=1920, height=1080):
+    """The scene `nephele render FILE` renders without a scene file (docs/quick-look.md), as a dict:
+    the oblique preset on the whole domain, the sun of the data's time and place (else a fixed
+    afternoon sun), Blue Marble under georeferenced data, a height exaggeration for the domain's
+    scale, broadcast quality. render() and Renderer use it when given no scene; edit it and pass
+    it on to change a key. Reads the dataset's first timestep."""
+    path = dataset._handle.path
+    on_disk = not dataset._aliases and os.path.exists(path)  # arrays and xarray Datasets: no data.path
+    with _named_errors(dataset._aliases):
+        return json.loads(_nephele.quick_look(dataset._handle, path if on_disk else "", int(width), int(height)))
 
 
 def _scene_args(scene):
