@@ -317,7 +317,7 @@ class Renderer:
 
 
 def quick_look(dataset, *, width=1920, height=1080):
-    """The scene `nephele render FILE` renders without a scene file (docs/quick-look.md), as a dict:
+    """The scene `nephele render FILE` renders without a scene file (README.md; src/engine/quick_look.h), as a dict:
     the oblique preset on the whole domain, the sun of the data's time and place (else a fixed
     afternoon sun), Blue Marble under georeferenced data, a height exaggeration for the domain's
     scale, broadcast quality. render() and Renderer use it when given no scene; edit it and pass
