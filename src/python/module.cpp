@@ -73,6 +73,29 @@ std::array<py::ssize_t, 4> timestepShape(const FloatArray& a, const std::string&
       fmt::format("{}: {} has {} dimensions, expected (z, y, x) or (time, z, y, x)", dataset, name, a.ndim()));
 }
 
+/// The horizontal georeference of from_extinction/from_arrays' keywords (geo/grid_georeference.h).
+geo::GridGeoreference georeferenceOf(const std::string& proj, double dx, double dy, double x0, double y0,
+                                     bool geographic) {
+  geo::GridGeoreference g;
+  g.proj_definition = proj;
+  g.dx_m = dx;
+  g.dy_m = dy;
+  g.x0 = x0;
+  g.y0 = y0;
+  g.geographic = geographic;
+  return g;
+}
+
+/// The same keywords in a dict (grid(), model_fields()): proj, dx, dy, x0, y0, geographic.
+void putGeoreference(py::dict& d, const geo::GridGeoreference& g) {
+  d["proj"] = g.proj_definition;
+  d["dx"] = g.dx_m;
+  d["dy"] = g.dy_m;
+  d["x0"] = g.x0;
+  d["y0"] = g.y0;
+  d["geographic"] = g.geographic;
+}
+
 /// The grid of timestep t (loads it): sizes, spacings, the vertical extent, the projection and,
 /// for georeferenced grids, the footprint's lon/lat corners (SW, SE, NE, NW).
 py::dict gridOf(const PyDataset& d, std::size_t t) {
@@ -85,15 +108,10 @@ py::dict gridOf(const PyDataset& d, std::size_t t) {
   g["nx"] = v.nx;
   g["ny"] = v.ny;
   g["nz"] = v.nz;
-  g["dx"] = v.georef.dx_m;
-  g["dy"] = v.georef.dy_m;
+  putGeoreference(g, v.georef);
   g["dz_m"] = v.dz_m;
   g["z_bottom_m"] = v.z_bottom_m;
   g["z_top_m"] = v.z_bottom_m + v.nz * v.dz_m;
-  g["x0"] = v.georef.x0;
-  g["y0"] = v.georef.y0;
-  g["geographic"] = v.georef.geographic;
-  g["proj"] = v.georef.proj_definition;
   g["time_utc"] = geo::isoOrEmpty(v.time_utc);
   g["max_ice_per_m"] = v.max_ice_per_m;
   g["max_water_per_m"] = v.max_water_per_m;
@@ -157,12 +175,7 @@ PyDataset fromExtinction(const FloatArray& ice, const FloatArray& water, double 
     v.nz = int(shape[1]);
     v.dz_m = dz_m;
     v.z_bottom_m = z_bottom_m;
-    v.georef.proj_definition = proj;
-    v.georef.dx_m = dx;
-    v.georef.dy_m = dy;
-    v.georef.x0 = x0;
-    v.georef.y0 = y0;
-    v.georef.geographic = geographic;
+    v.georef = georeferenceOf(proj, dx, dy, x0, y0, geographic);
     if (!times_utc.empty() && !times_utc[t].empty()) v.time_utc = geo::UtcTime::parse(times_utc[t]);
     v.ice_per_m.assign(ice.data() + t * voxels, ice.data() + (t + 1) * voxels);
     v.water_per_m.assign(water.data() + t * voxels, water.data() + (t + 1) * voxels);
@@ -330,12 +343,7 @@ PyDataset fromArrays(const py::dict& fields, std::optional<FloatArray> terrain_h
       ts.cloud_cover_fraction = std::move(cover[t]);
     }
     ts.terrain_height_m = terrain;
-    ts.georef.proj_definition = proj;
-    ts.georef.dx_m = dx;
-    ts.georef.dy_m = dy;
-    ts.georef.x0 = x0;
-    ts.georef.y0 = y0;
-    ts.georef.geographic = geographic;
+    ts.georef = georeferenceOf(proj, dx, dy, x0, y0, geographic);
     ts.georef.lon_deg = surface(lon_deg, "lon");
     ts.georef.lat_deg = surface(lat_deg, "lat");
   }
@@ -368,12 +376,7 @@ py::dict modelFieldsOf(const std::string& path, std::size_t t) {
   d["heights_m"] = volume(ts.height_m);
   if (!ts.cloud_cover_fraction.empty()) d["cloud_cover"] = volume(ts.cloud_cover_fraction);
   d["terrain_height_m"] = surface(ts.terrain_height_m);
-  d["proj"] = ts.georef.proj_definition;
-  d["dx"] = ts.georef.dx_m;
-  d["dy"] = ts.georef.dy_m;
-  d["x0"] = ts.georef.x0;
-  d["y0"] = ts.georef.y0;
-  d["geographic"] = ts.georef.geographic;
+  putGeoreference(d, ts.georef);
   d["lon"] = surface(ts.georef.lon_deg);
   d["lat"] = surface(ts.georef.lat_deg);
   d["model"] = ts.model == io::ModelKind::Icon ? "icon" : "wrf";
