@@ -226,6 +226,17 @@ d = np.abs(nephele.render(raw, keys, dtype="uint8").astype(int) - cli_nc.astype(
 print(f"from_arrays of xarray-computed fields vs nephele render: max {d.max()} codes, {(d > 0).sum()} values differ")
 check(d.max() <= 1, f"xarray fields: frame differs by {d.max()} codes (expected at most 1: ~1e-7 relative in beta)")
 
+# a regular lat-lon grid from 1-D lon/lat: its footprint's outer corners half a cell outside the centres
+one_t = {k: fields[0][k] for k in ("qcloud", "qice", "qvapor", "pressure_pa", "temperature_k", "heights_m")}
+ny, nx = one_t["qcloud"].shape[1:]
+lon_1d, lat_1d = np.linspace(-80.0, -70.0, nx), np.linspace(20.0, 28.0, ny)
+latlon = nephele.from_arrays(**one_t, lon=lon_1d, lat=lat_1d).grid(0)
+half_dlon, half_dlat = (lon_1d[1] - lon_1d[0]) / 2, (lat_1d[1] - lat_1d[0]) / 2
+check(latlon["geographic"] and "+proj=longlat" in latlon["proj"] and
+      np.allclose(latlon["lonlat_corners"][0], (-80.0 - half_dlon, 20.0 - half_dlat), atol=1e-9) and
+      np.allclose(latlon["lonlat_corners"][2], (-70.0 + half_dlon, 28.0 + half_dlat), atol=1e-9),
+      f"from_arrays with 1-D lon/lat: {latlon['proj']}, corners {latlon['lonlat_corners']}")
+
 # ---- quick look: the CLI's framing when no scene is given --------------------------------------------
 for what, data in (("nph", ds), ("wrfout", wrf)):
     printed = json.loads(run(nephele_cli, "render", data.path, "--print-scene", "--width", 160, "--height", 90))
@@ -295,6 +306,8 @@ for what, kind, words, kwargs in (
                  f"from_arrays: {what}")
 expect_error(nephele.InputError, ["my fields", "hydrometeor"], lambda: nephele.from_arrays(
     **{k: v for k, v in one.items() if not k.startswith("q")}, **place_arrays, name="my fields"), "from_arrays: no q")
+expect_error(nephele.InputError, ["lon", "increasing"],
+             lambda: nephele.from_arrays(**one_t, lon=lon_1d[::-1], lat=lat_1d), "from_arrays: lon decreasing")
 check(issubclass(nephele.InputError, ValueError) and issubclass(nephele.IoError, OSError),
       "InputError is not a ValueError or IoError not an OSError")
 

@@ -5,6 +5,10 @@
     rgba = nephele.render(ds, {"camera": {"preset": "oblique"}, "output": {"width": 640, "height": 360}})
     ds = nephele.from_xarray(xarray.open_dataset("wrfout_d01.nc"))   # hydrometeors -> the same loaders
     ds = nephele.from_extinction(ice, water, dx=3000, dy=3000, dz_m=250)  # or extinction itself
+    ds = nephele.from_arrays(qcloud=qc, qice=qi, pressure_pa=p, temperature_k=t, heights_m=z, lon=lon, lat=lat)
+    with nephele.Renderer(ds, scene) as r:          # keeps its GL context, volume and light map
+        frames = [r.render(camera={"preset": "oblique", "azimuth_deg": a}) for a in range(0, 360, 30)]
+    rgba = nephele.render(ds)                       # no scene: the CLI's quick look (quick_look(ds))
 
 Everything runs in nephele's engine (the compiled `nephele._nephele`): datasets are opened by the
 loaders of `nephele render`, scenes take the keys of its JSON scene files (docs/scene-file.md) and
@@ -263,7 +267,7 @@ class Renderer:
              animate`), or an ISO 8601 UTC time matching one of the dataset's times;
     camera:  a dict of the scene file's "camera" keys, replacing the camera section;
     sun:     a dict of the scene file's "sun" keys, replacing the sun section ({"from_time": true}
-             follows the timestep's time);
+             follows the timestep's time; a fractional time takes the earlier timestep's);
     outputs, dtype, cloud_layer: as for render() (outputs: this frame's files; without them the
              scene's output.paths are written).
     The frame equals nephele.render of the same scene and timestep, byte for byte on the same GL
