@@ -1,11 +1,8 @@
 #pragma once
 // Quick look (issue #15): `nephele render|animate|view <wrfout | ICON | .nph>` with no scene file.
-// The data is framed automatically — the oblique preset on the whole domain, the sun from the
-// data's own time and place (a fixed afternoon sun where the data has no time or place on Earth,
-// or where that sun is below 10°), Blue Marble under georeferenced data, and a height
-// exaggeration that makes the troposphere readable at the domain's scale — and the result is an
-// ordinary scene *file text*, so `--print-scene` shows exactly what was rendered and re-rendering
-// the printed file gives the same bytes.
+// The framing (engine/quick_look.h, shared with the Python module) is an ordinary scene *file
+// text*, so `--print-scene` shows exactly what was rendered and re-rendering the printed file
+// gives the same bytes.
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,10 +32,5 @@ struct QuickLookRequest {
 /// Opens the data, reads its first timestep (once: the returned dataset hands that volume to the
 /// renderer instead of reading it again) and frames it. InputError names the file.
 QuickLook makeQuickLook(const QuickLookRequest& request);
-
-/// Height exaggeration that shows the cloud layer at the domain's scale: the tallest cloud top
-/// becomes about 1/12 of the domain's longer horizontal side, rounded to a whole number in [1, 10]
-/// (the sample hurricane, 1500 km wide with tops near 16 km: 8).
-double quickLookExaggeration(double domain_long_side_m, double cloud_top_m);
 
 }  // namespace nph::cli

@@ -41,11 +41,27 @@ class ModelDataset final : public Dataset {
     static std::mutex netcdf_mutex;
     std::lock_guard lock(netcdf_mutex);
     log::info("{}: not a .nph cache; converting timestep {} with the default optics", sourceFile(t), t);
-    return physics::buildExtinctionVolumes(series_.load(t), physics::defaultOptics(), physics::VerticalGridOptions{});
+    return convertModelTimestep(series_.load(t));
   }
 
  private:
   io::ModelSeries series_;
+};
+
+/// Model fields held in memory, converted on every load as a model file's (the Python arrays).
+class ModelFieldsDataset final : public Dataset {
+ public:
+  ModelFieldsDataset(std::string name, std::vector<io::ModelTimestep> fields, std::vector<geo::OptionalUtcTime> times)
+      : Dataset(std::move(name), std::move(times)), fields_(std::move(fields)) {}
+  ExtinctionVolumes load(std::size_t t) const override {
+    if (t >= fields_.size()) {
+      throw UsageError(fmt::format("{}: timestep {} requested, the dataset has {}", path(), t, fields_.size()));
+    }
+    return convertModelTimestep(fields_[t]);
+  }
+
+ private:
+  std::vector<io::ModelTimestep> fields_;
 };
 
 class MemoryDataset final : public Dataset {
@@ -159,6 +175,20 @@ std::shared_ptr<const Dataset> Dataset::fromVolumes(std::string name, std::vecto
     times.push_back(v.time_utc);
   }
   return std::make_shared<MemoryDataset>(std::move(name), std::move(timesteps), std::move(times));
+}
+
+std::shared_ptr<const Dataset> Dataset::fromModelFields(std::string name, std::vector<io::ModelTimestep> timesteps) {
+  std::vector<geo::OptionalUtcTime> times;
+  for (std::size_t t = 0; t < timesteps.size(); ++t) {
+    if (timesteps[t].source_file.empty()) timesteps[t].source_file = name;
+    timesteps[t].time_index = std::int64_t(t);
+    times.push_back(timesteps[t].time_utc);
+  }
+  return std::make_shared<ModelFieldsDataset>(std::move(name), std::move(timesteps), std::move(times));
+}
+
+ExtinctionVolumes convertModelTimestep(const io::ModelTimestep& fields) {
+  return physics::buildExtinctionVolumes(fields, physics::defaultOptics(), physics::VerticalGridOptions{});
 }
 
 ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w) {

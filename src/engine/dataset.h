@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "io/model_fields.h"
 #include "volume/extinction_volumes.h"
 
 namespace nph::engine {
@@ -34,6 +35,11 @@ class Dataset {
   /// would hold it — sizes nx·ny·nz, dx, dy, dz > 0, finite β ≥ 0 — and InputError names `name`,
   /// the timestep and the array; the volumes' maxima are recomputed.
   static std::shared_ptr<const Dataset> fromVolumes(std::string name, std::vector<ExtinctionVolumes> timesteps);
+  /// Model fields already in memory, one io::ModelTimestep per timestep (the Python module's
+  /// hydrometeor arrays, issue #16), converted on load exactly as a model file's timesteps are
+  /// (convertModelTimestep). `name` stands for the path in messages; the optics' and the vertical
+  /// resampling's checks name it and the variable (InputError).
+  static std::shared_ptr<const Dataset> fromModelFields(std::string name, std::vector<io::ModelTimestep> timesteps);
   virtual ~Dataset() = default;
 
   const std::string& path() const { return path_; }
@@ -58,6 +64,10 @@ class Dataset {
   std::vector<std::string> iso_times_;
   std::vector<std::string> sources_;  ///< per timestep, for series; empty otherwise
 };
+
+/// One timestep of model fields converted as `nephele render FILE` converts it: the default
+/// optics (Nes 2008 eq. 5.3), the default vertical grid (cropped above the condensate).
+ExtinctionVolumes convertModelTimestep(const io::ModelTimestep& fields);
 
 /// β = (1−w)·a + w·b on the union of both columns: the grids must agree horizontally and in dz,
 /// and their bottoms must lie on one dz lattice (layer counts and bottoms may differ: missing

@@ -12,25 +12,30 @@ namespace nph::engine {
 
 SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene) {
   Session session(std::move(dataset), scene);
-  const scene::PreparedScene& prepared = session.prepared();
-  if (prepared.sun.elevation_deg <= 0.0) {
-    log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -prepared.sun.elevation_deg);
+  return renderSceneFrame(session, scene, session.prepared().camera);
+}
+
+SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& scene, const scene::Camera& camera) {
+  if (session.sun().elevation_deg <= 0.0) {
+    log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -session.sun().elevation_deg);
   }
   SceneFrame f;
-  f.out = session.render(prepared.camera);
+  f.out = session.render(camera);
   const auto& st = session.deepLightMap().stats();
-  log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than the "
-            "uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
-            st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6,
-            st.compression_ratio, st.pass1_ms, st.pass2_ms, st.pass3_ms,
-            st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
+  if (session.stats().dlm_rebuilt) {
+    log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than "
+              "the uncompressed light volume, passes {:.0f}+{:.0f}+{:.0f} ms{}",
+              st.texels.x, st.texels.y, st.steps, st.mean_nodes, st.max_nodes_used, double(st.bytes) / 1e6,
+              st.compression_ratio, st.pass1_ms, st.pass2_ms, st.pass3_ms,
+              st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
+  }
   log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
   const scene::FramePasses* passes = f.out.passes ? &*f.out.passes : nullptr;
   f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
-  f.options = scene::imageOptionsFor(scene.output, prepared.sun.elevation_deg);
+  f.options = scene::imageOptionsFor(scene.output, session.sun().elevation_deg);
   if (scene.output.exposure == scene::ExposureMode::Sun) {
     log::info("exposure follows the sun ({:.1f} deg): {:+.2f} EV ({:+.2f} over output.exposure_ev)",
-              prepared.sun.elevation_deg, f.options.exposure_ev,
+              session.sun().elevation_deg, f.options.exposure_ev,
               f.options.exposure_ev - scene.output.image.exposure_ev);
   }
   return f;

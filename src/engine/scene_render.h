@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/dataset.h"
+#include "engine/session.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/output_image.h"
 #include "scene/scene_file.h"
@@ -22,6 +23,10 @@ struct SceneFrame {
 /// deep light map's and the ray cast's figures as `nephele render` does. Needs a current GL 4.5
 /// context on the calling thread.
 SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene);
+/// The same with a session already made for `scene` (its time and sun set; only what changed
+/// since its last frame is rebuilt, session.h), ray casting `camera`: the Python module's
+/// persistent Renderer, whose frames thereby equal renderSceneFrame's.
+SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& scene, const scene::Camera& camera);
 
 /// Writes `frame` to the scene's output.paths and output.pass_files (folders created), and the
 /// premultiplied cloud layer to `layer_path` unless it is empty. IoError when a file cannot be written.

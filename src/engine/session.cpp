@@ -56,6 +56,15 @@ void Session::setTime(double time_index) {
 
 void Session::setSun(const scene::Sun& sun) { sun_ = sun; }
 
+scene::Camera Session::cameraFor(const scene::CameraSpec& spec) const {
+  const scene::Camera flat = scene::cameraFor(spec, prepared_.frame, scene_.output.width, scene_.output.height);
+  return prepared_.to_sun_ecef ? scene::globeCameraFrom(flat, *prepared_.geo) : flat;  // as prepareScene
+}
+
+scene::Sun Session::sunFor(const scene::SunSpec& spec, std::size_t t) const {
+  return scene::sunFor(spec, prepared_.geo ? &*prepared_.geo : nullptr, dataset_->times().at(t));
+}
+
 void Session::setQuality(const lighting::QualitySettings& quality) {
   scene_.quality = quality;
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);

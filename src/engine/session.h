@@ -61,6 +61,12 @@ class Session {
   double time() const { return time_index_; }
   /// The sun in the world frame (prepared().sun initially).
   void setSun(const scene::Sun& sun);
+  /// What prepareScene makes of a scene's camera and sun, for another camera or sun section
+  /// (the Python module's Renderer, issue #16): `spec` framed in this session's volume frame at
+  /// the output size (scene::cameraFor), carried onto the globe in the globe view; the sun of
+  /// `spec` (scene::sunFor) with timestep t's time for `from_time`.
+  scene::Camera cameraFor(const scene::CameraSpec& spec) const;
+  scene::Sun sunFor(const scene::SunSpec& spec, std::size_t t) const;
   const scene::Sun& sun() const { return sun_; }
   /// Quality (lighting/knobs.h): sampling, DLM error bound and budgets. Keeps the style.
   void setQuality(const lighting::QualitySettings& quality);

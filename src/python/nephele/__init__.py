@@ -5,6 +5,10 @@
     rgba = nephele.render(ds, {"camera": {"preset": "oblique"}, "output": {"width": 640, "height": 360}})
     ds = nephele.from_xarray(xarray.open_dataset("wrfout_d01.nc"))   # hydrometeors -> the same loaders
     ds = nephele.from_extinction(ice, water, dx=3000, dy=3000, dz_m=250)  # or extinction itself
+    ds = nephele.from_arrays(qcloud=qc, qice=qi, pressure_pa=p, temperature_k=t, heights_m=z, lon=lon, lat=lat)
+    with nephele.Renderer(ds, scene) as r:          # keeps its GL context, volume and light map
+        frames = [r.render(camera={"preset": "oblique", "azimuth_deg": a}) for a in range(0, 360, 30)]
+    rgba = nephele.render(ds)                       # no scene: the CLI's quick look (quick_look(ds))
 
 Everything runs in nephele's engine (the compiled `nephele._nephele`): datasets are opened by the
 loaders of `nephele render`, scenes take the keys of its JSON scene files (docs/scene-file.md) and
@@ -22,8 +26,8 @@ import tempfile
 from . import _nephele
 from ._nephele import Error, GlError, InputError, IoError, UsageError
 
-__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "UsageError", "from_extinction", "from_xarray",
-           "open", "render"]
+__all__ = ["Dataset", "Error", "GlError", "InputError", "IoError", "Renderer", "UsageError", "from_arrays",
+           "from_extinction", "from_xarray", "open", "quick_look", "render"]
 
 # Variable names an xarray Dataset of extinction may use (the first of each pair that exists):
 # the grids of `nephele export-vdb` and the arrays of ExtinctionVolumes.
@@ -66,6 +70,25 @@ class Dataset:
         with _named_errors(self._aliases):
             return self._handle.extinction(timestep)
 
+    def model_fields(self, timestep=0):
+        """Timestep t's model fields as the WRF/ICON loaders read them, as numpy arrays: the
+        keywords of from_arrays (qcloud, ..., pressure_pa, temperature_k, heights_m, the grid), so
+        `nephele.from_arrays(**ds.model_fields(t))` converts exactly as the file does. Model files
+        only (not a .nph cache or arrays)."""
+        path, t = self._handle.path, timestep
+        if not os.path.exists(path) and not any(c in path for c in "*?["):  # a series of files: by file
+            path, t = self._handle.source_file(timestep), self._time_in_file(timestep)
+        with _named_errors(self._aliases):
+            f = _nephele.model_fields(path, t)
+        time_utc = f.pop("time_utc")
+        f["times_utc"] = [time_utc] if time_utc else None
+        return f
+
+    def _time_in_file(self, timestep):
+        """Index of timestep t in its own file (a series counts across files)."""
+        source = self._handle.source_file(timestep)
+        return sum(1 for t in range(timestep) if self._handle.source_file(t) == source)
+
     def __repr__(self):
         return f"<nephele.Dataset {self.path!r}: {self.timestep_count} timesteps>"
 
@@ -95,6 +118,77 @@ def from_extinction(ice_per_m, water_per_m, *, dx, dy, dz_m, z_bottom_m=0.0, pro
     return Dataset(_nephele.from_extinction(ice_per_m, water_per_m, float(dx), float(dy), float(dz_m), float(z_bottom_m),
                                     proj, float(x0), float(y0), bool(geographic), list(times_utc or []),
                                     terrain_height_m, name))
+
+
+# from_arrays' hydrometeor keywords: WRF's Q* names in lower case (io::Hydrometeor order)
+_MIXING_RATIOS = ("qcloud", "qrain", "qice", "qsnow", "qgraupel", "qhail")
+_NUMBERS = ("qncloud", "qnrain", "qnice", "qnsnow", "qngraupel", "qnhail")
+
+
+def from_arrays(*, pressure_pa, temperature_k, heights_m, qcloud=None, qrain=None, qice=None, qsnow=None,
+                qgraupel=None, qhail=None, qncloud=None, qnrain=None, qnice=None, qnsnow=None, qngraupel=None,
+                qnhail=None, qvapor=None, cloud_cover=None, terrain_height_m=None, lon=None, lat=None,
+                proj="", dx=None, dy=None, x0=0.0, y0=0.0, geographic=False, model="wrf", microphysics_scheme=-1,
+                times_utc=None, earth_radius_m=6370000.0, name="<numpy arrays>"):
+    """A dataset of hydrometeors on model levels as bare numpy arrays, converted to extinction by
+    the functions that convert WRF and ICON files (Nes 2008 eq. 5.3, the same vertical resampling).
+
+    Fields (z, y, x) or (time, z, y, x), level 0 at the bottom, x fastest (C order), float32 or
+    float64: qcloud, qrain, qice, qsnow, qgraupel, qhail (at least one) and qvapor [kg/kg]:
+    per kg of dry air for model="wrf" (WRF's Q*), per kg of moist air for model="icon" (ICON's
+    specific contents q*); qncloud, ..., qnhail: number concentrations [1/kg] of two-moment
+    schemes (WRF's QN*: the effective radii follow them); pressure_pa (full pressure, WRF P + PB), temperature_k (air temperature,
+    not WRF's perturbation potential temperature), heights_m (mass levels above sea level, WRF's
+    destaggered (PH + PHB)/g); cloud_cover (ICON clc / 100, enables its corrections).
+    terrain_height_m (y, x): ground above sea level. microphysics_scheme: WRF's MP_PHYSICS.
+    Grid: either lon and lat as 1-D increasing, uniformly spaced column centres [deg] (a regular
+    lat-lon grid on a sphere of earth_radius_m), or proj (PROJ string, "" for a Cartesian grid)
+    with dx, dy, x0, y0 (spacing and centre of column (0, 0) in its units; degrees when
+    geographic), optionally with 2-D lon and lat of every column (WRF's XLONG, XLAT).
+    times_utc: one ISO 8601 time per timestep. Values are checked as the loaders check a file's
+    (finite, in range; negative mixing ratios are refused, not clamped): InputError naming `name`
+    and the argument. Dataset.model_fields(t) of a model file gives these keywords."""
+    fields = {k: v for k, v in (("pressure_pa", pressure_pa), ("temperature_k", temperature_k),
+                                ("heights_m", heights_m), ("qvapor", qvapor), ("cloud_cover", cloud_cover),
+                                *((q, a) for q, a in zip(_MIXING_RATIOS, (qcloud, qrain, qice, qsnow, qgraupel, qhail))),
+                                *((n, a) for n, a in zip(_NUMBERS, (qncloud, qnrain, qnice, qnsnow, qngraupel, qnhail))))
+              if v is not None}
+    lon_2d = lat_2d = None
+    if lon is not None or lat is not None:
+        if lon is None or lat is None:
+            raise InputError(f"{name}: {'lat' if lon is None else 'lon'} given without "
+                             f"{'lon' if lon is None else 'lat'}, expected both")
+        import numpy as np
+        lon_a, lat_a = np.asarray(lon, dtype="float64"), np.asarray(lat, dtype="float64")
+        if lon_a.ndim == 1 and lat_a.ndim == 1:
+            if proj or dx is not None:
+                raise UsageError(f"{name}: 1-D lon and lat define a regular lat-lon grid: give them or proj/dx/dy, not both")
+            proj, geographic = f"+proj=longlat +R={earth_radius_m:.17g} +no_defs", True
+            (x0, dx), (y0, dy) = (_uniform_axis(a, n, name) for a, n in ((lon_a, "lon"), (lat_a, "lat")))
+        elif lon_a.ndim == 2 and lat_a.ndim == 2:
+            if dx is None or dy is None:
+                raise UsageError(f"{name}: 2-D lon and lat are the columns' positions only: give proj, dx, dy, x0 and "
+                                 "y0 of the grid's projection too (or 1-D lon and lat of a regular lat-lon grid)")
+            lon_2d, lat_2d = lon_a, lat_a
+        else:
+            raise InputError(f"{name}: lon has {lon_a.ndim} and lat {lat_a.ndim} dimensions, expected both 1-D "
+                             "(a regular lat-lon grid) or both 2-D (y, x)")
+    if dx is None or dy is None:
+        raise UsageError(f"{name}: no grid: give lon and lat (1-D, degrees) or dx and dy (with proj, x0, y0)")
+    return Dataset(_nephele.from_arrays(fields, terrain_height_m, proj, float(dx), float(dy), float(x0), float(y0),
+                                        bool(geographic), lon_2d, lat_2d, model, int(microphysics_scheme),
+                                        list(times_utc or []), name))
+
+
+def _uniform_axis(a, what, name):
+    """(first value, spacing) of a 1-D increasing, uniformly spaced coordinate."""
+    if a.size < 2 or not (a[1:] > a[:-1]).all():
+        raise InputError(f"{name}: {what} is not increasing (or has fewer than 2 values), expected the column "
+                         "centres of a regular grid in increasing order (flip the arrays' axis)")
+    step = (a[-1] - a[0]) / (a.size - 1)
+    if abs((a[1:] - a[:-1]) - step).max() > 1e-6 * step:
+        raise InputError(f"{name}: {what} is not uniformly spaced, expected a regular lat-lon grid")
+    return float(a[0]), float(step)
 
 
 def from_xarray(dataset, *, name=None):
@@ -137,7 +231,8 @@ def render(dataset=None, scene=None, *, gl="auto", outputs=None, width=None, hei
 
     dataset: from open/from_xarray/from_extinction, or None to open the scene's data.path.
     scene:   a dict with the keys of a scene file (docs/scene-file.md; relative paths against the
-             working directory), the path of a scene file (JSON), or None for the defaults.
+             working directory), the path of a scene file (JSON), or None for the CLI's quick look
+             at the dataset (quick_look(): `nephele render FILE` without a scene file).
     gl:      "auto" (NEPHELE_GL, else EGL then OSMesa), "egl" or "osmesa".
     outputs: image files (.png/.exr), replacing output.paths as `nephele render -o` does; the
              scene's output.paths and output.pass_files are written either way.
@@ -145,19 +240,105 @@ def render(dataset=None, scene=None, *, gl="auto", outputs=None, width=None, hei
     dtype:   "float32": scene-linear RGBA times 2^output.exposure_ev, as an .exr output stores it
              (the frame is composited over the ground: alpha 1); "uint8": the display codes of a
              .png output (tone curve + sRGB, or output.display through OpenColorIO), straight alpha.
-    cloud_layer: return the premultiplied cloud layer alone instead of the frame (`--layer`)."""
-    scene_path, scene_text, scene_name = "", "", "<scene dict>"
-    if scene is None:
-        scene_text = "{}"
-    elif isinstance(scene, dict):
-        scene_text = json.dumps(scene)
-    else:
-        scene_path = os.fspath(scene)
+    cloud_layer: return the premultiplied cloud layer alone instead of the frame (`--layer`).
+
+    Each call is a new GL context and session: for several frames of one dataset use Renderer."""
     aliases = dataset._aliases if dataset is not None else {}
+    if scene is None and dataset is not None:
+        scene = quick_look(dataset, width=width or 1920, height=height or 1080)
     with _named_errors(aliases):
-        return _nephele.render(None if dataset is None else dataset._handle, scene_path, scene_text, scene_name, os.getcwd(), gl,
+        return _nephele.render(None if dataset is None else dataset._handle, *_scene_args(scene), os.getcwd(), gl,
                                None if outputs is None else [os.fspath(p) for p in outputs], int(width or 0),
                                int(height or 0), -1 if timestep is None else int(timestep), dtype, bool(cloud_layer))
+
+
+class Renderer:
+    """A renderer kept between frames: one GL context, the uploaded volume and the deep light map.
+
+        with nephele.Renderer(ds, scene, gl="egl", width=960, height=540) as r:
+            a = r.render()                                        # the scene as nephele.render renders it
+            b = r.render(camera={"preset": "top"})                # only the ray cast runs again
+            c = r.render(sun={"azimuth_deg": 90, "elevation_deg": 20})   # the light map is rebuilt
+            d = r.render(time=1)                                  # a new volume and light map
+
+    dataset, scene, gl, width, height, timestep: as for render(). Each render() call changes what
+    it is given and keeps the rest from the previous call:
+    time:    a timestep index (a fraction blends the two neighbouring timesteps, as `nephele
+             animate`), or an ISO 8601 UTC time matching one of the dataset's times;
+    camera:  a dict of the scene file's "camera" keys, replacing the camera section;
+    sun:     a dict of the scene file's "sun" keys, replacing the sun section ({"from_time": true}
+             follows the timestep's time; a fractional time takes the earlier timestep's);
+    outputs, dtype, cloud_layer: as for render() (outputs: this frame's files; without them the
+             scene's output.paths are written).
+    The frame equals nephele.render of the same scene and timestep, byte for byte on the same GL
+    backend; the volume frame (preset framing, georeference) is the first rendered timestep's, as
+    in `nephele animate`. stats(): what the last frame rebuilt and counters since the start.
+    close() (or the end of a `with` block) frees the GL context; use it from one thread at a time."""
+
+    def __init__(self, dataset=None, scene=None, *, gl="auto", width=None, height=None, timestep=None):
+        self._aliases = dataset._aliases if dataset is not None else {}
+        self._dataset = dataset  # keeps from_xarray's temporary file alive
+        if scene is None and dataset is not None:
+            scene = quick_look(dataset, width=width or 1920, height=height or 1080)
+        with _named_errors(self._aliases):
+            self._handle = _nephele.Renderer(None if dataset is None else dataset._handle, *_scene_args(scene),
+                                             os.getcwd(), gl, int(width or 0), int(height or 0),
+                                             -1 if timestep is None else int(timestep))
+
+    def render(self, *, time=None, camera=None, sun=None, outputs=None, dtype="float32", cloud_layer=False):
+        time_index, time_utc = float("nan"), ""
+        if isinstance(time, str):
+            time_utc = time
+        elif time is not None:
+            time_index = float(time)
+        overrides = {k: v for k, v in (("camera", camera), ("sun", sun)) if v is not None}
+        with _named_errors(self._aliases):
+            return self._handle.render(time_index, time_utc, json.dumps(overrides), camera is not None, sun is not None,
+                                       None if outputs is None else [os.fspath(p) for p in outputs], dtype,
+                                       bool(cloud_layer))
+
+    def stats(self):
+        """The last frame's volume_changed, dlm_rebuilt, time_index and *_ms timings; since the
+        start: volume_uploads, dlm_builds, dlm_reuses, timestep_decodes (model files: conversions)."""
+        return self._handle.stats()
+
+    def close(self):
+        self._handle.close()
+
+    @property
+    def closed(self):
+        return self._handle.closed
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __repr__(self):
+        return f"<nephele.Renderer {'closed' if self.closed else 'open'}>"
+
+
+def quick_look(dataset, *, width=1920, height=1080):
+    """The scene `nephele render FILE` renders without a scene file (README.md; src/engine/quick_look.h), as a dict:
+    the oblique preset on the whole domain, the sun of the data's time and place (else a fixed
+    afternoon sun), Blue Marble under georeferenced data, a height exaggeration for the domain's
+    scale, broadcast quality. render() and Renderer use it when given no scene; edit it and pass
+    it on to change a key. Reads the dataset's first timestep."""
+    path = dataset._handle.path
+    on_disk = not dataset._aliases and os.path.exists(path)  # arrays and xarray Datasets: no data.path
+    with _named_errors(dataset._aliases):
+        return json.loads(_nephele.quick_look(dataset._handle, path if on_disk else "", int(width), int(height)))
+
+
+def _scene_args(scene):
+    """(scene_path, scene_text, scene_name) of a scene dict, JSON file path or None."""
+    if scene is None:
+        return "", "{}", "<scene dict>"
+    if isinstance(scene, dict):
+        return "", json.dumps(scene), "<scene dict>"
+    return os.fspath(scene), "", "<scene dict>"
 
 
 def _extinction_from_xarray(dataset, names, label):

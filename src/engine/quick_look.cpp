@@ -1,0 +1,105 @@
+// Quick look framing (quick_look.h).
+#include "engine/quick_look.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "scene/basemap.h"
+#include "scene/georeference.h"
+#include "scene/scene_file.h"
+#include "volume/volume_frame.h"
+
+namespace nph::engine {
+namespace {
+
+/// NASA Blue Marble from Debian's marble-qt-data (tools/debian-packages.txt).
+constexpr const char* kBlueMarble = scene::kBlueMarblePath;
+/// The fixed sun of a quick look without a usable solar position: mid-afternoon from the
+/// south-east quadrant, high enough for readable shadows (as the make-demo scene).
+constexpr double kFixedSunAzimuth_deg = 140.0;
+constexpr double kFixedSunElevation_deg = 35.0;
+/// Below this the timed sun lights the clouds from the side or below: a poor first picture.
+constexpr double kMinTimedSunElevation_deg = 10.0;
+/// A voxel counts as cloud from this extinction on (optical depth 0.01 over 100 m).
+constexpr float kCloudExtinction_per_m = 1e-4f;
+
+double cloudTop_m(const ExtinctionVolumes& v) {
+  const std::size_t layer = std::size_t(v.nx) * std::size_t(v.ny);
+  for (int k = v.nz - 1; k >= 0; --k) {
+    const std::size_t base = std::size_t(k) * layer;
+    for (std::size_t n = 0; n < layer; ++n) {
+      if (v.ice_per_m[base + n] > kCloudExtinction_per_m || v.water_per_m[base + n] > kCloudExtinction_per_m) {
+        return v.z_bottom_m + double(k + 1) * v.dz_m;
+      }
+    }
+  }
+  return v.z_bottom_m + double(v.nz) * v.dz_m;  // clear air: the whole column
+}
+
+}  // namespace
+
+double quickLookExaggeration(double domain_long_side_m, double cloud_top_m) {
+  if (!(domain_long_side_m > 0.0) || !(cloud_top_m > 0.0)) return 1.0;
+  const double e = std::round(domain_long_side_m / (12.0 * cloud_top_m));
+  return std::clamp(e, 1.0, 10.0);
+}
+
+std::string quickLookSceneText(const QuickLookRequest& r, const ExtinctionVolumes& v) {
+  const scene::VolumeFrame unit = scene::frameOf(v, 1.0);
+  const glm::dvec3 extent = unit.size_m();
+  const double exaggeration = quickLookExaggeration(std::max(extent.x, extent.y), cloudTop_m(v));
+  const bool on_earth = !v.georef.proj_definition.empty();
+
+  nlohmann::ordered_json j;
+  j["description"] = fmt::format("quick look at {} (nephele --print-scene; docs/scene-file.md)",
+                                 r.data_path.empty() ? r.name : std::filesystem::path(r.data_path).filename().string());
+  if (r.data_path.empty()) {  // data in memory (the Python module's arrays): handed to the renderer
+    j["data"] = {{"timestep", 0}};
+  } else {
+    j["data"] = {{"path", std::filesystem::absolute(r.data_path).lexically_normal().string()}, {"timestep", 0}};
+  }
+  j["camera"] = {{"preset", "oblique"}, {"fov_deg", 40}};
+
+  // The sun from the data's own time and place when that gives a daylit picture.
+  bool timed_sun = false;
+  if (on_earth && v.time_utc) {
+    try {
+      const scene::VolumeFrame frame = scene::frameOf(v, exaggeration);
+      const scene::SceneGeoreference geo(v, frame);
+      scene::SunSpec spec;
+      spec.from_time = true;
+      const scene::Sun sun = scene::sunFor(spec, &geo, v.time_utc);
+      timed_sun = sun.elevation_deg >= kMinTimedSunElevation_deg;
+      if (!timed_sun) {
+        log::info("quick look: the sun at {} is {:.1f} deg high there; using a fixed afternoon sun",
+                  v.time_utc->iso8601(), sun.elevation_deg);
+      }
+    } catch (const InputError& e) {
+      log::info("quick look: no solar position ({}); using a fixed afternoon sun", e.what());
+    }
+  }
+  if (timed_sun) {
+    j["sun"] = {{"from_time", true}};
+  } else {
+    j["sun"] = {{"azimuth_deg", kFixedSunAzimuth_deg}, {"elevation_deg", kFixedSunElevation_deg}};
+  }
+  if (on_earth && std::filesystem::exists(kBlueMarble)) {
+    j["basemap"] = {{"path", kBlueMarble}, {"margin", 0.4}, {"pixels_long_side", 2048}};
+  }
+  j["quality"] = {{"preset", "broadcast"}};
+  std::vector<std::string> outputs;  // absolute: the printed scene works from any folder
+  for (const auto& o : r.outputs) outputs.push_back(std::filesystem::absolute(o).lexically_normal().string());
+  j["output"] = {{"paths", outputs}, {"width", r.width}, {"height", r.height}};
+  j["height_exaggeration"] = exaggeration;
+  j["view"] = "flat";
+
+  return j.dump(2) + "\n";
+}
+
+}  // namespace nph::engine
