@@ -159,6 +159,20 @@ vec4 packedAt(vec3 world_m) { return vec4(0.0); }
 #include "atmosphere/model.glsl"
 #include "atmosphere/sky.glsl"
 
+// The light that reaches a point drawn at height h (world z; on the globe, above the sphere) is
+// taken at its true altitude h / e: it depends on the air above the real cloud or ground, not on
+// the height it is drawn at (an 8× cloud at 10 km is drawn at 80 km, above the air: no golden
+// hour on it). Never below the model's ground (the tables are NaN under r = R: the terrain's
+// bisection leaves a sea-level point a hair below 0, and land may lie below sea level). Every
+// caller goes through these two, so none can forget the division.
+float trueAltitude(float drawnHeight_m) { return max(drawnHeight_m, 0.0) / u_height_exaggeration; }
+vec3 sunlightAtDrawn(float drawnHeight_m, float sinSunElevation) {
+  return sunlightAt(trueAltitude(drawnHeight_m), sinSunElevation);
+}
+vec3 skyIrradianceAtDrawn(float drawnHeight_m, float sinSunElevation) {
+  return skyIrradiance(trueAltitude(drawnHeight_m), sinSunElevation);
+}
+
 // The ground's height field (issue 14; glsl/common/terrain.glsl) and the far basemap (item 4). One
 // std140 block, declared in C++ as gl::TerrainBlock (render/gl/uniform_blocks.h).
 layout(binding = UNIT_TERRAIN) uniform sampler2D u_terrain;  // R32F height [m] per mass point
@@ -209,7 +223,9 @@ float flatGroundDistance(vec3 o, vec3 d) {
 // global), else the ocean albedo. dx, dy: the pixel's footprint on the ground (world metres, the
 // differentials of the hit point to the next pixel right and down), which picks the mipmap level
 // and the anisotropic filter's axis (imagery seen at a slant does not alias; compute shaders have
-// no implicit derivatives, so textureGrad gets them explicitly). A: the night side's city lights
+// no implicit derivatives, so they are given explicitly). The anisotropic taps are the shader's
+// (common/imagery.glsl textureAnisotropic), as on the globe: llvmpipe's own filter is wrong for
+// strongly elongated footprints (docs/imagery.md "Filtering (flat view)"). A: the night side's city lights
 // on the same grid (0 without, and over the ocean albedo; common/night_lights.glsl).
 vec4 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
   if (u_has_basemap) {
@@ -217,16 +233,16 @@ vec4 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
     vec2 uv = (xy - u_basemap_min_m) / extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
       // image row 0 = north edge: v = 1 − uv.y, so the v gradients change sign
-      return textureGrad(u_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
-                         footprintClamped(vec2(dy.x, -dy.y) / extent));
+      return textureAnisotropic(u_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
+                                footprintClamped(vec2(dy.x, -dy.y) / extent));
     }
   }
   if (u_has_far_basemap) {
     vec2 extent = u_far_basemap_max_m - u_far_basemap_min_m;
     vec2 uv = (xy - u_far_basemap_min_m) / extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
-      return textureGrad(u_far_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
-                         footprintClamped(vec2(dy.x, -dy.y) / extent));
+      return textureAnisotropic(u_far_basemap, vec2(uv.x, 1.0 - uv.y), footprintClamped(vec2(dx.x, -dx.y) / extent),
+                                footprintClamped(vec2(dy.x, -dy.y) / extent));
     }
   }
   return vec4(u_ocean_albedo, 0.0);
@@ -422,12 +438,8 @@ void main() {
       if (b > 0.0) {
         if (!sunAtCloudsSet) {
           float muS = VIEW_GLOBE ? dot(normalize(p), u_to_sun) : u_to_sun.z;
-          // At the cloud's true altitude (world z / exaggeration): the light that reaches a cloud
-          // depends on the air above the real cloud, not on the height it is drawn at (an 8×
-          // cloud at 10 km would be drawn at 80 km, above the air: no golden hour on it).
-          float trueAltitude_m = w.z / u_height_exaggeration;
-          sunAtClouds = u_sun_radiance * sunlightAt(trueAltitude_m, muS);
-          skyAtClouds = u_sun_radiance * skyIrradiance(trueAltitude_m, muS) / kPi;
+          sunAtClouds = u_sun_radiance * sunlightAtDrawn(w.z, muS);
+          skyAtClouds = u_sun_radiance * skyIrradianceAtDrawn(w.z, muS) / kPi;
           sunAtCloudsSet = true;
         }
         float T = exp(-b * step_m);
@@ -487,19 +499,18 @@ void main() {
       vec3 gw = globeWorldFromEcef(g);
       shadow = u_shadows && gw.x != kOutsideTable_m ? dlmIntensity(HAS_TERRAIN ? gw : vec3(gw.xy, 0.0)) : 1.0;
       float sunVisible = 1.0, skyView = 1.0;  // V and (1 + n·up)/2
-      float altitude = 0.0;
+      float drawnHeight = 0.0;
       if (HAS_TERRAIN) {
         vec3 lifted = g + n * (0.01 * min(u_terrain_cell_m.x, u_terrain_cell_m.y));
         if (sunLambert > 0.0 && sunCos > 0.0 && globeTerrainShadows(lifted, u_to_sun)) sunVisible = 0.0;
         skyView = 0.5 * (1.0 + dot(n, gn));
-        // The light at the true altitude (drawn height / exaggeration), as in the flat view.
-        altitude = max(length(g) - u_earth_radius_m, 0.0) / u_height_exaggeration;
+        drawnHeight = length(g) - u_earth_radius_m;
       }
       sky = vec3(0.0);
       if (ATMOSPHERE_ON) {
         ground = albedo / kPi * u_sun_radiance *
-                 (sunlightAt(altitude, sunCos) * sunLambert * shadow * sunVisible +
-                  skyIrradiance(altitude, sunCos) * skyView);
+                 (sunlightAtDrawn(drawnHeight, sunCos) * sunLambert * shadow * sunVisible +
+                  skyIrradianceAtDrawn(drawnHeight, sunCos) * skyView);
       } else {
         ground = albedo / kPi *
                  (u_sun_radiance * sunLambert * shadow * sunVisible + kPi * u_sky_radiance * globeDaylight(sunCos) * skyView);
@@ -545,15 +556,12 @@ void main() {
     float skyShadow = (u_shadows ? diffuseTransmittance(columnDepthAt(g).x, u_g_water) : 1.0) * skyView;
     sky = vec3(0.0);
     if (ATMOSPHERE_ON) {
-      // The light reaching a ground point is taken at its true altitude (world z / exaggeration),
-      // as for the clouds' samples; not below the model's ground (the tables are NaN under r = R:
-      // the bisection leaves g.z a hair below a sea-level surface, and land may lie below sea
-      // level). The air between the eye and the point stays in the drawn world (docs/atmosphere.md
-      // "Height exaggeration and the air").
-      float altitude = HAS_TERRAIN ? max(g.z, 0.0) / u_height_exaggeration : 0.0;
+      // The air between the eye and the point stays in the drawn world (docs/atmosphere.md
+      // "Height exaggeration and the air"); without terrain the ground is at height 0.
+      float drawnHeight = HAS_TERRAIN ? g.z : 0.0;
       ground = albedo / kPi * u_sun_radiance *
-                   (sunlightAt(altitude, u_to_sun.z) * sunCos * shadow * sunVisible +
-                    skyIrradiance(altitude, u_to_sun.z) * skyShadow) +
+                   (sunlightAtDrawn(drawnHeight, u_to_sun.z) * sunCos * shadow * sunVisible +
+                    skyIrradianceAtDrawn(drawnHeight, u_to_sun.z) * skyShadow) +
                lights;
       AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, tFlatGround, u_to_sun);
       ground *= ap.transmittance;

@@ -92,30 +92,10 @@ int mipLevelsFor(int width, int height) {
   return levels;
 }
 
-float maxAnisotropy() {
-  GLint major = 0, minor = 0, count = 0;
-  glGetIntegerv(GL_MAJOR_VERSION, &major);
-  glGetIntegerv(GL_MINOR_VERSION, &minor);
-  bool supported = major > 4 || (major == 4 && minor >= 6);
-  glGetIntegerv(GL_NUM_EXTENSIONS, &count);
-  for (GLint i = 0; i < count && !supported; ++i) {
-    const auto* name = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
-    const std::string_view ext = name ? name : "";
-    supported = ext == "GL_ARB_texture_filter_anisotropic" || ext == "GL_EXT_texture_filter_anisotropic";
-  }
-  if (!supported) return 1.0f;
-  GLfloat most = 1.0f;
-  glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &most);  // same enum value as the ARB/EXT one (0x84FF)
-  return std::max(most, 1.0f);
-}
-
 Texture& Texture::mipmapped(GLenum wrapMode) & {
   sampling(GL_LINEAR, wrapMode);
   glGenerateTextureMipmap(id());
   glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  // 16 taps along the footprint's long axis: what GPUs offer (llvmpipe reports 16 too).
-  const float anisotropy = std::min(maxAnisotropy(), 16.0f);
-  if (anisotropy > 1.0f) glTextureParameterf(id(), GL_TEXTURE_MAX_ANISOTROPY, anisotropy);
   return *this;
 }
 

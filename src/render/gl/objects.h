@@ -62,9 +62,6 @@ void setLabel(GLenum identifier, GLuint id, std::string_view label);
 
 /// Levels of a full mipmap chain for a w × h image: floor(log2(max(w, h))) + 1.
 int mipLevelsFor(int width, int height);
-/// The context's largest anisotropy (GL_MAX_TEXTURE_MAX_ANISOTROPY: core in GL 4.6, else
-/// GL_ARB_texture_filter_anisotropic or GL_EXT_texture_filter_anisotropic), or 1 without it.
-float maxAnisotropy();
 
 class Texture {
  public:
@@ -90,9 +87,10 @@ class Texture {
   Texture& sampling(GLenum filter, GLenum wrap) &;
   Texture&& sampling(GLenum filter, GLenum wrap) && { return std::move(sampling(filter, wrap)); }
   /// Imagery seen at a slant (issue 14 item 3): builds the mipmap chain from level 0
-  /// (glGenerateTextureMipmap; the texture needs mipLevelsFor() levels), filters trilinearly and
-  /// anisotropically up to maxAnisotropy() taps. Shaders must give the footprint (textureGrad):
-  /// compute shaders have no implicit derivatives.
+  /// (glGenerateTextureMipmap; the texture needs mipLevelsFor() levels) and filters trilinearly.
+  /// The anisotropic taps are the shader's (glsl/common/imagery.glsl textureAnisotropic, given the
+  /// footprint: compute shaders have no implicit derivatives); the sampler's own anisotropy stays
+  /// 1 (llvmpipe's returned wrong texels for strongly elongated footprints, docs/imagery.md).
   Texture& mipmapped(GLenum wrap) &;
 
  private:

@@ -94,12 +94,10 @@ void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage&
   if (equirect.width > 0 && equirect.height > 0) {
     globe_basemap_ = imageryTexture(equirect, city_lights, "globe basemap (linear RGB, city lights)");
     globe_lights_ = !city_lights.empty();
-    // The whole Earth is seen from far away and at grazing angles towards the limb. The
-    // anisotropic taps are the shader's (glsl/common/imagery.glsl textureAnisotropic: llvmpipe's
-    // own drew specks at the limb), so the sampler's is 1.
+    // The whole Earth is seen from far away and at grazing angles towards the limb (the
+    // anisotropic taps are the shader's, as for the flat view's basemaps).
     globe_basemap_.mipmapped(GL_REPEAT);  // wraps across the antimeridian in u ...
     glTextureParameteri(globe_basemap_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);  // ... not over the poles in v
-    if (gl::maxAnisotropy() > 1.0f) glTextureParameterf(globe_basemap_.id(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
   }
 }
 
