@@ -26,7 +26,7 @@ if [ ! -f "$out/storm-mountain.nph" ]; then
   rm -f "$out/wrfout-storm-mountain.nc"
 fi
 sed "s|@DATA@|$out/storm-mountain.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
-for view in demo demo-globe demo-golden-hour; do
+for view in demo demo-globe demo-golden-hour demo-dawn; do
   sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
 done
 echo "demo: rendering the flat map view"
@@ -35,9 +35,12 @@ echo "demo: rendering the globe view"
 "$nephele" render "$out/demo-globe.json"
 echo "demo: rendering the golden-hour oblique view (sun 5° high)"
 "$nephele" render "$out/demo-golden-hour.json"
+echo "demo: rendering the same view at dawn (sun 2° below the horizon, city lights)"
+"$nephele" render "$out/demo-dawn.json"
 echo "demo: rendering the storm over the mountain (terrain, golden hour)"
 "$nephele" render "$out/demo-terrain.json"
 echo "demo: wrote $out/hurricane.png, $out/hurricane.exr, $out/hurricane-cloud-layer.exr (flat map)"
 echo "demo: wrote $out/hurricane-globe.png and $out/hurricane-globe.exr (globe)"
 echo "demo: wrote $out/hurricane-golden-hour.png and $out/hurricane-golden-hour.exr (golden hour)"
+echo "demo: wrote $out/hurricane-dawn.png and $out/hurricane-dawn.exr (dawn)"
 echo "demo: wrote $out/storm-terrain.png and $out/storm-terrain.exr (terrain)"
