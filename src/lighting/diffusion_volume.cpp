@@ -21,6 +21,38 @@ struct System {
 
 glm::dvec3 driftOf(const DiffusionProblem& p, std::size_t c) { return p.drift.empty() ? glm::dvec3(0.0) : p.drift[c]; }
 
+constexpr std::size_t kVacuum = std::size_t(-1);
+
+// Calls face(c, axis, side, neighbour, R, drift) for every face of every cell (both sides of the
+// interior faces): the outward face flux is (φ_c − φ_neighbour + drift)/R, with
+// drift = r_c·G_c·n + r_n·G_n·n and neighbour = kVacuum (φ = 0, r = 2, G = 0: Marshak) outside.
+template <class Face>
+void forEachFace(const DiffusionProblem& p, const std::vector<glm::dvec3>& half, const DiffusionSolveOptions& o,
+                 Face face) {
+  const glm::ivec3 m = p.cells;
+  for (int k = 0; k < m.z; ++k)
+    for (int j = 0; j < m.y; ++j)
+      for (int i = 0; i < m.x; ++i) {
+        const std::size_t c = p.index(i, j, k);
+        for (int a = 0; a < 3; ++a) {
+          if (a < 2 && !o.horizontal) continue;  // independent columns: no side faces at all
+          for (int side : {-1, +1}) {
+            glm::ivec3 nb(i, j, k);
+            nb[a] += side;
+            const double rc = half[c][a];
+            const double gc = side * driftOf(p, c)[a];  // c's drift along the outward normal
+            if (nb[a] < 0 || nb[a] >= m[a]) {
+              face(c, a, side, kVacuum, std::max(rc + 2.0, o.min_resistance), rc * gc);
+              continue;
+            }
+            const std::size_t nc = p.index(nb.x, nb.y, nb.z);
+            const double rn = half[nc][a], gn = side * driftOf(p, nc)[a];
+            face(c, a, side, nc, std::max(rc + rn, o.min_resistance), rc * gc + rn * gn);
+          }
+        }
+      }
+}
+
 System assemble(const DiffusionProblem& p, const DiffusionSolveOptions& o) {
   System s;
   const std::size_t n = p.size();
@@ -34,36 +66,12 @@ System assemble(const DiffusionProblem& p, const DiffusionSolveOptions& o) {
     s.diag[c] = p.sigma_a.empty() ? 0.0 : std::max(p.sigma_a[c], 0.0);
     s.rhs[c] = std::max(p.source[c], 0.0);
   }
-  const glm::ivec3 m = p.cells;
-  for (int k = 0; k < m.z; ++k)
-    for (int j = 0; j < m.y; ++j)
-      for (int i = 0; i < m.x; ++i) {
-        const std::size_t c = p.index(i, j, k);
-        const glm::ivec3 at(i, j, k);
-        for (int a = 0; a < 3; ++a) {
-          if (a < 2 && !o.horizontal) continue;  // independent columns: no side faces at all
-          const double h = p.cell_m[a];
-          for (int side : {-1, +1}) {
-            glm::ivec3 nb = at;
-            nb[a] += side;
-            const double rc = s.half[c][a];
-            const double gc = side * driftOf(p, c)[a];  // c's drift along the outward normal
-            if (nb[a] < 0 || nb[a] >= m[a]) {           // vacuum: r = 2, φ = 0, G = 0 (Marshak)
-              const double r = std::max(rc + 2.0, o.min_resistance);
-              s.diag[c] += 1.0 / (r * h);
-              s.rhs[c] -= rc * gc / (r * h);
-              continue;
-            }
-            const std::size_t nc = p.index(nb.x, nb.y, nb.z);
-            const double rn = s.half[nc][a];
-            const double gn = side * driftOf(p, nc)[a];
-            const double r = std::max(rc + rn, o.min_resistance);
-            s.diag[c] += 1.0 / (r * h);
-            s.rhs[c] -= (rc * gc + rn * gn) / (r * h);
-            if (side > 0) s.up[c][a] = 1.0 / (r * h);
-          }
-        }
-      }
+  forEachFace(p, s.half, o, [&](std::size_t c, int a, int side, std::size_t nc, double r, double drift) {
+    const double h = p.cell_m[a];
+    s.diag[c] += 1.0 / (r * h);
+    s.rhs[c] -= drift / (r * h);
+    if (side > 0 && nc != kVacuum) s.up[c][a] = 1.0 / (r * h);
+  });
   return s;
 }
 
@@ -131,32 +139,10 @@ DiffusionSolution solveDiffusion(const DiffusionProblem& p, const DiffusionSolve
   out.iterations = it;
   out.relative_residual = rel;
   // Cell fluxes: the mean of the two face fluxes per axis (in the + direction).
-  const glm::ivec3 m = p.cells;
-  for (int k = 0; k < m.z; ++k)
-    for (int j = 0; j < m.y; ++j)
-      for (int i = 0; i < m.x; ++i) {
-        const std::size_t c = p.index(i, j, k);
-        const glm::ivec3 at(i, j, k);
-        for (int a = 0; a < 3; ++a) {
-          if (a < 2 && !o.horizontal) continue;
-          double sum = 0.0;
-          for (int side : {-1, +1}) {
-            glm::ivec3 nb = at;
-            nb[a] += side;
-            const double rc = s.half[c][a], gc = side * driftOf(p, c)[a];
-            double outward = 0.0;
-            if (nb[a] < 0 || nb[a] >= m[a]) {
-              outward = (x[c] + rc * gc) / std::max(rc + 2.0, o.min_resistance);
-            } else {
-              const std::size_t nc = p.index(nb.x, nb.y, nb.z);
-              const double rn = s.half[nc][a], gn = side * driftOf(p, nc)[a];
-              outward = (x[c] - x[nc] + rc * gc + rn * gn) / std::max(rc + rn, o.min_resistance);
-            }
-            sum += side * outward;  // in the + direction
-          }
-          out.flux[c][a] = 0.5 * sum;
-        }
-      }
+  forEachFace(p, s.half, o, [&](std::size_t c, int a, int side, std::size_t nc, double resistance, double drift) {
+    const double outward = (x[c] - (nc == kVacuum ? 0.0 : x[nc]) + drift) / resistance;
+    out.flux[c][a] += 0.5 * side * outward;
+  });
   return out;
 }
 
