@@ -59,6 +59,7 @@ struct SweepOptions {
   /// vertically) and its faces' resistance floor (lighting/diffusion_volume.h).
   int diffusion_coarsen_xy = 4, diffusion_coarsen_z = 2;
   double diffusion_min_resistance = 1e-3;
+  int diffusion_flux_limited_passes = 0;  ///< flux-limited diffusion passes (0: plain P1)
 };
 
 struct SweepRow {

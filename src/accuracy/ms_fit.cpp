@@ -243,6 +243,7 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       lighting::DiffusionSolveOptions so;
       so.horizontal = v % 2 == 0;
       so.min_resistance = o.diffusion_min_resistance;
+      so.flux_limited_passes = o.diffusion_flux_limited_passes;
       vol.solution = lighting::solveDiffusion(vol.problem, so);
       log::info("{}: diffusion volume {}x{}x{} ({}, {}): {} CG iterations, residual {:.1e}, {:.0f} ms", sc.name,
                 vol.problem.cells.x, vol.problem.cells.y, vol.problem.cells.z,

@@ -112,6 +112,10 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
                   "--compare-ms: floor of the diffusion volume's face resistance (clear air)")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 1e3));
+  cmd->add_option("--ms-diffusion-flux-limited", o->sweep.diffusion_flux_limited_passes,
+                  "--compare-ms: passes of flux-limited diffusion (Levermore-Pomraning) after the linear solve")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 50));
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });

@@ -26,9 +26,21 @@ constexpr std::size_t kVacuum = std::size_t(-1);
 // Calls face(c, axis, side, neighbour, R, drift) for every face of every cell (both sides of the
 // interior faces): the outward face flux is (φ_c − φ_neighbour + drift)/R, with
 // drift = r_c·G_c·n + r_n·G_n·n and neighbour = kVacuum (φ = 0, r = 2, G = 0: Marshak) outside.
+// With `limiter` (the previous pass's φ; DiffusionSolveOptions::flux_limited_passes) an interior
+// face's resistance is divided by 3λ(R) of Levermore & Pomraning (1981), λ = (2 + R)/(6 + 3R + R²),
+// R = |∇φ|/(σ_tr·φ) = |Δφ|/(φ̄·a·(r_c + r_n)): 1 in the diffusion limit, and in clear air
+// |Δφ|/(3a·φ̄), so that |F| ≤ 3a·φ̄ (free streaming) instead of a short circuit.
+double limitedResistance(double r, double a, double phiC, double phiN) {
+  const double mean = 0.5 * (std::abs(phiC) + std::abs(phiN)), diff = std::abs(phiC - phiN);
+  if (mean <= 0.0 || diff <= 0.0) return r;
+  const double ratio = diff / (mean * a * std::max(r, 1e-300));
+  const double lambda = ratio > 1e6 ? 1.0 / ratio : (2.0 + ratio) / (6.0 + 3.0 * ratio + ratio * ratio);
+  return std::max(r / (3.0 * lambda), diff / (3.0 * a * mean));
+}
+
 template <class Face>
 void forEachFace(const DiffusionProblem& p, const std::vector<glm::dvec3>& half, const DiffusionSolveOptions& o,
-                 Face face) {
+                 const std::vector<double>* limiter, Face face) {
   const glm::ivec3 m = p.cells;
   for (int k = 0; k < m.z; ++k)
     for (int j = 0; j < m.y; ++j)
@@ -47,13 +59,15 @@ void forEachFace(const DiffusionProblem& p, const std::vector<glm::dvec3>& half,
             }
             const std::size_t nc = p.index(nb.x, nb.y, nb.z);
             const double rn = half[nc][a], gn = side * driftOf(p, nc)[a];
-            face(c, a, side, nc, std::max(rc + rn, o.min_resistance), rc * gc + rn * gn);
+            double r = rc + rn;
+            if (limiter != nullptr) r = limitedResistance(r, p.anisotropy[a], (*limiter)[c], (*limiter)[nc]);
+            face(c, a, side, nc, std::max(r, o.min_resistance), rc * gc + rn * gn);
           }
         }
       }
 }
 
-System assemble(const DiffusionProblem& p, const DiffusionSolveOptions& o) {
+System assemble(const DiffusionProblem& p, const DiffusionSolveOptions& o, const std::vector<double>* limiter) {
   System s;
   const std::size_t n = p.size();
   s.up.assign(n, glm::dvec3(0.0));
@@ -66,7 +80,7 @@ System assemble(const DiffusionProblem& p, const DiffusionSolveOptions& o) {
     s.diag[c] = p.sigma_a.empty() ? 0.0 : std::max(p.sigma_a[c], 0.0);
     s.rhs[c] = std::max(p.source[c], 0.0);
   }
-  forEachFace(p, s.half, o, [&](std::size_t c, int a, int side, std::size_t nc, double r, double drift) {
+  forEachFace(p, s.half, o, limiter, [&](std::size_t c, int a, int side, std::size_t nc, double r, double drift) {
     const double h = p.cell_m[a];
     s.diag[c] += 1.0 / (r * h);
     s.rhs[c] -= drift / (r * h);
@@ -101,18 +115,19 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-DiffusionSolution solveDiffusion(const DiffusionProblem& p, const DiffusionSolveOptions& o) {
+namespace {
+// One linear solve (preconditioned conjugate gradients, Jacobi, from φ = 0) with the faces of
+// `limiter` (nullptr: plain diffusion); fills out.fluence and out.flux.
+void solveLinear(const DiffusionProblem& p, const DiffusionSolveOptions& o, const std::vector<double>* limiter,
+                 DiffusionSolution& out) {
   const std::size_t n = p.size();
-  DiffusionSolution out;
-  out.fluence.assign(n, 0.0);
-  out.flux.assign(n, glm::dvec3(0.0));
-  if (n == 0) return out;
-  const System s = assemble(p, o);
-  // Preconditioned conjugate gradients (Jacobi), from φ = 0.
+  const System s = assemble(p, o, limiter);
   std::vector<double>& x = out.fluence;
+  x.assign(n, 0.0);
+  out.flux.assign(n, glm::dvec3(0.0));
   std::vector<double> r = s.rhs, z(n), d(n), q(n);
   const double bnorm = std::sqrt(dot(s.rhs, s.rhs));
-  if (bnorm == 0.0) return out;
+  if (bnorm == 0.0) return;
   for (std::size_t i = 0; i < n; ++i) z[i] = r[i] / s.diag[i];
   d = z;
   double rz = dot(r, z);
@@ -136,13 +151,27 @@ DiffusionSolution solveDiffusion(const DiffusionProblem& p, const DiffusionSolve
     rz = rzNew;
     for (std::size_t i = 0; i < n; ++i) d[i] = z[i] + beta * d[i];
   }
-  out.iterations = it;
+  out.iterations += it;
   out.relative_residual = rel;
   // Cell fluxes: the mean of the two face fluxes per axis (in the + direction).
-  forEachFace(p, s.half, o, [&](std::size_t c, int a, int side, std::size_t nc, double resistance, double drift) {
-    const double outward = (x[c] - (nc == kVacuum ? 0.0 : x[nc]) + drift) / resistance;
-    out.flux[c][a] += 0.5 * side * outward;
-  });
+  forEachFace(p, s.half, o, limiter,
+              [&](std::size_t c, int a, int side, std::size_t nc, double resistance, double drift) {
+                const double outward = (x[c] - (nc == kVacuum ? 0.0 : x[nc]) + drift) / resistance;
+                out.flux[c][a] += 0.5 * side * outward;
+              });
+}
+}  // namespace
+
+DiffusionSolution solveDiffusion(const DiffusionProblem& p, const DiffusionSolveOptions& o) {
+  DiffusionSolution out;
+  out.fluence.assign(p.size(), 0.0);
+  out.flux.assign(p.size(), glm::dvec3(0.0));
+  if (p.size() == 0) return out;
+  solveLinear(p, o, nullptr, out);
+  for (int pass = 0; pass < o.flux_limited_passes; ++pass) {
+    const std::vector<double> previous = out.fluence;
+    solveLinear(p, o, &previous, out);
+  }
   return out;
 }
 

@@ -67,6 +67,9 @@ struct DiffusionProblem {
 struct DiffusionSolveOptions {
   bool horizontal = true;        ///< false: independent columns (the 1-D problem of the same grid)
   double min_resistance = 1e-3;  ///< floor of a face's resistance R (clear air)
+  /// Passes of flux-limited diffusion (Levermore & Pomraning 1981) after the linear solve, each
+  /// with the faces' diffusion limited by the previous pass's φ (0: plain P1 diffusion).
+  int flux_limited_passes = 0;
   int max_iterations = 2000;
   double tolerance = 1e-8;  ///< on ‖r‖/‖b‖
 };
@@ -74,7 +77,7 @@ struct DiffusionSolveOptions {
 struct DiffusionSolution {
   std::vector<double> fluence;   ///< φ per cell [per unit E]
   std::vector<glm::dvec3> flux;  ///< F per cell: the mean of its two faces per axis [per unit E]
-  int iterations = 0;
+  int iterations = 0;            ///< conjugate-gradient iterations, summed over the passes
   double relative_residual = 0.0;
 };
 

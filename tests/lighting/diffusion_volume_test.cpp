@@ -32,6 +32,11 @@ TEST(DiffusionVolume, InfiniteHomogeneousMediumIsSourceOverAbsorption) {
   EXPECT_LT(s.fluence[p.index(0, 20, 20)], 0.9 * 4.0);  // the vacuum boundary leaks
   // The net flux at the centre is the drift itself (∇φ = 0 there).
   EXPECT_NEAR(s.flux[p.index(20, 20, 20)].z, 0.3, 1e-6);
+  // Flux limiting (Levermore–Pomraning) leaves the diffusion limit alone: λ = 1/3 where ∇φ = 0.
+  DiffusionSolveOptions limited;
+  limited.flux_limited_passes = 2;
+  const DiffusionSolution sl = solveDiffusion(p, limited);
+  EXPECT_NEAR(sl.fluence[p.index(20, 20, 20)], 2.0 / 0.5, 1e-6);
 }
 
 // A conservative slab (1 × 1 × nz voxels, independent column) lit from above at μ₀ by the beam
