@@ -55,6 +55,11 @@ struct SweepOptions {
   std::string scene_filter;   ///< substring of scene names to run (empty = all)
   std::string knob_filter;    ///< substring of knob names to run ("preset", "epsilon", ...; empty = all)
   bool write_images = false;  ///< PNGs of the ground truth and every variant
+  /// --compare-ms: the coarse diffusion volume's cells (fine voxels per cell horizontally and
+  /// vertically) and its faces' resistance floor (lighting/diffusion_volume.h).
+  int diffusion_coarsen_xy = 4, diffusion_coarsen_z = 2;
+  double diffusion_min_resistance = 1e-3;
+  int diffusion_flux_limited_passes = 0;  ///< flux-limited diffusion passes (0: plain P1)
 };
 
 struct SweepRow {

@@ -5,12 +5,14 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/log.h"
 #include "lighting/cloud_light.h"
+#include "lighting/diffusion_volume.h"
 #include "reference/ray_marcher.h"
 
 namespace nph::accuracy {
@@ -25,13 +27,24 @@ enum Term : int {
   kTwoStream,       // the eye pass's: twoStreamSunFrame (beam and diffusion scaled)
   kSlabBoth,        // two-stream on sunPathSlab's equivalent slab, both ways (a candidate, not kept)
   kSlabSide,        // same, only shorter paths (side light; a candidate, not kept)
-  kAlpha,           // Σ w (diagnostics)
-  kTauColumn,       // Σ w·(τ_a + τ_b) (diagnostics)
-  kColumn0,         // kColumnBins × 2 octaves
+  kDiffusionIso,    // the coarse diffusion volume's (DLM source, physical drift) isotropic part φ/(4π)
+  kDiffusion0,  // kDiffusionConfigs × {3-D (φ + 3g·F·ω)/(4π), the same grid's columns, two_stream × φ/φ₁}
+  kAlpha,       // Σ w (diagnostics)
+  kTauColumn,   // Σ w·(τ_a + τ_b) (diagnostics)
+  kColumn0,     // kColumnBins × 2 octaves
 };
 constexpr int kColumnBins = 8;
 constexpr std::array<double, kColumnBins - 1> kColumnEdges{0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0};
-constexpr int kTerms = kColumn0 + 2 * kColumnBins;
+constexpr int kColumnEnd = kColumn0 + 2 * kColumnBins;
+// The coarse diffusion volume (lighting/diffusion_volume.h), four configurations: source the DLM's
+// converged I or the column's beam e^{−(1−g²)τ_up/μ₀} (the two_stream term's), drift physical or
+// the two_stream term's convention; each solved in 3-D and as independent columns on the same grid.
+constexpr int kDiffusionConfigs = 4;
+constexpr std::array<const char*, kDiffusionConfigs> kDiffusionConfigNames{
+    "DLM source, physical drift", "DLM source, two_stream drift", "column beam, physical drift",
+    "column beam, two_stream drift"};
+int diffusionTerm(int config, int kind) { return kColumnEnd + 3 * config + kind; }  // kind 0 3-D, 1 1-D, 2 ratio
+constexpr int kTerms = kColumnEnd + 3 * kDiffusionConfigs;
 
 int columnBin(double tau) {
   int b = 0;
@@ -44,7 +57,24 @@ struct SceneTerms {
   double y_sun = 0.0;
   std::vector<double> y_truth, y_sky;
   std::vector<std::array<double, kTerms>> terms;
+  std::vector<glm::dvec3> sky_rgb;  // for the candidates' pictures: sky + E·(single + term)
+  std::vector<double> alpha;
 };
+
+// A candidate's picture from the per-pixel sums (the sky light's colour and the sun's colour ×
+// single scattering + the term): what marchCloudLayer would render with the term in the eye pass.
+scene::RgbaImage termImage(const SceneTerms& d, int width, int height, const glm::dvec3& sun, int term) {
+  scene::RgbaImage img;
+  img.width = width;
+  img.height = height;
+  img.rgba.assign(std::size_t(width) * std::size_t(height) * 4, 0.0f);
+  for (std::size_t px = 0; px < d.terms.size(); ++px) {
+    const glm::dvec3 c = d.sky_rgb[px] + sun * (d.terms[px][kSingle] + d.terms[px][std::size_t(term)]);
+    for (int ch = 0; ch < 3; ++ch) img.rgba[4 * px + std::size_t(ch)] = float(c[ch]);
+    img.rgba[4 * px + 3] = float(d.alpha[px]);
+  }
+  return img;
+}
 
 // A candidate against the independent column's dark side-lit towers at low sun (tried in session 9,
 // docs/accuracy.md "Golden hour"; not kept): the column assumes the beam enters at the column's
@@ -181,10 +211,47 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
     }
     d.y_sky.assign(std::size_t(pixels), 0.0);
     d.terms.assign(std::size_t(pixels), std::array<double, kTerms>{});
+    d.sky_rgb.assign(std::size_t(pixels), glm::dvec3(0.0));
+    d.alpha.assign(std::size_t(pixels), 0.0);
     const lighting::SkyLight sky = lighting::skyLightFor(march, sc.sun.elevation_deg, sc.sun.colour, sc.sun.intensity);
     const ColumnDepths depths = columnDepths(*sc.volumes);
     const glm::dvec3 toSun = sc.sun.toSun();
     const glm::dvec3 sunFrame = lighting::twoStreamSunFrame(toSun.z, sc.frame.height_exaggeration);
+    // The coarse diffusion volume (issue 12 item 1, second approach): per configuration 3-D and,
+    // on the same grid, independent columns.
+    lighting::DiffusionVolumeOptions dvo;
+    dvo.g_ice = march.g_ice;
+    dvo.g_water = march.g_water;
+    dvo.coarsen_xy = o.diffusion_coarsen_xy;
+    dvo.coarsen_z = o.diffusion_coarsen_z;
+    std::array<lighting::DiffusionVolume, 2 * kDiffusionConfigs> dv;  // [2·config + (0 3-D, 1 columns)]
+    for (int v = 0; v < 2 * kDiffusionConfigs; ++v) {
+      const int config = v / 2;
+      const bool dlmSource = config < 2;
+      dvo.drift = config % 2 == 0 ? lighting::DiffusionDrift::Physical : lighting::DiffusionDrift::TwoStream;
+      const auto start = std::chrono::steady_clock::now();
+      lighting::DiffusionVolume& vol = dv[std::size_t(v)];
+      vol.frame = sc.frame;
+      vol.coarsen = glm::ivec3(dvo.coarsen_xy, dvo.coarsen_xy, dvo.coarsen_z);
+      vol.problem = lighting::diffusionProblemFor(
+          *sc.volumes, sc.frame, toSun,
+          [&](const glm::dvec3& p, double g) {
+            if (dlmSource) return light->intensityAt(p);
+            return std::exp(-(1.0 - g * g) * columnDepthAt(depths, sc.frame, p).x / std::max(sunFrame.x, 0.02));
+          },
+          dvo);
+      lighting::DiffusionSolveOptions so;
+      so.horizontal = v % 2 == 0;
+      so.min_resistance = o.diffusion_min_resistance;
+      so.flux_limited_passes = o.diffusion_flux_limited_passes;
+      vol.solution = lighting::solveDiffusion(vol.problem, so);
+      log::info("{}: diffusion volume {}x{}x{} ({}, {}): {} CG iterations, residual {:.1e}, {:.0f} ms", sc.name,
+                vol.problem.cells.x, vol.problem.cells.y, vol.problem.cells.z,
+                kDiffusionConfigNames[std::size_t(config)], so.horizontal ? "3-D" : "columns", vol.solution.iterations,
+                vol.solution.relative_residual,
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    const double exag = sc.frame.height_exaggeration;
     const int w = sc.camera.width;
     reference::marchSamples(
         *sc.volumes, sc.frame, sc.camera, march.step_voxels, 0.0,
@@ -209,6 +276,19 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
             t[shadow ? kSlabBoth : kSlabSide] +=
                 s.weight * lighting::twoStreamDiffuse(slab.x, slab.y, slab.z, sunFrame.y, sunFrame.z, muOut, g);
           }
+          {
+            const glm::dvec3 toEye = glm::normalize(glm::dvec3(-dir.x, -dir.y, -dir.z / exag));
+            const double ts = lighting::twoStreamDiffuse(tau.x, tau.y, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+            t[kDiffusionIso] += s.weight * std::max(dv[0].fluenceAt(s.position_m), 0.0) / (4.0 * std::numbers::pi);
+            for (int c = 0; c < kDiffusionConfigs; ++c) {
+              const lighting::DiffusionVolume &v3 = dv[std::size_t(2 * c)], &v1 = dv[std::size_t(2 * c + 1)];
+              const double phi3 = v3.fluenceAt(s.position_m), phi1 = v1.fluenceAt(s.position_m);
+              t[std::size_t(diffusionTerm(c, 0))] += s.weight * v3.radianceAt(s.position_m, toEye, g);
+              t[std::size_t(diffusionTerm(c, 1))] += s.weight * v1.radianceAt(s.position_m, toEye, g);
+              const double ratio = phi1 > 1e-9 ? std::clamp(phi3 / phi1, 0.0, 10.0) : 1.0;
+              t[std::size_t(diffusionTerm(c, 2))] += s.weight * ratio * ts;
+            }
+          }
           const double total = tau.x + tau.y;
           t[kAlpha] += s.weight;
           t[kTauColumn] += s.weight * total;
@@ -219,8 +299,19 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
               s.weight * std::pow(I, oct.extinction_scale * oct.extinction_scale) * iso4pi;
           const glm::dvec3 l = s.weight * reference::sampleSkyLight(sky, depths, sc.frame, s, march);
           d.y_sky[px] += luminance(l.x, l.y, l.z);
+          d.sky_rgb[px] += l;
         },
-        [](int, int, double) {});
+        [&](int x, int y, double T) { d.alpha[std::size_t(y) * std::size_t(w) + std::size_t(x)] = 1.0 - T; });
+    if (o.write_images) {
+      const std::filesystem::path dir(o.out_dir);
+      scene::writePng(termImage(d, w, sc.camera.height, e, kTwoStream),
+                      (dir / (sc.name + "-terms-two_stream.png")).string());
+      for (int c = 0; c < kDiffusionConfigs; ++c)
+        for (int kind : {0, 2})
+          scene::writePng(
+              termImage(d, w, sc.camera.height, e, diffusionTerm(c, kind)),
+              (dir / fmt::format("{}-terms-diffusion{}-{}.png", sc.name, c, kind == 0 ? "3d" : "ratio")).string());
+    }
     {  // what each term contributes (luminance sums over the image), for the log
       std::array<double, kTerms> sum{};
       double yt = 0.0, ys = 0.0;
@@ -231,10 +322,15 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       }
       log::info(
           "{}: sun frame mu0 {:.3f} beam x{:.2f} diffusion x{:.3f}; mean column tau {:.1f}; luminance sums: truth "
-          "{:.0f}, sky {:.0f}, single {:.0f}, octaves {:.0f}, two-stream {:.0f} (data frame {:.0f}, world {:.0f})",
+          "{:.0f}, sky {:.0f}, single {:.0f}, octaves {:.0f}, two-stream {:.0f} (data frame {:.0f}, world {:.0f}), "
+          "diffusion isotropic {:.0f}",
           sc.name, sunFrame.x, sunFrame.y, sunFrame.z, sum[kTauColumn] / sum[kAlpha], yt, ys, d.y_sun * sum[kSingle],
           d.y_sun * sum[kOctaves], d.y_sun * sum[kTwoStream], d.y_sun * sum[kTwoStreamData],
-          d.y_sun * sum[kTwoStreamWorld]);
+          d.y_sun * sum[kTwoStreamWorld], d.y_sun * sum[kDiffusionIso]);
+      for (int c = 0; c < kDiffusionConfigs; ++c)
+        log::info("{}: diffusion ({}): 3-D {:.0f}, columns {:.0f}, two-stream x 3-D/1-D {:.0f}", sc.name,
+                  kDiffusionConfigNames[std::size_t(c)], d.y_sun * sum[std::size_t(diffusionTerm(c, 0))],
+                  d.y_sun * sum[std::size_t(diffusionTerm(c, 1))], d.y_sun * sum[std::size_t(diffusionTerm(c, 2))]);
     }
     data.push_back(std::move(d));
     // The models of the knob, rendered exactly (the CPU twin of the eye pass, no early termination).
@@ -265,8 +361,8 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
   out.objective_noise_floor /= double(std::max<std::size_t>(1, data.size()));
   if (data.empty()) throw UsageError("accuracy --compare-ms: no scene matches --scenes " + o.scene_filter);
   std::vector<int> column;
-  for (int j = kColumn0; j < kTerms; ++j) column.push_back(j);
-  const std::vector<Model> models{
+  for (int j = kColumn0; j < kColumnEnd; ++j) column.push_back(j);
+  std::vector<Model> models{
       {"single scattering", {}, {}},
       {"octaves (default a 0.65, b 0.75, c 0)", {kOctaves}, {}},
       {"octaves, scale fitted", {}, {kOctaves}},
@@ -279,6 +375,14 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       {"two_stream on the sun-path slab, side light only", {kSlabSide}, {}},
       {"two_stream + octaves, both fitted", {}, {kTwoStream, kOctaves}},
   };
+  models.push_back({"diffusion volume, isotropic part (DLM source, physical drift)", {kDiffusionIso}, {}});
+  for (int c = 0; c < kDiffusionConfigs; ++c) {
+    const std::string n = kDiffusionConfigNames[std::size_t(c)];
+    models.push_back({"diffusion volume 3-D (" + n + ")", {diffusionTerm(c, 0)}, {}});
+    models.push_back({"diffusion volume, the grid's columns (" + n + ")", {diffusionTerm(c, 1)}, {}});
+    models.push_back({"two_stream x 3-D/1-D ratio (" + n + ")", {diffusionTerm(c, 2)}, {}});
+    models.push_back({"two_stream x ratio, scale fitted (" + n + ")", {}, {diffusionTerm(c, 2)}});
+  }
   for (const Model& m : models) {
     out.models.push_back(evaluate(data, m));
     const MsModelResult& r = out.models.back();

@@ -12,6 +12,10 @@
 //               (lighting::twoStreamDiffuse; column depths of volume/column_depth.h)
 //   column      Σ w·I^{aⁿ}/(4π) split into bins of the column's optical depth τ_a + τ_b
 //               (octave weights as a function of the column: candidate (c) of the issue)
+//   diffusion   Σ w·(φ + 3g·F·ω)/(4π) of the coarse diffusion volume (lighting/diffusion_volume.h;
+//               issue 12's second approach), in 3-D and as the same grid's independent columns,
+//               and two_stream × φ_3D/φ_1D; source the DLM's I or the column's beam, drift physical
+//               or two_stream's (four configurations, docs/accuracy.md "Tenth session")
 // A model's luminance is then Y = Y_sky + Y_sun·(single + Σ_j θ_j·term_j), linear in its free
 // weights θ, which are fitted by least squares on the objective of octave_fit.h (mean over scenes of
 // Σ ΔY² / Σ (Y_ref² + 0.01)). Per scene it reports the luminance bias Σ Y / Σ Y_ref − 1 and the

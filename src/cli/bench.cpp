@@ -100,6 +100,22 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
                 "instead of the sweep: compare the multiple-scattering terms (octaves, two-stream, octave weights by "
                 "column depth) against the path-traced truth on the CPU reference, fitting their free weights, and "
                 "write ms-comparison.md (issue 12)");
+  cmd->add_option("--ms-diffusion-coarsen", o->sweep.diffusion_coarsen_xy,
+                  "--compare-ms: fine voxels per cell of the coarse diffusion volume, horizontally")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--ms-diffusion-coarsen-z", o->sweep.diffusion_coarsen_z,
+                  "--compare-ms: fine voxels per cell of the coarse diffusion volume, vertically")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--ms-diffusion-min-resistance", o->sweep.diffusion_min_resistance,
+                  "--compare-ms: floor of the diffusion volume's face resistance (clear air)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1e3));
+  cmd->add_option("--ms-diffusion-flux-limited", o->sweep.diffusion_flux_limited_passes,
+                  "--compare-ms: passes of flux-limited diffusion (Levermore-Pomraning) after the linear solve")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 50));
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });
