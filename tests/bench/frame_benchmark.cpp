@@ -21,6 +21,7 @@
 // (16:9); this 2-core VM renders the demo at 960 × 540.
 // BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
 // BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
+// BM_DetailCost (issue 13): cubic reconstruction and sub-grid detail against the plain frame.
 // Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
@@ -41,6 +42,7 @@
 #include "lighting/knobs.h"
 #include "reference/ray_marcher.h"
 #include "render/dlm/deep_light_map.h"
+#include "render/dlm/noise_texture.h"
 #include "render/gl/context.h"
 #include "render/raycast/cloud_renderer.h"
 #include "scene/output_image.h"
@@ -535,6 +537,86 @@ BENCHMARK(BM_EyePassDefaults)
     ->ArgNames({"scene", "width"})
     ->Args({1, 1280})  // coarse storm, 1280 × 720
     ->Args({0, 640})   // demo storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Issue 13: the cost of the smooth reconstruction and of the sub-grid detail (volume/detail.h,
+// glsl/common/detail.glsl; Muth 2026 §3.3.1), each against the plain trilinear frame, on the demo's
+// view: six uploads (trilinear / cubic × detail none / subtle / full), each with its own deep light
+// map (the DLM's passes read the same filtered, detailed field), ray cast at the broadcast defaults
+// in rotating order. The upload (controls, noise tile, GPU mass correction) and the DLM build are
+// timed once per variant (a build is cached by its key); the ray casts are the interleaved medians.
+// Also reported: volume samples per frame and the frame's difference from the plain frame in 8-bit
+// levels (what the detail adds to the picture, not an error).
+void BM_DetailCost(benchmark::State& state) {
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
+  struct Variant {
+    const char* name;
+    scene::Reconstruction reconstruction;
+    scene::Detail detail;
+  };
+  constexpr int kVariants = 6;
+  using R = scene::Reconstruction;
+  using D = scene::Detail;
+  const Variant variants[kVariants] = {
+      {"trilinear", R::Trilinear, D::None},      {"trilinear+subtle", R::Trilinear, D::Subtle},
+      {"trilinear+full", R::Trilinear, D::Full}, {"cubic", R::Cubic, D::None},
+      {"cubic+subtle", R::Cubic, D::Subtle},     {"cubic+full", R::Cubic, D::Full}};
+  std::vector<std::unique_ptr<render::VolumeTextures>> tex;
+  std::vector<std::unique_ptr<render::DeepLightMap>> maps;
+  double uploadMs[kVariants], buildMs[kVariants], samples[kVariants];
+  std::shared_ptr<const render::NoiseTexture> noise;
+  for (int k = 0; k < kVariants; ++k) {
+    const Variant& var = variants[k];
+    uploadMs[k] = timed([&] {
+                    tex.push_back(std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(
+                        sc.v, sc.frame, std::string("bench|") + var.name, var.reconstruction, 8, var.detail, noise)));
+                  }).wall_ms;
+    if (!noise && tex.back()->noise()) noise = tex.back()->noise();
+    maps.push_back(std::make_unique<render::DeepLightMap>());
+    buildMs[k] = timed([&] { maps.back()->build(*tex.back(), -sc.sun.toSun(), scene::DlmSettings{}); }).wall_ms;
+  }
+  render::CloudRenderer renderer;
+  const render::RenderSettings rs;
+  render::RenderOutput out[kVariants];
+  auto cast = [&](int k) {
+    return renderer.render(*tex[std::size_t(k)], *maps[std::size_t(k)], sc.camera, sc.sun, rs);
+  };
+  for (int k = 0; k < kVariants; ++k) {
+    renderer.countSamples(true);
+    out[k] = cast(k);  // compiles the variant's program, warms up
+    samples[k] = double(renderer.sampleCount());
+    renderer.countSamples(false);
+  }
+  Series series[kVariants];
+  const int rounds = interleavedCasts<kVariants>(state, series, [&](int k) { cast(k); });
+
+  std::fprintf(stderr, "detail cost, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
+               sc.demo ? "demo" : "coarse", sc.v.nx, sc.v.ny, sc.v.nz, sc.width, sc.height, rounds,
+               sc.ctx->info().renderer.c_str());
+  auto& c = state.counters;
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = variants[k].name;
+    const LevelStats d = levelStats(out[k].frame, out[0].frame);
+    const double ratio = median(series[k].cpu) / median(series[0].cpu);
+    c["cast_ms_" + name] = median(series[k].wall);
+    c["cast_cpu_ms_" + name] = median(series[k].cpu);
+    c["cast_cpu_ratio_" + name] = ratio;
+    c["upload_ms_" + name] = uploadMs[k];
+    c["dlm_ms_" + name] = buildMs[k];
+    c["samples_" + name] = samples[k];
+    std::fprintf(stderr,
+                 "  %-18s ray cast wall %7.0f ms, CPU %7.0f ms, this/plain %.2f; upload %6.0f ms, DLM build %6.0f ms; "
+                 "%.3g samples; vs plain: mean %.2f p99 %.0f max %d levels\n",
+                 variants[k].name, median(series[k].wall), median(series[k].cpu), ratio, uploadMs[k], buildMs[k],
+                 samples[k], d.mean, d.p99, d.max);
+  }
+}
+BENCHMARK(BM_DetailCost)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 640})  // coarse storm, 640 × 360
+    ->Args({0, 640})  // demo storm, 640 × 360 (detail full: minutes per frame on llvmpipe)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
