@@ -21,6 +21,11 @@ layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // 
 layout(binding = UNIT_DETAIL_CONTROLS) uniform sampler3D u_detail_controls;  // RGBA8 (turbulence, convective, fraction, core)
 layout(binding = UNIT_DETAIL_NOISE) uniform sampler3D u_detail_noise;        // RGBA8 periodic noise tile, GL_REPEAT
 layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction
+// The packed texture (issue 19; render/dlm/volume_textures.h hasPacked): RGBA16F (β_ice, β_water in
+// units of u_packed_beta_unit_per_m, τ_up, τ_down) per voxel, GL_LINEAR, GL_CLAMP_TO_EDGE. With
+// u_packed_only (VolumeStorage::Compact, the default upload) it is the only copy of the volume:
+// every pass reads β (plainExtinctionAt) and the eye pass its column depths from it.
+layout(binding = UNIT_PACKED_VOLUME) uniform sampler3D u_packed_volume;
 // One std140 block, declared in C++ as gl::VolumeBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocks.MatchTheLinkedPrograms checks every offset.
 layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
@@ -35,7 +40,9 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
   int u_detail;          // 0 none, 1 subtle, 2 full (volume/detail.h)
   float u_detail_amplitude;
   vec3 u_noise_period_m;  // world metres per noise tile
+  float u_packed_beta_unit_per_m;  // β's unit in u_packed_volume [1/m] (0: no packed texture)
   vec3 u_displacement_m;  // displacement cap per axis [world m]
+  bool u_packed_only;     // β and the column depths exist only in u_packed_volume (no R32F/RG16F copies)
   vec4 u_noise_stats_ra;  // (mean, half range) of noise channels r and a
   vec4 u_noise_stats_gs;  // of channel g and of the stratiform term
   vec4 u_noise_stats_c;   // of the convective term
@@ -107,10 +114,24 @@ float reconstruct(sampler3D volume, vec3 uvw) {
   return RECONSTRUCTION_CUBIC ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;
 }
 
+// The packed texel at uvw (inside the grown box) with β in 1/m: the texture clamps to the edge, as
+// the column depths need; the extinction's zero border (β fades to 0 over the ½ voxel outside the
+// box, as GL_CLAMP_TO_BORDER with a zero border gives the R32F textures) is the trilinear filter's
+// weight on the texels inside the grid, per axis 1 + min(c, n − 1 − c) clamped to [0, 1] for the
+// continuous index c = uvw·n − ½, multiplied onto β. Only the trilinear filter has a packed
+// texture (the cubic B-spline reads the zero border at 8 positions).
+vec4 packedTexel(vec3 uvw) {
+  vec4 s = texture(u_packed_volume, uvw);
+  vec3 c = uvw * vec3(u_voxels) - 0.5;
+  vec3 inGrid = clamp(1.0 + min(c, vec3(u_voxels) - 1.0 - c), 0.0, 1.0);
+  return vec4(s.xy * (u_packed_beta_unit_per_m * inGrid.x * inGrid.y * inGrid.z), s.zw);
+}
+
 // (β_ice, β_water) at a world position, without the sub-grid detail.
 vec2 plainExtinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(0.0);
+  if (u_packed_only) return packedTexel(uvw).xy;
   return vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0);
 }
 

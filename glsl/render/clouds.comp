@@ -132,23 +132,15 @@ float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 // The packed texture (issue 19 item 3): with SPEC_PACKED = 1 (CloudRenderer, when the upload built
 // one: VolumeTextures::hasPacked, the trilinear filter without sub-grid detail) a step reads
 // (β_ice, β_water, τ_up, τ_down) with one RGBA16F fetch instead of three fetches (ice, water, the
-// column depths; Muth 2026 §3.4 packs the cloud's channels the same way). The texture clamps to
-// the edge, as the column depths need; the extinction's zero border (glsl/dlm/volume.glsl: β fades
-// to 0 over the ½ voxel outside the box) is the trilinear filter's weight on the texels inside the
-// grid, per axis 1 + min(c, n − 1 − c) clamped to [0, 1] for the continuous index c = uvw·n − ½,
-// multiplied onto β: the same value as GL_CLAMP_TO_BORDER with a zero border. β is stored in units
-// of u_packed_beta_unit_per_m (1e-3: per km, in the half's normal range).
+// column depths; Muth 2026 §3.4 packs the cloud's channels the same way); glsl/dlm/volume.glsl
+// packedTexel applies the extinction's zero border and β's unit (u_packed_beta_unit_per_m: 1e-3,
+// per km, in the half's normal range).
 #if defined(SPEC_PACKED) && SPEC_PACKED != 0
 #define PACKED_VOLUME true
-layout(binding = UNIT_PACKED_VOLUME) uniform sampler3D u_packed_volume;
-uniform float u_packed_beta_unit_per_m;
 vec4 packedAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec4(0.0);
-  vec4 s = texture(u_packed_volume, uvw);
-  vec3 c = uvw * vec3(u_voxels) - 0.5;
-  vec3 inGrid = clamp(1.0 + min(c, vec3(u_voxels) - 1.0 - c), 0.0, 1.0);
-  return vec4(s.xy * (u_packed_beta_unit_per_m * inGrid.x * inGrid.y * inGrid.z), s.zw);
+  return packedTexel(uvw);
 }
 #else
 #define PACKED_VOLUME false
@@ -289,6 +281,7 @@ vec3 globeFootprint(vec3 o, vec3 D, vec3 dD, vec3 g, float t) {
 // metric: the power at the column spacing).
 vec2 columnDepthAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
+  if (u_packed_only) return texture(u_packed_volume, uvw).zw;  // trilinear, clamped to the edge
   return RECONSTRUCTION_CUBIC ? cubicBSplineRgba(u_column_depth, uvw).rg : texture(u_column_depth, uvw).rg;
 }
 

@@ -12,6 +12,7 @@ namespace nph::engine {
 
 SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene) {
   Session session(std::move(dataset), scene);
+  session.setReleaseAfterUpload(true);  // one frame: the decoded volume is not read after its upload
   return renderSceneFrame(session, scene, session.prepared().camera);
 }
 
@@ -30,6 +31,14 @@ SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& sce
               st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
   }
   log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
+  {  // issue 19's memory accounting: on llvmpipe GL storage is process memory
+    const render::VolumeTextures& vt = session.volumeTextures();
+    const glm::ivec3 n = vt.frame().voxels;
+    const double voxels = double(n.x) * double(n.y) * double(n.z);
+    log::info("GL textures: volume {:.1f} MB ({:.2f} bytes/voxel{}), deep light map {:.1f} MB, ray caster {:.1f} MB",
+              double(vt.bytes()) / 1e6, double(vt.bytes()) / voxels, vt.hasSeparateTextures() ? ", separate" : "",
+              double(session.deepLightMap().textureBytes()) / 1e6, double(session.renderer().textureBytes()) / 1e6);
+  }
   const scene::FramePasses* passes = f.out.passes ? &*f.out.passes : nullptr;
   f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
   f.options = scene::imageOptionsFor(scene.output, session.sun().elevation_deg);

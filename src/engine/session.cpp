@@ -41,6 +41,16 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
 
 Session::~Session() = default;
 
+void Session::setReleaseAfterUpload(bool on) {
+  release_after_upload_ = on;
+  if (!on) return;
+  for (scene::LinearRgbImage* image : {&prepared_.basemap, &prepared_.far_basemap, &prepared_.basemap_equirect})
+    *image = scene::LinearRgbImage{};
+  for (std::vector<float>* lights :
+       {&prepared_.basemap_lights, &prepared_.far_basemap_lights, &prepared_.basemap_equirect_lights})
+    std::vector<float>().swap(*lights);
+}
+
 void Session::setCacheLimit(std::size_t timesteps) {
   PrefetchSettings p = timesteps_->settings();
   p.max_timesteps = std::max<std::size_t>(timesteps, 2);
@@ -110,6 +120,7 @@ void Session::update() {
     textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), content,
                                                      reconstruction, 8, detail, noise_));  // its identity() is `key`
     if (textures_->noise()) noise_ = textures_->noise();
+    if (release_after_upload_) timesteps_->releaseAll();  // `a` and `v`, the last holders, end below
     stats_.upload_ms = msSince(t0);
     volume_key_ = key;
     stats_.volume_changed = true;

@@ -92,6 +92,14 @@ class Session {
   const render::VolumeTextures& volumeTextures() const { return *textures_; }
   const FrameStats& stats() const { return stats_; }
 
+  /// Memory (issue 19, docs/benchmarks.md "Memory"): on, the decoded volumes (the float ice and
+  /// water fields, 8 bytes per voxel) are dropped from the timestep cache as soon as the volume is
+  /// on the GPU, since a single frame reads them no more; a later change of the volume decodes
+  /// again. Off by default: playback, blending and re-visited timesteps re-use the decoded ones.
+  /// On in engine::renderSceneFrame(dataset, scene) (`nephele render`). Turning it on also drops
+  /// prepared()'s basemap images and city lights (on the GPU since construction; nothing reads
+  /// the CPU copies again).
+  void setReleaseAfterUpload(bool on);
   /// The decoded-timestep cache: at most this many timesteps are kept (default 4, at least 2).
   void setCacheLimit(std::size_t timesteps);
   /// Read-ahead on/off, its depth and the memory budget of decoded timesteps.
@@ -110,6 +118,7 @@ class Session {
   render::RenderSettings render_settings_;
   double time_index_ = 0.0;
   int direction_ = 0;
+  bool release_after_upload_ = false;
   std::string volume_key_;  // identity of the uploaded volume
   std::optional<render::VolumeTextures> textures_;
   std::shared_ptr<const render::NoiseTexture> noise_;  ///< the detail noise tile, generated on first use

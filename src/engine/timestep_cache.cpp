@@ -209,6 +209,18 @@ void TimestepCache::waitIdle() const {
   idle_cv_.wait(lock, [this] { return stop_ || (queue_.empty() && !worker_busy_); });
 }
 
+void TimestepCache::releaseAll() {
+  std::lock_guard lock(mutex_);
+  pinned_.clear();
+  ahead_.clear();
+  queue_.clear();
+  for (auto it = entries_.begin(); it != entries_.end();) {
+    if (it->second.in_flight) ++it;
+    else it = entries_.erase(it);
+  }
+  accountLocked();
+}
+
 void TimestepCache::setSettings(const PrefetchSettings& settings) {
   std::lock_guard lock(mutex_);
   settings_ = settings;

@@ -78,6 +78,10 @@ class TimestepCache {
   /// the worker's hands. For callers that must know the cache's state (tests; a batch renderer
   /// that wants the next timestep ready before it reports progress).
   void waitIdle() const;
+  /// Drops every decoded timestep that no decode is writing, the pinned ones too, and the
+  /// read-ahead queue (issue 19, memory: a single frame whose volume is on the GPU reads none of
+  /// them again). A later get() decodes anew; callers still holding a volume keep it alive.
+  void releaseAll();
 
   void setSettings(const PrefetchSettings& settings);
   PrefetchSettings settings() const;

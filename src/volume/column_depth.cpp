@@ -4,13 +4,61 @@
 #include <array>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
+
+#include "core/error.h"
 
 namespace nph {
 namespace {
 // The value the GPU stores: half precision (RG16F), clamped to the largest finite half.
-float asHalf(double x) { return glm::unpackHalf1x16(glm::packHalf1x16(float(std::min(x, 65504.0)))); }
+std::uint16_t halfBits(double x) { return glm::packHalf1x16(float(std::min(x, 65504.0))); }
+// β_ice + β_water of voxel i times the layer thickness (double: a column of 100 layers of small β
+// keeps its sum).
+double betaDz(const ExtinctionVolumes& v, std::size_t i) {
+  double b = 0.0;
+  if (i < v.ice_per_m.size()) b += double(v.ice_per_m[i]);
+  if (i < v.water_per_m.size()) b += double(v.water_per_m[i]);
+  return b * v.dz_m;
+}
 }  // namespace
+
+ColumnDepthSlices::ColumnDepthSlices(const ExtinctionVolumes& v)
+    : v_(v),
+      total_(std::size_t(v.nx) * std::size_t(v.ny), 0.0),
+      above_(total_.size(), 0.0),
+      slice_(2 * total_.size()),
+      next_k_(v.nz - 1) {
+  for (int k = v.nz - 1; k >= 0; --k) {
+    for (std::size_t c = 0; c < total_.size(); ++c) total_[c] += betaDz(v, std::size_t(k) * total_.size() + c);
+  }
+}
+
+const std::vector<std::uint16_t>& ColumnDepthSlices::next(int k) {
+  if (k != next_k_ || k < 0) {
+    throw UsageError(fmt::format("ColumnDepthSlices::next: slice {} asked for, {} is next", k, next_k_));
+  }
+  const std::size_t base = std::size_t(k) * total_.size();
+  for (std::size_t c = 0; c < total_.size(); ++c) {
+    const double full = betaDz(v_, base + c), half = 0.5 * full;
+    slice_[2 * c] = halfBits(above_[c] + half);
+    slice_[2 * c + 1] = halfBits(std::max(total_[c] - above_[c] - half, 0.0));
+    above_[c] += full;
+  }
+  --next_k_;
+  return slice_;
+}
+
+std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& v) {
+  std::vector<std::uint16_t> rg(2 * v.voxelCount());
+  ColumnDepthSlices slices(v);
+  const std::size_t columns = std::size_t(v.nx) * std::size_t(v.ny);
+  for (int k = v.nz - 1; k >= 0; --k) {
+    const std::vector<std::uint16_t>& s = slices.next(k);
+    std::copy(s.begin(), s.end(), rg.begin() + std::ptrdiff_t(2 * std::size_t(k) * columns));
+  }
+  return rg;
+}
 
 ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reconstruction) {
   ColumnDepths d;
@@ -18,29 +66,12 @@ ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reco
   d.nx = v.nx;
   d.ny = v.ny;
   d.nz = v.nz;
-  d.up.assign(v.voxelCount(), 0.0f);
-  d.down.assign(v.voxelCount(), 0.0f);
-  auto beta = [&](std::size_t i) {
-    double b = 0.0;
-    if (i < v.ice_per_m.size()) b += double(v.ice_per_m[i]);
-    if (i < v.water_per_m.size()) b += double(v.water_per_m[i]);
-    return b;
-  };
-  for (int j = 0; j < v.ny; ++j) {
-    for (int i = 0; i < v.nx; ++i) {
-      double acc = 0.0;  // double: a column of 100 layers of small β keeps its sum
-      for (int k = v.nz - 1; k >= 0; --k) {
-        const double half = 0.5 * beta(v.index(i, j, k)) * v.dz_m;
-        d.up[v.index(i, j, k)] = asHalf(acc + half);
-        acc += 2.0 * half;
-      }
-      acc = 0.0;
-      for (int k = 0; k < v.nz; ++k) {
-        const double half = 0.5 * beta(v.index(i, j, k)) * v.dz_m;
-        d.down[v.index(i, j, k)] = asHalf(acc + half);
-        acc += 2.0 * half;
-      }
-    }
+  const std::vector<std::uint16_t> rg = columnDepthsHalf(v);
+  d.up.resize(v.voxelCount());
+  d.down.resize(v.voxelCount());
+  for (std::size_t i = 0; i < d.up.size(); ++i) {
+    d.up[i] = glm::unpackHalf1x16(rg[2 * i]);
+    d.down[i] = glm::unpackHalf1x16(rg[2 * i + 1]);
   }
   return d;
 }

@@ -14,6 +14,7 @@
 // is ½β·dz, small). The filter must match the extinction's: trilinear depths under a cubic field
 // bring the grid back into the sky light and the two-stream term (issue 12/13: the power at the
 // column spacing of the coarse storm went from 2.2 to 14.1 with two_stream).
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -38,6 +39,30 @@ struct ColumnDepths {
 /// `reconstruction`.
 ColumnDepths columnDepths(const ExtinctionVolumes& volumes,
                           scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
+
+/// The column depths slice by slice from the top (k = nz − 1 down to 0), for an upload that never
+/// holds them for the whole grid (render/dlm/volume_textures.cpp, issue 19's memory): per column
+/// τ_up = A + ½β·dz and τ_down = (T − A) − ½β·dz in double, A the sum above the voxel, T the
+/// column's total, then rounded to half; columnDepthsHalf is built from it, so both agree bit for
+/// bit. Holds two doubles per column.
+class ColumnDepthSlices {
+ public:
+  explicit ColumnDepthSlices(const ExtinctionVolumes& volumes);  ///< one pass for the column totals
+  /// Slice k's (τ_up, τ_down) half bits, interleaved, x fastest (2·nx·ny values): call for
+  /// k = nz − 1, nz − 2, …, 0 in turn (UsageError otherwise).
+  const std::vector<std::uint16_t>& next(int k);
+
+ private:
+  const ExtinctionVolumes& v_;
+  std::vector<double> total_, above_;
+  std::vector<std::uint16_t> slice_;
+  int next_k_;
+};
+
+/// The same depths as half-precision bit patterns, interleaved (τ_up, τ_down) per voxel in
+/// ExtinctionVolumes::index layout: the RG16F texel, 4 bytes per voxel (columnDepths holds 8 as
+/// floats). The upload's form (render/dlm/volume_textures.cpp); columnDepths unpacks it.
+std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& volumes);
 
 /// (τ_up, τ_down) at a world point: trilinear or cubic B-spline between voxel centres
 /// (depths.reconstruction), clamped to the edge (the GPU rule of the RG texture UNIT_COLUMN_DEPTH:

@@ -406,7 +406,11 @@ struct DemoScene {
   std::unique_ptr<gl::Context> ctx = bench::hiddenContext();
   ExtinctionVolumes v = benchVolumes(demo);
   scene::VolumeFrame frame = scene::frameOf(v, 8.0);
-  render::VolumeTextures tex = render::VolumeTextures::upload(v, frame, "bench");
+  // Both copies (VolumeStorage::Reference): the separate-textures variant reads its own R32F/RG16F
+  // textures, and every map is built from float β as when these variants were chosen.
+  render::VolumeTextures tex =
+      render::VolumeTextures::upload(v, frame, "bench", scene::Reconstruction::Trilinear, 8, scene::Detail::None, {},
+                                     render::VolumeStorage::Reference);
   scene::Sun sun{140.0, 35.0};
   scene::Camera camera = demoCamera(frame, width, height);
 

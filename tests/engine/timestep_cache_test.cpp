@@ -85,6 +85,26 @@ TEST(TimestepCache, PinnedTimestepsStayEvenOverBudget) {
   EXPECT_FLOAT_EQ(b->ice_per_m[0], 3.0f);
 }
 
+// releaseAll (issue 19, memory; Session::setReleaseAfterUpload): the pinned timesteps go too, a
+// caller's own reference keeps its volume alive, and the next get() decodes again.
+TEST(TimestepCache, ReleaseAllDropsEvenThePinnedTimesteps) {
+  auto ds = scripted(4);
+  engine::PrefetchSettings settings;
+  settings.enabled = false;
+  engine::TimestepCache cache(ds, settings);
+  cache.prefetch({1}, +1);
+  auto held = cache.get(1);
+  (void)cache.get(2);
+  EXPECT_EQ(cache.stats().bytes, 2 * kStepBytes);
+  cache.releaseAll();
+  EXPECT_EQ(cache.stats().bytes, 0u);
+  EXPECT_FLOAT_EQ(held->ice_per_m[0], 2.0f) << "the caller's reference survives";
+  held.reset();
+  const int loads = ds->loads.load();
+  EXPECT_FLOAT_EQ(cache.get(1)->ice_per_m[0], 2.0f);
+  EXPECT_EQ(ds->loads.load(), loads + 1) << "decoded again";
+}
+
 TEST(TimestepCache, OffDecodesOnlyWhatIsAskedFor) {
   auto ds = scripted(4);
   engine::PrefetchSettings settings;

@@ -287,8 +287,12 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
   for (const Scene& sc :
        {Scene{"hurricane", generatedHurricane()}, Scene{"slab", homogeneousSlab(24, 20, 12, 4e-4f)}}) {
     const scene::VolumeFrame frame = scene::frameOf(sc.volumes, 8.0);
-    const auto tex = render::VolumeTextures::upload(sc.volumes, frame, sc.name);
+    // Reference storage: both copies, the DLM from the float textures as when this was measured
+    // (the Compact upload's own test: CompactUploadHoldsOnlyThePackedTexture…).
+    const auto tex = render::VolumeTextures::upload(sc.volumes, frame, sc.name, scene::Reconstruction::Trilinear, 8,
+                                                    scene::Detail::None, {}, render::VolumeStorage::Reference);
     ASSERT_TRUE(tex.hasPacked());
+    ASSERT_TRUE(tex.hasSeparateTextures());
     const scene::Camera cam = ObliqueHurricane::obliqueCamera(frame);
     render::DeepLightMap dlm;
     dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
@@ -323,6 +327,65 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
   separate.setBaseline({.separate_textures = true});
   EXPECT_EQ(renderer.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba,
             separate.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba);
+}
+
+// Memory (issue 19, docs/benchmarks.md "Memory"): a Compact upload (the default, what `nephele
+// render`, the API and the session make) holds the volume once, in the packed RGBA16F texture: 8
+// bytes per voxel plus the occupancy grid (one R32F per brick of 8³ voxels), the terrain heights and
+// three 1-texel defaults; the Reference upload adds the R32F ice and water and the RG16F column
+// depths, 12 bytes per voxel more. Counted by the renderer's own accounting (gl::Texture::bytes, the
+// storage each glTextureStorage call asked for). The DLM passes of the Compact upload read β in
+// half precision (11 significant bits) instead of float: the frame against the Reference upload's
+// (packed eye pass, float DLM) and both against the CPU reference, in 8-bit levels of the cloud
+// layer. Measured on llvmpipe: 1 level on 0.02 % of the values (max |Δ| 1.2e-5, mean 2e-7), 3
+// levels from the CPU reference for both (8.06 and 20.06 bytes per voxel on this small storm).
+// Bounds: the measured maximum with one level of room, and the Compact frame no further from the
+// CPU reference than the Reference frame plus one level.
+// The cubic filter and the detail keep their separate textures (no packed one to read).
+TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
+  const ObliqueHurricane h;
+  const auto& [v, frame, unused, sun, cam, rs] = h;
+  const auto compact = render::VolumeTextures::upload(v, frame, "hurricane-x8");
+  const auto reference = render::VolumeTextures::upload(v, frame, "hurricane-x8", scene::Reconstruction::Trilinear, 8,
+                                                        scene::Detail::None, {}, render::VolumeStorage::Reference);
+  ASSERT_TRUE(compact.hasPacked());
+  EXPECT_FALSE(compact.hasSeparateTextures());
+  EXPECT_TRUE(compact.hasIce() && compact.hasWater()) << "the phases are known without their textures";
+  EXPECT_NE(compact.identity(), reference.identity()) << "a DLM of one is not the other's";
+  const std::size_t voxels = v.voxelCount();
+  const glm::ivec3 bricks = compact.occupancy().bricks;
+  const std::size_t occupancyBytes = 4 * std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z);
+  const std::size_t terrainBytes = compact.terrain().present() ? 4 * std::size_t(v.nx) * std::size_t(v.ny) : 4;
+  EXPECT_EQ(compact.bytes(), 8 * voxels + occupancyBytes + terrainBytes + 3 * 4);
+  EXPECT_EQ(reference.bytes() - compact.bytes(), 12 * voxels);
+  std::printf("[ memory   ] %zu voxels: compact %.2f bytes/voxel, reference %.2f bytes/voxel\n", voxels,
+              double(compact.bytes()) / double(voxels), double(reference.bytes()) / double(voxels));
+
+  render::DeepLightMap dlmCompact, dlmReference;
+  dlmCompact.build(compact, -sun.toSun(), scene::DlmSettings{});
+  dlmReference.build(reference, -sun.toSun(), scene::DlmSettings{});
+  render::CloudRenderer renderer;
+  const scene::RgbaImage a = renderer.render(compact, dlmCompact, cam, sun, rs).cloud_layer;
+  const scene::RgbaImage b = renderer.render(reference, dlmReference, cam, sun, rs).cloud_layer;
+  const auto map = dlmReference.readBack();
+  const scene::RgbaImage cpu = reference::marchCloudLayer(
+      v, frame, cam, sun,
+      [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, dlmReference.lightSpace(), p); }, rs);
+  const LevelDifference vsReference = levelDifference(a, b);
+  const LevelDifference compactVsCpu = levelDifference(a, cpu), referenceVsCpu = levelDifference(b, cpu);
+  const LayerDifference layer = layerDifference(a, b);
+  std::printf("[ memory   ] compact vs reference: max %d levels (%.2f %% differ), max |d| %.2e, mean %.2e; vs CPU "
+              "compact %d, reference %d levels\n",
+              vsReference.max, 100.0 * vsReference.differing, layer.max, layer.mean, compactVsCpu.max,
+              referenceVsCpu.max);
+  EXPECT_GT(layer.coverage, 0.05) << "the view must see cloud";
+  EXPECT_LE(vsReference.max, 2);
+  EXPECT_LE(compactVsCpu.max, referenceVsCpu.max + 1);
+
+  const auto cubic = render::VolumeTextures::upload(v, frame, "hurricane-x8", scene::Reconstruction::Cubic);
+  EXPECT_FALSE(cubic.hasPacked());
+  EXPECT_TRUE(cubic.hasSeparateTextures());
+  EXPECT_EQ(cubic.bytes(), 12 * voxels + 4 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
 }
 
 }  // namespace

@@ -118,6 +118,13 @@ double DeepLightMap::bakeLightCache(const VolumeTextures& volume) {
   return msSince(t0);
 }
 
+std::size_t DeepLightMap::textureBytes() const {
+  std::size_t b = 0;
+  for (const gl::Texture* t : {&nodes_, &counts_, &texel_eps_, &scatter_map_, &scatter_runs_map_, &light_cache_})
+    b += t->bytes();
+  return b;
+}
+
 void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed) {
   p.use();
   volume.bind();

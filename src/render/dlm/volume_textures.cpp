@@ -5,6 +5,7 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <glm/gtc/packing.hpp>
 
 #include "core/error.h"
 #include "render/gl/bindings.h"
@@ -43,7 +44,7 @@ bool anyPositive(const std::vector<float>& a) {
 
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame, std::string identity,
                                       scene::Reconstruction reconstruction, int brickVoxels, scene::Detail detail,
-                                      std::shared_ptr<const NoiseTexture> noise) {
+                                      std::shared_ptr<const NoiseTexture> noise, VolumeStorage storage) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   checkVoxels(v.ice_per_m, "ice_per_m");
   checkVoxels(v.water_per_m, "water_per_m");
@@ -55,53 +56,62 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   t.detail_ = scene::detailParameters(detail, frame);
   if (t.detail_.on()) t.identity_ += fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]);
   const glm::ivec3 n(v.nx, v.ny, v.nz);
-  if (v.ice_per_m.size() == v.voxelCount() && anyPositive(v.ice_per_m)) {
+  t.has_ice_ = v.ice_per_m.size() == v.voxelCount() && anyPositive(v.ice_per_m);
+  t.has_water_ = v.water_per_m.size() == v.voxelCount() && anyPositive(v.water_per_m);
+  // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
+  // depths in 8 bytes per voxel. Where it serves (the trilinear filter without sub-grid detail) a
+  // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
+  // (12 bytes per voxel more) are made only for the cubic filter and the detail, whose fetches need
+  // the zero border or displaced positions, and for VolumeStorage::Reference (the float baseline).
+  const bool packed = reconstruction == scene::Reconstruction::Trilinear && !t.detail_.on();
+  const bool separate = !packed || storage == VolumeStorage::Reference;
+  if (packed && separate) t.identity_ += "|reference";  // its DLM reads β in float: another map
+  if (separate && t.has_ice_) {
     t.ice_ = upload3D(v.ice_per_m, n, "ice extinction [1/m]");
     t.ice_.sampling(GL_LINEAR, GL_CLAMP_TO_BORDER);
   }
-  if (v.water_per_m.size() == v.voxelCount() && anyPositive(v.water_per_m)) {
+  if (separate && t.has_water_) {
     t.water_ = upload3D(v.water_per_m, n, "water extinction [1/m]");
     t.water_.sampling(GL_LINEAR, GL_CLAMP_TO_BORDER);
   }
   // Vertical optical depths above and below each voxel for the sky light (volume/column_depth.h),
   // interleaved (τ_up, τ_down) as RG16F: 0.1 % precision is far below the two-stream model's own
-  // error, and the 65504 ceiling of a half float is a column no sky light crosses anyway.
-  {
-    const ColumnDepths cd = columnDepths(v);
-    std::vector<float> rg(2 * cd.up.size());
-    for (std::size_t i = 0; i < cd.up.size(); ++i) {
-      rg[2 * i] = cd.up[i];  // already rounded to half (and clamped to 65504) by columnDepths
-      rg[2 * i + 1] = cd.down[i];
-    }
+  // error, and the 65504 ceiling of a half float is a column no sky light crosses anyway. Built as
+  // half bit patterns, for the separate texture over the whole grid (4 bytes per voxel, transient),
+  // for the packed one slice by slice (ColumnDepthSlices: the same values, two doubles per column).
+  if (separate) {
+    const std::vector<std::uint16_t> rg = columnDepthsHalf(v);
     t.column_depth_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("column optical depth (up, down)");
-    glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_FLOAT, rg.data());
+    glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_HALF_FLOAT, rg.data());
     t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
-    // The packed texture of the eye pass (issue 19 item 3; hasPacked): (β_ice, β_water, τ_up,
-    // τ_down) per voxel, RGBA16F, one trilinear fetch per view-ray step instead of three. β is
-    // stored per kilometre (a half's normal range starts at 6.1e-5: β of thin cloud, ~1e-6 /m,
-    // keeps 11 significant bits as 1e-3 /km), or coarser where the largest β would overflow the
-    // half's 65504. Clamp to edge, as the column depths need; the zero border the extinction's
-    // trilinear filter fades to outside the box is applied in the shader instead (packedAt).
-    // Uploaded slice by slice: the interleaved float slice is the only transient copy.
-    if (reconstruction == scene::Reconstruction::Trilinear && !t.detail_.on()) {
-      const float maxBeta = std::max({v.max_ice_per_m, v.max_water_per_m, 1e-30f});
-      const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
-      t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
-      const bool ice = v.ice_per_m.size() == v.voxelCount(), water = v.water_per_m.size() == v.voxelCount();
-      t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
-      std::vector<float> slice(4 * std::size_t(n.x) * std::size_t(n.y));
-      for (int k = 0; k < n.z; ++k) {
-        const std::size_t base = std::size_t(k) * std::size_t(n.x) * std::size_t(n.y);
-        for (std::size_t i = 0; i < slice.size() / 4; ++i) {
-          slice[4 * i] = ice ? v.ice_per_m[base + i] * storedPerM : 0.0f;
-          slice[4 * i + 1] = water ? v.water_per_m[base + i] * storedPerM : 0.0f;
-          slice[4 * i + 2] = rg[2 * (base + i)];
-          slice[4 * i + 3] = rg[2 * (base + i) + 1];
-        }
-        glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RGBA, GL_FLOAT, slice.data());
+  }
+  // The packed texture (issue 19 item 3; hasPacked): (β_ice, β_water, τ_up, τ_down) per voxel,
+  // RGBA16F, one trilinear fetch per view-ray step instead of three. β is stored per kilometre (a
+  // half's normal range starts at 6.1e-5: β of thin cloud, ~1e-6 /m, keeps 11 significant bits as
+  // 1e-3 /km), or coarser where the largest β would overflow the half's 65504. Clamp to edge, as
+  // the column depths need; the zero border the extinction's trilinear filter fades to outside the
+  // box is applied in the shader instead (glsl/dlm/volume.glsl packedTexel). Uploaded slice by
+  // slice from the top: an interleaved float slice and the column sums are the only transients.
+  if (packed) {
+    const float maxBeta = std::max({v.max_ice_per_m, v.max_water_per_m, 1e-30f});
+    const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
+    t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
+    const bool ice = v.ice_per_m.size() == v.voxelCount(), water = v.water_per_m.size() == v.voxelCount();
+    t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
+    std::vector<float> slice(4 * std::size_t(n.x) * std::size_t(n.y));
+    ColumnDepthSlices depths(v);
+    for (int k = n.z - 1; k >= 0; --k) {
+      const std::vector<std::uint16_t>& rg = depths.next(k);
+      const std::size_t base = std::size_t(k) * std::size_t(n.x) * std::size_t(n.y);
+      for (std::size_t i = 0; i < slice.size() / 4; ++i) {
+        slice[4 * i] = ice ? v.ice_per_m[base + i] * storedPerM : 0.0f;
+        slice[4 * i + 1] = water ? v.water_per_m[base + i] * storedPerM : 0.0f;
+        slice[4 * i + 2] = glm::unpackHalf1x16(rg[2 * i]);
+        slice[4 * i + 3] = glm::unpackHalf1x16(rg[2 * i + 1]);
       }
-      t.packed_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+      glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RGBA, GL_FLOAT, slice.data());
     }
+    t.packed_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
   // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
@@ -141,6 +151,8 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   block.has_water = t.hasWater() ? 1u : 0u;
   block.reconstruction = static_cast<std::int32_t>(reconstruction);
   block.reach_voxels = float(scene::reachVoxels(reconstruction) + t.detail_.reach_voxels);
+  block.packed_beta_unit_per_m = t.packed_beta_unit_per_m_;
+  block.packed_only = packed && !separate ? 1u : 0u;
   if (t.detail_.on()) {
     const scene::NoiseStats& st = scene::noiseVolume().stats;
     block.detail = static_cast<std::int32_t>(detail);
@@ -217,11 +229,19 @@ void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
   hi = frame_.worldFromGrid(b);
 }
 
+std::size_t VolumeTextures::bytes() const {
+  std::size_t b = 0;
+  for (const gl::Texture* tex : {&ice_, &water_, &occupancy_tex_, &column_depth_, &zero_, &terrain_tex_, &controls_,
+                                 &zero_rgba_, &correction_, &packed_})
+    b += tex->bytes();
+  return b;
+}
+
 void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_ICE_PER_M, ice_ ? ice_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_WATER_PER_M, water_ ? water_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_OCCUPANCY_PER_M, occupancy_tex_.id());
-  glBindTextureUnit(gl::binding::UNIT_COLUMN_DEPTH, column_depth_.id());
+  glBindTextureUnit(gl::binding::UNIT_COLUMN_DEPTH, column_depth_ ? column_depth_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_TERRAIN, terrain_tex_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CONTROLS, controls_ ? controls_.id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_NOISE, noise_ ? noise_->texture().id() : zero_rgba_.id());

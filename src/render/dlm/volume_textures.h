@@ -16,6 +16,18 @@
 
 namespace nph::render {
 
+/// Which copies of the volume an upload makes (issue 19, docs/benchmarks.md "Memory").
+enum class VolumeStorage {
+  /// The packed RGBA16F texture alone wherever it serves (trilinear, no detail): every pass reads
+  /// β in half precision from it, 8 bytes per voxel. The cubic filter and the detail get the
+  /// separate textures (R32F ice and water, RG16F column depths: 12 bytes per voxel).
+  Compact,
+  /// Both: the packed texture for the eye pass and the separate ones, from which the DLM passes
+  /// (and an eye pass with EyePassBaseline::separate_textures) read β in float, as before the
+  /// packed texture. The reference of tests and benchmarks; its identity gets "|reference".
+  Reference,
+};
+
 class VolumeTextures {
  public:
   /// Uploads `volumes` placed by `frame`; `identity` names this content (file + timestep) for the
@@ -31,7 +43,8 @@ class VolumeTextures {
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, std::string identity,
                                scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
                                int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
-                               std::shared_ptr<const NoiseTexture> noise = {});
+                               std::shared_ptr<const NoiseTexture> noise = {},
+                               VolumeStorage storage = VolumeStorage::Compact);
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
@@ -40,7 +53,7 @@ class VolumeTextures {
   const scene::DetailParameters& detail() const { return detail_; }
   /// The noise tile in use (null without detail): pass it to the next upload to reuse it.
   const std::shared_ptr<const NoiseTexture>& noise() const { return noise_; }
-  bool hasIce() const { return bool(ice_); }
+  bool hasIce() const { return has_ice_; }
   /// The packed texture of the eye pass (issue 19 item 3; glsl/render/clouds.comp packedAt): one
   /// RGBA16F texel per voxel holding (β_ice, β_water) in units of packedBetaUnit_per_m() and the
   /// column depths (τ_up, τ_down), GL_LINEAR, GL_CLAMP_TO_EDGE, so a view-ray step is one fetch.
@@ -48,7 +61,11 @@ class VolumeTextures {
   /// border, the detail displaces its fetches): otherwise the separate textures serve.
   bool hasPacked() const { return bool(packed_); }
   float packedBetaUnit_per_m() const { return packed_beta_unit_per_m_; }
-  bool hasWater() const { return bool(water_); }
+  bool hasWater() const { return has_water_; }
+  /// The separate R32F ice and water textures exist (VolumeStorage; the cubic filter, the detail).
+  bool hasSeparateTextures() const { return bool(column_depth_); }
+  /// Bytes of the GL textures this upload allocated (gl::Texture::bytes; not the shared noise tile).
+  std::size_t bytes() const;
   /// World AABB of the non-empty voxels grown by the filter's reach (1 voxel trilinear, 2 cubic);
   /// empty → the volume's bottom face.
   void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
@@ -70,6 +87,7 @@ class VolumeTextures {
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, controls_, zero_rgba_, correction_;
   gl::Texture packed_;
   float packed_beta_unit_per_m_ = 0.0f;
+  bool has_ice_ = false, has_water_ = false;
   scene::TerrainField terrain_;
   std::shared_ptr<const NoiseTexture> noise_;
   scene::DetailParameters detail_;

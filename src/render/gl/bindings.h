@@ -44,7 +44,7 @@
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
   X(IMAGE_LIGHT_CACHE, 0)       /* image3D r16f: the map's sunlight baked per world cell (light_cache.comp) */ \
   X(UNIT_LIGHT_CACHE, 19)       /* sampler3D: the same, read by the eye pass (issue 19) */      \
-  X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down), eye pass (issue 19) */ \
+  X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down): eye pass; all passes when packed only (issue 19) */ \
   /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
   X(UBO_RAYCAST, 2)             /* RaycastBlock (render/gl/uniform_blocks.h) */                 \
   X(UBO_GLOBE, 3)               /* GlobeBlock (render/gl/uniform_blocks.h) */                   \

@@ -42,6 +42,8 @@ Texture Texture::create2D(GLenum internalFormat, int width, int height, int leve
   t.width_ = width;
   t.height_ = height;
   t.depth_ = 1;
+  t.format_ = internalFormat;
+  t.levels_ = levels;
   glTextureStorage2D(id, levels, internalFormat, width, height);
   return t;
 }
@@ -56,6 +58,8 @@ Texture Texture::create3D(GLenum internalFormat, int width, int height, int dept
   t.width_ = width;
   t.height_ = height;
   t.depth_ = depth;
+  t.format_ = internalFormat;
+  t.levels_ = levels;
   glTextureStorage3D(id, levels, internalFormat, width, height, depth);
   return t;
 }
@@ -68,6 +72,36 @@ Texture Texture::wrap(GLuint id, GLenum target) {
   glGetTextureLevelParameteriv(id, 0, GL_TEXTURE_HEIGHT, &t.height_);
   glGetTextureLevelParameteriv(id, 0, GL_TEXTURE_DEPTH, &t.depth_);
   return t;
+}
+
+std::size_t bytesPerTexel(GLenum internalFormat) {
+  switch (internalFormat) {
+    case GL_R8: return 1;
+    case GL_R16F:
+    case GL_R16:
+    case GL_RG8: return 2;
+    case GL_R32F:
+    case GL_R32UI:
+    case GL_R32I:
+    case GL_RG16F:
+    case GL_RGBA8:
+    case GL_SRGB8_ALPHA8: return 4;
+    case GL_RG32F:
+    case GL_RGBA16F: return 8;
+    case GL_RGBA32F: return 16;
+    default: throw UsageError(fmt::format("bytesPerTexel: internal format 0x{:x} is not in the table", internalFormat));
+  }
+}
+
+std::size_t Texture::bytes() const {
+  if (!handle_ || !owned() || format_ == GL_NONE) return 0;
+  std::size_t total = 0;
+  for (int l = 0; l < levels_; ++l) {
+    const std::size_t w = std::size_t(std::max(1, width_ >> l)), h = std::size_t(std::max(1, height_ >> l));
+    const std::size_t d = target_ == GL_TEXTURE_3D ? std::size_t(std::max(1, depth_ >> l)) : 1;
+    total += w * h * d;
+  }
+  return total * bytesPerTexel(format_);
 }
 
 Texture& Texture::label(std::string_view name) & {

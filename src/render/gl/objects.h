@@ -81,6 +81,10 @@ class Texture {
   int width() const { return width_; }
   int height() const { return height_; }
   int depth() const { return depth_; }
+  GLenum internalFormat() const { return format_; }
+  /// Bytes of the storage this wrapper allocated, all mip levels (issue 19's memory accounting:
+  /// on llvmpipe texture storage is process memory). 0 for a wrapped (host-owned) texture.
+  std::size_t bytes() const;
   Texture& label(std::string_view name) &;
   Texture&& label(std::string_view name) && { return std::move(label(name)); }
   /// Sets min/mag filter and wrap mode on the texture object.
@@ -96,8 +100,13 @@ class Texture {
  private:
   ObjectHandle<&detail::deleteTexture> handle_;
   GLenum target_ = GL_NONE;
-  int width_ = 0, height_ = 0, depth_ = 0;
+  GLenum format_ = GL_NONE;  ///< internal format of owned storage (GL_NONE when wrapped)
+  int width_ = 0, height_ = 0, depth_ = 0, levels_ = 0;
 };
+
+/// Bytes per texel of the uncompressed internal formats nephele allocates (GL 4.5 table 8.12);
+/// UsageError for any other.
+std::size_t bytesPerTexel(GLenum internalFormat);
 
 class Buffer {
  public:

@@ -76,9 +76,12 @@ struct VolumeBlock {
   std::int32_t detail = 0;          ///< u_detail: scene::Detail (0 none, 1 subtle, 2 full)
   float detail_amplitude = 0.0f;    ///< u_detail_amplitude (volume/detail.h)
   glm::vec3 noise_period_m{1.0f};   ///< u_noise_period_m: world metres per noise tile
-  std::uint32_t pad0_ = 0;
+  /// u_packed_beta_unit_per_m: β's unit in the packed RGBA16F texture (VolumeTextures::hasPacked)
+  float packed_beta_unit_per_m = 0.0f;
   glm::vec3 displacement_m{0.0f};  ///< u_displacement_m: displacement cap per axis
-  std::uint32_t pad1_ = 0;
+  /// u_packed_only (bool): every pass reads β and the column depths from the packed texture (no
+  /// separate ice, water and column-depth textures: VolumeStorage::Compact)
+  std::uint32_t packed_only = 0;
   glm::vec4 noise_stats_ra{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_ra: (mean, half range) of r, a
   glm::vec4 noise_stats_gs{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_gs: of g, the stratiform term
   glm::vec4 noise_stats_c{0.0f, 1.0f, 0.0f, 0.0f};   ///< u_noise_stats_c: of the convective term
@@ -89,24 +92,28 @@ static_assert(offsetof(VolumeBlock, voxels) == 32 && offsetof(VolumeBlock, has_w
 static_assert(offsetof(VolumeBlock, reconstruction) == 48 && offsetof(VolumeBlock, reach_voxels) == 52);
 static_assert(offsetof(VolumeBlock, detail) == 56 && offsetof(VolumeBlock, detail_amplitude) == 60);
 static_assert(offsetof(VolumeBlock, noise_period_m) == 64 && offsetof(VolumeBlock, displacement_m) == 80);
+static_assert(offsetof(VolumeBlock, packed_beta_unit_per_m) == 76 && offsetof(VolumeBlock, packed_only) == 92);
 static_assert(offsetof(VolumeBlock, noise_stats_ra) == 96 && offsetof(VolumeBlock, noise_stats_gs) == 112);
 static_assert(offsetof(VolumeBlock, noise_stats_c) == 128);
 static_assert(sizeof(VolumeBlock) == 144, "std140 size of VolumeBlock");
-inline constexpr BlockMember kVolumeMembers[] = {{"u_box_min_m", offsetof(VolumeBlock, box_min_m)},
-                                                 {"u_brick_voxels", offsetof(VolumeBlock, brick_voxels)},
-                                                 {"u_box_size_m", offsetof(VolumeBlock, box_size_m)},
-                                                 {"u_has_ice", offsetof(VolumeBlock, has_ice)},
-                                                 {"u_voxels", offsetof(VolumeBlock, voxels)},
-                                                 {"u_has_water", offsetof(VolumeBlock, has_water)},
-                                                 {"u_reconstruction", offsetof(VolumeBlock, reconstruction)},
-                                                 {"u_reach_voxels", offsetof(VolumeBlock, reach_voxels)},
-                                                 {"u_detail", offsetof(VolumeBlock, detail)},
-                                                 {"u_detail_amplitude", offsetof(VolumeBlock, detail_amplitude)},
-                                                 {"u_noise_period_m", offsetof(VolumeBlock, noise_period_m)},
-                                                 {"u_displacement_m", offsetof(VolumeBlock, displacement_m)},
-                                                 {"u_noise_stats_ra", offsetof(VolumeBlock, noise_stats_ra)},
-                                                 {"u_noise_stats_gs", offsetof(VolumeBlock, noise_stats_gs)},
-                                                 {"u_noise_stats_c", offsetof(VolumeBlock, noise_stats_c)}};
+inline constexpr BlockMember kVolumeMembers[] = {
+    {"u_box_min_m", offsetof(VolumeBlock, box_min_m)},
+    {"u_brick_voxels", offsetof(VolumeBlock, brick_voxels)},
+    {"u_box_size_m", offsetof(VolumeBlock, box_size_m)},
+    {"u_has_ice", offsetof(VolumeBlock, has_ice)},
+    {"u_voxels", offsetof(VolumeBlock, voxels)},
+    {"u_has_water", offsetof(VolumeBlock, has_water)},
+    {"u_reconstruction", offsetof(VolumeBlock, reconstruction)},
+    {"u_reach_voxels", offsetof(VolumeBlock, reach_voxels)},
+    {"u_detail", offsetof(VolumeBlock, detail)},
+    {"u_detail_amplitude", offsetof(VolumeBlock, detail_amplitude)},
+    {"u_noise_period_m", offsetof(VolumeBlock, noise_period_m)},
+    {"u_packed_beta_unit_per_m", offsetof(VolumeBlock, packed_beta_unit_per_m)},
+    {"u_displacement_m", offsetof(VolumeBlock, displacement_m)},
+    {"u_packed_only", offsetof(VolumeBlock, packed_only)},
+    {"u_noise_stats_ra", offsetof(VolumeBlock, noise_stats_ra)},
+    {"u_noise_stats_gs", offsetof(VolumeBlock, noise_stats_gs)},
+    {"u_noise_stats_c", offsetof(VolumeBlock, noise_stats_c)}};
 
 /// std140 mat3: three columns, each padded to a vec4 (GL 4.5 §7.6.2.2 rules 5 and 4).
 struct Std140Mat3 {

@@ -45,15 +45,23 @@ gl::Texture imageryTexture(const scene::LinearRgbImage& image, const std::vector
     throw UsageError(
         fmt::format("{}: {} city-light values for {}x{} pixels", label, lights.size(), image.width, image.height));
   }
-  std::vector<float> rgba(4 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t c = 0; c < 3; ++c) rgba[4 * i + c] = image.rgb[3 * i + c];
-    rgba[4 * i + 3] = lights.empty() ? 0.0f : lights[i];
-  }
   gl::Texture t =
       gl::Texture::create2D(GL_RGBA32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
           .label(label);
-  glTextureSubImage2D(t.id(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT, rgba.data());
+  // Uploaded in strips of rows: the interleaved copy is a strip, not a second image (issue 19,
+  // memory: 64 MB for the demo's 2048² basemap).
+  constexpr int kStripRows = 64;
+  const std::size_t w = std::size_t(image.width);
+  std::vector<float> rgba(4 * w * std::size_t(std::min(kStripRows, image.height)));
+  for (int y0 = 0; y0 < image.height; y0 += kStripRows) {
+    const int rows = std::min(kStripRows, image.height - y0);
+    const std::size_t first = std::size_t(y0) * w;
+    for (std::size_t i = 0; i < std::size_t(rows) * w; ++i) {
+      for (std::size_t c = 0; c < 3; ++c) rgba[4 * i + c] = image.rgb[3 * (first + i) + c];
+      rgba[4 * i + 3] = lights.empty() ? 0.0f : lights[first + i];
+    }
+    glTextureSubImage2D(t.id(), 0, 0, y0, image.width, rows, GL_RGBA, GL_FLOAT, rgba.data());
+  }
   return t;
 }
 }  // namespace
@@ -180,6 +188,14 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   terrain_block_.bind();
 }
 
+std::size_t CloudRenderer::textureBytes() const {
+  std::size_t b = 0;
+  for (const gl::Texture* t : {&basemap_, &far_basemap_, &blank_, &cloud_tex_, &frame_tex_, &ground_pass_tex_,
+                               &sky_pass_tex_, &globe_table_, &globe_basemap_, &sample_count_tex_})
+    b += t->bytes();
+  return b;
+}
+
 EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const DeepLightMap& dlm,
                                         const RenderSettings& s) const {
   EyePassFeatures f;
@@ -229,7 +245,6 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   const EyePassFeatures f = features(volume, dlm, s);
   const gl::Program& p = program(f);
   p.use();
-  if (f.packed && !baseline_.uniform_branches) p.set("u_packed_beta_unit_per_m", volume.packedBetaUnit_per_m());
   volume.bind();
   dlm.bindForLookup();
   glBindTextureUnit(gl::binding::UNIT_BASEMAP, basemap_ ? basemap_.id() : blank_.id());

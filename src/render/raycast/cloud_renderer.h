@@ -143,6 +143,9 @@ class CloudRenderer {
   std::size_t programCount() const { return programs_.size(); }
   /// The atmosphere's tables (nullptr until a frame with RenderSettings::atmosphere ran).
   const AtmosphereLuts* atmosphere() const { return atmosphere_.get(); }
+  /// Bytes of the ray caster's own GL textures (basemaps, globe tables, output targets and passes;
+  /// not the atmosphere's small tables): issue 19's memory accounting.
+  std::size_t textureBytes() const;
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
   const gl::Texture& frame() const { return frame_tex_; }
   const gl::Texture& groundPass() const { return ground_pass_tex_; }
