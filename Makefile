@@ -65,7 +65,7 @@ test-sanitize: deps
 	  ctest --output-on-failure $(SANITIZE_TESTS) $(CTEST_ARGS)
 
 # Fuzzing (issue 18): libFuzzer targets for the model loaders, the .nph reader and the scene
-# parser (tests/fuzz), clang with ASan + UBSan and coverage on every library, in build-fuzz/.
+# parser (tests/fuzz), clang with ASan + UBSan and coverage on every library, in build-sanitize/.
 # Runs a bounded campaign of FUZZ_RUNS executions per target from the seeds and the saved corpus
 # (never a time limit). `make test` replays the corpus with the normal build. The build is
 # test-sanitize's (the same flags: coverage instrumentation is on there too, one clang build).

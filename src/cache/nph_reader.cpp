@@ -228,8 +228,12 @@ QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
   }
   q.ice_codes.assign(padded, 0);  // layers above nz_t stay 0 (cropped, empty)
   q.water_codes.assign(padded, 0);
-  std::memcpy(q.ice_codes.data(), raw.data(), stored * sizeof(std::uint16_t));
-  std::memcpy(q.water_codes.data(), raw.data() + stored * sizeof(std::uint16_t), stored * sizeof(std::uint16_t));
+  // A timestep cropped to nothing (nz_t = 0) stores no voxels: raw is empty and its data() may be
+  // null, which memcpy must not get even for 0 bytes (UBSan, make test-sanitize).
+  if (stored > 0) {
+    std::memcpy(q.ice_codes.data(), raw.data(), stored * sizeof(std::uint16_t));
+    std::memcpy(q.water_codes.data(), raw.data() + stored * sizeof(std::uint16_t), stored * sizeof(std::uint16_t));
+  }
   return q;
 }
 

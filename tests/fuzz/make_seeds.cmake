@@ -2,6 +2,9 @@
 # -DSCENES=examples/scenes. Model files: the standard tiny set (WRF Lambert/Mercator x Thompson/
 # WSM3, ICON regular and native) and a single-file ICON GRIB2; nph: one converted WRF file;
 # scenes: the example scenes with their data paths filled in.
+# Script mode starts with no policies set: under the old CMP0053 rules "@OUT@" below is read as
+# the variable OUT, so the placeholder was never replaced (and cmake warned once per scene).
+cmake_policy(SET CMP0053 NEW)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT}/model ${OUT}/nph ${OUT}/scene ${OUT}/tmp)
 function(run)

@@ -54,7 +54,12 @@ class Placement : public ::testing::TestWithParam<datagen::WrfProjection> {};
 TEST_P(Placement, StormAppearsAtItsLonLatOnTheBasemap) {
   nph::test::ScratchDir dir("scene");
   const GeneratedStorm storm(dir.file("wrfout.nc"), GetParam());
-  const auto& [spec, truth, v, frame] = storm;
+  // Named references, not a structured binding: clang 14 (the sanitizer build) cannot capture
+  // structured bindings in a lambda (C++20, P1091).
+  const auto& spec = storm.spec;
+  const auto& truth = storm.truth;
+  const auto& v = storm.v;
+  const auto& frame = storm.frame;
   const SceneGeoreference geo(v, frame);
 
   // 1. Every 7th mass point: world voxel centre -> lon/lat agrees with the generator's XLAT/XLONG
