@@ -195,6 +195,20 @@ FootprintFilterStats compareWithBoxFilter(
   return r;
 }
 
+// The verdict of both views: ≥ 500 pixels tested; the scene aliases without a filter (the
+// checker's contrast is 0.8) ... and the GPU's filter lands on the box filter's value: mipmaps of a
+// checker of 2-texel cells are 0.5 from level 2 on, the box filter of ≥ 16 cells is 0.5 ± its
+// sampling noise and the cells cut by the pixel's edges (0.4 / √(256) = 0.025 for independent rays).
+void expectFilteredLikeTheBoxFilter(const char* view, const FootprintFilterStats& st) {
+  std::printf("[ %-8s ] %d minified ground pixels: filtered vs box filter rms %.4f max %.4f; "
+              "one tap at the centre rms %.4f max %.4f\n",
+              view, st.tested, st.gpuRms, st.gpuMax, st.pointRms, st.pointMax);
+  ASSERT_GE(st.tested, 500) << "the view must show far ground";
+  EXPECT_GT(st.pointRms, 0.25);
+  EXPECT_LT(st.gpuRms, 0.05);
+  EXPECT_LT(st.gpuMax, 0.15);
+}
+
 // The checker and the uniform basemap rendered in one view with nothing added in front of the ground
 // (no atmosphere, no cloud shadows): the ground pixel = albedo × light.
 struct CheckerRenders {
@@ -255,17 +269,7 @@ TEST_F(GlobeTest, ImageryIsFilteredOverThePixelFootprint) {
     return double(lookup.sampleLonLat(ll.lon_deg, ll.lat_deg).g);
   };
   const FootprintFilterStats st = compareWithBoxFilter(r.camera(), r.checker, r.uniform, albedoAt, groundLonLat);
-  std::printf("[ globe    ] %d minified ground pixels: filtered vs box filter rms %.4f max %.4f; "
-              "one tap at the centre rms %.4f max %.4f\n",
-              st.tested, st.gpuRms, st.gpuMax, st.pointRms, st.pointMax);
-  ASSERT_GE(st.tested, 500) << "the view must show far ground";
-  // The scene aliases without a filter (the checker's contrast is 0.8) ...
-  EXPECT_GT(st.pointRms, 0.25);
-  // ... and the GPU's filter lands on the box filter's value: mipmaps of a checker of 2-texel
-  // cells are 0.5 from level 2 on, the box filter of ≥ 16 cells is 0.5 ± its sampling noise and
-  // the cells cut by the pixel's edges (0.4 / √(256) = 0.025 for independent rays).
-  EXPECT_LT(st.gpuRms, 0.05);
-  EXPECT_LT(st.gpuMax, 0.15);
+  expectFilteredLikeTheBoxFilter("globe", st);
 }
 
 // The same for the flat view (issue 14 item 3): a low oblique look along the near basemap's cloud-free
@@ -319,13 +323,7 @@ TEST_F(GlobeTest, FlatViewImageryIsFilteredOverThePixelFootprint) {
     return p.geo->lonLatFromWorld(g);
   };
   const FootprintFilterStats st = compareWithBoxFilter(r.camera(), r.checker, r.uniform, albedoAt, groundLonLat);
-  std::printf("[ flat     ] %d minified ground pixels: filtered vs box filter rms %.4f max %.4f; "
-              "one tap at the centre rms %.4f max %.4f\n",
-              st.tested, st.gpuRms, st.gpuMax, st.pointRms, st.pointMax);
-  ASSERT_GE(st.tested, 500) << "the view must show far ground";
-  EXPECT_GT(st.pointRms, 0.25);
-  EXPECT_LT(st.gpuRms, 0.05);
-  EXPECT_LT(st.gpuMax, 0.15);
+  expectFilteredLikeTheBoxFilter("flat", st);
 }
 
 }  // namespace
