@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 #include <netcdf.h>
 
-#include <poll.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,11 +14,16 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 
 #include "classic_header.h"
+#include "core/env.h"
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/limits.h"
+#include "core/log.h"
+#include "core/process.h"
 #include "load_options.h"
 
 namespace nph::io {
@@ -44,13 +47,38 @@ namespace {
 /// file (found by the fuzz campaign, `fuzz.run.model`; the input is
 /// tests/fuzz/corpus/model/hdf5-invalid-free-on-open). No check of ours can run before the
 /// library's own parsing of the HDF5 metadata, so a file with the HDF5 signature is first opened
-/// by a forked child that calls only nc_open/nc_inq/nc_close and _exit(); this process opens it
-/// only when the child came back cleanly, and a crashed child becomes an InputError naming the
-/// file. Cost: one fork per netCDF-4 open (copy-on-write; milliseconds). A child that has not
-/// finished after NEPHELE_HDF5_OPEN_TIMEOUT_S seconds (default 300: a metadata parse takes
-/// milliseconds, a damaged file can make libhdf5 loop forever) is killed and the file refused; the
-/// parent waits on a pipe the child holds open (poll(2)), so no time is spent polling.
-void probeHdf5OpenInChild(const std::string& path) {
+/// by a separate process, nephele-nc-probe (nc_probe_main.cpp: nc_open, nc_inq, nc_close), started
+/// with posix_spawn; this process opens it only when the probe opened it. A file the probe's
+/// nc_open refused is reported with the probe's NetCDF error and never opened here: the invalid
+/// free is on that error path, and whether it crashes depends on the heap (the fresh probe got a
+/// clean NC_EHDFERR where this process crashed). A crashed probe becomes an InputError naming the
+/// file. A probe that has not finished after
+/// NEPHELE_HDF5_OPEN_TIMEOUT_S seconds (default 300: a metadata parse takes milliseconds, a damaged
+/// file can make libhdf5 loop forever) is killed and the file refused (process::runWithin: no
+/// clock, no polling). Until session 11 the probe was a fork() of this process: in a
+/// multithreaded process (llvmpipe, plugin hosts) the child inherited locks held by other threads
+/// and ran PROJ's atfork handler, and deadlocked under ASan (core/process.h). The probe executable
+/// is NEPHELE_NC_PROBE when set (an absolute path), else the build tree's, else the install
+/// prefix's; when none exists the file is opened here, as before the guard, with a warning.
+/// The InputError for a NetCDF-C open that failed with `status`.
+[[noreturn]] void throwOpenFailure(const std::string& path, int status) {
+  if (status == NC_ENOTNC) {
+    throw InputError(
+        fmt::format("{}: not a NetCDF file (expected NetCDF classic, 64-bit offset or NetCDF-4/HDF5)", path));
+  }
+  throw InputError(fmt::format("{}: cannot be opened as NetCDF ({}); the file may be truncated or damaged", path,
+                               nc_strerror(status)));
+}
+
+std::optional<std::string> ncProbeExecutable() {
+  if (env::get("NEPHELE_NC_PROBE")) return process::toolPath("NEPHELE_NC_PROBE", "nephele-nc-probe");
+  for (const char* candidate : {NEPHELE_NC_PROBE_BUILD, NEPHELE_NC_PROBE_INSTALL}) {
+    if (::access(candidate, X_OK) == 0) return std::string(candidate);
+  }
+  return std::nullopt;
+}
+
+void probeHdf5Open(const std::string& path) {
   static constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
   unsigned char head[8] = {};
   if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
@@ -60,55 +88,31 @@ void probeHdf5OpenInChild(const std::string& path) {
   } else {
     return;  // nc_open reports it
   }
-  constexpr int kOpened = 0, kRefused = 3;
-  const std::uint64_t timeout_s = limits::hdf5OpenTimeoutSecondsFromEnv();  // UsageError before forking
-  int alive[2] = {-1, -1};  // the child holds alive[1] until it exits: EOF on alive[0] = finished
-  if (::pipe(alive) != 0) return;
-  const pid_t child = ::fork();
-  if (child < 0) {  // no process to spare: open it here, as before
-    ::close(alive[0]);
-    ::close(alive[1]);
+  constexpr int kOpened = 0, kRefusedBase = 64;                             // nc_probe_main.cpp
+  const std::uint64_t timeout_s = limits::hdf5OpenTimeoutSecondsFromEnv();  // UsageError before starting it
+  const std::optional<std::string> probe = ncProbeExecutable();
+  if (!probe) {
+    static std::once_flag warned;
+    std::call_once(warned, [] {
+      log::warn("nephele-nc-probe was not found ({} or {}; NEPHELE_NC_PROBE sets it): netCDF-4 files are opened "
+                "without the separate-process guard against libhdf5 crashes",
+                NEPHELE_NC_PROBE_BUILD, NEPHELE_NC_PROBE_INSTALL);
+    });
     return;
   }
-  if (child == 0) {
-    ::close(alive[0]);
-    // Fault injection for the tests of this guard (reliability.HostileNetcdf...): the child dies
-    // the way libhdf5 makes it die, or never comes back.
-    if (std::getenv("NEPHELE_TEST_HDF5_PROBE_CRASH") != nullptr) std::raise(SIGSEGV);
-    if (std::getenv("NEPHELE_TEST_HDF5_PROBE_HANG") != nullptr) {
-      for (;;) ::pause();
-    }
-    int id = -1;
-    if (nc_open(path.c_str(), NC_NOWRITE, &id) != NC_NOERR) ::_exit(kRefused);
-    int ndims = 0, nvars = 0, natts = 0, unlimited = -1;
-    nc_inq(id, &ndims, &nvars, &natts, &unlimited);
-    nc_close(id);
-    ::_exit(kOpened);
-  }
-  ::close(alive[1]);
-  pollfd pfd{alive[0], POLLIN, 0};
-  int ready = 0;
-  const int timeout_ms = int(std::min<std::uint64_t>(timeout_s * 1000, std::uint64_t(INT32_MAX)));
-  while ((ready = ::poll(&pfd, 1, timeout_ms)) < 0 && errno == EINTR) {
-  }
-  ::close(alive[0]);
-  if (ready == 0) {  // still parsing after the limit
-    ::kill(child, SIGKILL);
-    int ignored = 0;
-    while (::waitpid(child, &ignored, 0) < 0 && errno == EINTR) {
-    }
+  const std::optional<process::Ending> end = process::runWithin({*probe, path}, timeout_s);
+  if (!end) return;  // no process to spare: open it here, as before the guard
+  using How = process::Ending::How;
+  if (end->how == How::TimedOut) {
     throw InputError(fmt::format("{}: the HDF5 library did not finish reading this NetCDF-4 file's metadata in {} s "
                                  "(in a separate process nephele opens such files in first): the file is damaged, or "
                                  "raise NEPHELE_HDF5_OPEN_TIMEOUT_S",
                                  path, timeout_s));
   }
-  int status = 0;
-  while (::waitpid(child, &status, 0) < 0) {
-    if (errno != EINTR) return;
-  }
-  if (WIFEXITED(status) && (WEXITSTATUS(status) == kOpened || WEXITSTATUS(status) == kRefused)) return;
-  const std::string how = WIFSIGNALED(status) ? fmt::format("signal {}", WTERMSIG(status))
-                                              : fmt::format("exit status {}", WEXITSTATUS(status));
+  if (end->how == How::Exited && end->code == kOpened) return;
+  if (end->how == How::Exited && end->code > kRefusedBase) throwOpenFailure(path, -(end->code - kRefusedBase));
+  const std::string how =
+      end->how == How::Signalled ? fmt::format("signal {}", end->code) : fmt::format("exit status {}", end->code);
   throw InputError(fmt::format("{}: the HDF5 library crashed reading this NetCDF-4 file's metadata ({} in a separate "
                                "process nephele opens such files in first): the file is damaged",
                                path, how));
@@ -118,16 +122,11 @@ void probeHdf5OpenInChild(const std::string& path) {
 
 NcReader::NcReader(std::string path) : path_(std::move(path)) {
   requireRegularFile(path_, "a NetCDF file");
-  probeHdf5OpenInChild(path_);
+  probeHdf5Open(path_);
   const int status = nc_open(path_.c_str(), NC_NOWRITE, &ncid_);
   if (status != NC_NOERR) {
     ncid_ = -1;
-    if (status == NC_ENOTNC) {
-      throw InputError(
-          fmt::format("{}: not a NetCDF file (expected NetCDF classic, 64-bit offset or NetCDF-4/HDF5)", path_));
-    }
-    throw InputError(fmt::format("{}: cannot be opened as NetCDF ({}); the file may be truncated or damaged", path_,
-                                 nc_strerror(status)));
+    throwOpenFailure(path_, status);
   }
   checkClassicFileSize();
 }

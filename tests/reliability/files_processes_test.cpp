@@ -77,6 +77,31 @@ TEST(Processes, GnuplotStringsAndPinnedToolPaths) {
   EXPECT_EQ(process::run({"/nonexistent/tool"}), 127);
 }
 
+TEST(Processes, ToolsAreSpawnedWithoutForkingThisProcess) {
+  // A fork() of a multithreaded process (llvmpipe, plugin hosts) copies locks other threads hold
+  // and runs every library's atfork handlers in the child: it deadlocked under ASan (issue #18).
+  // posix_spawn runs no atfork handler, which the watch sees.
+  const Scratch dir;
+  const ForkWatch watch(dir);
+  EXPECT_EQ(process::run({"true"}), 0);
+  using How = process::Ending::How;
+  const auto exited = process::runWithin({"/bin/sh", "-c", "exit 5"}, 60);
+  ASSERT_TRUE(exited);
+  EXPECT_EQ(exited->how, How::Exited);
+  EXPECT_EQ(exited->code, 5);
+  const auto killed = process::runWithin({"/bin/sh", "-c", "kill -TERM $$"}, 60);
+  ASSERT_TRUE(killed);
+  EXPECT_EQ(killed->how, How::Signalled);
+  EXPECT_EQ(killed->code, SIGTERM);
+  // A child that never ends on its own is killed at the limit (1 s); the outcome does not depend on
+  // the machine's speed.
+  const auto hung = process::runWithin({"/bin/sh", "-c", "exec sleep infinity"}, 1);
+  ASSERT_TRUE(hung);
+  EXPECT_EQ(hung->how, How::TimedOut);
+  EXPECT_FALSE(process::runWithin({"/nonexistent/tool"}, 60));
+  EXPECT_FALSE(watch.forked());
+}
+
 scene::RgbaImage grey(int w, int h) { return {w, h, std::vector<float>(std::size_t(w * h) * 4, 0.5f), {}}; }
 
 TEST(TempFiles, PlantedSymlinkCannotRedirectAnImageWrite) {

@@ -191,7 +191,7 @@ TEST(HostileNetcdf, Netcdf4DeclaringGigabytesWithoutDataIsRefusedBeforeReading) 
 TEST(HostileNetcdf, Hdf5CrashingInItsOwnParserIsContainedInAChildProcess) {
   // libhdf5 frees an invalid pointer while opening some damaged netCDF-4 files (found by the fuzz
   // campaign; tests/fuzz/corpus/model/hdf5-invalid-free-on-open). netCDF-4 files are opened in a
-  // forked child first: a child killed by a signal is an InputError here, this process survives.
+  // separate process first (nephele-nc-probe): a probe killed by a signal is an InputError here, this process survives.
   // The child is made to crash on purpose (NEPHELE_TEST_HDF5_PROBE_CRASH): whether the real input
   // crashes depends on the allocator (it does under ASan, not with glibc's malloc).
   const Scratch dir;
@@ -214,6 +214,37 @@ TEST(HostileNetcdf, Hdf5CrashingInItsOwnParserIsContainedInAChildProcess) {
   // The fuzz finding itself: a clean InputError naming the file, whichever process sees it fail.
   const std::string found = std::string(NEPHELE_SOURCE_DIR) + "/tests/fuzz/corpus/model/hdf5-invalid-free-on-open";
   expectError<InputError>([&] { (void)io::openModelFile(found); }, {found});
+}
+
+TEST(HostileNetcdf, Hdf5ProbeIsASpawnedProcessNotAFork) {
+  // The probe was a fork() of this process until session 11; forked from a multithreaded process it
+  // deadlocked under ASan (an llvmpipe thread held the allocator's lock; PROJ's atfork handler freed
+  // memory in the child). Now it is nephele-nc-probe started with posix_spawn: no atfork handler
+  // runs (ForkWatch), and the file opens as before.
+  const Scratch dir;
+  const std::string path = dir.file("netcdf4.nc");
+  int nc = -1;
+  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER | NC_NETCDF4, &nc), NC_NOERR);
+  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  {
+    const ForkWatch watch(dir);
+    try {
+      (void)io::openModelFile(path);
+    } catch (const InputError& e) {  // refused for what it lacks, not by the probe
+      EXPECT_EQ(std::string(e.what()).find("separate process"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(watch.forked());
+  }
+  // The probe proves it ran: made to crash, it is reported (and this process is not the one that
+  // crashed).
+  ::setenv("NEPHELE_TEST_HDF5_PROBE_CRASH", "1", 1);
+  expectError<InputError>([&] { (void)io::openModelFile(path); }, {path, "crashed", "separate process"});
+  ::unsetenv("NEPHELE_TEST_HDF5_PROBE_CRASH");
+  // A pinned probe must be an absolute path to an executable.
+  ::setenv("NEPHELE_NC_PROBE", "nephele-nc-probe", 1);
+  expectError<UsageError>([&] { (void)io::openModelFile(path); },
+                          {"NEPHELE_NC_PROBE", "expected the absolute path of an executable"});
+  ::unsetenv("NEPHELE_NC_PROBE");
 }
 
 TEST(HostileNetcdf, Hdf5ParserThatNeverReturnsIsKilledAfterTheOpenTimeout) {

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <netcdf.h>
 
+#include <fcntl.h>
+#include <pthread.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -11,6 +13,7 @@
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
+#include <mutex>
 #include <string>
 
 #include "cache/nph_cache.h"
@@ -106,5 +109,35 @@ void expectError(const std::function<void()>& fn, std::initializer_list<std::str
     ADD_FAILURE() << "wrong exception type: " << e.what();
   }
 }
+
+/// Sees whether this process forks while it lives: a pthread_atfork child handler — it runs in
+/// every child fork() makes and in no process posix_spawn starts — creates a marker file (open(2)
+/// is async-signal-safe). nephele must not fork (core/process.h: a forked copy of a multithreaded
+/// process deadlocked under ASan), so its tests assert !forked() around process starts.
+class ForkWatch {
+ public:
+  explicit ForkWatch(const Scratch& dir) : marker_(dir.file("forked")) {
+    static std::once_flag registered;
+    std::call_once(registered, [] { pthread_atfork(nullptr, nullptr, &ForkWatch::inChild); });
+    std::snprintf(markerPath(), kMarkerBytes, "%s", marker_.c_str());
+  }
+  ~ForkWatch() { markerPath()[0] = '\0'; }
+  ForkWatch(const ForkWatch&) = delete;
+  ForkWatch& operator=(const ForkWatch&) = delete;
+  bool forked() const { return std::filesystem::exists(marker_); }
+
+ private:
+  static constexpr std::size_t kMarkerBytes = 4096;
+  static char* markerPath() {
+    static char path[kMarkerBytes] = {};
+    return path;
+  }
+  static void inChild() {
+    if (markerPath()[0] == '\0') return;
+    const int fd = ::open(markerPath(), O_CREAT | O_WRONLY, 0600);
+    if (fd >= 0) ::close(fd);
+  }
+  std::string marker_;
+};
 
 }  // namespace nph::reliability
