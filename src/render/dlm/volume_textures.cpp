@@ -91,25 +91,27 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   // 1e-3 /km), or coarser where the largest β would overflow the half's 65504. Clamp to edge, as
   // the column depths need; the zero border the extinction's trilinear filter fades to outside the
   // box is applied in the shader instead (glsl/dlm/volume.glsl packedTexel). Uploaded slice by
-  // slice from the top: an interleaved float slice and the column sums are the only transients.
+  // slice from the top: an interleaved half slice and the column sums are the only transients. The
+  // slice goes up as GL_HALF_FLOAT: the column depths are already the CPU twin's halves, and β is
+  // rounded to half here once (glm::packHalf1x16, round to nearest), so the driver converts nothing.
   if (packed) {
     const float maxBeta = std::max({v.max_ice_per_m, v.max_water_per_m, 1e-30f});
     const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
     t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
-    const bool ice = v.ice_per_m.size() == v.voxelCount(), water = v.water_per_m.size() == v.voxelCount();
     t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
-    std::vector<float> slice(4 * std::size_t(n.x) * std::size_t(n.y));
+    std::vector<std::uint16_t> slice(4 * std::size_t(n.x) * std::size_t(n.y));
     ColumnDepthSlices depths(v);
+    const std::uint16_t zero = glm::packHalf1x16(0.0f);
     for (int k = n.z - 1; k >= 0; --k) {
       const std::vector<std::uint16_t>& rg = depths.next(k);
       const std::size_t base = std::size_t(k) * std::size_t(n.x) * std::size_t(n.y);
       for (std::size_t i = 0; i < slice.size() / 4; ++i) {
-        slice[4 * i] = ice ? v.ice_per_m[base + i] * storedPerM : 0.0f;
-        slice[4 * i + 1] = water ? v.water_per_m[base + i] * storedPerM : 0.0f;
-        slice[4 * i + 2] = glm::unpackHalf1x16(rg[2 * i]);
-        slice[4 * i + 3] = glm::unpackHalf1x16(rg[2 * i + 1]);
+        slice[4 * i] = t.has_ice_ ? glm::packHalf1x16(v.ice_per_m[base + i] * storedPerM) : zero;
+        slice[4 * i + 1] = t.has_water_ ? glm::packHalf1x16(v.water_per_m[base + i] * storedPerM) : zero;
+        slice[4 * i + 2] = rg[2 * i];
+        slice[4 * i + 3] = rg[2 * i + 1];
       }
-      glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RGBA, GL_FLOAT, slice.data());
+      glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RGBA, GL_HALF_FLOAT, slice.data());
     }
     t.packed_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
