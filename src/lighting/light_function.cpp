@@ -11,6 +11,12 @@ namespace f64 {  // the DLM pass's window arithmetic in double precision (core/g
 using namespace nph::glsl;
 using Number = double;
 #include "../glsl/common/light_compress.glsl"
+// The look-up's light function, the nodes from an array (glsl/dlm/lookup.glsl reads a texture).
+#define LF_NODES const LightNode* nodes
+#define LF_NODE(k) vec2(nodes[k].depth_m, nodes[k].intensity)
+#include "../glsl/common/light_function.glsl"
+#undef LF_NODES
+#undef LF_NODE
 }  // namespace f64
 
 namespace {
@@ -51,18 +57,7 @@ std::vector<LightNode> compressLightFunction(const std::vector<double>& s, const
 }
 
 double evaluateLightFunction(const LightNode* nodes, int count, double s) {
-  if (count <= 0) return 1.0;
-  if (s <= double(nodes[0].depth_m)) return nodes[0].intensity;
-  if (s >= double(nodes[count - 1].depth_m)) return nodes[count - 1].intensity;
-  int lo = 0, hi = count - 1;  // invariant: depth[lo] <= s < depth[hi]
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (double(nodes[mid].depth_m) <= s) lo = mid;
-    else hi = mid;
-  }
-  const double s0 = nodes[lo].depth_m, s1 = nodes[hi].depth_m;
-  const double t = s1 > s0 ? (s - s0) / (s1 - s0) : 0.0;
-  return double(nodes[lo].intensity) + t * (double(nodes[hi].intensity) - double(nodes[lo].intensity));
+  return f64::lightFunctionAt(nodes, count, s);
 }
 
 }  // namespace nph::scene

@@ -47,8 +47,8 @@ class LightFunctionCompressor {
 std::vector<LightNode> compressLightFunction(const std::vector<double>& depth_m, const std::vector<double>& intensity,
                                              double epsilon);
 
-/// I(s) of a node list (binary search + linear interpolation; clamped at both ends). The GPU scans
-/// linearly (glsl/dlm/lookup.glsl): the same bracket, so the same value.
+/// I(s) of a node list (linear interpolation; constant beyond both ends): the eye pass's function,
+/// glsl/common/light_function.glsl, compiled as C++ in double (core/glsl_cpp.h).
 double evaluateLightFunction(const LightNode* nodes, int count, double depth_m);
 
 }  // namespace nph::scene

@@ -8,8 +8,11 @@
 // along a grid axis, grazing (the box just gets long along w), even below the horizon (the map then
 // lights from below; the renderer decides whether that is wanted).
 #include <array>
+#include <type_traits>
 
 #include <glm/glm.hpp>
+
+#include "core/glsl_cpp.h"
 
 namespace nph::scene {
 
@@ -36,25 +39,27 @@ struct LightSpace {
   }
 };
 
-/// The DLM look-up's blending rule (glsl/dlm/lookup.glsl) on the CPU: light-space position l →
-/// bilinear blend of `texelValue(a, b, l.z)` over the four texels around (l.x, l.y), clamped to the
-/// edge texels; 1 (full sun) outside the map's footprint.
+namespace light_blend_f64 {  // glsl/common/light_blend.glsl compiled as C++ in double (core/glsl_cpp.h)
+using namespace nph::glsl;
+using Number = double;
+/// The shared blend with LF_TEXEL bound to a callable: the file's function becomes a member.
+template <class TexelValue>
+struct Blend {
+  TexelValue& texelValue;
+#define LF_TEXEL(a, b, s) Number(texelValue(a, b, s))
+#include "../glsl/common/light_blend.glsl"
+#undef LF_TEXEL
+};
+}  // namespace light_blend_f64
+
+/// The DLM look-up's blending rule on the CPU — glsl/common/light_blend.glsl, the file the eye
+/// pass runs: light-space position l → bilinear blend of `texelValue(a, b, l.z)` over the four
+/// texels around (l.x, l.y), clamped to the edge texels; 1 (full sun) outside the map's footprint.
 template <class TexelValue>
 double blendTexels(const LightSpace& ls, const glm::dvec3& l, TexelValue&& texelValue) {
   const glm::dvec2 texel = ls.texelSize_m();
-  const glm::dvec2 extent = texel * glm::dvec2(ls.texels);
-  if (l.x < 0.0 || l.y < 0.0 || l.x > extent.x || l.y > extent.y) return 1.0;
-  const glm::dvec2 t = glm::dvec2(l.x, l.y) / texel - 0.5;
-  const glm::dvec2 t0 = glm::floor(t);
-  const glm::dvec2 f = t - t0;
-  auto ev = [&](int a, int b) {
-    a = a < 0 ? 0 : (a >= ls.texels.x ? ls.texels.x - 1 : a);
-    b = b < 0 ? 0 : (b >= ls.texels.y ? ls.texels.y - 1 : b);
-    return double(texelValue(a, b, l.z));
-  };
-  const int a = int(t0.x), b = int(t0.y);
-  return (1 - f.y) * ((1 - f.x) * ev(a, b) + f.x * ev(a + 1, b)) +
-         f.y * ((1 - f.x) * ev(a, b + 1) + f.x * ev(a + 1, b + 1));
+  light_blend_f64::Blend<std::remove_reference_t<TexelValue>> blend{texelValue};
+  return blend.lightBlend(l.x, l.y, l.z, texel.x, texel.y, ls.texels.x, ls.texels.y);
 }
 
 /// Orthonormal basis with w = `lightDirection` (normalised here). u is horizontal whenever the
