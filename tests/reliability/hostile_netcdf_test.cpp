@@ -54,6 +54,15 @@ void putElement(const std::string& path, const char* var, std::size_t element, f
   });
 }
 
+/// A netCDF-4 file with nothing in it (the HDF5 probe opens it; the loaders refuse it).
+std::string emptyNetcdf4(const Scratch& dir) {
+  const std::string path = dir.file("netcdf4.nc");
+  int nc = -1;
+  EXPECT_EQ(nc_create(path.c_str(), NC_CLOBBER | NC_NETCDF4, &nc), NC_NOERR);
+  EXPECT_EQ(nc_close(nc), NC_NOERR);
+  return path;
+}
+
 void expectLoadError(const std::string& path, std::initializer_list<std::string> mentions) {
   saveFuzzInput(path, "model");
   expectError<InputError>([&] { (void)io::loadWrfTimestep(path, 0); }, mentions);
@@ -195,10 +204,7 @@ TEST(HostileNetcdf, Hdf5CrashingInItsOwnParserIsContainedInAChildProcess) {
   // The child is made to crash on purpose (NEPHELE_TEST_HDF5_PROBE_CRASH): whether the real input
   // crashes depends on the allocator (it does under ASan, not with glibc's malloc).
   const Scratch dir;
-  const std::string path = dir.file("netcdf4.nc");
-  int nc = -1;
-  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER | NC_NETCDF4, &nc), NC_NOERR);
-  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  const std::string path = emptyNetcdf4(dir);
   ::setenv("NEPHELE_TEST_HDF5_PROBE_CRASH", "1", 1);
   // The message names the signal, not necessarily SIGSEGV: under ASan (make test-sanitize,
   // abort_on_error=1) the sanitizer's SEGV handler turns the crash into SIGABRT (signal 6).
@@ -222,10 +228,7 @@ TEST(HostileNetcdf, Hdf5ProbeIsASpawnedProcessNotAFork) {
   // memory in the child). Now it is nephele-nc-probe started with posix_spawn: no atfork handler
   // runs (ForkWatch), and the file opens as before.
   const Scratch dir;
-  const std::string path = dir.file("netcdf4.nc");
-  int nc = -1;
-  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER | NC_NETCDF4, &nc), NC_NOERR);
-  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  const std::string path = emptyNetcdf4(dir);
   {
     const ForkWatch watch(dir);
     try {
@@ -253,10 +256,7 @@ TEST(HostileNetcdf, Hdf5ParserThatNeverReturnsIsKilledAfterTheOpenTimeout) {
   // child is made to hang on purpose (NEPHELE_TEST_HDF5_PROBE_HANG: it never returns, so the
   // outcome does not depend on the machine's speed; the limit is 1 s to keep the test short).
   const Scratch dir;
-  const std::string path = dir.file("netcdf4.nc");
-  int nc = -1;
-  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER | NC_NETCDF4, &nc), NC_NOERR);
-  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  const std::string path = emptyNetcdf4(dir);
   ::setenv("NEPHELE_TEST_HDF5_PROBE_HANG", "1", 1);
   ::setenv("NEPHELE_HDF5_OPEN_TIMEOUT_S", "1", 1);
   expectError<InputError>([&] { (void)io::openModelFile(path); },
