@@ -28,9 +28,10 @@
 // model lattice's edge to the far field (h = mix(h_far, h_edge, fade)) instead of to sea level, so
 // the DEM's mountains go on to the horizon; inside the footprint the far field is not read. One
 // surface, one march: the rectangle becomes the far square, the slab and the Lipschitz bound cover
-// both fields (TerrainField::lipschitz), and the march's floor step is a quarter of the cell of the
-// field under the ray (near or far), so a grazing ray crosses the 4000 km square in ~4000 steps at
-// most. Beyond the far square the ground is the plane z = 0.
+// both fields (TerrainField::lipschitz), and the march's floor step is a quarter of the model's
+// cell over the model's lattice and half a far pixel beyond it, so that a ray grazing the ground all
+// the way across the far square (1024 pixels a side, 1448 on the diagonal: ≤ 2900 steps, plus the
+// lattice's) stays within kTerrainMaxSteps. Beyond the far square the ground is the plane z = 0.
 //
 // Written in the GLSL subset that also compiles as C++ (core/glsl_cpp.h). Each side supplies
 // TerrainGrid, TERRAIN_TEXEL(grid, i, j) (the height [m] at mass point (i, j), not exaggerated) and
@@ -139,7 +140,7 @@ Number terrainHitDistance(TerrainGrid g, Vec3 o, Vec3 d, Number tMin, Number tMa
     Number dxy = length(Vec2(d.x, d.y));
     Number rate = abs(d.z) + g.lipschitz * dxy;
     Number minStep = dxy > Number(1e-6) ? Number(0.25) * min(g.cell_m.x, g.cell_m.y) / dxy : t1 - t0;
-    Number farMinStep = dxy > Number(1e-6) ? Number(0.25) * min(g.far_cell_m.x, g.far_cell_m.y) / dxy : t1 - t0;
+    Number farMinStep = dxy > Number(1e-6) ? Number(0.5) * min(g.far_cell_m.x, g.far_cell_m.y) / dxy : t1 - t0;
     Number t = t0;
     Number f = terrainClearance_m(g, o, d, t);
     if (f <= Number(0.0)) {
