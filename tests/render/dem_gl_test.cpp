@@ -79,11 +79,12 @@ class DemRender : public GlTest {
     basemap_ = dir_->file("coded.exr");
     (void)datagen::writeWrfHurricane(spec, data_);
     writeCodedBasemap(basemap_);
-    // The far mountain's lon/lat: world (−250 km, ½ height) of the data's frame.
+    // The far mountain's lon/lat: world (−250 km, ¾ height) of the data's frame.
     {
       auto plain = open("");
       const auto& prep = plain->prepared();
-      const scene::LonLat ll = prep.geo->lonLatFromWorld({-kFarWestOfGrid_m, 0.5 * prep.frame.size_m().y});
+      // Off the far square's centre row (a flipped far field would show) and column.
+      const scene::LonLat ll = prep.geo->lonLatFromWorld({-kFarWestOfGrid_m, 0.75 * prep.frame.size_m().y});
       far_ = {ll.lon_deg, ll.lat_deg};
     }
     writeDem();

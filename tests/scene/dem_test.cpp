@@ -55,7 +55,8 @@ struct DemCase {
 /// at kPeakLon/Lat, the far one west of the grid), nodata over a 20 km square inside the grid.
 std::string writeUtmDem(const nph::test::ScratchDir& dir, DemCase& c) {
   c.peak_xy = c.geo.worldFromLonLat({kPeakLon_deg, kPeakLat_deg});
-  c.far_peak_xy = {kFarPeakWorldX_m, 0.5 * c.frame.size_m().y};
+  // Off the far square's centre row and column, so that a flipped or shifted far field shows.
+  c.far_peak_xy = {kFarPeakWorldX_m, 0.5 * c.frame.size_m().y + 80000.0};
   c.hole_xy = {0.75 * c.frame.size_m().x, 0.25 * c.frame.size_m().y};
   const LonLat farLl = c.geo.lonLatFromWorld(c.far_peak_xy), holeLl = c.geo.lonLatFromWorld(c.hole_xy);
   const glm::dvec2 peak = utmFromLonLat(kPeakLon_deg, kPeakLat_deg);
