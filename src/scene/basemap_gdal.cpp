@@ -401,36 +401,11 @@ std::size_t warpInto(const std::vector<BasemapRaster>& layers, const Destination
     }
     wo->nSrcAlphaBand = src.alpha_band;
     wo->nDstAlphaBand = 4;
-    wo->eResampleAlg = GRA_Bilinear;
-    wo->eWorkingDataType = GDT_Float32;
-    wo->dfWarpMemoryLimit = kWarpMemory_bytes;
-    wo->pfnTransformer = GDALApproxTransform;
-    wo->pTransformerArg = approx;
     // Each layer starts from a blank destination and is composited below, by its coverage.
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "INIT_DEST", "0");
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "DST_ALPHA_MAX", "1");
-    // The source window of each chunk from a grid of points inside it, not only its edges: around
-    // a pole (a polar stereographic grid) the northernmost lon/lat of a chunk lies inside it.
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SAMPLE_GRID", "YES");
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SOURCE_EXTRA", "2");
+    setSharedWarpOptions(wo, chain, approx, w, h);
     if (src.alpha_band != 0) {
       const char* alphaMax = src.encoding == Encoding::Srgb8 ? "255" : src.encoding == Encoding::Srgb16 ? "65535" : "1";
       wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SRC_ALPHA_MAX", alphaMax);
-    }
-    // The filter's footprint: GDAL widens bilinear by the chunk's source-window/destination size
-    // ratio, which a window across the antimeridian (both ends of a whole-Earth raster) makes
-    // absurd. Give it the real ratio, measured at the destination's centre: source pixels per
-    // destination pixel along each axis. Up to 2 the plain (point-sampled) bilinear sees every
-    // source pixel; beyond, the kernel is widened to the footprint (antialiasing) — GDAL's widened
-    // kernel is not exact on a linear ramp (its discrete weights are not centred: a bias up to
-    // ~0.1 source pixel, measured), so it is kept for where it is needed.
-    {
-      auto scale = [](double sourcePerDestination) {
-        return fmt::format("{:.9g}", sourcePerDestination > 2.0 ? 1.0 / sourcePerDestination : 1.0);
-      };
-      const std::array<double, 2> ratio = sourcePerDestination(chain, w, h);
-      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "XSCALE", scale(ratio[0]).c_str());
-      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "YSCALE", scale(ratio[1]).c_str());
     }
     GDALWarpOperationH op = GDALCreateWarpOperation(wo);
     CPLErr err = op ? GDALChunkAndWarpImage(op, 0, 0, w, h) : CE_Failure;

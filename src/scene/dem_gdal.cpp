@@ -155,22 +155,10 @@ std::vector<float> warpDem(const DemRaster& dem, const SceneGeoreference& geo, c
     wo->padfSrcNoDataReal = static_cast<double*>(CPLMalloc(sizeof(double)));
     wo->padfSrcNoDataReal[0] = src.nodata;
   }
-  wo->eResampleAlg = GRA_Bilinear;
-  wo->eWorkingDataType = GDT_Float32;
-  wo->dfWarpMemoryLimit = kWarpMemory_bytes;
-  wo->pfnTransformer = GDALApproxTransform;
-  wo->pTransformerArg = approx;
-  wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "INIT_DEST", "0");
-  wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "DST_ALPHA_MAX", "1");
-  wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SAMPLE_GRID", "YES");
-  wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SOURCE_EXTRA", "2");
-  // As the basemap's warp: beyond 2 source pixels per output pixel the bilinear kernel is widened to
-  // the footprint (an average of the heights, not a point sample of a 30 m DEM every 4 km).
-  const std::array<double, 2> ratio = sourcePerDestination(chain, width, height);
-  for (int a = 0; a < 2; ++a) {
-    const std::string scale = fmt::format("{:.9g}", ratio[std::size_t(a)] > 2.0 ? 1.0 / ratio[std::size_t(a)] : 1.0);
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, a == 0 ? "XSCALE" : "YSCALE", scale.c_str());
-  }
+  // As the basemap's warp (gdal_support.h): beyond 2 source pixels per output pixel the bilinear
+  // kernel is widened to the footprint — an average of the heights, not a point sample of a 30 m
+  // DEM every 4 km.
+  setSharedWarpOptions(wo, chain, approx, width, height);
   GDALWarpOperationH op = GDALCreateWarpOperation(wo);
   CPLErr err = op ? GDALChunkAndWarpImage(op, 0, 0, width, height) : CE_Failure;
   if (op) GDALDestroyWarpOperation(op);

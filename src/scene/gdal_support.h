@@ -5,6 +5,7 @@
 #include <cpl_error.h>
 #include <gdal.h>
 #include <gdal_alg.h>
+#include <gdalwarper.h>
 
 #include <array>
 #include <memory>
@@ -119,5 +120,11 @@ int chainTransform(void* arg, int dstToSrc, int n, double* x, double* y, double*
 /// Source pixels per destination pixel along the destination's x and y at its centre, through
 /// `chain` (1 where the chain fails there).
 std::array<double, 2> sourcePerDestination(ChainArg& chain, int w, int h);
+
+/// The settings the basemap's and the DEM's warps share, into `wo`: bilinear in float, the memory
+/// limit, the approximating transformer `approx` (over `chain`), a blank destination (INIT_DEST 0)
+/// whose alpha band is the coverage in [0, 1], the source window from a grid of points, and the
+/// filter's footprint measured through `chain` at the centre of the `w` × `h` destination.
+void setSharedWarpOptions(GDALWarpOptions* wo, ChainArg& chain, void* approx, int w, int h);
 
 }  // namespace nph::scene::gdal_detail

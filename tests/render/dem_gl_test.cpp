@@ -29,45 +29,6 @@ constexpr double kNearLon_deg = -76.2, kNearLat_deg = 24.3;
 constexpr double kHeight_m = 3000.0, kSigma_m = 35000.0;
 constexpr double kFarWestOfGrid_m = 250000.0;  // the far mountain's distance beyond the grid's west edge
 
-glm::dvec2 pixelOf(const scene::Camera& cam, const glm::dvec3& world) {
-  const glm::dvec4 clip = cam.clipFromView() * cam.viewFromWorld() * glm::dvec4(world, 1.0);
-  const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
-  return {0.5 * (ndc.x + 1.0) * cam.width, 0.5 * (1.0 - ndc.y) * cam.height};
-}
-
-/// The coded basemap's blue at lon/lat (render_scenes.cpp writeCodedBasemap: 720 × 360, 10° squares).
-double codedBlue(double lon, double lat) {
-  const int x = int((lon + 180.0) / 360.0 * 720.0), y = int((90.0 - lat) / 180.0 * 360.0);
-  return ((x / 20 + y / 20) % 2) != 0 ? 0.6 : 0.2;
-}
-
-// The sub-pixel image position of the ground point at `target` (lon/lat) in a frame over the coded
-// basemap whose blue there is `blue` (terrain_gl_test.cpp locateLonLat).
-glm::dvec2 locateLonLat(const scene::RgbaImage& frame, const scene::Camera& cam, glm::dvec2 target, double blue) {
-  const auto decoded = [&](int x, int y) {
-    const float* p = &frame.rgba[(std::size_t(y) * std::size_t(cam.width) + std::size_t(x)) * 4];
-    const double light = double(p[2]) / blue;
-    double lon = 0.0, lat = 0.0;
-    decodeBasemapColour(float(double(p[0]) / light), float(double(p[1]) / light), lon, lat);
-    return glm::dvec2(lon, lat);
-  };
-  glm::ivec2 best(-1);
-  double bestErr = 1e300;
-  for (int y = 1; y + 1 < cam.height; ++y) {
-    for (int x = 1; x + 1 < cam.width; ++x) {
-      const double e = glm::length(decoded(x, y) - target);
-      if (e < bestErr) {
-        bestErr = e;
-        best = {x, y};
-      }
-    }
-  }
-  const glm::dvec2 ddx = 0.5 * (decoded(best.x + 1, best.y) - decoded(best.x - 1, best.y));
-  const glm::dvec2 ddy = 0.5 * (decoded(best.x, best.y + 1) - decoded(best.x, best.y - 1));
-  const glm::dvec2 step = glm::inverse(glm::dmat2(ddx, ddy)) * (target - decoded(best.x, best.y));
-  return glm::dvec2(best) + glm::dvec2(0.5) + step;
-}
-
 class DemRender : public GlTest {
  protected:
   void SetUp() override {
@@ -149,27 +110,27 @@ void DemRender::summitLandsAtItsProjectedPixel(glm::dvec2 lonLat, const char* wh
   EXPECT_LE(summitZ, 1.0001 * 4.0 * kHeight_m) << which;
   const glm::dvec3 summit(summitXy, summitZ);
   // The lon/lat must not lie near a square's edge of the coded basemap (blue constant around it).
-  const double blue = codedBlue(lonLat.x, lonLat.y);
-  ASSERT_EQ(codedBlue(lonLat.x - 1.0, lonLat.y - 1.0), blue);
-  ASSERT_EQ(codedBlue(lonLat.x + 1.0, lonLat.y + 1.0), blue);
+  const double blue = codedBasemapBlue(lonLat.x, lonLat.y);
+  ASSERT_EQ(codedBasemapBlue(lonLat.x - 1.0, lonLat.y - 1.0), blue);
+  ASSERT_EQ(codedBasemapBlue(lonLat.x + 1.0, lonLat.y + 1.0), blue);
 
   scene::Camera cam = prep.flat_camera;
   const double az = glm::radians(225.0), el = glm::radians(25.0), distance_m = 150000.0;
   cam.target_m = summit + glm::dvec3(3170.0, -4310.0, -2270.0);  // neither the image centre nor a pixel centre
   cam.position_m =
       summit + distance_m * glm::dvec3(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
-  const glm::dvec2 expected = pixelOf(cam, summit);
-  const glm::dvec2 found = locateLonLat(session->render(cam).frame, cam, lonLat, blue);
+  const glm::dvec2 expected = projectedPixel(cam, summit);
+  const glm::dvec2 found = locateCodedLonLat(session->render(cam).frame, cam, lonLat, blue);
   const double miss = glm::length(found - expected);
   std::printf("[ dem] %s summit (%.1f m world) at pixel (%.3f, %.3f), projected (%.3f, %.3f): %.3f px\n", which,
               summitZ, found.x, found.y, expected.x, expected.y, miss);
   EXPECT_LE(miss, 1.5) << which;
 
   session->renderSettings().terrain = false;  // the bare plane: the lon/lat is far away in the image
-  const glm::dvec2 flat = locateLonLat(session->render(cam).frame, cam, lonLat, blue);
+  const glm::dvec2 flat = locateCodedLonLat(session->render(cam).frame, cam, lonLat, blue);
   std::printf("[ dem] %s: without terrain the lon/lat shows %.1f px away\n", which, glm::length(flat - expected));
   EXPECT_GT(glm::length(flat - expected), 20.0) << which;
-  EXPECT_LE(glm::length(flat - pixelOf(cam, glm::dvec3(summitXy, 0.0))), 1.5) << which;
+  EXPECT_LE(glm::length(flat - projectedPixel(cam, glm::dvec3(summitXy, 0.0))), 1.5) << which;
 }
 
 TEST_F(DemRender, SummitInsideTheGridLandsAtItsProjectedPixel) {
