@@ -55,8 +55,10 @@ class DemRaster {
 std::vector<float> warpDem(const DemRaster& dem, const SceneGeoreference& geo, const WorldRect& rect, int width,
                            int height);
 
-/// Both grids of the header comment for the volume placed by `frame`: the mass points and the far
-/// square (farBasemapRectangle, kFarBasemapPixels per side).
-DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame);
+/// Both grids of the header comment for the volume placed by `frame`: the mass points and, when
+/// `far_field` (the flat view; the globe's terrain ends with its table), the far square
+/// (farBasemapRectangle, kFarBasemapPixels per side).
+DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame,
+                         bool far_field = true);
 
 }  // namespace nph::scene

@@ -197,16 +197,18 @@ std::vector<float> warpDem(const DemRaster& dem, const SceneGeoreference& geo, c
   return out;
 }
 
-DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame) {
+DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame, bool far_field) {
   DemHeights d;
   d.source = dem.name();
   const glm::dvec3 size = frame.size_m();
   d.model_m = warpDem(dem, geo, WorldRect{{0.0, 0.0}, {size.x, size.y}}, frame.voxels.x, frame.voxels.y);
-  const WorldRect far = farBasemapRectangle(frame);
-  d.far_size = glm::ivec2(kFarBasemapPixels);
-  d.far_min_m = far.min_m;
-  d.far_max_m = far.max_m;
-  d.far_m = warpDem(dem, geo, far, kFarBasemapPixels, kFarBasemapPixels);
+  if (far_field) {
+    const WorldRect far = farBasemapRectangle(frame);
+    d.far_size = glm::ivec2(kFarBasemapPixels);
+    d.far_min_m = far.min_m;
+    d.far_max_m = far.max_m;
+    d.far_m = warpDem(dem, geo, far, kFarBasemapPixels, kFarBasemapPixels);
+  }
   const auto covered = [](const std::vector<float>& v) {
     return std::count_if(v.begin(), v.end(), [](float h) { return !std::isnan(h); });
   };

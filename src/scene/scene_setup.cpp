@@ -67,7 +67,8 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
                                    "give centre_lonlat_deg to place it on the map",
                                    s.source_file));
     }
-    p.dem = demHeightsFor(DemRaster::open(s.terrain->dem), *geo, p.frame);
+    // The far field only for the flat view: the globe's terrain ends with its table (docs/terrain.md).
+    p.dem = demHeightsFor(DemRaster::open(s.terrain->dem), *geo, p.frame, s.view == ViewMode::Flat);
   }
   if (s.basemap) {
     if (!geo) {

@@ -231,6 +231,16 @@ TEST(Dem, SceneFileKeyAndPreparedScene) {
   const WorldRect far = farBasemapRectangle(p.frame);
   EXPECT_EQ(p.dem->far_min_m, far.min_m);
   EXPECT_EQ(p.dem->far_max_m, far.max_m);
+  // The globe's terrain ends with its table: no far field is warped for it.
+  scene = parseSceneText("{\"view\": \"globe\", \"terrain\": {\"dem\": \"" + path + "\"}}", "s.json");
+  const PreparedScene globe = prepareScene(scene, c.volumes);
+  ASSERT_TRUE(globe.dem);
+  ASSERT_EQ(globe.dem->model_m.size(), p.dem->model_m.size());
+  for (std::size_t k = 0; k < p.dem->model_m.size(); ++k) {  // the same heights, NaN (no data) included
+    const float a = globe.dem->model_m[k], b = p.dem->model_m[k];
+    EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << k;
+  }
+  EXPECT_TRUE(globe.dem->far_m.empty());
 }
 
 }  // namespace
