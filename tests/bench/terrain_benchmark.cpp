@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "bench_hurricane.h"
@@ -28,42 +29,62 @@ using namespace nph;
 
 using bench::median;
 
-void BM_TerrainFrame(benchmark::State& state) {
-  auto ctx = bench::hiddenContext();
+/// Issue 13's coarse storm with `make demo`'s mountain (examples/scenes/demo-terrain.json.in's data).
+ExtinctionVolumes stormOverMountain(const char* file) {
   datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
   spec.ntimes = 1;
-  spec.mountain = {-77.9, 24.4, 3000.0, 35000.0};  // examples/scenes/demo-terrain.json.in's data
-  const ExtinctionVolumes volumes = bench::generatedVolumes(spec, "nephele-terrain-bench.nc");
-  const scene::VolumeFrame frame = scene::frameOf(volumes, 4.0);
-  const auto textures = render::VolumeTextures::upload(volumes, frame, "bench");
-  const scene::Sun sun{215.0, 6.0};
-  render::DeepLightMap dlm;
-  dlm.build(textures, -sun.toSun(), scene::DlmSettings{});
-  // The demo's camera: low, from the west across the mountain towards the storm.
+  spec.mountain = {-77.9, 24.4, 3000.0, 35000.0};
+  return bench::generatedVolumes(spec, file);
+}
+
+/// The demo's camera: low, from the west across the mountain towards the storm.
+scene::Camera demoCamera() {
   scene::Camera camera;
   camera.width = 640;
   camera.height = 360;
   camera.vertical_fov_deg = 40.0;
   camera.position_m = {-90000.0, 160000.0, 24000.0};
   camera.target_m = {220000.0, 320000.0, 2000.0};
+  return camera;
+}
+
+/// Frame times [ms] of `a` and `b` (each renders one frame), one warm-up each, then 5 interleaved
+/// pairs: the medians.
+template <class A, class B>
+std::pair<double, double> interleavedMedians(benchmark::State& state, A a, B b) {
+  (void)a();  // atmosphere tables, warm both paths
+  (void)b();
+  std::vector<double> aMs, bMs;
+  for (auto _ : state) {
+    for (int i = 0; i < 5; ++i) {
+      aMs.push_back(a());
+      bMs.push_back(b());
+    }
+  }
+  return {median(aMs), median(bMs)};
+}
+
+void BM_TerrainFrame(benchmark::State& state) {
+  auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes volumes = stormOverMountain("nephele-terrain-bench.nc");
+  const scene::VolumeFrame frame = scene::frameOf(volumes, 4.0);
+  const auto textures = render::VolumeTextures::upload(volumes, frame, "bench");
+  const scene::Sun sun{215.0, 6.0};
+  render::DeepLightMap dlm;
+  dlm.build(textures, -sun.toSun(), scene::DlmSettings{});
+  const scene::Camera camera = demoCamera();
   std::fprintf(stderr, "terrain benchmark: %dx%dx%d voxels, terrain max %.0f m (world) on %s\n", volumes.nx, volumes.ny,
                volumes.nz, textures.terrain().max_m, ctx->info().renderer.c_str());
   render::CloudRenderer renderer;
   render::RenderSettings off, on;
   off.terrain = false;
   on.terrain = true;
-  renderer.render(textures, dlm, camera, sun, on);  // atmosphere tables, warm both paths
-  renderer.render(textures, dlm, camera, sun, off);
-  std::vector<double> offMs, onMs;
-  for (auto _ : state) {
-    for (int i = 0; i < 5; ++i) {
-      offMs.push_back(renderer.render(textures, dlm, camera, sun, off).milliseconds);
-      onMs.push_back(renderer.render(textures, dlm, camera, sun, on).milliseconds);
-    }
-  }
-  state.counters["off_ms_median"] = median(offMs);
-  state.counters["on_ms_median"] = median(onMs);
-  state.counters["on_over_off"] = median(onMs) / median(offMs);
+  const auto [offMs, onMs] = interleavedMedians(
+      state, [&] { return renderer.render(textures, dlm, camera, sun, off).milliseconds; },
+      [&] { return renderer.render(textures, dlm, camera, sun, on).milliseconds; });
+  state.counters["off_ms_median"] = offMs;
+  state.counters["on_ms_median"] = onMs;
+  state.counters["on_over_off"] = onMs / offMs;
 }
 BENCHMARK(BM_TerrainFrame)->Iterations(1)->Unit(benchmark::kMillisecond);
 
@@ -74,10 +95,7 @@ BENCHMARK(BM_TerrainFrame)->Iterations(1)->Unit(benchmark::kMillisecond);
 // crosses the far square wherever a ray is within the terrain's height slab.
 void BM_DemFarFieldFrame(benchmark::State& state) {
   auto ctx = bench::hiddenContext();
-  datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
-  spec.ntimes = 1;
-  spec.mountain = {-77.9, 24.4, 3000.0, 35000.0};
-  const ExtinctionVolumes volumes = bench::generatedVolumes(spec, "nephele-dem-bench.nc");
+  const ExtinctionVolumes volumes = stormOverMountain("nephele-dem-bench.nc");
   const scene::VolumeFrame frame = scene::frameOf(volumes, 4.0);
   scene::DemHeights dem;
   dem.source = "<generated ridge>";
@@ -101,27 +119,16 @@ void BM_DemFarFieldFrame(benchmark::State& state) {
   const scene::Sun sun{215.0, 6.0};
   render::DeepLightMap dlm;
   dlm.build(without, -sun.toSun(), scene::DlmSettings{});  // the DLM does not read the terrain
-  scene::Camera camera;
-  camera.width = 640;
-  camera.height = 360;
-  camera.vertical_fov_deg = 40.0;
-  camera.position_m = {-90000.0, 160000.0, 24000.0};
-  camera.target_m = {220000.0, 320000.0, 2000.0};
+  const scene::Camera camera = demoCamera();
   render::CloudRenderer renderer;
   render::RenderSettings on;
   on.terrain = true;
-  renderer.render(without, dlm, camera, sun, on);
-  renderer.render(with, dlm, camera, sun, on);
-  std::vector<double> withoutMs, withMs;
-  for (auto _ : state) {
-    for (int i = 0; i < 5; ++i) {
-      withoutMs.push_back(renderer.render(without, dlm, camera, sun, on).milliseconds);
-      withMs.push_back(renderer.render(with, dlm, camera, sun, on).milliseconds);
-    }
-  }
-  state.counters["model_terrain_ms_median"] = median(withoutMs);
-  state.counters["with_far_dem_ms_median"] = median(withMs);
-  state.counters["far_dem_over_model"] = median(withMs) / median(withoutMs);
+  const auto [withoutMs, withMs] = interleavedMedians(
+      state, [&] { return renderer.render(without, dlm, camera, sun, on).milliseconds; },
+      [&] { return renderer.render(with, dlm, camera, sun, on).milliseconds; });
+  state.counters["model_terrain_ms_median"] = withoutMs;
+  state.counters["with_far_dem_ms_median"] = withMs;
+  state.counters["far_dem_over_model"] = withMs / withoutMs;
 }
 BENCHMARK(BM_DemFarFieldFrame)->Iterations(1)->Unit(benchmark::kMillisecond);
 
