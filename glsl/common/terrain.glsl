@@ -21,10 +21,22 @@
 // the slab of heights the terrain has (z ∈ [min, max]) and to the rectangle outside which it is the
 // plane z = 0, so a flat field costs nothing.
 //
+// The far ground (a user DEM, scene/dem.h): when the grid has_far, a second, coarser height field
+// covers the far basemap's square around the footprint (scene::farBasemapRectangle), pixel-is-area
+// like the basemap: texel (i, j) is the height at far_min_m + (i + ½, j + ½)·far_cell_m, j = 0 at
+// the south edge, 0 where the DEM has no data. Beyond the footprint the fade then goes from the
+// model lattice's edge to the far field (h = mix(h_far, h_edge, fade)) instead of to sea level, so
+// the DEM's mountains go on to the horizon; inside the footprint the far field is not read. One
+// surface, one march: the rectangle becomes the far square, the slab and the Lipschitz bound cover
+// both fields (TerrainField::lipschitz), and the march's floor step is a quarter of the model's
+// cell over the model's lattice and half a far pixel beyond it, so that a ray grazing the ground all
+// the way across the far square (1024 pixels a side, 1448 on the diagonal: ≤ 2900 steps, plus the
+// lattice's) stays within kTerrainMaxSteps. Beyond the far square the ground is the plane z = 0.
+//
 // Written in the GLSL subset that also compiles as C++ (core/glsl_cpp.h). Each side supplies
-// TerrainGrid and TERRAIN_TEXEL(grid, i, j) (the height [m] at mass point (i, j), not exaggerated)
-// before including this file: the shader fetches the R32F texture UNIT_TERRAIN, the CPU twin reads
-// its vector.
+// TerrainGrid, TERRAIN_TEXEL(grid, i, j) (the height [m] at mass point (i, j), not exaggerated) and
+// TERRAIN_FAR_TEXEL(grid, i, j) (the far field's, the same) before including this file: the shader
+// fetches the R32F textures UNIT_TERRAIN and UNIT_FAR_TERRAIN, the CPU twin reads its vectors.
 #ifndef NPH_GLSL_AS_CPP
 #ifndef Number
 #define Number float
@@ -34,6 +46,21 @@
 const Number kTerrainMiss_m = Number(3.0e38);  // "no hit" distance
 const int kTerrainMaxSteps = 4096;              // 4096 quarter cells: a 1000-cell domain end to end
 const int kTerrainBisections = 14;              // hit to 2^-14 of the last step
+
+// The far field's height [m above MSL, not exaggerated] at world (x, y): bilinear between its
+// texel centres, clamped to the edge inside its square, 0 outside it.
+Number terrainFarHeight_m(TerrainGrid g, Vec2 xy) {
+  Vec2 extent = Vec2(g.far_size) * g.far_cell_m;
+  Vec2 r = xy - g.far_min_m;
+  if (r.x < Number(0.0) || r.y < Number(0.0) || r.x > extent.x || r.y > extent.y) return Number(0.0);
+  Vec2 q = r / g.far_cell_m - Vec2(Number(0.5));
+  Vec2 qc = clamp(q, Vec2(Number(0.0)), Vec2(g.far_size - ivec2(1)));
+  ivec2 i0 = ivec2(floor(qc));
+  ivec2 i1 = min(i0 + ivec2(1), g.far_size - ivec2(1));
+  Vec2 f = qc - Vec2(i0);
+  return mix(mix(TERRAIN_FAR_TEXEL(g, i0.x, i0.y), TERRAIN_FAR_TEXEL(g, i1.x, i0.y), f.x),
+             mix(TERRAIN_FAR_TEXEL(g, i0.x, i1.y), TERRAIN_FAR_TEXEL(g, i1.x, i1.y), f.x), f.y);
+}
 
 // Terrain height in world metres (exaggerated) at world (x, y): bilinear between mass points,
 // clamped to the edge, faded to 0 over fade_m outside the footprint of the mass points.
@@ -48,6 +75,7 @@ Number terrainHeight_m(TerrainGrid g, Vec2 xy) {
                  mix(TERRAIN_TEXEL(g, i0.x, i1.y), TERRAIN_TEXEL(g, i1.x, i1.y), f.x), f.y);
   Number outside_m = length((q - qc) * g.cell_m);
   Number fade = clamp(Number(1.0) - outside_m / g.fade_m, Number(0.0), Number(1.0));
+  if (g.has_far && fade < Number(1.0)) return mix(terrainFarHeight_m(g, xy), h, fade) * g.exaggeration;
   return h * g.exaggeration * fade;
 }
 
@@ -88,8 +116,10 @@ Number terrainClearance_m(TerrainGrid g, Vec3 o, Vec3 d, Number t) {
 // [tMin, tMax]; kTerrainMiss_m when there is none.
 Number terrainHitDistance(TerrainGrid g, Vec3 o, Vec3 d, Number tMin, Number tMax) {
   // Outside the rectangle the terrain reaches, the ground is the plane z = 0.
-  Vec2 rect = terrainRectInterval(Vec2(o.x, o.y), Vec2(d.x, d.y), Vec2(-g.fade_m),
-                                  Vec2(g.size) * g.cell_m + Vec2(g.fade_m));
+  Vec2 nearLo = Vec2(-g.fade_m), nearHi = Vec2(g.size) * g.cell_m + Vec2(g.fade_m);
+  Vec2 rect = g.has_far ? terrainRectInterval(Vec2(o.x, o.y), Vec2(d.x, d.y), g.far_min_m,
+                                              g.far_min_m + Vec2(g.far_size) * g.far_cell_m)
+                        : terrainRectInterval(Vec2(o.x, o.y), Vec2(d.x, d.y), nearLo, nearHi);
   Number tPlane = d.z < Number(0.0) ? -o.z / d.z : kTerrainMiss_m;
   if (o.z <= Number(0.0) && (rect.x > rect.y || Number(0.0) < rect.x || Number(0.0) > rect.y)) tPlane = Number(0.0);
   // The slab of heights the terrain has.
@@ -110,6 +140,7 @@ Number terrainHitDistance(TerrainGrid g, Vec3 o, Vec3 d, Number tMin, Number tMa
     Number dxy = length(Vec2(d.x, d.y));
     Number rate = abs(d.z) + g.lipschitz * dxy;
     Number minStep = dxy > Number(1e-6) ? Number(0.25) * min(g.cell_m.x, g.cell_m.y) / dxy : t1 - t0;
+    Number farMinStep = dxy > Number(1e-6) ? Number(0.5) * min(g.far_cell_m.x, g.far_cell_m.y) / dxy : t1 - t0;
     Number t = t0;
     Number f = terrainClearance_m(g, o, d, t);
     if (f <= Number(0.0)) {
@@ -117,7 +148,12 @@ Number terrainHitDistance(TerrainGrid g, Vec3 o, Vec3 d, Number tMin, Number tMa
     } else {
       for (int n = 0; n < kTerrainMaxSteps; ++n) {
         if (t >= t1) break;
-        Number tn = min(t + max(f / rate, minStep), t1);
+        Number floorStep = minStep;
+        if (g.has_far) {  // beyond the model lattice's reach, the far field's cell
+          Vec2 p = Vec2(o.x, o.y) + t * Vec2(d.x, d.y);
+          if (p.x < nearLo.x || p.y < nearLo.y || p.x > nearHi.x || p.y > nearHi.y) floorStep = max(minStep, farMinStep);
+        }
+        Number tn = min(t + max(f / rate, floorStep), t1);
         Number fn = terrainClearance_m(g, o, d, tn);
         if (fn <= Number(0.0)) {  // crossed in (t, tn]: bisection keeps f(a) > 0 ≥ f(b)
           Number a = t, b = tn;

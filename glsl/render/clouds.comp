@@ -168,6 +168,7 @@ vec3 skyIrradianceAtDrawn(float drawnHeight_m, float sinSunElevation) {
 // The ground's height field (issue 14; glsl/common/terrain.glsl) and the far basemap (item 4). One
 // std140 block, declared in C++ as gl::TerrainBlock (render/gl/uniform_blocks.h).
 layout(binding = UNIT_TERRAIN) uniform sampler2D u_terrain;  // R32F height [m] per mass point
+layout(binding = UNIT_FAR_TERRAIN) uniform sampler2D u_far_terrain;  // R32F height [m]: a DEM beyond the domain
 layout(binding = UNIT_FAR_BASEMAP) uniform sampler2D u_far_basemap;  // as u_basemap, over u_far_basemap_min..max
 layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
   ivec2 u_terrain_size;          // mass points nx, ny
@@ -182,6 +183,10 @@ layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
   vec2 u_far_basemap_max_m;
   bool u_has_far_basemap;
   float u_city_lights;           // the night side's lights: k of common/night_lights.glsl (0 = none)
+  ivec2 u_far_terrain_size;      // the far height field (a user DEM, scene/dem.h; flat view only)
+  vec2 u_far_terrain_min_m;      // its world rectangle's south-west corner
+  vec2 u_far_terrain_cell_m;     // its pixel size
+  bool u_has_far_terrain;
 };
 #ifdef SPEC_TERRAIN
 #define HAS_TERRAIN (SPEC_TERRAIN != 0)
@@ -193,13 +198,18 @@ struct TerrainGrid {
   ivec2 size;
   vec2 cell_m;
   float exaggeration, fade_m, max_m, min_m, lipschitz;
+  bool has_far;
+  ivec2 far_size;
+  vec2 far_min_m, far_cell_m;
 };
 #define TERRAIN_TEXEL(g, i, j) texelFetch(u_terrain, ivec2(i, j), 0).r
+#define TERRAIN_FAR_TEXEL(g, i, j) texelFetch(u_far_terrain, ivec2(i, j), 0).r
 #include "common/terrain.glsl"
 
 TerrainGrid terrainGrid() {
   return TerrainGrid(u_terrain_size, u_terrain_cell_m, u_terrain_exaggeration, u_terrain_fade_m, u_terrain_max_m,
-                     u_terrain_min_m, u_terrain_lipschitz);
+                     u_terrain_min_m, u_terrain_lipschitz, u_has_far_terrain, u_far_terrain_size, u_far_terrain_min_m,
+                     u_far_terrain_cell_m);
 }
 #include "render/globe_terrain.glsl"
 

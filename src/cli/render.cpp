@@ -32,6 +32,7 @@ struct RenderOptions {
   int width = 0, height = 0;
   int timestep = -1;
   std::string basemap;
+  std::string dem;
   bool print_scene = false;
 };
 
@@ -62,6 +63,7 @@ int runRender(const RenderOptions& o) {
     if (!s.basemap) s.basemap.emplace();
     s.basemap->path = o.basemap;
   }
+  if (!o.dem.empty()) s.terrain = scene::TerrainSpec{o.dem};  // issue 14 item 2 (scene/dem.h)
   if (o.passes) s.output.passes = true;
   applyColourOptions(o.display, o.view, s.output.image);
   if (o.depth) s.output.image.write_depth = true;
@@ -120,6 +122,9 @@ void addRenderCommand(CLI::App& app, Action& run) {
   cmd->add_option("--basemap", opts->basemap,
                   "imagery under the clouds: any raster GDAL reads (GeoTIFF/COG, VRT, MBTiles, PNG/JPEG with a world "
                   "file, or a whole-Earth 2:1 image); replaces basemap.path");
+  cmd->add_option("--dem", opts->dem,
+                  "ground heights: a DEM GDAL reads (GeoTIFF/COG, VRT; one band of metres, with a CRS) replacing the "
+                  "model's terrain where it has data and carrying the relief beyond the domain; replaces terrain.dem");
   cmd->callback([opts, &run] { run = [opts] { return runRender(*opts); }; });
 }
 

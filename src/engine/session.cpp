@@ -117,8 +117,10 @@ void Session::update() {
     t0 = std::chrono::steady_clock::now();
     if (textures_ && textures_->noise()) noise_ = textures_->noise();  // the noise tile is generated once
     textures_.reset();  // free the old volume before uploading the new one
-    textures_.emplace(render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), content,
-                                                     reconstruction, 8, detail, noise_));  // its identity() is `key`
+    textures_.emplace(
+        render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), content, reconstruction, 8,
+                                       detail, noise_, render::VolumeStorage::Compact,
+                                       prepared_.dem ? &*prepared_.dem : nullptr));  // identity() is `key`
     if (textures_->noise()) noise_ = textures_->noise();
     if (release_after_upload_) timesteps_->releaseAll();  // `a` and `v`, the last holders, end below
     stats_.upload_ms = msSince(t0);

@@ -33,55 +33,15 @@
 #include "core/limits.h"
 #include "core/log.h"
 #include "scene/basemap.h"
+#include "scene/gdal_support.h"
 
 namespace nph::scene {
+using namespace gdal_detail;
 namespace {
 
 /// Lon/lat as the chain's middle CRS: WGS84 in lon, lat order whatever the GDAL/PROJ axis rules.
 /// The data's lon/lat are those of its projection's sphere, used as WGS84 (scene/georeference.h).
 constexpr const char* kLonLatSrs = "+proj=longlat +datum=WGS84 +no_defs";
-/// Largest error [source pixels] the approximating transformer may make; GDAL's gdalwarp uses
-/// 0.125. 0.01 keeps the error of a lon/lat-coded test image within 1e-4° at 0.25°/pixel... and far
-/// below anything bilinear filtering shows.
-constexpr double kApproxError_px = 0.0005;
-/// The warper's working memory (it splits the output into chunks that fit).
-constexpr double kWarpMemory_bytes = 256.0 * 1024 * 1024;
-
-void registerGdal() {
-  static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
-}
-
-/// Collects GDAL's error messages while alive (thread-local handler stack), for InputErrors that
-/// say what GDAL said.
-class GdalErrors {
- public:
-  GdalErrors() {
-    CPLPushErrorHandlerEx(&GdalErrors::handler, this);
-    CPLErrorReset();
-  }
-  ~GdalErrors() { CPLPopErrorHandler(); }
-  GdalErrors(const GdalErrors&) = delete;
-  GdalErrors& operator=(const GdalErrors&) = delete;
-  /// The first failure's message, or `fallback` when GDAL gave none.
-  std::string message(const char* fallback) const { return first_.empty() ? std::string(fallback) : first_; }
-  bool failed() const { return !first_.empty(); }
-
- private:
-  static void CPL_STDCALL handler(CPLErr level, CPLErrorNum, const char* msg) {
-    auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
-    if (level >= CE_Failure && self->first_.empty()) self->first_ = msg ? msg : "";
-    if (level == CE_Warning) log::debug("GDAL: {}", msg ? msg : "");
-  }
-  std::string first_;
-};
-
-struct DatasetCloser {
-  void operator()(void* ds) const {
-    if (ds) GDALClose(static_cast<GDALDatasetH>(ds));
-  }
-};
-using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
 
 /// How a band's values become linear radiometric reflectance-like values (header comment: Colour).
 enum class Encoding { Srgb8, Srgb16, Linear };
@@ -352,52 +312,6 @@ BasemapRaster BasemapRaster::fromEquirectangular(const LinearRgbImage& image, co
 
 namespace {
 
-/// Destination pixel (x, y continuous, (0, 0) = top-left corner) <-> lon/lat [deg].
-class DestinationGrid {
- public:
-  virtual ~DestinationGrid() = default;
-  /// In place: x, y -> lon, lat; NaN where there is none.
-  virtual void lonLatFromPixel(double* x, double* y, int n) const = 0;
-  /// In place: lon, lat -> x, y; false where there is none.
-  virtual bool pixelFromLonLat(double& x, double& y) const = 0;
-};
-
-/// The flat view: a world rectangle of the data's frame (row 0 = north edge, as worldFromBasemapPixel).
-class WorldGrid final : public DestinationGrid {
- public:
-  WorldGrid(const SceneGeoreference& geo, const WorldRect& rect, int w, int h) : geo_(geo), rect_(rect), w_(w), h_(h) {}
-  void lonLatFromPixel(double* x, double* y, int n) const override {
-    xy_.resize(std::size_t(n) * 2);
-    const glm::dvec2 ext = rect_.max_m - rect_.min_m;
-    for (int i = 0; i < n; ++i) {
-      xy_[2 * std::size_t(i)] = rect_.min_m.x + x[i] / w_ * ext.x;
-      xy_[2 * std::size_t(i) + 1] = rect_.max_m.y - y[i] / h_ * ext.y;
-    }
-    geo_.lonLatFromWorldBatch(xy_.data(), std::size_t(n));
-    for (int i = 0; i < n; ++i) {
-      x[i] = xy_[2 * std::size_t(i)];
-      y[i] = xy_[2 * std::size_t(i) + 1];
-    }
-  }
-  bool pixelFromLonLat(double& x, double& y) const override {
-    try {
-      const glm::dvec2 wxy = geo_.worldFromLonLat({x, y});
-      const glm::dvec2 ext = rect_.max_m - rect_.min_m;
-      x = (wxy.x - rect_.min_m.x) / ext.x * w_;
-      y = (rect_.max_m.y - wxy.y) / ext.y * h_;
-      return std::isfinite(x) && std::isfinite(y);
-    } catch (const Error&) {
-      return false;
-    }
-  }
-
- private:
-  const SceneGeoreference& geo_;
-  WorldRect rect_;
-  int w_, h_;
-  mutable std::vector<double> xy_;
-};
-
 /// The globe: the whole Earth in plate carrée, pixel-is-area (equirectUv's convention).
 class EquirectangularGrid final : public DestinationGrid {
  public:
@@ -417,47 +331,6 @@ class EquirectangularGrid final : public DestinationGrid {
  private:
   int w_, h_;
 };
-
-/// The transformer chain's argument. GDAL reads a transformer argument's first bytes for a
-/// signature (GDALTransformerInfo) to recognise its own kinds; ours starts with a zeroed one.
-struct ChainArg {
-  GDALTransformerInfo info{};
-  const DestinationGrid* destination = nullptr;
-  void* lonlat_to_source = nullptr;  ///< GenImgProj: "dst" = lon/lat, "src" = source pixel
-};
-
-int chainTransform(void* arg, int dstToSrc, int n, double* x, double* y, double* z, int* ok) {
-  const auto* c = static_cast<const ChainArg*>(arg);
-  if (dstToSrc) {
-    c->destination->lonLatFromPixel(x, y, n);
-    std::vector<int> mask(std::size_t(std::max(n, 0)), 1);
-    for (int i = 0; i < n; ++i) {
-      if (std::isnan(x[i]) || std::isnan(y[i])) {
-        mask[std::size_t(i)] = 0;
-        x[i] = y[i] = 0.0;  // a finite point for GDAL; marked failed below
-      }
-      y[i] = std::clamp(y[i], -90.0, 90.0);  // PROJ may return the pole a few ulp beyond it
-    }
-    GDALGenImgProjTransform(c->lonlat_to_source, TRUE, n, x, y, z, ok);
-    for (int i = 0; i < n; ++i) ok[i] = ok[i] && mask[std::size_t(i)];
-    return TRUE;
-  }
-  GDALGenImgProjTransform(c->lonlat_to_source, FALSE, n, x, y, z, ok);
-  for (int i = 0; i < n; ++i) {
-    if (ok[i]) ok[i] = c->destination->pixelFromLonLat(x[i], y[i]) ? 1 : 0;
-  }
-  return TRUE;
-}
-
-/// Source pixels per destination pixel along the destination's x and y at its centre, through
-/// `chain` (1 where the chain fails there).
-std::array<double, 2> sourcePerDestination(ChainArg& chain, int w, int h) {
-  double x[3] = {0.5 * w, 0.5 * w + 1.0, 0.5 * w}, y[3] = {0.5 * h, 0.5 * h, 0.5 * h + 1.0}, z[3] = {};
-  int ok[3] = {};
-  chainTransform(&chain, TRUE, 3, x, y, z, ok);
-  return {ok[0] && ok[1] ? std::hypot(x[1] - x[0], y[1] - y[0]) : 1.0,
-          ok[0] && ok[2] ? std::hypot(x[2] - x[0], y[2] - y[0]) : 1.0};
-}
 
 /// The overview of `raster` to read for `ratio` source pixels per destination pixel: the coarsest
 /// whose reduction factor (full width / its width) is at most the smaller ratio, so the output
@@ -528,36 +401,11 @@ std::size_t warpInto(const std::vector<BasemapRaster>& layers, const Destination
     }
     wo->nSrcAlphaBand = src.alpha_band;
     wo->nDstAlphaBand = 4;
-    wo->eResampleAlg = GRA_Bilinear;
-    wo->eWorkingDataType = GDT_Float32;
-    wo->dfWarpMemoryLimit = kWarpMemory_bytes;
-    wo->pfnTransformer = GDALApproxTransform;
-    wo->pTransformerArg = approx;
     // Each layer starts from a blank destination and is composited below, by its coverage.
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "INIT_DEST", "0");
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "DST_ALPHA_MAX", "1");
-    // The source window of each chunk from a grid of points inside it, not only its edges: around
-    // a pole (a polar stereographic grid) the northernmost lon/lat of a chunk lies inside it.
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SAMPLE_GRID", "YES");
-    wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SOURCE_EXTRA", "2");
+    setSharedWarpOptions(wo, chain, approx, w, h);
     if (src.alpha_band != 0) {
       const char* alphaMax = src.encoding == Encoding::Srgb8 ? "255" : src.encoding == Encoding::Srgb16 ? "65535" : "1";
       wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "SRC_ALPHA_MAX", alphaMax);
-    }
-    // The filter's footprint: GDAL widens bilinear by the chunk's source-window/destination size
-    // ratio, which a window across the antimeridian (both ends of a whole-Earth raster) makes
-    // absurd. Give it the real ratio, measured at the destination's centre: source pixels per
-    // destination pixel along each axis. Up to 2 the plain (point-sampled) bilinear sees every
-    // source pixel; beyond, the kernel is widened to the footprint (antialiasing) — GDAL's widened
-    // kernel is not exact on a linear ramp (its discrete weights are not centred: a bias up to
-    // ~0.1 source pixel, measured), so it is kept for where it is needed.
-    {
-      auto scale = [](double sourcePerDestination) {
-        return fmt::format("{:.9g}", sourcePerDestination > 2.0 ? 1.0 / sourcePerDestination : 1.0);
-      };
-      const std::array<double, 2> ratio = sourcePerDestination(chain, w, h);
-      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "XSCALE", scale(ratio[0]).c_str());
-      wo->papszWarpOptions = CSLSetNameValue(wo->papszWarpOptions, "YSCALE", scale(ratio[1]).c_str());
     }
     GDALWarpOperationH op = GDALCreateWarpOperation(wo);
     CPLErr err = op ? GDALChunkAndWarpImage(op, 0, 0, w, h) : CE_Failure;

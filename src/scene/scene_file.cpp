@@ -196,6 +196,14 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
     s.basemap = bm;
   }
 
+  if (const json* t = top.get("terrain"); t && !t->is_null()) {
+    Object o(*t, "terrain", name, base_dir);
+    TerrainSpec terrain;
+    terrain.dem = o.path("dem", true);
+    o.finish();
+    s.terrain = terrain;
+  }
+
   if (const json* q = top.get("quality")) {
     if (q->is_string()) {
       try {

@@ -65,6 +65,13 @@ struct BasemapSpec {
   std::string night_lights;
 };
 
+/// "terrain": the ground's heights beyond the model's own field (issue 14 item 2; scene/dem.h).
+struct TerrainSpec {
+  /// A user DEM: any GDAL raster with a CRS and one band of metres. Inside the domain it replaces
+  /// the model's field where it has data; beyond the domain it is the ground to the horizon.
+  std::string dem;
+};
+
 struct OutputSpec {
   std::vector<std::string> paths;  ///< .png and/or .exr; may be empty when the CLI gives them
   int width = 1920;
@@ -96,8 +103,9 @@ struct SceneDescription {
   CameraSpec camera;
   SunSpec sun;
   std::optional<BasemapSpec> basemap;
-  lighting::QualitySettings quality;  ///< "quality": a preset and overrides (lighting/knobs.h)
-  lighting::StyleSettings style;      ///< "style": the look (the knob table's style rows)
+  std::optional<TerrainSpec> terrain;  ///< "terrain": {"dem": ...}; none: the model's own field only
+  lighting::QualitySettings quality;   ///< "quality": a preset and overrides (lighting/knobs.h)
+  lighting::StyleSettings style;       ///< "style": the look (the knob table's style rows)
   OutputSpec output;
   double height_exaggeration = 1.0;  ///< Nes 2008 §5.5.2
   ViewMode view = ViewMode::Flat;

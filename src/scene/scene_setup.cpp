@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/dem.h"
 #include "scene/night_lights.h"
 #include "scene/solar_position.h"
 
@@ -59,6 +60,15 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
     }
     p.camera = globeCameraFrom(p.flat_camera, *geo);
     p.to_sun_ecef = toSunEcef(p.sun, *geo, centre);
+  }
+  if (s.terrain && !s.terrain->dem.empty()) {
+    if (!geo) {
+      throw InputError(fmt::format("{}: terrain.dem: the volume's grid is Cartesian (no map projection): "
+                                   "give centre_lonlat_deg to place it on the map",
+                                   s.source_file));
+    }
+    // The far field only for the flat view: the globe's terrain ends with its table (docs/terrain.md).
+    p.dem = demHeightsFor(DemRaster::open(s.terrain->dem), *geo, p.frame, s.view == ViewMode::Flat);
   }
   if (s.basemap) {
     if (!geo) {

@@ -13,6 +13,7 @@
 #include "scene/scene_file.h"
 #include "scene/sun.h"
 #include "volume/extinction_volumes.h"
+#include "volume/terrain_field.h"
 #include "volume/volume_frame.h"
 
 namespace nph::scene {
@@ -42,6 +43,9 @@ struct PreparedScene {
   /// intensity per pixel of basemap, far_basemap and basemap_equirect; each empty where that image
   /// is, or when the style's city_lights is 0 or no lights raster is given nor installed.
   std::vector<float> basemap_lights, far_basemap_lights, basemap_equirect_lights;
+  /// A user DEM (scene "terrain": {"dem": ...}; scene/dem.h) on the model's mass points and the far
+  /// square, for render::VolumeTextures::upload; none without one.
+  std::optional<DemHeights> dem;
 };
 
 /// The far basemap's rectangle: the footprint's centre ± max(2000 km, 3 × its longer side). At

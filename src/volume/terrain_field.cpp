@@ -26,13 +26,21 @@ struct TerrainGrid {
   Vec2 cell_m;
   Number exaggeration, fade_m, max_m, min_m, lipschitz;
   const float* texels;
+  bool has_far;
+  ivec2 far_size;
+  Vec2 far_min_m, far_cell_m;
+  const float* far_texels;
 };
 #define TERRAIN_TEXEL(g, i, j) Number((g).texels[std::size_t(j) * std::size_t((g).size.x) + std::size_t(i)])
+#define TERRAIN_FAR_TEXEL(g, i, j) Number((g).far_texels[std::size_t(j) * std::size_t((g).far_size.x) + std::size_t(i)])
 #include "../glsl/common/terrain.glsl"
 #undef TERRAIN_TEXEL
+#undef TERRAIN_FAR_TEXEL
 
 TerrainGrid gridOf(const TerrainField& t) {
-  return {t.size, t.cell_m, t.exaggeration, t.fade_m, t.max_m, t.min_m, t.lipschitz, t.height_m.data()};
+  return {t.size,      t.cell_m,     t.exaggeration,       t.fade_m,   t.max_m,
+          t.min_m,     t.lipschitz,  t.height_m.data(),    t.hasFar(), t.far_size,
+          t.far_min_m, t.far_cell_m, t.far_height_m.data()};
 }
 }  // namespace f64
 
@@ -54,43 +62,89 @@ double TerrainField::hitDistance(const glm::dvec3& origin_m, const glm::dvec3& d
   return t >= t_min && t <= t_max && t < f64::kTerrainMiss_m ? t : -1.0;
 }
 
-TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame) {
+namespace {
+
+/// Extremes and the largest height steps between x and y neighbours of a w × h field (x fastest).
+struct FieldBounds {
+  double lo = 0.0, hi = 0.0, step_x = 0.0, step_y = 0.0;
+};
+
+FieldBounds boundsOf(const std::vector<float>& h_m, int w, int h, const std::string& file, const char* what) {
+  FieldBounds b;
+  const auto at = [&](int i, int j) { return double(h_m[std::size_t(j) * std::size_t(w) + std::size_t(i)]); };
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const double z = at(i, j);
+      if (!std::isfinite(z)) {
+        throw InputError(
+            fmt::format("{}: {} height at column ({}, {}) is {}; expected a finite height [m]", file, what, i, j, z));
+      }
+      b.lo = std::min(b.lo, z);
+      b.hi = std::max(b.hi, z);
+      if (i + 1 < w) b.step_x = std::max(b.step_x, std::abs(at(i + 1, j) - z));
+      if (j + 1 < h) b.step_y = std::max(b.step_y, std::abs(at(i, j + 1) - z));
+    }
+  }
+  return b;
+}
+
+}  // namespace
+
+TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame, const DemHeights* dem) {
   TerrainField t;
   t.size = {v.nx, v.ny};
   t.cell_m = {frame.voxel_size_m.x, frame.voxel_size_m.y};
   t.exaggeration = frame.height_exaggeration;
   t.fade_m = 0.1 * std::max(frame.size_m().x, frame.size_m().y);
-  if (v.terrain_height_m.empty()) return t;
+  const bool hasDem = dem && (!dem->model_m.empty() || !dem->far_m.empty());
+  if (v.terrain_height_m.empty() && !hasDem) return t;
   const std::size_t columns = std::size_t(v.nx) * std::size_t(v.ny);
-  if (v.terrain_height_m.size() != columns) {
+  if (!v.terrain_height_m.empty() && v.terrain_height_m.size() != columns) {
     throw InputError(fmt::format("{}: terrain has {} heights, expected {} ({}x{} columns)", v.source_file,
                                  v.terrain_height_m.size(), columns, v.nx, v.ny));
   }
-  t.height_m = v.terrain_height_m;
-  double lo = 0.0, hi = 0.0, sx = 0.0, sy = 0.0;  // extremes; largest height step between neighbours
-  for (int j = 0; j < v.ny; ++j) {
-    for (int i = 0; i < v.nx; ++i) {
-      const double h = t.height_m[std::size_t(j) * std::size_t(v.nx) + std::size_t(i)];
-      if (!std::isfinite(h)) {
-        throw InputError(fmt::format("{}: terrain height at column ({}, {}) is {}; expected a finite height [m]",
-                                     v.source_file, i, j, h));
-      }
-      lo = std::min(lo, h);
-      hi = std::max(hi, h);
-      if (i + 1 < v.nx)
-        sx = std::max(sx, std::abs(double(t.height_m[std::size_t(j) * std::size_t(v.nx) + std::size_t(i + 1)]) - h));
-      if (j + 1 < v.ny)
-        sy = std::max(sy, std::abs(double(t.height_m[std::size_t(j + 1) * std::size_t(v.nx) + std::size_t(i)]) - h));
+  t.height_m = v.terrain_height_m.empty() ? std::vector<float>(columns, 0.0f) : v.terrain_height_m;
+  if (hasDem && !dem->model_m.empty()) {
+    if (dem->model_m.size() != columns) {
+      throw UsageError(fmt::format("{}: DEM resampled to {} columns, the model has {} ({}x{})", dem->source,
+                                   dem->model_m.size(), columns, v.nx, v.ny));
+    }
+    // The rule (docs/terrain.md "A user DEM"): the DEM wins where it has data, the model's own
+    // field (or sea level without one) where it has none.
+    for (std::size_t k = 0; k < columns; ++k) {
+      if (!std::isnan(dem->model_m[k])) t.height_m[k] = dem->model_m[k];
     }
   }
+  const FieldBounds near = boundsOf(t.height_m, v.nx, v.ny, hasDem ? dem->source : v.source_file, "terrain");
   const double e = t.exaggeration;
-  t.max_m = hi * e;
-  t.min_m = lo * e;
+  double lo = near.lo, hi = near.hi;
   // A bilinear patch's gradient is a blend of its edges' differences, so |∂z/∂x| ≤ e·sx/dx and
   // |∂z/∂y| ≤ e·sy/dy inside the footprint; the fade adds at most e·max|h|/fade_m, and the product
   // h·fade keeps |∇| ≤ |∇h|·fade + |h|·|∇fade|. 1 % margin for float rounding of the heights.
-  const double inside = std::hypot(e * sx / t.cell_m.x, e * sy / t.cell_m.y);
-  t.lipschitz = 1.01 * (inside + e * std::max(hi, -lo) / t.fade_m);
+  const double inside = std::hypot(e * near.step_x / t.cell_m.x, e * near.step_y / t.cell_m.y);
+  double lipschitz = inside + e * std::max(near.hi, -near.lo) / t.fade_m;
+  if (hasDem && !dem->far_m.empty()) {
+    const glm::ivec2 n = dem->far_size;
+    if (n.x < 2 || n.y < 2 || dem->far_m.size() != std::size_t(n.x) * std::size_t(n.y) ||
+        !(dem->far_max_m.x > dem->far_min_m.x) || !(dem->far_max_m.y > dem->far_min_m.y)) {
+      throw UsageError(
+          fmt::format("{}: far DEM field of {} heights for {}x{} pixels", dem->source, dem->far_m.size(), n.x, n.y));
+    }
+    t.far_size = n;
+    t.far_min_m = dem->far_min_m;
+    t.far_cell_m = (dem->far_max_m - dem->far_min_m) / glm::dvec2(n);
+    t.far_height_m = dem->far_m;
+    for (float& z : t.far_height_m) z = std::isnan(z) ? 0.0f : z;  // no data beyond the domain: sea level
+    const FieldBounds far = boundsOf(t.far_height_m, n.x, n.y, dem->source, "far DEM");
+    lo = std::min(lo, far.lo);
+    hi = std::max(hi, far.hi);
+    // Beyond the footprint h = mix(h_far, h_edge, fade): |∇| ≤ |∇h_far| + |∇h_edge| + |h_edge − h_far|/fade_m.
+    lipschitz = inside + std::hypot(e * far.step_x / t.far_cell_m.x, e * far.step_y / t.far_cell_m.y) +
+                e * (std::max(near.hi, -near.lo) + std::max(far.hi, -far.lo)) / t.fade_m;
+  }
+  t.max_m = hi * e;
+  t.min_m = lo * e;
+  t.lipschitz = 1.01 * lipschitz;
   return t;
 }
 

@@ -5,6 +5,7 @@
 // the slope), and the CPU twin of that march: glsl/common/terrain.glsl compiled as C++ in double
 // precision (core/glsl_cpp.h), so the reference ray marcher stops its rays where the GPU does.
 // Documentation of the surface and the march: glsl/common/terrain.glsl.
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -13,6 +14,18 @@
 #include "volume/volume_frame.h"
 
 namespace nph::scene {
+
+/// A user DEM resampled for the terrain (scene/dem.h; issue 14 item 2): heights [m above MSL] on
+/// the model's mass points, which replace the model's own field where they are not NaN (the DEM
+/// wins, the model's field where the DEM has no data), and a far field over the far basemap's
+/// square (scene::farBasemapRectangle), so the ground beyond the domain has the DEM's relief.
+struct DemHeights {
+  std::string source;                         ///< the DEM file, for messages
+  std::vector<float> model_m;                 ///< nx·ny, x fastest, NaN = no data; empty = none
+  glm::ivec2 far_size{0};                     ///< far field pixels (0: none)
+  glm::dvec2 far_min_m{0.0}, far_max_m{0.0};  ///< its world rectangle
+  std::vector<float> far_m;                   ///< far_size.x·far_size.y, x fastest, row 0 south; NaN = no data
+};
 
 struct TerrainField {
   glm::ivec2 size{0};           ///< mass points nx, ny
@@ -23,7 +36,13 @@ struct TerrainField {
   double min_m = 0.0;           ///< lowest world height, ≤ 0
   double lipschitz = 0.0;       ///< upper bound of |∇(e·h)| of the bilinear, faded surface
   std::vector<float> height_m;  ///< nx·ny heights above MSL, x fastest (not exaggerated)
+  /// The far field (a DEM's relief beyond the domain; glsl/common/terrain.glsl): empty without.
+  glm::ivec2 far_size{0};
+  glm::dvec2 far_min_m{0.0};
+  glm::dvec2 far_cell_m{1.0};
+  std::vector<float> far_height_m;  ///< far_size.x·far_size.y, x fastest, row 0 south, no NaN
 
+  bool hasFar() const { return !far_height_m.empty(); }
   /// false: no terrain (absent field or sea level everywhere): the ground is the plane z = 0.
   bool present() const { return max_m > 0.0 || min_m < 0.0; }
   /// World height (exaggerated) at world (x, y) [m] — the GPU's terrainHeight_m.
@@ -36,8 +55,9 @@ struct TerrainField {
 };
 
 /// The terrain of `volumes` placed by `frame` (its exaggeration and cell size). The fade beyond
-/// the footprint is a tenth of the footprint's longer side. Throws InputError for a field of the
-/// wrong size or a non-finite height.
-TerrainField terrainOf(const ExtinctionVolumes& volumes, const VolumeFrame& frame);
+/// the footprint is a tenth of the footprint's longer side. With `dem`, its heights replace the
+/// model's where they are not NaN and its far field carries the relief beyond the footprint (NaN
+/// there is sea level). Throws InputError for a field of the wrong size or a non-finite height.
+TerrainField terrainOf(const ExtinctionVolumes& volumes, const VolumeFrame& frame, const DemHeights* dem = nullptr);
 
 }  // namespace nph::scene

@@ -260,6 +260,26 @@ XML
     run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/none-out.png" --basemap "$out/missing.tif"
     expect_rc 1; expect_err "missing.tif"
     ;;
+  dem)  # --dem FILE: a user DEM through GDAL (docs/terrain.md "A user DEM"); a DEM in centimetres is refused
+    # ESRI ASCII grids (GDAL's AAIGrid) in EPSG:4326 over the storm's region: 1500 m everywhere, and
+    # the same in centimetres; one without its .prj (no CRS).
+    for unit in m cm nocrs; do
+      awk -v unit="$unit" 'BEGIN {
+        printf "ncols 100\nnrows 100\nxllcorner -100\nyllcorner 0\ncellsize 0.5\nNODATA_value -9999\n";
+        for (j = 0; j < 100; ++j) { for (i = 0; i < 100; ++i) printf "%.1f ", unit == "cm" ? 150000 : 1500; printf "\n" }
+      }' >"$out/dem-$unit.asc"
+      [ "$unit" = nocrs ] || printf 'GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433]]' >"$out/dem-$unit.prj"
+    done
+    NEPHELE_LOG=info run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/dem.png" --width 64 --height 36 --dem "$out/dem-m.asc"
+    expect_rc 0
+    grep -E -q 'DEM .*dem-m.asc: heights on [1-9][0-9]* of [0-9]+ model columns' "$out/stderr" ||
+      fail "the DEM did not reach the model's columns; stderr: $stderr"
+    run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/dem-cm.png" --width 32 --height 18 --dem "$out/dem-cm.asc"
+    expect_rc 1; expect_err "dem-cm.asc"; expect_err "expected metres above sea level"
+    [ ! -e "$out/dem-cm.png" ] || fail "an image was written although the DEM was refused"
+    run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/dem-nocrs.png" --width 32 --height 18 --dem "$out/dem-nocrs.asc"
+    expect_rc 1; expect_err "dem-nocrs.asc"; expect_err "has no coordinate reference system"
+    ;;
   exposure)  # output.exposure "sun": the EXR is the fixed-exposure one times 2^(the offset logged)
     animate_cache
     for mode in fixed sun; do

@@ -35,6 +35,43 @@ void decodeBasemapColour(float r, float g, double& lon_deg, double& lat_deg) {
   lat_deg = 90.0 - double(g) * 180.0;
 }
 
+double codedBasemapBlue(double lon_deg, double lat_deg) {
+  const int x = int((lon_deg + 180.0) / 360.0 * 720.0), y = int((90.0 - lat_deg) / 180.0 * 360.0);
+  return ((x / 20 + y / 20) % 2) != 0 ? 0.6 : 0.2;
+}
+
+glm::dvec2 projectedPixel(const scene::Camera& cam, const glm::dvec3& world) {
+  const glm::dvec4 clip = cam.clipFromView() * cam.viewFromWorld() * glm::dvec4(world, 1.0);
+  const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
+  return {0.5 * (ndc.x + 1.0) * cam.width, 0.5 * (1.0 - ndc.y) * cam.height};
+}
+
+glm::dvec2 locateCodedLonLat(const scene::RgbaImage& frame, const scene::Camera& cam, glm::dvec2 target, double blue) {
+  const auto decoded = [&](int x, int y) {
+    const float* p = &frame.rgba[(std::size_t(y) * std::size_t(cam.width) + std::size_t(x)) * 4];
+    const double light = double(p[2]) / blue;
+    double lon = 0.0, lat = 0.0;
+    decodeBasemapColour(float(double(p[0]) / light), float(double(p[1]) / light), lon, lat);
+    return glm::dvec2(lon, lat);
+  };
+  glm::ivec2 best(-1);
+  double bestErr = 1e300;
+  for (int y = 1; y + 1 < cam.height; ++y) {
+    for (int x = 1; x + 1 < cam.width; ++x) {
+      const double e = glm::length(decoded(x, y) - target);
+      if (e < bestErr) {
+        bestErr = e;
+        best = {x, y};
+      }
+    }
+  }
+  // One Newton step on the decoded field: d(lon, lat)/d(px) by central differences.
+  const glm::dvec2 ddx = 0.5 * (decoded(best.x + 1, best.y) - decoded(best.x - 1, best.y));
+  const glm::dvec2 ddy = 0.5 * (decoded(best.x, best.y + 1) - decoded(best.x, best.y - 1));
+  const glm::dvec2 step = glm::inverse(glm::dmat2(ddx, ddy)) * (target - decoded(best.x, best.y));
+  return glm::dvec2(best) + glm::dvec2(0.5) + step;
+}
+
 datagen::WrfHurricaneSpec smallStormSpec(datagen::WrfProjection projection) {
   datagen::WrfHurricaneSpec spec;
   spec.nx = 80;

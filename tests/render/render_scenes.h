@@ -20,6 +20,15 @@ namespace nph::test {
 void writeCodedBasemap(const std::string& path);
 /// lon/lat [deg] from a basemap colour of writeCodedBasemap.
 void decodeBasemapColour(float r, float g, double& lon_deg, double& lat_deg);
+/// writeCodedBasemap's blue at lon/lat: 0.2 or 0.6, constant over 10° squares.
+double codedBasemapBlue(double lon_deg, double lat_deg);
+/// Continuous image position (x right, y down, pixel centres at + 0.5) of a world point.
+glm::dvec2 projectedPixel(const scene::Camera& cam, const glm::dvec3& world);
+/// The sub-pixel image position of the ground point at `target` (lon, lat) in a frame over the coded
+/// basemap, whose blue there is `blue`: blue/blue_true is the lighting (sun only, grey), so (red,
+/// green)/that decodes the lon/lat a pixel shows, whatever the shading; the nearest pixel, then
+/// one Newton step on the decoded field's local Jacobian (the terrain placement tests).
+glm::dvec2 locateCodedLonLat(const scene::RgbaImage& frame, const scene::Camera& cam, glm::dvec2 target, double blue);
 
 /// The small storm of the golden and placement tests: 80 × 72 × 20 mass points at 5 km (a
 /// 400 × 360 km domain with eye and eyewall), one timestep, in `projection`.

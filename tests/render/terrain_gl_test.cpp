@@ -36,40 +36,9 @@ constexpr double kMountainLon_deg = -76.2, kMountainLat_deg = 24.3;
 constexpr double kMountainHeight_m = 3000.0, kMountainSigma_m = 35000.0;
 constexpr double kExaggeration = 4.0;
 
-glm::dvec2 pixelOf(const scene::Camera& cam, const glm::dvec3& world) {
-  const glm::dvec4 clip = cam.clipFromView() * cam.viewFromWorld() * glm::dvec4(world, 1.0);
-  const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
-  return {0.5 * (ndc.x + 1.0) * cam.width, 0.5 * (1.0 - ndc.y) * cam.height};  // continuous, y down
-}
-
-// The sub-pixel image position of the ground point at the mountain's lon/lat in a frame over the
-// coded basemap (see the header comment).
+// The summit's lon/lat over the coded basemap: blue 0.2 in its 10° square (x/20 + y/20 even).
 glm::dvec2 locateLonLat(const scene::RgbaImage& frame, const scene::Camera& cam) {
-  const auto decoded = [&](int x, int y) {
-    const float* p = &frame.rgba[(std::size_t(y) * std::size_t(cam.width) + std::size_t(x)) * 4];
-    const double light = double(p[2]) / 0.2;  // the blue of the mountain's square (x/20 + y/20 even)
-    double lon = 0.0, lat = 0.0;
-    decodeBasemapColour(float(double(p[0]) / light), float(double(p[1]) / light), lon, lat);
-    return glm::dvec2(lon, lat);
-  };
-  const glm::dvec2 target(kMountainLon_deg, kMountainLat_deg);
-  glm::ivec2 best(-1);
-  double bestErr = 1e300;
-  for (int y = 1; y + 1 < cam.height; ++y) {
-    for (int x = 1; x + 1 < cam.width; ++x) {
-      const double e = glm::length(decoded(x, y) - target);
-      if (e < bestErr) {
-        bestErr = e;
-        best = {x, y};
-      }
-    }
-  }
-  // One Newton step on the decoded field: d(lon, lat)/d(px) by central differences.
-  const glm::dvec2 ddx = 0.5 * (decoded(best.x + 1, best.y) - decoded(best.x - 1, best.y));
-  const glm::dvec2 ddy = 0.5 * (decoded(best.x, best.y + 1) - decoded(best.x, best.y - 1));
-  const glm::dmat2 jacobian(ddx, ddy);
-  const glm::dvec2 step = glm::inverse(jacobian) * (target - decoded(best.x, best.y));
-  return glm::dvec2(best) + glm::dvec2(0.5) + step;
+  return locateCodedLonLat(frame, cam, {kMountainLon_deg, kMountainLat_deg}, 0.2);
 }
 
 class TerrainRender : public GlTest {
@@ -134,7 +103,7 @@ void TerrainRender::summitLandsAtItsProjectedPixel(const std::string& view) {
     cam = scene::globeCameraFrom(cam, *prep.geo);
     summit = prep.geo->ecefFromWorld(summit);
   }
-  const glm::dvec2 expected = pixelOf(cam, summit);
+  const glm::dvec2 expected = projectedPixel(cam, summit);
 
   const auto locate = [&](const scene::RgbaImage& frame) { return locateLonLat(frame, cam); };
   const glm::dvec2 found = locate(session->render(cam).frame);
@@ -151,7 +120,7 @@ void TerrainRender::summitLandsAtItsProjectedPixel(const std::string& view) {
   // ... and there it is the bare ground's point (sea level: the plane z = 0, the sphere R). On the
   // globe this caught llvmpipe's inexact asin (every latitude 0.0093° low: 2.3 px here; globe.glsl).
   const glm::dvec3 bare(summitXy, 0.0);
-  const glm::dvec2 expectedBare = pixelOf(cam, view == "globe" ? prep.geo->ecefFromWorld(bare) : bare);
+  const glm::dvec2 expectedBare = projectedPixel(cam, view == "globe" ? prep.geo->ecefFromWorld(bare) : bare);
   std::printf("[ terrain] %s: bare ground projected at (%.2f, %.2f): %.3f px\n", view.c_str(), expectedBare.x,
               expectedBare.y, glm::length(flat - expectedBare));
   EXPECT_LE(glm::length(flat - expectedBare), 1.5);

@@ -21,7 +21,9 @@ struct RasterSpec {
 
 /// Writes `spec` as a GeoTIFF at `path`; `pixels` band-interleaved by pixel (w·h·bands values in
 /// the band type's range). Fails the test on any GDAL error.
-inline void writeGeoTiff(const std::string& path, const RasterSpec& spec, const std::vector<double>& pixels) {
+/// `nodata`: every band's nodata value (none: unset).
+inline void writeGeoTiff(const std::string& path, const RasterSpec& spec, const std::vector<double>& pixels,
+                         std::optional<double> nodata = std::nullopt) {
   GDALAllRegister();
   GDALDriverH gtiff = GDALGetDriverByName("GTiff");
   ASSERT_NE(gtiff, nullptr);
@@ -36,6 +38,10 @@ inline void writeGeoTiff(const std::string& path, const RasterSpec& spec, const 
     ASSERT_EQ(OSRSetFromUserInput(srs, spec.srs.c_str()), OGRERR_NONE) << spec.srs;
     ASSERT_EQ(GDALSetSpatialRef(ds, srs), CE_None);
     OSRDestroySpatialReference(srs);
+  }
+  if (nodata) {
+    for (int b = 1; b <= spec.bands; ++b)
+      ASSERT_EQ(GDALSetRasterNoDataValue(GDALGetRasterBand(ds, b), *nodata), CE_None);
   }
   std::vector<double> copy = pixels;
   const int pixelSpace = int(sizeof(double)) * spec.bands;

@@ -44,7 +44,8 @@ bool anyPositive(const std::vector<float>& a) {
 
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame, std::string identity,
                                       scene::Reconstruction reconstruction, int brickVoxels, scene::Detail detail,
-                                      std::shared_ptr<const NoiseTexture> noise, VolumeStorage storage) {
+                                      std::shared_ptr<const NoiseTexture> noise, VolumeStorage storage,
+                                      const scene::DemHeights* dem) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   checkVoxels(v.ice_per_m, "ice_per_m");
   checkVoxels(v.water_per_m, "water_per_m");
@@ -117,7 +118,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   }
   // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
   // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
-  t.terrain_ = scene::terrainOf(v, frame);
+  t.terrain_ = scene::terrainOf(v, frame, dem);
   {
     const bool present = t.terrain_.present();
     const int w = present ? v.nx : 1, h = present ? v.ny : 1;
@@ -126,6 +127,14 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     glTextureSubImage2D(t.terrain_tex_.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT,
                         present ? t.terrain_.height_m.data() : &zero);
     t.terrain_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+    // A user DEM's far field (glsl/common/terrain.glsl terrainFarHeight_m), row 0 south as the
+    // mass points.
+    const bool far = present && t.terrain_.hasFar();
+    const int fw = far ? t.terrain_.far_size.x : 1, fh = far ? t.terrain_.far_size.y : 1;
+    t.far_terrain_tex_ = gl::Texture::create2D(GL_R32F, fw, fh).label("far terrain height [m]");
+    glTextureSubImage2D(t.far_terrain_tex_.id(), 0, 0, 0, fw, fh, GL_RED, GL_FLOAT,
+                        far ? t.terrain_.far_height_m.data() : &zero);
+    t.far_terrain_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   }
   // Units of absent phases get a 1-voxel zero texture so that no unit is left unbound.
   t.zero_ = upload3D(std::vector<float>{0.0f}, {1, 1, 1}, "zero");
@@ -233,8 +242,8 @@ void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
 
 std::size_t VolumeTextures::bytes() const {
   std::size_t b = 0;
-  for (const gl::Texture* tex : {&ice_, &water_, &occupancy_tex_, &column_depth_, &zero_, &terrain_tex_, &controls_,
-                                 &zero_rgba_, &correction_, &packed_})
+  for (const gl::Texture* tex : {&ice_, &water_, &occupancy_tex_, &column_depth_, &zero_, &terrain_tex_,
+                                 &far_terrain_tex_, &controls_, &zero_rgba_, &correction_, &packed_})
     b += tex->bytes();
   return b;
 }
@@ -245,6 +254,7 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_OCCUPANCY_PER_M, occupancy_tex_.id());
   glBindTextureUnit(gl::binding::UNIT_COLUMN_DEPTH, column_depth_ ? column_depth_.id() : zero_.id());
   glBindTextureUnit(gl::binding::UNIT_TERRAIN, terrain_tex_.id());
+  glBindTextureUnit(gl::binding::UNIT_FAR_TERRAIN, far_terrain_tex_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CONTROLS, controls_ ? controls_.id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_NOISE, noise_ ? noise_->texture().id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, correction_.id());

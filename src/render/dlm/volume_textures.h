@@ -40,11 +40,14 @@ class VolumeTextures {
   /// noise tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by
   /// the displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
   /// measured on the GPU and solved (volume/detail.h), and the identity gets "|detail=<name>".
+  /// `dem` (scene/dem.h): a user DEM resampled for the terrain (scene::terrainOf's rule: it wins
+  /// where it has data) and its far field beyond the domain. The DLM does not read the terrain,
+  /// so the identity does not change with it.
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, std::string identity,
                                scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
                                int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
                                std::shared_ptr<const NoiseTexture> noise = {},
-                               VolumeStorage storage = VolumeStorage::Compact);
+                               VolumeStorage storage = VolumeStorage::Compact, const scene::DemHeights* dem = nullptr);
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
@@ -79,12 +82,14 @@ class VolumeTextures {
   /// (the per-column mass correction, 1 texel of 1 without detail) and the
   /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program,
   /// and the terrain heights (R32F, one texel per mass point, 1×1 zero without terrain) to
-  /// UNIT_TERRAIN, and the packed texture (or a 1-texel zero) to UNIT_PACKED_VOLUME.
+  /// UNIT_TERRAIN, the far terrain (a user DEM beyond the domain; 1×1 zero without) to
+  /// UNIT_FAR_TERRAIN, and the packed texture (or a 1-texel zero) to UNIT_PACKED_VOLUME.
   void bind() const;
 
  private:
   scene::HalfColumnMasses measureHalfColumnMasses() const;  ///< glsl/render/detail_mass.comp
-  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, controls_, zero_rgba_, correction_;
+  gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, far_terrain_tex_, controls_, zero_rgba_,
+      correction_;
   gl::Texture packed_;
   float packed_beta_unit_per_m_ = 0.0f;
   bool has_ice_ = false, has_water_ = false;

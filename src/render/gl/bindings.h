@@ -55,6 +55,7 @@
   X(UNIT_COLUMN_DEPTH, 14)      /* sampler3D: RG16F vertical τ above, below (volume/column_depth.h) */ \
   X(UBO_TERRAIN, 5)             /* TerrainBlock (render/gl/uniform_blocks.h) */                 \
   X(UNIT_TERRAIN, 15)           /* sampler2D: R32F terrain height [m] per mass point (issue 14) */ \
+  X(UNIT_FAR_TERRAIN, 21)       /* sampler2D: R32F far terrain height [m], a user DEM beyond the domain */ \
   X(UNIT_FAR_BASEMAP, 3)        /* sampler2D: basemap beyond the near one (UNIT_SCATTER_MAP is not in clouds.comp) */ \
   X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
   X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \

@@ -271,12 +271,20 @@ struct TerrainBlock {
   std::uint32_t has_far_basemap = 0;  ///< u_has_far_basemap (bool)
   /// u_city_lights: the night side's lights, k of glsl/common/night_lights.glsl (0 = none; both views)
   float city_lights = 0.0f;
+  /// The far height field (a user DEM beyond the domain, scene/dem.h; flat view only):
+  glm::ivec2 far_terrain_size{1};      ///< u_far_terrain_size: its pixels
+  glm::vec2 far_terrain_min_m{0.0f};   ///< u_far_terrain_min_m: its world rectangle's south-west corner
+  glm::vec2 far_terrain_cell_m{1.0f};  ///< u_far_terrain_cell_m: its pixel size
+  std::uint32_t has_far_terrain = 0;   ///< u_has_far_terrain (bool)
+  std::uint32_t pad = 0;               ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(TerrainBlock, cell_m) == 8 && offsetof(TerrainBlock, exaggeration) == 16 &&
               offsetof(TerrainBlock, lipschitz) == 32 && offsetof(TerrainBlock, has_terrain) == 36);
 static_assert(offsetof(TerrainBlock, far_basemap_min_m) == 40 && offsetof(TerrainBlock, far_basemap_max_m) == 48 &&
               offsetof(TerrainBlock, has_far_basemap) == 56 && offsetof(TerrainBlock, city_lights) == 60);
-static_assert(sizeof(TerrainBlock) == 64, "std140 size of TerrainBlock, rounded to 16");
+static_assert(offsetof(TerrainBlock, far_terrain_size) == 64 && offsetof(TerrainBlock, far_terrain_min_m) == 72 &&
+              offsetof(TerrainBlock, far_terrain_cell_m) == 80 && offsetof(TerrainBlock, has_far_terrain) == 88);
+static_assert(sizeof(TerrainBlock) == 96, "std140 size of TerrainBlock, rounded to 16");
 inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(TerrainBlock, size)},
                                                   {"u_terrain_cell_m", offsetof(TerrainBlock, cell_m)},
                                                   {"u_terrain_exaggeration", offsetof(TerrainBlock, exaggeration)},
@@ -288,7 +296,11 @@ inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(Te
                                                   {"u_far_basemap_min_m", offsetof(TerrainBlock, far_basemap_min_m)},
                                                   {"u_far_basemap_max_m", offsetof(TerrainBlock, far_basemap_max_m)},
                                                   {"u_has_far_basemap", offsetof(TerrainBlock, has_far_basemap)},
-                                                  {"u_city_lights", offsetof(TerrainBlock, city_lights)}};
+                                                  {"u_city_lights", offsetof(TerrainBlock, city_lights)},
+                                                  {"u_far_terrain_size", offsetof(TerrainBlock, far_terrain_size)},
+                                                  {"u_far_terrain_min_m", offsetof(TerrainBlock, far_terrain_min_m)},
+                                                  {"u_far_terrain_cell_m", offsetof(TerrainBlock, far_terrain_cell_m)},
+                                                  {"u_has_far_terrain", offsetof(TerrainBlock, has_far_terrain)}};
 
 /// glsl/atmosphere/model.glsl `AtmosphereBlock`: the atmosphere's constants (atmosphere/atmosphere.h
 /// Parameters) and the sky-view table's observer and sun (render/atmosphere/atmosphere_luts.h).

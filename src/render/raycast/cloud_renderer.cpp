@@ -181,6 +181,14 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   b.has_far_basemap = far_basemap_ && !globe_ ? 1u : 0u;
   b.far_basemap_min_m = glm::vec2(far_basemap_rect_.min_m);
   b.far_basemap_max_m = glm::vec2(far_basemap_rect_.max_m);
+  // A user DEM's far field (scene/dem.h): the flat view's ground beyond the domain. The globe's
+  // terrain ends with its table, a few per cent beyond the footprint (docs/terrain.md).
+  if (t.hasFar() && !globe_) {
+    b.has_far_terrain = 1u;
+    b.far_terrain_size = t.far_size;
+    b.far_terrain_min_m = glm::vec2(t.far_min_m);
+    b.far_terrain_cell_m = glm::vec2(t.far_cell_m);
+  }
   // The night side's lights (glsl/common/night_lights.glsl), where any imagery of the view has them.
   const bool lights = globe_ ? globe_lights_ : basemap_lights_ || far_basemap_lights_;
   b.city_lights = lights ? float(s.city_lights) : 0.0f;
