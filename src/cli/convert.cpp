@@ -17,6 +17,7 @@
 #include "cli/commands.h"
 #include "cli/progress.h"
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/log.h"
 #include "io/model_file.h"
 #include "physics/optics_settings.h"
@@ -106,6 +107,10 @@ int runConvert(const ConvertOptions& o) {
   if (std::filesystem::exists(o.output) && !cache::NphReader::sniff(o.output) && !o.force) {
     throw UsageError(fmt::format("{}: exists and is not a .nph file; refusing to replace it (use --force)", o.output));
   }
+
+  // Timestep after timestep the same large blocks are allocated and freed: keep them in the
+  // process, faulted in (core/large_buffer.h; issue 19, convert speed).
+  reuseFreedMemoryForLargeBlocks();
 
   io::LoadOptions load;
   load.memory_budget_bytes = o.memory_budget_mb * 1024 * 1024;

@@ -21,6 +21,7 @@
 #include "core/env.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/large_buffer.h"
 #include "core/limits.h"
 #include "core/log.h"
 #include "core/process.h"
@@ -319,7 +320,8 @@ std::vector<float> NcReader::readFloats(const std::string& var, const std::vecto
   requireStoredData(var, id);
   std::size_t n = 1;
   for (std::size_t c : count) n *= c;
-  std::vector<float> data(n);
+  // Huge pages for the model fields (core/large_buffer.h): 512× fewer page faults on first touch.
+  std::vector<float> data = hugePageFloats(n);
   if (n == 0) return data;
   const int status = nc_get_vara_float(ncid_, id, start.data(), count.data(), data.data());
   if (status != NC_NOERR && status != NC_ERANGE) {

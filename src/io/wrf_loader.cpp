@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/log.h"
 #include "core/terminal_text.h"
 #include "field_checks.h"
@@ -358,7 +359,7 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
       phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
     requireRange(path, "(PH+PHB)/g", phi, kLowestHeight_m, kHighestHeight_m, "a height [m]");
     const std::size_t n2 = nx * ny;
-    ts.height_m.resize(nx * ny * nz);
+    ts.height_m = hugePageFloats(nx * ny * nz);
     for (std::size_t k = 0; k < nz; ++k) {
       for (std::size_t c = 0; c < n2; ++c) {
         const double lo = phi[k * n2 + c], hi = phi[(k + 1) * n2 + c];

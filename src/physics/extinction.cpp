@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/log.h"
 #include "physics/air_density.h"
 #include "physics/constants.h"
@@ -137,8 +138,8 @@ ModelLevelExtinction modelLevelExtinction(const io::ModelTimestep& ts, const Opt
   out.nx = ts.nx;
   out.ny = ts.ny;
   out.nz = ts.nz;
-  out.ice_per_m.resize(n);
-  out.water_per_m.resize(n);
+  out.ice_per_m = hugePageFloats(n);  // tens of MB each: huge pages (core/large_buffer.h)
+  out.water_per_m = hugePageFloats(n);
   const std::size_t row = std::size_t(ts.nx);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, std::size_t(ts.ny) * std::size_t(ts.nz)),

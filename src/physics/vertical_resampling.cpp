@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/limits.h"
 #include "physics/pchip.h"
 
@@ -195,7 +196,8 @@ std::vector<float> resampleFieldVertically(const io::ModelTimestep& ts, const st
     throw InputError(fmt::format("{}: timestep {}: {} has {} values, expected nx*ny*nz = {}", ts.source_file,
                                  ts.time_index, name, field.size(), ts.voxelCount()));
   }
-  std::vector<float> out(std::size_t(ts.nx) * std::size_t(ts.ny) * std::size_t(grid.nz), 0.0f);
+  // Zeros on huge pages (core/large_buffer.h): one output field is tens of MB.
+  std::vector<float> out = hugePageFloats(std::size_t(ts.nx) * std::size_t(ts.ny) * std::size_t(grid.nz));
   const int n = ts.nz;
   tbb::parallel_for(tbb::blocked_range<int>(0, ts.ny), [&](const tbb::blocked_range<int>& rows) {
     for (int j = rows.begin(); j != rows.end(); ++j) {

@@ -42,6 +42,12 @@ struct LinearRgbImage {
   int width = 0;
   int height = 0;
   std::vector<float> rgb;  ///< width·height·3
+  /// Issue 19 (memory): every source pixel behind the image was an 8- or 16-bit integer code (the
+  /// "Colour" rule above; Blue Marble's JPEG), so no more than half floats' 11 significant bits
+  /// are needed to hold it and the GPU stores it as RGBA16F (render/raycast/cloud_renderer.cpp).
+  /// False (the default) for float rasters and images made in memory: they keep float textures
+  /// (a float raster may carry more than 11 bits, as the tests' lon/lat-coded basemaps do).
+  bool integer_source = false;
 
   glm::vec3 at(int x, int y) const {
     const std::size_t i = (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3;
@@ -73,6 +79,8 @@ class BasemapRaster {
   int height() const;
   /// Whether the source covers the whole Earth in lon/lat (it wraps across the antimeridian).
   bool wholeEarth() const;
+  /// Whether its pixels are 8- or 16-bit integer codes (sRGB-encoded), not floats.
+  bool integerCoded() const;
   /// Issue 14 item 3, imagery LOD: the widths of the file's reduced-resolution levels (GeoTIFF/COG
   /// internal overviews, external .ovr), finest first; empty when it has none. The warp
   /// (reprojectBasemap, reprojectEquirectangular) reads the coarsest level that still has at least

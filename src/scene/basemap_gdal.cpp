@@ -86,6 +86,7 @@ const std::string& BasemapRaster::name() const { return impl_->name; }
 int BasemapRaster::width() const { return impl_->width; }
 int BasemapRaster::height() const { return impl_->height; }
 bool BasemapRaster::wholeEarth() const { return impl_->whole_earth; }
+bool BasemapRaster::integerCoded() const { return impl_->encoding != Encoding::Linear; }
 const std::vector<int>& BasemapRaster::overviewWidths() const { return impl_->overview_widths; }
 int BasemapRaster::overviewLevel() const { return impl_->overview_level; }
 
@@ -451,6 +452,10 @@ std::size_t warpInto(const std::vector<BasemapRaster>& layers, const Destination
   return std::size_t(std::count(coverage.begin(), coverage.end(), 0.0f));
 }
 
+bool allIntegerCoded(const std::vector<BasemapRaster>& layers) {
+  return std::all_of(layers.begin(), layers.end(), [](const BasemapRaster& l) { return l.integerCoded(); });
+}
+
 }  // namespace
 
 LinearRgbImage reprojectBasemap(const std::vector<BasemapRaster>& layers, const SceneGeoreference& geo,
@@ -459,7 +464,7 @@ LinearRgbImage reprojectBasemap(const std::vector<BasemapRaster>& layers, const 
     throw UsageError(
         fmt::format("reprojectBasemap: empty request ({}x{} pixels, {} layers)", width, height, layers.size()));
   }
-  LinearRgbImage out{width, height, {}};
+  LinearRgbImage out{width, height, {}, allIntegerCoded(layers)};
   const WorldGrid grid(geo, rect, width, height);
   const std::size_t uncovered = warpInto(layers, grid, width, height, out.rgb);
   if (uncovered > 0) {
@@ -478,7 +483,7 @@ LinearRgbImage reprojectEquirectangular(const std::vector<BasemapRaster>& layers
   limits::requireProductWithin(layers.back().name(), "whole-Earth basemap width x height",
                                {std::uint64_t(width), std::uint64_t(height)}, limits::kMaxBasemapPixels,
                                "limits::kMaxBasemapPixels");
-  LinearRgbImage out{width, height, {}};
+  LinearRgbImage out{width, height, {}, allIntegerCoded(layers)};
   const EquirectangularGrid grid(width, height);
   (void)warpInto(layers, grid, width, height, out.rgb);
   return out;

@@ -386,6 +386,42 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   EXPECT_FALSE(cubic.hasPacked());
   EXPECT_TRUE(cubic.hasSeparateTextures());
   EXPECT_EQ(cubic.bytes(), 12 * voxels + 4 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
+
+  // The DLM after its build holds the nodes (RG32F × node budget), the counts (R32UI), the texel ε
+  // (R32F) and the light cache (R16F): the scatter map and its flat runs (passes 2 and 3 only) are
+  // freed at the end of the build.
+  const scene::DlmSettings dlmSettings{};
+  const glm::ivec2 texels = dlmCompact.lightSpace().texels;
+  const glm::ivec3 cache = dlmCompact.stats().light_cache_texels;
+  const std::size_t mapTexels = std::size_t(texels.x) * std::size_t(texels.y);
+  ASSERT_GT(dlmCompact.stats().scatter_cells.z, 0) << "the build must have made a scatter map";
+  EXPECT_EQ(dlmCompact.textureBytes(), mapTexels * (8 * std::size_t(dlmSettings.max_nodes) + 4 + 4) +
+                                           2 * std::size_t(cache.x) * std::size_t(cache.y) * std::size_t(cache.z));
+
+  // Basemaps (near and far, with city lights in A), full mipmap chain: RGBA16F, 8 bytes per texel,
+  // when the imagery came from 8/16-bit integer codes (LinearRgbImage::integer_source, what the
+  // reprojection of Blue Marble's JPEG gives), RGBA32F (16) for float sources and in-memory images
+  // (cloud_renderer.cpp imageryFormat).
+  constexpr int kMapW = 300, kMapH = 200;
+  scene::LinearRgbImage image{kMapW, kMapH, std::vector<float>(3 * kMapW * kMapH, 0.25f), true};
+  const std::vector<float> lights(std::size_t(kMapW) * kMapH, 0.5f);
+  std::size_t mipTexels = 0;
+  for (int mipW = kMapW, mipH = kMapH;; mipW = std::max(1, mipW / 2), mipH = std::max(1, mipH / 2)) {
+    mipTexels += std::size_t(mipW) * std::size_t(mipH);
+    if (mipW == 1 && mipH == 1) break;
+  }
+  render::CloudRenderer withMaps;
+  const std::size_t without = withMaps.textureBytes();
+  withMaps.setBasemap(image, {{-1e6, -1e6}, {1e6, 1e6}}, lights);
+  EXPECT_EQ(withMaps.textureBytes() - without, 8 * mipTexels);
+  withMaps.setFarBasemap(image, {{-4e6, -4e6}, {4e6, 4e6}});
+  EXPECT_EQ(withMaps.textureBytes() - without, 2 * 8 * mipTexels);
+  image.integer_source = false;
+  withMaps.setFarBasemap(image, {{-4e6, -4e6}, {4e6, 4e6}});
+  EXPECT_EQ(withMaps.textureBytes() - without, (8 + 16) * mipTexels) << "a float far basemap keeps RGBA32F";
+  std::printf("[ memory   ] DLM %.2f MB after the build; basemap %dx%d: %.2f MB with mips (RGBA32F: %.2f MB)\n",
+              double(dlmCompact.textureBytes()) / 1e6, kMapW, kMapH, 8.0 * double(mipTexels) / 1e6,
+              16.0 * double(mipTexels) / 1e6);
 }
 
 }  // namespace

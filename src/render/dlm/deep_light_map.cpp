@@ -282,6 +282,12 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     runWithOverflowRule(march_peripheral_);
     glFinish();
     pass3 = msSince(t0);
+    // Passes 2 and 3 are the scatter map's only readers: the look-up (glsl/dlm/lookup.glsl), the
+    // light-cache bake and the eye pass read the nodes alone. Freed here rather than held through
+    // the frame (issue 19, memory; textureBytes() drops by their size); the next build allocates
+    // them again, which costs little beside the passes that fill them.
+    scatter_map_ = gl::Texture();
+    scatter_runs_map_ = gl::Texture();
   }
   const double bake = bakeLightCache(volume);
   gl::checkErrors("deep light map build");

@@ -82,8 +82,9 @@ class DeepLightMap {
   /// light_cache.comp): R16F over the volume's box, GL_LINEAR, GL_CLAMP_TO_EDGE. Empty without one.
   const gl::Texture& lightCache() const { return light_cache_; }
   bool hasLightCache() const { return bool(light_cache_); }
-  /// Bytes of the map's GL textures (nodes, counts, ε, scatter map and runs, light cache;
-  /// gl::Texture::bytes): issue 19's memory accounting.
+  /// Bytes of the map's GL textures held between builds (nodes, counts, ε, light cache;
+  /// gl::Texture::bytes; the scatter map and its runs are freed at the end of build()): issue 19's
+  /// memory accounting.
   std::size_t textureBytes() const;
 
   /// Benchmark/test baseline (DlmBaseline): recompiles passes 2 and 3; the next build() rebuilds.

@@ -39,15 +39,30 @@ namespace {
 // An imagery texture of the eye pass: RGB the linear albedo, A the night side's city lights on the
 // same grid (scene::cityLightsIntensity; 0 without), filtered together. Mipmapped (issue 14 item
 // 3): oblique views and the globe's limb see the ground at a slant.
+//
+// Issue 19 (memory): imagery from 8- or 16-bit integer sources (LinearRgbImage::integer_source:
+// Blue Marble's JPEG, PNG and integer GeoTIFFs) is stored as RGBA16F, 8 instead of 16 bytes per
+// texel, mips included. Half floats keep 11 significant bits (relative error ≤ 2⁻¹¹ ≈ 0.05 %, far
+// below one 8-bit output level), and the texture stays linear, so the sampler's bilinear and
+// trilinear taps, glGenerateTextureMipmap and the shader's anisotropic taps
+// (glsl/common/imagery.glsl) filter linear light as before. Float sources and images made in
+// memory keep RGBA32F: they may carry more than 11 bits (the tests' lon/lat-coded basemaps do).
+// Not SRGB8_ALPHA8 even for the 8-bit JPEG: (1) GDAL's warper interpolates the sRGB codes in float
+// (scene/basemap.h), so the reprojected texels lie between codes and 8 bits would requantise them
+// by up to ½ code; (2) A carries the city lights as a linear intensity in [0, 1], which an 8-bit
+// linear alpha would cut to steps of 1/255, coarse against the dim lights (docs/benchmarks.md,
+// "Basemap textures in half precision").
+GLenum imageryFormat(const scene::LinearRgbImage& image) { return image.integer_source ? GL_RGBA16F : GL_RGBA32F; }
+
 gl::Texture imageryTexture(const scene::LinearRgbImage& image, const std::vector<float>& lights, const char* label) {
   const std::size_t n = std::size_t(image.width) * std::size_t(image.height);
   if (!lights.empty() && lights.size() != n) {
     throw UsageError(
         fmt::format("{}: {} city-light values for {}x{} pixels", label, lights.size(), image.width, image.height));
   }
-  gl::Texture t =
-      gl::Texture::create2D(GL_RGBA32F, image.width, image.height, gl::mipLevelsFor(image.width, image.height))
-          .label(label);
+  gl::Texture t = gl::Texture::create2D(imageryFormat(image), image.width, image.height,
+                                        gl::mipLevelsFor(image.width, image.height))
+                      .label(label);
   // Uploaded in strips of rows: the interleaved copy is a strip, not a second image (issue 19,
   // memory: 64 MB for the demo's 2048² basemap).
   constexpr int kStripRows = 64;

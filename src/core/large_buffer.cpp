@@ -1,0 +1,47 @@
+#include "core/large_buffer.h"
+
+#include <climits>
+#include <cstdint>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+namespace nph {
+
+void adviseHugePages(void* data, std::size_t bytes) noexcept {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  if (data == nullptr || bytes < kHugePageAdviceMinBytes) return;
+  constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;  // x86-64 and arm64 (4 KiB base pages)
+  const auto begin = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(kHugePage - 1);
+  if (last <= first) return;
+  // The result is ignored on purpose: EINVAL where THP is not built in, and the buffer works the same.
+  (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+std::vector<float> hugePageFloats(std::size_t n) {
+  std::vector<float> v;
+  v.reserve(n);
+  adviseHugePages(v.data(), n * sizeof(float));
+  v.resize(n);
+  return v;
+}
+
+bool reuseFreedMemoryForLargeBlocks() noexcept {
+#if defined(__GLIBC__)
+  return mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, INT_MAX) == 1;
+#else
+  return false;
+#endif
+}
+
+}  // namespace nph

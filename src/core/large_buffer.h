@@ -1,0 +1,37 @@
+#pragma once
+// Large float buffers backed by transparent huge pages (issue 19, convert speed). A fresh buffer of
+// hundreds of MB (one model field of the demo storm: 500 × 500 × 60 floats = 60 MB) costs one page
+// fault per 4 KiB page on first touch — 15 000 per field, ~250 000 per timestep — each a trip into
+// the kernel that zeroes the page. madvise(MADV_HUGEPAGE) on the buffer's 2 MiB-aligned interior
+// lets the kernel back it with 2 MiB pages: 512× fewer faults. It is advice: where transparent huge
+// pages are off (/sys/kernel/mm/transparent_hugepage/enabled = never) nothing changes but speed;
+// with "madvise" (Debian's default) or "always" it applies. Same effect as glibc's
+// GLIBC_TUNABLES=glibc.malloc.hugetlb=1, for these buffers only and without an environment variable.
+#include <cstddef>
+#include <vector>
+
+namespace nph {
+
+/// Below this size a buffer is left to malloc's own pages (less than two huge pages would cover
+/// no aligned 2 MiB page reliably).
+inline constexpr std::size_t kHugePageAdviceMinBytes = std::size_t(4) << 20;
+
+/// Advises the kernel to back [data, data + bytes) with transparent huge pages where it holds
+/// whole 2 MiB-aligned pages. No-op for small ranges, on error, or where madvise is missing.
+void adviseHugePages(void* data, std::size_t bytes) noexcept;
+
+/// `n` floats, value-initialised (0) as std::vector does, the storage advised for huge pages
+/// before the zero-fill first touches it (reserve, advise, resize).
+std::vector<float> hugePageFloats(std::size_t n);
+
+/// For batch commands that allocate and free the same large buffers over and over (`nephele
+/// convert`: per timestep, the model fields, and per variable HDF5's chunk and inflate buffers):
+/// glibc's malloc then serves every block from the heap instead of a fresh mmap (M_MMAP_MAX = 0)
+/// and keeps freed memory (M_TRIM_THRESHOLD at its maximum), so a block freed by one read is
+/// reused, already faulted in, by the next instead of being unmapped and faulted in page by page
+/// again. Costs some peak memory to the heap's fragmentation (+4.5 % on the demo storm's convert:
+/// docs/benchmarks.md, "convert against a raw read"). No-op without glibc. Returns whether it
+/// applied.
+bool reuseFreedMemoryForLargeBlocks() noexcept;
+
+}  // namespace nph
