@@ -39,12 +39,15 @@ class VolumeTextures {
   /// `detail` (volume/detail.h): other than None, the per-voxel controls are built and uploaded, the
   /// noise tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by
   /// the displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
-  /// measured on the GPU and solved (volume/detail.h), and the identity gets "|detail=<name>".
+  /// measured on the GPU with `mass` and solved (volume/detail.h), and the identity gets
+  /// "|detail=<name>" (and "|mass=<rays>,<step>,<occupied>" for a pattern other than kMassPattern:
+  /// benchmarks and tests only).
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, std::string identity,
                                scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
                                int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
                                std::shared_ptr<const NoiseTexture> noise = {},
-                               VolumeStorage storage = VolumeStorage::Compact);
+                               VolumeStorage storage = VolumeStorage::Compact,
+                               const scene::MassPattern& mass = scene::kMassPattern);
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
@@ -82,8 +85,13 @@ class VolumeTextures {
   /// UNIT_TERRAIN, and the packed texture (or a 1-texel zero) to UNIT_PACKED_VOLUME.
   void bind() const;
 
+  /// The plain and the uncorrected detailed half-column masses of a detailed upload, measured on the
+  /// GPU with `pattern` (glsl/render/detail_mass.comp; volume/detail.h); `volumes` are the ones
+  /// uploaded (for the pattern's step ranges). Binds the textures.
+  scene::HalfColumnMasses measureHalfColumnMasses(const ExtinctionVolumes& volumes,
+                                                  const scene::MassPattern& pattern) const;
+
  private:
-  scene::HalfColumnMasses measureHalfColumnMasses() const;  ///< glsl/render/detail_mass.comp
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, controls_, zero_rgba_, correction_;
   gl::Texture packed_;
   float packed_beta_unit_per_m_ = 0.0f;
