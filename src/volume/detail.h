@@ -79,24 +79,27 @@ DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
 /// column, the displacement moves it across column faces, and the shape (detail.glsl detailShape)
 /// erodes it at the visible edge, so the detailed field is multiplied by a factor c_J per model
 /// column J, constant over the column's footprint: c_J = P_J / D_J, the plain and the uncorrected
-/// detailed optical mass of the footprint, measured on vertical rays (MassPattern below), clamped to [kMinCorrection,
-/// kMaxCorrection]; columns without plain mass stay at 1. The mass the shape removes at the visible edge goes back into
-/// the rest of the footprint, most of it optically thick and invisible. Every footprint with plain mass is corrected,
-/// also one whose plain mass is only a neighbour's reconstruction ramp (the square face the shape removes): its
-/// remaining cloud, between the cloudy neighbour and the eroded edge, carries the ramp's mass. Why constant per column
-/// and not bilinear between column centres (as before): a bilinear factor couples each footprint to its 8 neighbours,
-/// and the diagonal neighbours of an isolated thick column (footprint τ = 1/64 of the column's from the trilinear
-/// corner, of which the shape leaves a sliver) need ×40 where the axis neighbours need ≈ ×1 — no bilinear field does
-/// both (measured on the coarse storm: the axis neighbours then hit the range's floor, 20 footprints off by 30 % and
-/// more). Constant per column it is exact for the measured rays and independent per column; its steps at the column
-/// faces lie inside optically thick cloud or within the shape's soft edge band. Measured by the GPU
-/// (glsl/render/detail_mass.comp) for rendering and by ExtinctionSampler for the CPU twin, same pattern.
+/// detailed optical mass of the footprint, measured on vertical rays (MassPattern below), clamped
+/// to [kMinCorrection, kMaxCorrection]; columns without plain mass stay at 1. The mass the
+/// shape removes at the visible edge goes back into the rest of the footprint, most of it optically
+/// thick and invisible. Every footprint with plain mass is corrected, also one whose plain mass is
+/// only a neighbour's reconstruction ramp (the square face the shape removes): its remaining cloud,
+/// between the cloudy neighbour and the eroded edge, carries the ramp's mass.
+/// Why constant per column and not bilinear between column centres (as before): a bilinear factor
+/// couples each footprint to its 8 neighbours, and the diagonal neighbours of an isolated thick
+/// column (footprint τ = 1/64 of the column's from the trilinear corner, of which the shape leaves
+/// a sliver) need ×40 where the axis neighbours need ≈ ×1 — no bilinear field does both (measured
+/// on the coarse storm: the axis neighbours then hit the range's floor, 20 footprints off by 30 %
+/// and more). Constant per column it is exact for the measured rays and independent per column; its
+/// steps at the column faces lie inside optically thick cloud or within the shape's soft edge band.
+/// Measured by the GPU (glsl/render/detail_mass.comp) for rendering and by ExtinctionSampler for
+/// the CPU twin, same pattern (kMassPattern).
 struct HalfColumnMasses {
   int nx = 0, ny = 0;                   ///< model columns (the arrays hold 2nx × 2ny, x fastest)
   std::vector<double> plain, detailed;  ///< Σ β·Δz over the half-column's rays (any common unit)
 };
 /// Rays per half-column and axis, and the vertical step in layers, of the exhaustive measurement
-/// (before the twelfth session: every half-column, the whole grown box).
+/// (until the eleventh session: every half-column, the whole grown box).
 inline constexpr int kMassRaysPerAxis = 2;
 inline constexpr double kMassStepLayers = 0.25;
 
@@ -115,7 +118,10 @@ struct MassPattern {
   double step_layers = 0.5;  ///< vertical step in model layers
   bool occupied_only = true;
 };
-/// The pattern of the correction in use (measured: docs/detail.md), and the exhaustive one.
+/// The pattern of the correction in use and the exhaustive one. kMassPattern (occupied only, 4×4
+/// rays per column, ½ layer) measured on the coarse storm: 3–5× faster than the exhaustive pattern
+/// (5.7× / 4.8× fewer samples, trilinear / cubic), c within 1.9 % / 3.0 % of its c on every
+/// footprint of τ ≥ 1; a 1-layer step moves c by up to 8–12 %, fewer rays by far more.
 inline constexpr MassPattern kMassPattern{};
 inline constexpr MassPattern kExhaustiveMassPattern{kMassRaysPerAxis, kMassStepLayers, false};
 /// Steps of the vertical lattice over the grown box (see MassPattern).
