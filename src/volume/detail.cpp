@@ -129,6 +129,62 @@ DetailControls buildDetailControls(const ExtinctionVolumes& v) {
   return c;
 }
 
+int massSteps(int nz, int reach_voxels, double step_layers) {
+  return int(std::ceil((double(nz) + 2.0 * double(reach_voxels)) / step_layers));
+}
+
+std::vector<glm::ivec2> massStepRanges(const ExtinctionVolumes& v, int filter_reach, int reach_voxels,
+                                       const MassPattern& pattern) {
+  const int steps = massSteps(v.nz, reach_voxels, pattern.step_layers);
+  const std::size_t columns = std::size_t(v.nx) * std::size_t(v.ny);
+  if (!pattern.occupied_only) return std::vector<glm::ivec2>(columns, glm::ivec2(0, steps));
+  // The occupied layers [first, last] of every column (first > last: no cloud).
+  const std::size_t n = v.voxelCount();
+  std::vector<glm::ivec2> layers(columns, glm::ivec2(v.nz, -1));
+  for (int k = 0; k < v.nz; ++k)
+    for (int j = 0; j < v.ny; ++j)
+      for (int i = 0; i < v.nx; ++i) {
+        const std::size_t q = v.index(i, j, k);
+        const float b =
+            (v.ice_per_m.size() == n ? v.ice_per_m[q] : 0.0f) + (v.water_per_m.size() == n ? v.water_per_m[q] : 0.0f);
+        if (!(b > 0.0f)) continue;
+        glm::ivec2& l = layers[std::size_t(j) * std::size_t(v.nx) + std::size_t(i)];
+        l = glm::ivec2(std::min(l.x, k), std::max(l.y, k));
+      }
+  // Union over the square of half-width r around (i, j).
+  const auto around = [&](int i, int j, int r) {
+    glm::ivec2 u(v.nz, -1);
+    for (int jj = std::max(j - r, 0); jj <= std::min(j + r, v.ny - 1); ++jj)
+      for (int ii = std::max(i - r, 0); ii <= std::min(i + r, v.nx - 1); ++ii) {
+        const glm::ivec2& l = layers[std::size_t(jj) * std::size_t(v.nx) + std::size_t(ii)];
+        u = glm::ivec2(std::min(u.x, l.x), std::max(u.y, l.y));
+      }
+    return u;
+  };
+  std::vector<glm::ivec2> ranges(columns, glm::ivec2(0));
+  const double h = double(reach_voxels);
+  for (int j = 0; j < v.ny; ++j)
+    for (int i = 0; i < v.nx; ++i) {
+      // A plain sample in the footprint reads voxels within the filter's reach of the column: none
+      // occupied → P_J = 0 and c_J = 1, nothing to measure.
+      if (around(i, j, filter_reach).x > v.nz - 1) continue;
+      // A detailed sample reads β at x + d (|d| ≤ the displacement's reach): non-zero only within H
+      // of an occupied voxel; one more layer absorbs rounding at the lattice's ends.
+      const glm::ivec2 u = around(i, j, reach_voxels);
+      const double z0 = double(u.x) - h - 1.0, z1 = double(u.y) + 1.0 + h + 1.0;  // grid z
+      const int first = std::clamp(int(std::floor((z0 + h) / pattern.step_layers)), 0, steps);
+      const int last = std::clamp(int(std::ceil((z1 + h) / pattern.step_layers)), 0, steps);
+      ranges[std::size_t(j) * std::size_t(v.nx) + std::size_t(i)] = glm::ivec2(first, std::max(first, last));
+    }
+  return ranges;
+}
+
+double massSampleCount(const std::vector<glm::ivec2>& ranges, const MassPattern& pattern) {
+  double steps = 0.0;
+  for (const glm::ivec2& r : ranges) steps += double(r.y - r.x);
+  return steps * 4.0 * double(pattern.rays_per_axis * pattern.rays_per_axis);
+}
+
 std::vector<float> solveDetailCorrection(const HalfColumnMasses& m) {
   const int nx = m.nx, ny = m.ny, hx = 2 * nx;
   std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0), detailed(plain.size(), 0.0);

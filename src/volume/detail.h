@@ -79,8 +79,8 @@ DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
 /// column, the displacement moves it across column faces, and the shape (detail.glsl detailShape)
 /// erodes it at the visible edge, so the detailed field is multiplied by a factor c_J per model
 /// column J, constant over the column's footprint: c_J = P_J / D_J, the plain and the uncorrected
-/// detailed optical mass of the footprint, measured on 4×4 vertical rays (2×2 per half-column),
-/// clamped to [kMinCorrection, kMaxCorrection]; columns without plain mass stay at 1. The mass the
+/// detailed optical mass of the footprint, measured on vertical rays (MassPattern below), clamped
+/// to [kMinCorrection, kMaxCorrection]; columns without plain mass stay at 1. The mass the
 /// shape removes at the visible edge goes back into the rest of the footprint, most of it optically
 /// thick and invisible. Every footprint with plain mass is corrected, also one whose plain mass is
 /// only a neighbour's reconstruction ramp (the square face the shape removes): its remaining cloud,
@@ -93,14 +93,46 @@ DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
 /// and more). Constant per column it is exact for the measured rays and independent per column; its
 /// steps at the column faces lie inside optically thick cloud or within the shape's soft edge band.
 /// Measured by the GPU (glsl/render/detail_mass.comp) for rendering and by ExtinctionSampler for
-/// the CPU twin, same pattern.
+/// the CPU twin, same pattern (kMassPattern).
 struct HalfColumnMasses {
   int nx = 0, ny = 0;                   ///< model columns (the arrays hold 2nx × 2ny, x fastest)
   std::vector<double> plain, detailed;  ///< Σ β·Δz over the half-column's rays (any common unit)
 };
-/// Rays per half-column and axis, and the vertical step in layers, of the measurement.
+/// Rays per half-column and axis, and the vertical step in layers, of the exhaustive measurement
+/// (until the eleventh session: every half-column, the whole grown box).
 inline constexpr int kMassRaysPerAxis = 2;
 inline constexpr double kMassStepLayers = 0.25;
+
+/// How the masses are measured (docs/detail.md "A cheaper mass measurement"). The vertical rays
+/// sample the lattice g = −H + (k + ½)·step_layers (grid units, H = the filter's + the
+/// displacement's reach in voxels, k = 0 … ⌈(nz + 2H)/step_layers⌉ − 1), at the centres of a
+/// rays_per_axis² sub-grid of each half-column. With occupied_only, a footprint J is marched only
+/// where its samples can be non-zero (massStepRanges): not at all when no voxel within the
+/// filter's reach of the column holds cloud (its plain mass is 0, so c_J = 1 whatever D_J is),
+/// and else only over the occupied layers of the columns within H, grown by H + 1 — the samples
+/// skipped are exact zeros, so the sums, and c, are bit-identical to the exhaustive march's.
+/// Muth 2026 §3.4.5: "sampling the full volume at a fine step size wastes the majority of samples
+/// on empty air"; like its conservative quantization (§3.3.2), the skip never drops a non-zero.
+struct MassPattern {
+  int rays_per_axis = 2;     ///< per half-column and axis (4×4 per model column)
+  double step_layers = 0.5;  ///< vertical step in model layers
+  bool occupied_only = true;
+};
+/// The pattern of the correction in use and the exhaustive one. kMassPattern (occupied only, 4×4
+/// rays per column, ½ layer) measured on the coarse storm: 3–5× faster than the exhaustive pattern
+/// (5.7× / 4.8× fewer samples, trilinear / cubic), c within 1.9 % / 3.0 % of its c on every
+/// footprint of τ ≥ 1; a 1-layer step moves c by up to 8–12 %, fewer rays by far more.
+inline constexpr MassPattern kMassPattern{};
+inline constexpr MassPattern kExhaustiveMassPattern{kMassRaysPerAxis, kMassStepLayers, false};
+/// Steps of the vertical lattice over the grown box (see MassPattern).
+int massSteps(int nz, int reach_voxels, double step_layers);
+/// Per model column (nx × ny, x fastest): the step indices [x, y) a footprint's rays march; all of
+/// them without occupied_only, none (x = y = 0) for a footprint that cannot hold plain mass.
+/// filter_reach = reachVoxels(reconstruction), reach_voxels = H = filter_reach + the detail's.
+std::vector<glm::ivec2> massStepRanges(const ExtinctionVolumes& volumes, int filter_reach, int reach_voxels,
+                                       const MassPattern& pattern);
+/// Samples (vertical rays × steps) a pattern takes per field (plain, detailed), for the benchmark.
+double massSampleCount(const std::vector<glm::ivec2>& ranges, const MassPattern& pattern);
 /// Range of the correction: the shape leaves a ramp-only diagonal footprint a sliver of its mass.
 inline constexpr double kMinCorrection = 1.0 / 64.0, kMaxCorrection = 64.0;
 /// c per model column (nx × ny, x fastest).

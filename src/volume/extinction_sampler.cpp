@@ -18,7 +18,7 @@ ExtinctionSampler::ExtinctionSampler(const ExtinctionVolumes& volumes, const Vol
     : v_(volumes), f_(frame), r_(reconstruction), detail_(detailParameters(detail, frame)) {
   if (!detail_.on()) return;
   controls_ = std::make_shared<const DetailControls>(buildDetailControls(volumes));
-  correction_ = solveDetailCorrection(measureHalfColumnMasses());
+  correction_ = solveDetailCorrection(measureHalfColumnMasses(kMassPattern));
 }
 
 ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
@@ -76,26 +76,28 @@ double ExtinctionSampler::coverageAt(const glm::dvec3& world_m) const {
   return coverage;
 }
 
-// The measurement of glsl/render/detail_mass.comp: per half-column, kMassRaysPerAxis² vertical rays
-// at the centres of a regular sub-grid, midpoint rule with kMassStepLayers over the grown box.
-HalfColumnMasses ExtinctionSampler::measureHalfColumnMasses() const {
+// The measurement of glsl/render/detail_mass.comp: per half-column, rays_per_axis² vertical rays at
+// the centres of a regular sub-grid, midpoint rule on the pattern's lattice over the footprint's
+// step range (massStepRanges; the whole grown box without occupied_only).
+HalfColumnMasses ExtinctionSampler::measureHalfColumnMasses(const MassPattern& pattern) const {
   HalfColumnMasses m;
   m.nx = f_.voxels.x;
   m.ny = f_.voxels.y;
-  const int hx = 2 * m.nx, hy = 2 * m.ny, rays = kMassRaysPerAxis;
+  const int hx = 2 * m.nx, hy = 2 * m.ny, rays = pattern.rays_per_axis;
   m.plain.assign(std::size_t(hx) * std::size_t(hy), 0.0);
   m.detailed.assign(m.plain.size(), 0.0);
-  const double reach = double(reachVoxels(r_) + detail_.reach_voxels);
-  const double g0 = -reach, g1 = double(f_.voxels.z) + reach;
-  const int steps = int(std::ceil((g1 - g0) / kMassStepLayers));
+  const int reach = reachVoxels(r_) + detail_.reach_voxels;
+  const double g0 = -double(reach), step = pattern.step_layers;
+  const std::vector<glm::ivec2> ranges = massStepRanges(v_, reachVoxels(r_), reach, pattern);
   tbb::parallel_for(0, hy, [&](int l) {
     for (int h = 0; h < hx; ++h) {
+      const glm::ivec2 range = ranges[std::size_t(l / 2) * std::size_t(m.nx) + std::size_t(h / 2)];
       double p = 0.0, d = 0.0;
       for (int b = 0; b < rays; ++b)
         for (int a = 0; a < rays; ++a) {
           const double gx = 0.5 * (double(h) + (a + 0.5) / rays), gy = 0.5 * (double(l) + (b + 0.5) / rays);
-          for (int k = 0; k < steps; ++k) {
-            const glm::dvec3 w = f_.worldFromGrid({gx, gy, g0 + (k + 0.5) * kMassStepLayers});
+          for (int k = range.x; k < range.y; ++k) {
+            const glm::dvec3 w = f_.worldFromGrid({gx, gy, g0 + (k + 0.5) * step});
             p += plainAt(w).total();
             d += detailedAt(w, false).total();
           }

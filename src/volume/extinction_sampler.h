@@ -38,8 +38,9 @@ class ExtinctionSampler {
   const DetailParameters& detail() const { return detail_; }
   /// The per-column mass correction in use (volume/detail.h; empty without detail).
   const std::vector<float>& detailCorrection() const { return correction_; }
-  /// The plain and the uncorrected detailed masses on half-columns (volume/detail.h's pattern).
-  HalfColumnMasses measureHalfColumnMasses() const;
+  /// The plain and the uncorrected detailed masses on half-columns, measured with `pattern`
+  /// (volume/detail.h; the correction in use is solved from kMassPattern's).
+  HalfColumnMasses measureHalfColumnMasses(const MassPattern& pattern = kMassPattern) const;
   /// The detail's shape coverage at a world position (glsl/dlm/volume.glsl detailCoverageAt).
   double coverageAt(const glm::dvec3& world_m) const;
 

@@ -22,6 +22,7 @@
 // BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
 // BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
 // BM_DetailCost (issue 13): cubic reconstruction and sub-grid detail against the plain frame.
+// BM_DetailMass (issue 13): the detail's mass measurement, exhaustive against cheaper patterns.
 // Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
@@ -621,6 +622,130 @@ BENCHMARK(BM_DetailCost)
     ->ArgNames({"scene", "width"})
     ->Args({1, 640})  // coarse storm, 640 × 360
     ->Args({0, 640})  // demo storm, 640 × 360 (detail full: minutes per frame on llvmpipe)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Issue 13, "a cheaper mass measurement" (docs/detail.md): the detail's GPU mass measurement
+// (VolumeTextures::measureHalfColumnMasses, glsl/render/detail_mass.comp) with the exhaustive
+// pattern of the tenth session against cheaper ones (volume/detail.h MassPattern: only the occupied
+// footprints and layers, fewer rays, a coarser step), coarse storm, detail full, the filter of the
+// second argument. Timed: the measurement alone (compile, range upload, dispatch, read-back), in
+// rotating order, medians. Accuracy against the exhaustive c_J: max and rms of |c/c_exh − 1| (the
+// relative change of the column's corrected optical mass) over the footprints with plain mass and
+// over those with τ ≥ 1; and a detail frame (the demo view, 640 × 360, each pattern's own upload
+// and DLM) against the exhaustive pattern's, in 8-bit levels.
+void BM_DetailMass(benchmark::State& state) {
+  const bool cubic = state.range(0) == 1;
+  const int width = 640, height = 360;
+  const auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes v = benchVolumes(false);
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const scene::Sun sun{140.0, 35.0};
+  const scene::Camera camera = demoCamera(frame, width, height);
+  const scene::Reconstruction r = cubic ? scene::Reconstruction::Cubic : scene::Reconstruction::Trilinear;
+  struct Variant {
+    const char* name;
+    scene::MassPattern pattern;
+  };
+  constexpr int kVariants = 6;
+  const Variant variants[kVariants] = {
+      {"exhaustive", scene::kExhaustiveMassPattern}, {"occupied", {2, 0.25, true}},
+      {"occupied+step_half", {2, 0.5, true}},        {"occupied+step_1", {2, 1.0, true}},
+      {"occupied+step_2", {2, 2.0, true}},           {"occupied+1ray+step_1", {1, 1.0, true}}};
+  std::shared_ptr<const render::NoiseTexture> noise;
+  std::vector<std::unique_ptr<render::VolumeTextures>> tex;
+  render::CloudRenderer renderer;
+  const render::RenderSettings rs;
+  render::RenderOutput out[kVariants];
+  std::vector<float> c[kVariants];
+  scene::HalfColumnMasses exhaustive;
+  double samples[kVariants], uploadMs[kVariants];
+  for (int k = 0; k < kVariants; ++k) {
+    const scene::MassPattern& p = variants[k].pattern;
+    uploadMs[k] =
+        timed([&] {
+          tex.push_back(std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(
+              v, frame, "bench-mass", r, 8, scene::Detail::Full, noise, render::VolumeStorage::Compact, nullptr, p)));
+        }).wall_ms;
+    if (!noise) noise = tex.back()->noise();
+    render::DeepLightMap dlm;
+    dlm.build(*tex.back(), -sun.toSun(), scene::DlmSettings{});
+    out[k] = renderer.render(*tex.back(), dlm, camera, sun, rs);
+    const scene::HalfColumnMasses m = tex.back()->measureHalfColumnMasses(v, p);
+    if (k == 0) exhaustive = m;
+    c[k] = scene::solveDetailCorrection(m);
+    const int filterReach = scene::reachVoxels(r);
+    samples[k] = scene::massSampleCount(
+        scene::massStepRanges(v, filterReach, filterReach + tex.back()->detail().reach_voxels, p), p);
+  }
+  // Footprints with plain mass and their optical depth (exhaustive pattern, data metres).
+  const int nx = v.nx, ny = v.ny, hx = 2 * nx;
+  std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0);
+  double maxPlain = 0.0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      double& P = plain[std::size_t(j) * std::size_t(nx) + std::size_t(i)];
+      for (int q = 0; q < 4; ++q)
+        P += exhaustive.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
+      maxPlain = std::max(maxPlain, P);
+    }
+  const double tauPerSum = scene::kMassStepLayers * frame.voxel_size_m.z / frame.height_exaggeration /
+                           double(4 * scene::kMassRaysPerAxis * scene::kMassRaysPerAxis);
+  Series series[kVariants];
+  const int rounds = interleavedCasts<kVariants>(
+      state, series, [&](int k) { (void)tex[std::size_t(k)]->measureHalfColumnMasses(v, variants[k].pattern); });
+  std::fprintf(stderr, "detail mass measurement, coarse storm %dx%dx%d voxels, %s, detail full, %d rounds on %s\n",
+               v.nx, v.ny, v.nz, cubic ? "cubic" : "trilinear", rounds, ctx->info().renderer.c_str());
+  auto& counters = state.counters;
+  for (int k = 0; k < kVariants; ++k) {
+    double maxAll = 0.0, sumAll = 0.0, maxThick = 0.0, sumThick = 0.0, maxThin = 0.0;
+    int nAll = 0, nThick = 0, nThin = 0, thinOver5 = 0;
+    for (std::size_t J = 0; J < plain.size(); ++J) {
+      if (!(plain[J] > 1e-6 * maxPlain)) continue;
+      const double e = std::abs(double(c[k][J]) / double(c[0][J]) - 1.0);
+      maxAll = std::max(maxAll, e);
+      sumAll += e * e;
+      ++nAll;
+      const double tau = plain[J] * tauPerSum;
+      if (tau >= 1.0) {
+        maxThick = std::max(maxThick, e);
+        sumThick += e * e;
+        ++nThick;
+      } else if (tau >= 0.1) {
+        maxThin = std::max(maxThin, e);
+        thinOver5 += e > 0.05;
+        ++nThin;
+      }
+    }
+    const double rmsAll = std::sqrt(sumAll / std::max(nAll, 1)), rmsThick = std::sqrt(sumThick / std::max(nThick, 1));
+    const LevelStats d = levelStats(out[k].frame, out[0].frame);
+    const double ratio = median(series[0].wall) / median(series[k].wall);
+    const std::string name = variants[k].name;
+    counters["mass_ms_" + name] = median(series[k].wall);
+    counters["speedup_" + name] = ratio;
+    counters["upload_ms_" + name] = uploadMs[k];
+    counters["samples_" + name] = samples[k];
+    counters["c_max_rel_" + name] = maxAll;
+    counters["c_rms_rel_" + name] = rmsAll;
+    counters["c_max_rel_thick_" + name] = maxThick;
+    counters["c_max_rel_thin_" + name] = maxThin;
+    counters["image_max_levels_" + name] = d.max;
+    std::fprintf(
+        stderr,
+        "  %-24s measurement %8.0f ms (exhaustive/this %5.1f×), upload %6.0f ms, %.3g samples per field; "
+        "c vs exhaustive over %d footprints with mass: max %.2f %% rms %.3f %%, over %d with tau >= 1: max "
+        "%.2f %% rms %.3f %%, over %d with 0.1 <= tau < 1: max %.2f %%, %d over 5 %%; %ld of %zu c differ in bits; "
+        "frame vs exhaustive: mean %.3f p99 %.0f max %d levels\n",
+        variants[k].name, median(series[k].wall), ratio, uploadMs[k], samples[k], nAll, 100.0 * maxAll, 100.0 * rmsAll,
+        nThick, 100.0 * maxThick, 100.0 * rmsThick, nThin, 100.0 * maxThin, thinOver5, differingFloats(c[k], c[0]),
+        c[k].size(), d.mean, d.p99, d.max);
+  }
+}
+BENCHMARK(BM_DetailMass)
+    ->ArgNames({"cubic"})
+    ->Arg(0)
+    ->Arg(1)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

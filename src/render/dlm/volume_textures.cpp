@@ -45,7 +45,7 @@ bool anyPositive(const std::vector<float>& a) {
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame, std::string identity,
                                       scene::Reconstruction reconstruction, int brickVoxels, scene::Detail detail,
                                       std::shared_ptr<const NoiseTexture> noise, VolumeStorage storage,
-                                      const scene::DemHeights* dem) {
+                                      const scene::DemHeights* dem, const scene::MassPattern& mass) {
   if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   checkVoxels(v.ice_per_m, "ice_per_m");
   checkVoxels(v.water_per_m, "water_per_m");
@@ -55,7 +55,13 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   if (reconstruction == scene::Reconstruction::Cubic) t.identity_ += "|cubic";
   t.reconstruction_ = reconstruction;
   t.detail_ = scene::detailParameters(detail, frame);
-  if (t.detail_.on()) t.identity_ += fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]);
+  if (t.detail_.on()) {
+    t.identity_ += fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]);
+    const scene::MassPattern& d = scene::kMassPattern;
+    if (mass.rays_per_axis != d.rays_per_axis || mass.step_layers != d.step_layers ||
+        mass.occupied_only != d.occupied_only)
+      t.identity_ += fmt::format("|mass={},{},{}", mass.rays_per_axis, mass.step_layers, int(mass.occupied_only));
+  }
   const glm::ivec3 n(v.nx, v.ny, v.nz);
   t.has_ice_ = v.ice_per_m.size() == v.voxelCount() && anyPositive(v.ice_per_m);
   t.has_water_ = v.water_per_m.size() == v.voxelCount() && anyPositive(v.water_per_m);
@@ -185,7 +191,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   if (t.detail_.on()) {
-    const scene::HalfColumnMasses masses = t.measureHalfColumnMasses();
+    const scene::HalfColumnMasses masses = t.measureHalfColumnMasses(v, mass);
     const std::vector<float> c = scene::solveDetailCorrection(masses);
     maxScale = float(scene::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
     t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
@@ -200,18 +206,32 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   return t;
 }
 
-scene::HalfColumnMasses VolumeTextures::measureHalfColumnMasses() const {
+scene::HalfColumnMasses VolumeTextures::measureHalfColumnMasses(const ExtinctionVolumes& v,
+                                                                const scene::MassPattern& pattern) const {
   scene::HalfColumnMasses m;
   m.nx = frame_.voxels.x;
   m.ny = frame_.voxels.y;
   const glm::ivec2 h(2 * m.nx, 2 * m.ny);
   auto image = gl::Texture::create2D(GL_RG32F, h.x, h.y).label("detail half-column masses");
+  // The step range per model column (volume/detail.h massStepRanges), as the CPU twin marches it.
+  const int filterReach = scene::reachVoxels(reconstruction_);
+  const std::vector<glm::ivec2> ranges =
+      scene::massStepRanges(v, filterReach, filterReach + detail_.reach_voxels, pattern);
+  auto rangeImage = gl::Texture::create2D(GL_RG32I, m.nx, m.ny).label("detail mass step ranges");
+  glTextureSubImage2D(rangeImage.id(), 0, 0, 0, m.nx, m.ny, GL_RG_INTEGER, GL_INT, ranges.data());
   const gl::Program program = gl::Program::compute("render/detail_mass.comp");
   program.use();
-  program.set("u_rays_per_axis", scene::kMassRaysPerAxis);
-  program.set("u_step_layers", float(scene::kMassStepLayers));
+  program.set("u_rays_per_axis", pattern.rays_per_axis);
+  program.set("u_step_layers", float(pattern.step_layers));
   bind();
+  // The uncorrected detailed field: the correction at 1 (after upload, bind() binds the solved c).
+  auto one = gl::Texture::create2D(GL_R32F, 1, 1).label("detail correction (none)");
+  const float unity = 1.0f;
+  glTextureSubImage2D(one.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &unity);
+  one.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+  glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, one.id());
   glBindImageTexture(gl::binding::IMAGE_DETAIL_MASS, image.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+  glBindImageTexture(gl::binding::IMAGE_DETAIL_MASS_RANGE, rangeImage.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32I);
   program.dispatchCovering({h.x, h.y, 1});
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
   std::vector<float> rg(2 * std::size_t(h.x) * std::size_t(h.y));

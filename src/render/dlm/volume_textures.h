@@ -39,7 +39,9 @@ class VolumeTextures {
   /// `detail` (volume/detail.h): other than None, the per-voxel controls are built and uploaded, the
   /// noise tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by
   /// the displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
-  /// measured on the GPU and solved (volume/detail.h), and the identity gets "|detail=<name>".
+  /// measured on the GPU with `mass` and solved (volume/detail.h), and the identity gets
+  /// "|detail=<name>" (and "|mass=<rays>,<step>,<occupied>" for a pattern other than kMassPattern:
+  /// benchmarks and tests only).
   /// `dem` (scene/dem.h): a user DEM resampled for the terrain (scene::terrainOf's rule: it wins
   /// where it has data) and its far field beyond the domain. The DLM does not read the terrain,
   /// so the identity does not change with it.
@@ -47,7 +49,8 @@ class VolumeTextures {
                                scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
                                int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
                                std::shared_ptr<const NoiseTexture> noise = {},
-                               VolumeStorage storage = VolumeStorage::Compact, const scene::DemHeights* dem = nullptr);
+                               VolumeStorage storage = VolumeStorage::Compact, const scene::DemHeights* dem = nullptr,
+                               const scene::MassPattern& mass = scene::kMassPattern);
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
@@ -86,8 +89,13 @@ class VolumeTextures {
   /// UNIT_FAR_TERRAIN, and the packed texture (or a 1-texel zero) to UNIT_PACKED_VOLUME.
   void bind() const;
 
+  /// The plain and the uncorrected detailed half-column masses of a detailed upload, measured on the
+  /// GPU with `pattern` (glsl/render/detail_mass.comp; volume/detail.h); `volumes` are the ones
+  /// uploaded (for the pattern's step ranges). Binds the textures.
+  scene::HalfColumnMasses measureHalfColumnMasses(const ExtinctionVolumes& volumes,
+                                                  const scene::MassPattern& pattern) const;
+
  private:
-  scene::HalfColumnMasses measureHalfColumnMasses() const;  ///< glsl/render/detail_mass.comp
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, far_terrain_tex_, controls_, zero_rgba_,
       correction_;
   gl::Texture packed_;

@@ -30,6 +30,7 @@
   X(UNIT_DETAIL_CORRECTION, 18) /* sampler2D: R32F per-column mass correction (volume/detail.h) */ \
   X(IMAGE_DETAIL_NOISE, 0)      /* image3D rgba8, written once by glsl/render/noise.comp */     \
   X(IMAGE_DETAIL_MASS, 0)       /* image2D rg32f: half-column masses (detail_mass.comp) */      \
+  X(IMAGE_DETAIL_MASS_RANGE, 1) /* iimage2D rg32i: step range per column (detail_mass.comp) */   \
   /* Deep light map, glsl/dlm/{march,scatter,lookup}.glsl (render/dlm/deep_light_map.cpp) */     \
   X(UBO_LIGHT_SPACE, 0)         /* LightSpaceBlock (render/gl/uniform_blocks.h) */              \
   X(UNIT_SCATTER_MAP, 3)        /* sampler3D: peripheral light P per scatter cell (pass 3) */   \
