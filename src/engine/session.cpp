@@ -94,7 +94,9 @@ void Session::update() {
   // The weight enters the key exactly (17 significant digits round-trip a double): two frames
   // share a volume only when they would blend the same one, so reuse never changes a frame.
   // The filter is part of the key: the occupancy's dilation and the shaders' rule change with it.
-  const scene::Reconstruction reconstruction = lighting::reconstructionOf(scene_.quality);
+  const scene::Reconstruction reconstruction =
+      lighting::reconstructionOf(scene_.quality, glm::dvec2(prepared_.frame.voxel_size_m));
+  render_settings_.reconstruction = reconstruction;  // the CPU references' filter is the upload's
   const std::string content = b.weight == 0.0
                                   ? dataset_->identity(b.first)
                                   : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);

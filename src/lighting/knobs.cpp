@@ -86,10 +86,11 @@ constexpr std::array kKnobs{
          .preset = {1, 1, 1}, .doc = "parsed, but the ray caster takes one jittered sample per pixel for now"},
     // The extinction filter (volume/reconstruction.h; issue 13). Trilinear is data-true but shows
     // the grid of coarse models as terraces and blocks; the cubic B-spline removes them (docs/
-    // rendering.md "Reconstruction") at 8 texture fetches per sample instead of 1.
-    Knob{.name = "reconstruction", .unit = "", .min = 0, .max = 1, .field = &Q::reconstruction,
-         .preset = {0, 0, 0}, .doc = "extinction filter: trilinear (data-true) or cubic B-spline (no grid artefacts)",
-         .choices = scene::kReconstructionNames},
+    // rendering.md "Reconstruction") at 8 texture fetches per sample instead of 1. "auto" (every
+    // preset) takes cubic on grids of kCubicFromSpacing_m and coarser, trilinear on finer ones.
+    Knob{.name = "reconstruction", .unit = "", .min = 0, .max = 2, .field = &Q::reconstruction,
+         .preset = {2, 2, 2}, .doc = "extinction filter: trilinear (data-true), cubic B-spline (no grid artefacts), or auto (cubic on grids of 4 km and coarser)",
+         .choices = kReconstructionChoices},
     // Procedural sub-grid detail (volume/detail.h; issue 13, Muth 2026 §3.3.1): none is the
     // data-true field; subtle and full add turbulent displacement and regime-adaptive density that
     // redistributes (never adds) extinction inside each model cell (docs/detail.md).
@@ -192,7 +193,8 @@ scene::DlmSettings dlmSettingsFor(const QualitySettings& q) {
 
 RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& style) {
   RenderSettings r;
-  r.reconstruction = reconstructionOf(q);
+  // "auto" needs the grid: engine::Session sets the filter of the uploaded volume.
+  r.reconstruction = reconstructionOf(q, {0.0, 0.0});
   r.detail = detailOf(q);
   static_cast<StyleSettings&>(r) = style;
   r.step_voxels = q.step_voxels;

@@ -97,5 +97,41 @@ TEST_F(SessionTest, PrefetchOnAndOffGiveIdenticalFrames) {
   EXPECT_EQ(on.prefetchStats().misses, 1u) << "after the first timestep, the worker decoded every one ahead of time";
 }
 
+// The default filter "auto" (issue 13; lighting/knobs.h kCubicFromSpacing_m) is resolved from the
+// data's grid when the session uploads a volume: the 15 km tiny storm renders exactly as with an
+// explicit "cubic", the same domain written at 3 km exactly as with "trilinear", and the CPU
+// references' filter (renderSettings) follows the upload.
+TEST_F(SessionTest, AutoReconstructionIsTheFilterOfTheGrid) {
+  auto withFilter = [](const std::string& file, const char* filter) {
+    return scene::parseSceneText(R"({ "data": { "path": ")" + file + R"(" },
+      "camera": { "position_m": [-150000, -250000, 250000], "target_m": [300000, 270000, 5000], "fov_deg": 45 },
+      "sun": { "azimuth_deg": 140, "elevation_deg": 35 },
+      "quality": { "preset": "draft", "overrides": { "reconstruction": ")" +
+                                     std::string(filter) + R"(" } },
+      "output": { "width": 96, "height": 54 }, "height_exaggeration": 8 })",
+                                 "auto.json");
+  };
+  const std::string fine = (engineTestDir() / "wrfout_tiny_3km.nc").string();
+  datagen::WrfHurricaneSpec spec;  // the tiny storm's 600 × 540 km domain at 3 km
+  spec.nx = 200;
+  spec.ny = 180;
+  spec.ntimes = 1;
+  spec.dx_m = 3000.0;
+  datagen::writeWrfHurricane(spec, fine);
+  for (const auto& [file, expected] :
+       {std::pair{tinyStormFile(), scene::Reconstruction::Cubic}, std::pair{fine, scene::Reconstruction::Trilinear}}) {
+    SCOPED_TRACE(file);
+    const auto ds = engine::Dataset::open(file);
+    engine::Session automatic(ds, withFilter(file, "auto")), cubic(ds, withFilter(file, "cubic")),
+        trilinear(ds, withFilter(file, "trilinear"));
+    const auto a = automatic.render(automatic.prepared().camera);
+    EXPECT_EQ(automatic.renderSettings().reconstruction, expected);
+    EXPECT_GT(meanAlpha(a.cloud_layer), 0.01) << "the storm must be in view";
+    const auto c = cubic.render(cubic.prepared().camera), t = trilinear.render(trilinear.prepared().camera);
+    EXPECT_NE(c.frame.rgba, t.frame.rgba) << "the two filters must differ for the test to mean anything";
+    expectSameImage(a.frame, expected == scene::Reconstruction::Cubic ? c.frame : t.frame, "auto");
+  }
+}
+
 }  // namespace
 }  // namespace nph::test

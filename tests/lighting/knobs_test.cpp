@@ -79,6 +79,25 @@ TEST(Knobs, RenderSettingsDefaultsAreTheBroadcastPresetAndDefaultStyle) {
   EXPECT_EQ(dlm.forward_angle_deg, scene::DlmSettings{}.forward_angle_deg);  // the model is no knob
 }
 
+// The default extinction filter is "auto" in every preset (issue 13): cubic on grids of 4 km and
+// coarser (the larger horizontal spacing decides), trilinear on finer ones; an explicit choice
+// wins whatever the grid.
+TEST(Knobs, AutoReconstructionFollowsTheGridSpacing) {
+  using scene::Reconstruction;
+  for (std::string_view preset : kPresetNames) EXPECT_EQ(qualityPreset(preset).reconstruction, kReconstructionAuto);
+  const QualitySettings q;
+  EXPECT_EQ(reconstructionOf(q, {3000.0, 3000.0}), Reconstruction::Trilinear);  // the demo hurricane
+  EXPECT_EQ(reconstructionOf(q, {3999.0, 3999.0}), Reconstruction::Trilinear);
+  EXPECT_EQ(reconstructionOf(q, {kCubicFromSpacing_m, 2000.0}), Reconstruction::Cubic);
+  EXPECT_EQ(reconstructionOf(q, {2000.0, 10000.0}), Reconstruction::Cubic);  // the coarse storm's 10 km
+  QualitySettings tri = q, cubic = q;
+  tri.reconstruction = 0;
+  cubic.reconstruction = 1;
+  EXPECT_EQ(reconstructionOf(tri, {10000.0, 10000.0}), Reconstruction::Trilinear);
+  EXPECT_EQ(reconstructionOf(cubic, {1000.0, 1000.0}), Reconstruction::Cubic);
+  EXPECT_EQ(findKnob("reconstruction")->choices[std::size_t(kReconstructionAuto)], "auto");
+}
+
 // Quality and style are separate: a preset never changes the style, a style knob never the quality.
 TEST(Knobs, QualityAndStyleAreSeparate) {
   std::set<std::string_view> names;

@@ -103,7 +103,8 @@ TEST_F(NightLights, LightUpLitGroundByTheirRadianceAndAreDimmedByTheCloudsTransm
   const scene::Camera& cam = prep.camera;
   const render::RenderOutput on = renderWith(*session, kLightsKnob), off = renderWith(*session, 0.0);
   const ExtinctionVolumes volumes = session->dataset().load(0);
-  const reference::ExtinctionField field(volumes, session->volumeTextures().frame());
+  const reference::ExtinctionField field(volumes, session->volumeTextures().frame(),
+                                         session->volumeTextures().reconstruction());
 
   const float white = scene::cityLightsIntensity({1, 1, {1.0f, 1.0f, 1.0f}}).front();
   const glm::vec3 sun = glm::vec3(prep.sun.colour * prep.sun.intensity);

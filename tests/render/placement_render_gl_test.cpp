@@ -74,7 +74,8 @@ TEST_P(RenderedPlacement, StormAppearsAtItsLonLatPixel) {
   // the ½-voxel march's quadrature error at the edges.
   const auto out = session->render(cam);
   const ExtinctionVolumes volumes = session->dataset().load(0);
-  const reference::ExtinctionField field(volumes, session->volumeTextures().frame());
+  const reference::ExtinctionField field(volumes, session->volumeTextures().frame(),
+                                         session->volumeTextures().reconstruction());
   double alphaErr = 0.0;
   int edges = 0, cloudy = 0;
   for (int y = 0; y < cam.height; ++y) {

@@ -151,7 +151,8 @@ TEST_F(TerrainRender, MountainHidesTheCloudBehindIt) {
     return session->render(cam).cloud_layer;
   };
   const scene::RgbaImage with = layerWith(true), without = layerWith(false);
-  const reference::ExtinctionField field(volumes, session->volumeTextures().frame());
+  const reference::ExtinctionField field(volumes, session->volumeTextures().frame(),
+                                         session->volumeTextures().reconstruction());
   int hidden = 0;
   double worst = 0.0, weakest = 1.0;
   for (int y = 0; y < cam.height; ++y) {
@@ -203,7 +204,8 @@ TEST_F(TerrainRender, OnTheGlobeTheMountainHidesTheCloudBehindIt) {
     return session->render(cam).cloud_layer;
   };
   const scene::RgbaImage with = layerWith(true), without = layerWith(false);
-  const reference::ExtinctionField field(volumes, session->volumeTextures().frame());
+  const reference::ExtinctionField field(volumes, session->volumeTextures().frame(),
+                                         session->volumeTextures().reconstruction());
   const render::GlobeMapping m = render::buildGlobeMapping(*prep.geo);
   const double R = scene::kEarthRadius_m, e = prep.frame.height_exaggeration;
   constexpr double kStep_m = 250.0, kReach_m = 400000.0;
