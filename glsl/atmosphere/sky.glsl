@@ -81,8 +81,10 @@ AtmosphereSegment aerialPerspectiveGlobe(vec3 origin, vec3 dir, float length_m, 
 // map is the picture, and the rule fades out between half the atmosphere's height and its top,
 // leaving the plane-parallel haze (its ozone capped, model.glsl atmosphereSegment).
 float flatGroundVisibility(float eyeAltitude_m, float pointAltitude_m, float distance_m) {
-  float horizon_m = sqrt(2.0 * u_bottom_radius_m * max(eyeAltitude_m, 0.0)) +
-                    sqrt(2.0 * u_bottom_radius_m * max(pointAltitude_m, 0.0));
+  // At least 1 m: smoothstep's edges must differ (an eye and a point both at sea level).
+  float horizon_m = max(sqrt(2.0 * u_bottom_radius_m * max(eyeAltitude_m, 0.0)) +
+                            sqrt(2.0 * u_bottom_radius_m * max(pointAltitude_m, 0.0)),
+                        1.0);
   float thickness_m = u_top_radius_m - u_bottom_radius_m;
   float inTheAir = 1.0 - smoothstep(0.5 * thickness_m, thickness_m, eyeAltitude_m);
   return 1.0 - inTheAir * smoothstep(0.75 * horizon_m, horizon_m, distance_m);
