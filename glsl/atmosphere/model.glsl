@@ -37,15 +37,31 @@ struct AtmosphereMedium {
   vec3 extinction_per_m;
 };
 
+// The ozone's absorption at altitude h (the tent of atmosphere.h).
+vec3 atmosphereOzone(float h) {
+  return max(0.0, 1.0 - abs(h - u_ozone_center_m) / u_ozone_half_width_m) * u_ozone_absorption_per_m;
+}
+
+// A plane-parallel ray with zenith cosine μ crosses the ozone layer (2w thick) over 2w/|μ|, without
+// bound as μ → 0; a straight ray through the planet's layer crosses at most its chord tangent to
+// the layer's bottom, 2·√(2·R·2w) (1237 km). The factor on the ozone's absorption that keeps a
+// plane-parallel ray's ozone path within that chord (atmosphere::planeParallelOzoneCap): 1 for
+// |μ| ≥ 0.024 (rays steeper than 1.4°), so only the flat view's grazing rays see it, whose
+// thousands of kilometres of Chappuis absorption (green) otherwise tint the horizon magenta.
+float planeParallelOzoneCap(float mu) {
+  float layer_m = 2.0 * u_ozone_half_width_m;
+  float chord_m = 2.0 * sqrt(2.0 * u_bottom_radius_m * layer_m);
+  return min(1.0, abs(mu) * chord_m / layer_m);
+}
+
 // σ_s and σ_t at altitude h (atmosphere.h: exponential Rayleigh and Mie, ozone tent).
 AtmosphereMedium atmosphereMedium(float h) {
   float rayleigh = exp(-h / u_rayleigh_scale_height_m);
   float mie = exp(-h / u_mie_scale_height_m);
-  float ozone = max(0.0, 1.0 - abs(h - u_ozone_center_m) / u_ozone_half_width_m);
   AtmosphereMedium m;
   m.rayleigh_scattering_per_m = rayleigh * u_rayleigh_scattering_per_m;
   m.mie_scattering_per_m = mie * u_mie_scattering_per_m;
-  m.extinction_per_m = m.rayleigh_scattering_per_m + mie * u_mie_extinction_per_m + ozone * u_ozone_absorption_per_m;
+  m.extinction_per_m = m.rayleigh_scattering_per_m + mie * u_mie_extinction_per_m + atmosphereOzone(h);
   return m;
 }
 
@@ -148,7 +164,8 @@ struct AtmosphereSegment {
 // `toSun`, in `steps` pieces (σ_t and S at each piece's midpoint, integrated analytically);
 // `quadratic`: piece boundaries at ℓ·(i/N)², dense near the origin where a sky ray is lowest
 // (Hillaire's sky-view march). `planeParallel`: altitude = origin's + t·dir.z and μ_s = toSun.z
-// everywhere (the flat view's world). Mirrors atmosphere::integrateSegment.
+// everywhere (the flat view's world), the ozone's path capped (planeParallelOzoneCap). Mirrors
+// atmosphere::integrateSegment.
 AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps, bool quadratic,
                                     bool planeParallel) {
   AtmosphereSegment s;
@@ -157,6 +174,7 @@ AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 
   float cosTheta = dot(dir, toSun);
   float phaseR = rayleighPhase(cosTheta), phaseM = cornetteShanksPhase(cosTheta, u_mie_g);
   float r0 = length(origin);
+  float ozonePathCap = planeParallel ? planeParallelOzoneCap(dir.z) : 1.0;
   float tPrev = 0.0;
   for (int i = 0; i < steps; ++i) {
     float f = float(i + 1) / float(steps);
@@ -173,6 +191,7 @@ AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 
       muS = dot(x, toSun) / r;
     }
     AtmosphereMedium m = atmosphereMedium(r - u_bottom_radius_m);
+    if (planeParallel) m.extinction_per_m -= (1.0 - ozonePathCap) * atmosphereOzone(r - u_bottom_radius_m);
     vec3 sun = sunTransmittance(r, muS);
     vec3 ms = multipleScattering(r, muS);
     vec3 source = m.rayleigh_scattering_per_m * (sun * phaseR + ms) + m.mie_scattering_per_m * (sun * phaseM + ms);

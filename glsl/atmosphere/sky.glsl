@@ -42,9 +42,10 @@ AtmosphereSegment aerialPerspectiveFlat(float altitude0_m, vec3 dir, float lengt
                            kAerialPerspectiveSteps, false, true);
 }
 
-// The globe (planet-centred rays): the part of the segment [0, length_m] of the ray from `origin`
-// along `dir` inside the atmosphere; length_m = kNoHit_m for a ray into space.
-AtmosphereSegment aerialPerspectiveGlobe(vec3 origin, vec3 dir, float length_m, vec3 toSun) {
+// The part [t0, t1] of the segment [0, length_m] of the ray from `origin` (planet-centred) along
+// `dir` that lies inside the atmosphere's top sphere, in `steps` pieces; length_m = kNoHit_m for a
+// ray into space. Transmittance 1 and nothing in-scattered where the ray misses the shell.
+AtmosphereSegment atmosphereSegmentInShell(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps) {
   AtmosphereSegment s;
   s.transmittance = vec3(1.0);
   s.inscattered = vec3(0.0);
@@ -54,5 +55,49 @@ AtmosphereSegment aerialPerspectiveGlobe(vec3 origin, vec3 dir, float length_m, 
   if (disc <= 0.0) return s;
   float t0 = max(-b - sqrt(disc), 0.0), t1 = min(-b + sqrt(disc), length_m);
   if (t1 <= t0) return s;
-  return atmosphereSegment(origin + t0 * dir, dir, t1 - t0, toSun, 32, false, false);
+  return atmosphereSegment(origin + t0 * dir, dir, t1 - t0, toSun, steps, false, false);
+}
+
+// The globe (planet-centred rays): the part of the segment [0, length_m] of the ray from `origin`
+// along `dir` inside the atmosphere; length_m = kNoHit_m for a ray into space.
+AtmosphereSegment aerialPerspectiveGlobe(vec3 origin, vec3 dir, float length_m, vec3 toSun) {
+  return atmosphereSegmentInShell(origin, dir, length_m, toSun, 32);
+}
+
+// The flat view's horizon (issue 14, twelfth session). The flat ground is a map: it goes on to the
+// horizontal, where the curved planet's ground ends at its horizon, √(2Rh) from an eye h up (a
+// point h_p up stays in sight √(2R·h_p) further). Up to there the plane-parallel air above is the
+// planet's to within D²/(2R) of height; beyond it a plane-parallel ray a fraction of a degree below
+// the horizontal stays in the same air for thousands of kilometres (5730 km at −0.3° from 30 km
+// up) where a real one leaves the atmosphere past its tangent point. The far ground then showed
+// the in-scattering equilibrium of the low air, 5× brighter than the sky the sky-view table shows
+// just above the horizon from a high eye (the sky above looked black), through thousands of
+// kilometres of the ozone layer's Chappuis absorption (β_O peaks in green): a magenta band.
+//
+// The fraction of the flat ground kept at horizontal distance D from the eye: 1 up to ¾ of the
+// planet's horizon distance, falling smoothly to 0 at it. That is the rule for an eye in the air,
+// which sees the sky over the horizon. An eye above the air (a map seen from space, as `make
+// demo`'s overview from 700 km) would see the map cut into a disc on black space by it: there the
+// map is the picture, and the rule fades out between half the atmosphere's height and its top,
+// leaving the plane-parallel haze (its ozone capped, model.glsl atmosphereSegment).
+float flatGroundVisibility(float eyeAltitude_m, float pointAltitude_m, float distance_m) {
+  // At least 1 m: smoothstep's edges must differ (an eye and a point both at sea level).
+  float horizon_m = max(sqrt(2.0 * u_bottom_radius_m * max(eyeAltitude_m, 0.0)) +
+                            sqrt(2.0 * u_bottom_radius_m * max(pointAltitude_m, 0.0)),
+                        1.0);
+  float thickness_m = u_top_radius_m - u_bottom_radius_m;
+  float inTheAir = 1.0 - smoothstep(0.5 * thickness_m, thickness_m, eyeAltitude_m);
+  return 1.0 - inTheAir * smoothstep(0.75 * horizon_m, horizon_m, distance_m);
+}
+
+// Where the flat ground is not kept, the ray sees what the curved planet shows in its direction:
+// the atmosphere along the straight ray from the eye (0, 0, R + h) to the planet's ground or out
+// into space — the sky-view table's limb for an eye inside the atmosphere (the same march: the
+// far ground fades into the sky above the horizon), marched here so that an eye above the top
+// of the atmosphere, where the table's observer is held at its top, sees the same.
+AtmosphereSegment roundPlanetAlong(float eyeAltitude_m, vec3 dir, vec3 toSun) {
+  float r = u_bottom_radius_m + max(eyeAltitude_m, 1.0);
+  float mu = dir.z / length(dir);
+  float length_m = atmosphereRayHitsGround(r, mu) ? atmosphereDistanceToGround(r, mu) : kNoHit_m;
+  return atmosphereSegmentInShell(vec3(0.0, 0.0, r), normalize(dir), length_m, toSun, kAerialPerspectiveSteps);
 }

@@ -566,9 +566,14 @@ void main() {
                    (sunlightAtDrawn(drawnHeight, u_to_sun.z) * sunCos * shadow * sunVisible +
                     skyIrradianceAtDrawn(drawnHeight, u_to_sun.z) * skyShadow) +
                lights;
+      // Beyond the curved planet's horizon the flat ground gives way to what the planet shows in
+      // that direction (atmosphere/sky.glsl flatGroundVisibility, roundPlanetAlong).
       AtmosphereSegment ap = aerialPerspectiveFlat(origin.z, dir, tFlatGround, u_to_sun);
-      ground *= ap.transmittance;
-      sky = u_sun_radiance * ap.inscattered;
+      float visible = flatGroundVisibility(origin.z, g.z, tFlatGround * length(dir.xy));
+      ground *= ap.transmittance * visible;
+      sky = u_sun_radiance *
+            (visible < 1.0 ? mix(roundPlanetAlong(origin.z, dir, u_to_sun).inscattered, ap.inscattered, visible)
+                           : ap.inscattered);
     } else {
       ground = albedo / kPi * (u_sun_radiance * sunCos * shadow * sunVisible + kPi * u_sky_radiance * skyShadow) +
                lights;

@@ -40,15 +40,18 @@ Sample sampleAt(const glm::dvec3& origin, const glm::dvec3& dir, double t, const
 
 }  // namespace
 
+glm::dvec3 ozoneAbsorption(const Parameters& p, double h) {
+  return std::max(0.0, 1.0 - std::abs(h - p.ozone_center_m) / p.ozone_half_width_m) * p.ozone_absorption_per_m;
+}
+
 Medium mediumAt(const Parameters& p, double h) {
   const double rayleigh = std::exp(-h / p.rayleigh_scale_height_m);
   const double mie = std::exp(-h / p.mie_scale_height_m);
-  const double ozone = std::max(0.0, 1.0 - std::abs(h - p.ozone_center_m) / p.ozone_half_width_m);
   Medium m;
   m.rayleigh_scattering_per_m = rayleigh * p.rayleigh_scattering_per_m;
   m.mie_scattering_per_m = mie * p.mie_scattering_per_m;
-  m.extinction_per_m = m.rayleigh_scattering_per_m + mie * (p.mie_scattering_per_m + p.mie_absorption_per_m) +
-                       ozone * p.ozone_absorption_per_m;
+  m.extinction_per_m =
+      m.rayleigh_scattering_per_m + mie * (p.mie_scattering_per_m + p.mie_absorption_per_m) + ozoneAbsorption(p, h);
   return m;
 }
 
@@ -143,6 +146,12 @@ glm::dvec3 multipleScattering(const Parameters& p, double r, double mu_s, const 
   return second / (glm::dvec3(1.0) - transfer);  // Ψ_ms = L_2nd · 1/(1 − f_ms) (eqs. 8–10)
 }
 
+double planeParallelOzoneCap(const Parameters& p, double mu) {
+  const double layer_m = 2.0 * p.ozone_half_width_m;
+  const double chord_m = 2.0 * std::sqrt(2.0 * p.bottom_radius_m * layer_m);
+  return std::min(1.0, std::abs(mu) * chord_m / layer_m);
+}
+
 Segment integrateSegment(const Parameters& p, const glm::dvec3& origin, const glm::dvec3& dir, double length,
                          const glm::dvec3& to_sun, const Quadrature& q, bool plane_parallel) {
   Segment s;
@@ -150,9 +159,11 @@ Segment integrateSegment(const Parameters& p, const glm::dvec3& origin, const gl
   const double cos_theta = glm::dot(dir, to_sun);  // scattering angle: sunlight → towards the eye is −dir
   const double phase_r = rayleighPhase(cos_theta), phase_m = miePhase(cos_theta, p.mie_g);
   const double dt = length / q.view_steps;
+  const double ozone_cap = plane_parallel ? planeParallelOzoneCap(p, dir.z) : 1.0;
   for (int i = 0; i < q.view_steps; ++i) {
     const Sample x = sampleAt(origin, dir, (i + 0.5) * dt, to_sun, plane_parallel);
-    const Medium m = mediumAt(p, x.r_m - p.bottom_radius_m);
+    Medium m = mediumAt(p, x.r_m - p.bottom_radius_m);
+    if (plane_parallel) m.extinction_per_m -= (1.0 - ozone_cap) * ozoneAbsorption(p, x.r_m - p.bottom_radius_m);
     const glm::dvec3 sun = sunTransmittance(p, x.r_m, x.mu_s, q.transmittance_steps);
     const glm::dvec3 ms = multipleScattering(p, x.r_m, x.mu_s, q);
     const glm::dvec3 source = m.rayleigh_scattering_per_m * (sun * phase_r + ms) +  // S(x), eq. 11

@@ -57,6 +57,16 @@ struct Medium {
   glm::dvec3 extinction_per_m{0.0};
 };
 Medium mediumAt(const Parameters& p, double altitude_m);
+/// The ozone's absorption at an altitude (the tent; part of mediumAt's extinction) [1/m].
+glm::dvec3 ozoneAbsorption(const Parameters& p, double altitude_m);
+
+/// The factor on the ozone's absorption along a plane-parallel ray of zenith cosine μ (issue 14,
+/// the flat view's horizon): such a ray crosses the ozone layer (2·w thick) over 2w/|μ|, without
+/// bound as μ → 0, where a straight ray through the planet's layer crosses at most its chord
+/// tangent to the layer's bottom, 2·√(2R·2w) = 1237 km; the factor keeps the plane-parallel path
+/// within that: min(1, |μ|·chord/2w), 1 for rays steeper than 1.4°. Without it the flat view's
+/// grazing rays took thousands of kilometres of Chappuis absorption (green): a magenta horizon.
+double planeParallelOzoneCap(const Parameters& p, double mu);
 
 /// Rayleigh phase function 3/(16π)·(1 + cos²θ); ∫ p dΩ = 1.
 double rayleighPhase(double cos_theta);
@@ -112,7 +122,8 @@ struct Segment {
 /// towards unit `to_sun`. Each piece is integrated with σ_t and S held at its midpoint:
 /// ∫ e^{−σ_t t} S dt = S·(1 − e^{−σ_t Δ})/σ_t (Hillaire 2020 §5.1, after Hillaire 2015).
 /// `plane_parallel`: the altitude is origin's plus t·dir.z and the sun's zenith cosine is
-/// to_sun.z everywhere (the flat view's world, where the ground is the plane z = 0).
+/// to_sun.z everywhere (the flat view's world, where the ground is the plane z = 0), the ozone's
+/// absorption times planeParallelOzoneCap(dir.z).
 Segment integrateSegment(const Parameters& p, const glm::dvec3& origin_m, const glm::dvec3& dir, double length_m,
                          const glm::dvec3& to_sun, const Quadrature& q, bool plane_parallel = false);
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -60,6 +61,33 @@ TEST(AtmosphereModel, HomogeneousAerialPerspectiveHasTheClosedForm) {
     for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(s.transmittance[c], cf.transmittance[c], 1e-12) << "d " << d;
       EXPECT_NEAR(s.inscattered[c], cf.inscattered[c], 1e-9 * cf.inscattered[c] + 1e-15) << "d " << d;
+    }
+  }
+}
+
+// The flat view's grazing rays (issue 14, twelfth session): a plane-parallel ray down through the
+// whole ozone layer (40 km → 10 km) takes the tent's mean β_O/2 over its path 2w/|μ|, capped at the
+// round planet's longest chord through the layer, 2·√(2R·2w): T = e^{−β_O/2·min(2w/|μ|, chord)}.
+// Rayleigh and Mie off, so the ozone alone is left; 4096 midpoint pieces on a piecewise-linear tent.
+TEST(AtmosphereModel, PlaneParallelOzonePathIsCappedAtTheRoundPlanetsChord) {
+  Parameters p = Parameters::earth();
+  p.rayleigh_scattering_per_m = glm::dvec3(0.0);
+  p.mie_scattering_per_m = p.mie_absorption_per_m = glm::dvec3(0.0);
+  p.multiple_scattering = false;
+  Quadrature q;
+  q.view_steps = 4096;
+  q.transmittance_steps = 8;
+  const double layer_m = 2.0 * p.ozone_half_width_m;
+  const double chord_m = 2.0 * std::sqrt(2.0 * p.bottom_radius_m * layer_m);
+  EXPECT_NEAR(chord_m, 1.2365e6, 1e3);
+  for (double mu : {-0.5, -0.03, -0.01, -0.001}) {
+    const glm::dvec3 dir(std::sqrt(1.0 - mu * mu), 0.0, mu);
+    const double top_m = p.ozone_center_m + p.ozone_half_width_m;
+    const Segment s = integrateSegment(p, observerAt(p, top_m), dir, layer_m / -mu, viewDir(30.0, 0.0), q, true);
+    const double path_m = std::min(layer_m / -mu, chord_m);
+    EXPECT_DOUBLE_EQ(planeParallelOzoneCap(p, mu), path_m / (layer_m / -mu));
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(s.transmittance[c], std::exp(-0.5 * p.ozone_absorption_per_m[c] * path_m), 1e-6) << "mu " << mu;
     }
   }
 }
