@@ -300,7 +300,11 @@ vec2 columnDepthAt(vec3 world_m) {
 // its own reflection included (cloud_light.glsl skyDiffuse; uniform sky ⇒ the sky radiance itself,
 // the white furnace). diffusionScale: twoStreamSunFrame's vertical diffusion (exaggeration).
 vec3 skyLightAt(vec2 tau, float g, float diffusionScale, vec3 skyAbove) {
+#ifdef SKY_HALF_TRANSMITTANCE  // benchmark baseline (EyePassBaseline): the former term, no reflection
+  return 0.5 * (skyAbove * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
+#else
   return skyDiffuse(tau.x, tau.y, g, diffusionScale, skyAbove, u_below_radiance);
+#endif
 }
 
 // Adaptive steps (issue 19 item 1; Muth 2026 §3.4.3 eq. 3.6: Δt = min(max(t/c_d, Δt_min) +
