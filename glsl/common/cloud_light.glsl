@@ -138,13 +138,36 @@ Number cloudSunFactor(int mode, Number sunlight, Number cosPsi, Number iceWeight
 // Diffuse (hemispherically incident) transmittance of a conservatively scattering layer of
 // optical depth τ, two-stream (Eddington) approximation with the (1 − g) similarity scaling (Bohren
 // 1987, "Multiple scattering of light and some of its observable consequences"; van de Hulst 1980):
-// T_d = 1 / (1 + ¾·(1 − g)·τ). It carries the sky light down (and the ground-reflected light up) to
-// a sample inside a cloud through the column above (below) it (volume/column_depth.h). Exact at
+// T_d = 1 / (1 + ¾·(1 − g)·τ). It carries the sky light down to the ground under a cloud
+// (clouds.comp; inside the cloud skyDiffuse below replaced it in the twelfth session). Exact at
 // τ = 0 and ∝ 1/((1 − g)·τ) for thick layers like the diffusion limit 4/(3(1 − g)(τ + 1.42))
 // (van de Hulst), which it undershoots by ≈ 25 % at τ = 20, g = 0.85: the sky term is a model,
 // the octave fit against the path tracer absorbs what it misses (docs/accuracy.md).
 Number diffuseTransmittance(Number tau, Number g) {
   return Number(1.0) / (Number(1.0) + Number(0.75) * (Number(1.0) - g) * max(tau, Number(0.0)));
+}
+
+// Sky light inside a cloud column (issue 12, twelfth session: `nephele-bench accuracy --decompose`
+// found the former ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) 32 % under the path tracer's sky
+// light on the hurricane: it lets the sky through the column but forgets that the cloud reflects
+// what it does not let through, so a non-absorbing cloud in a uniform sky came out grey instead of
+// uniform — the white furnace failed). The mean radiance I₀ of the same Eddington slab as
+// twoStreamDiffuse, lit by isotropic diffuse radiance L_above from above and L_below from below: with
+// ω = 1 the moment equations give I₁ constant and I₀ linear in τ,
+//   dI₀/dτ = −(1 − g)·I₁ (τ downward, I₁ the net downward moment),
+// and Marshak's conditions (I₀ + ⅔I₁ = L_above at the top, I₀ − ⅔I₁ = L_below at the bottom) give
+//   I₀(τ_up) = [L_above·(⅔ + k·τ_down) + L_below·(⅔ + k·τ_up)] / (4/3 + k·(τ_up + τ_down)),
+// k = (1 − g)/diffusionScale (twoStreamSunFrame's vertical diffusion under height exaggeration,
+// 1 at true scale). Uniform sky (L_above = L_below = L): I₀ = L at every depth, exactly (white
+// furnace). Black below: the cloud's top sends ≈ L_above (its reflectance → 1), its base
+// ½·L_above·T_d(τ*) as before. Thin cloud: ½·(L_above + L_below), as before. The sample scatters I₀
+// (the isotropic part: the first-moment term g·μ·I₁ would go negative for thin clouds seen from
+// the sunny side, where the Eddington phase is poor).
+Vec3 skyDiffuse(Number tauAbove, Number tauBelow, Number g, Number diffusionScale, Vec3 above, Vec3 below) {
+  Number k = (Number(1.0) - g) / max(diffusionScale, Number(1e-6));
+  Number ta = k * max(tauAbove, Number(0.0));
+  Number tb = k * max(tauBelow, Number(0.0));
+  return (above * (Number(2.0 / 3.0) + tb) + below * (Number(2.0 / 3.0) + ta)) / (Number(4.0 / 3.0) + ta + tb);
 }
 
 // Relative air mass of a solar elevation (Kasten & Young 1989, "Revised optical air mass tables

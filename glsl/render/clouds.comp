@@ -295,11 +295,16 @@ vec2 columnDepthAt(vec3 world_m) {
   return RECONSTRUCTION_CUBIC ? cubicBSplineRgba(u_column_depth, uvw).rg : texture(u_column_depth, uvw).rg;
 }
 
-// Sky light reaching a point through the cloud around it, scattered isotropically (the two
-// hemispheres, each attenuated by the diffuse transmittance of its column depths τ = (τ_up,
-// τ_down); cloud_light.glsl).
-vec3 skyLightAt(vec2 tau, float g, vec3 skyAbove) {
+// Sky light at a point inside the cloud, scattered isotropically: the mean radiance of the
+// Eddington column of depths τ = (τ_up, τ_down) lit by the sky above and the ground's light below,
+// its own reflection included (cloud_light.glsl skyDiffuse; uniform sky ⇒ the sky radiance itself,
+// the white furnace). diffusionScale: twoStreamSunFrame's vertical diffusion (exaggeration).
+vec3 skyLightAt(vec2 tau, float g, float diffusionScale, vec3 skyAbove) {
+#ifdef SKY_HALF_TRANSMITTANCE  // benchmark baseline (EyePassBaseline): the former term, no reflection
   return 0.5 * (skyAbove * diffuseTransmittance(tau.x, g) + u_below_radiance * diffuseTransmittance(tau.y, g));
+#else
+  return skyDiffuse(tau.x, tau.y, g, diffusionScale, skyAbove, u_below_radiance);
+#endif
 }
 
 // Adaptive steps (issue 19 item 1; Muth 2026 §3.4.3 eq. 3.6: Δt = min(max(t/c_d, Δt_min) +
@@ -452,7 +457,7 @@ void main() {
         float sun = cloudSunFactor(u_cloud_ms_model, sampleSunlight(w), cosPsi, iceWeight, u_g_ice, u_g_water,
                                    u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
                                    tau.x, tau.y, twoStreamSun, muOut);
-        vec3 L = sunAtClouds * sun + skyLightAt(tau, mix(u_g_water, u_g_ice, iceWeight), skyAtClouds);
+        vec3 L = sunAtClouds * sun + skyLightAt(tau, mix(u_g_water, u_g_ice, iceWeight), twoStreamSun.z, skyAtClouds);
         C += Tacc * (1.0 - T) * L;
         depthSum += Tacc * (1.0 - T) * t;
         Tacc *= T;

@@ -79,16 +79,22 @@ const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextu
 }  // namespace
 
 std::unique_ptr<reference::DlmReference> convergedLight(const scene::DlmSettings& dlm,
-                                                        const render::VolumeTextures& tex, const AccuracyScene& sc) {
+                                                        const render::VolumeTextures& tex, const AccuracyScene& sc,
+                                                        double texel_voxels) {
   // The model of `dlm` without compression, 4 sub-steps per default DLM step (Δ/8 = 1/8 voxel), on
-  // the default light space (1 texel per voxel) the GPU builder lays out.
+  // the default light space (1 texel per voxel unless asked otherwise) the GPU builder lays out.
   scene::DlmSettings model = dlm;
-  model.texel_voxels = scene::DlmSettings{}.texel_voxels;
+  model.texel_voxels = texel_voxels;
   model.step_voxels = scene::DlmSettings{}.step_voxels;
   render::DeepLightMap layout;  // the light space (texel grid, extent) and step the GPU would use
-  layout.build(tex, -sc.sun.toSun(), model);
+  scene::DlmSettings gpu = model;
+  gpu.forward_peak_ice = gpu.forward_peak_water = -1.0;  // a CPU-only candidate (--decompose)
+  layout.build(tex, -sc.sun.toSun(), gpu);
+  scene::DlmSettings cpu = layout.settings();
+  cpu.forward_peak_ice = model.forward_peak_ice;
+  cpu.forward_peak_water = model.forward_peak_water;
   constexpr int kRefine = 4;
-  return std::make_unique<reference::DlmReference>(*sc.volumes, sc.frame, layout.lightSpace(), layout.settings(),
+  return std::make_unique<reference::DlmReference>(*sc.volumes, sc.frame, layout.lightSpace(), cpu,
                                                    layout.stats().step_m, layout.stats().steps, kRefine);
 }
 

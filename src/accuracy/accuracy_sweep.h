@@ -37,8 +37,11 @@ struct Variant {
 Variant variantOf(const lighting::QualitySettings& quality);
 /// The converged CPU deep light map of `dlm`'s transport model for scene `sc` (no compression,
 /// 1/8-voxel sub-steps, the GPU's default light space; needs a current GL context for the layout).
+/// `texel_voxels`: the light space's texel size (the default map's 1 voxel; finer to see what the
+/// texel size itself costs, `--decompose --reference-dlm-texel`).
 std::unique_ptr<reference::DlmReference> convergedLight(const scene::DlmSettings& dlm,
-                                                        const render::VolumeTextures& tex, const AccuracyScene& sc);
+                                                        const render::VolumeTextures& tex, const AccuracyScene& sc,
+                                                        double texel_voxels = scene::DlmSettings{}.texel_voxels);
 /// The sweep's default variant: the broadcast preset with the DLM's own budgets (jitter off).
 Variant defaultVariant();
 /// default, the one-knob-at-a-time sweep and the three presets; `quick` keeps two values a knob.
@@ -60,6 +63,8 @@ struct SweepOptions {
   int diffusion_coarsen_xy = 4, diffusion_coarsen_z = 2;
   double diffusion_min_resistance = 1e-3;
   int diffusion_flux_limited_passes = 0;  ///< flux-limited diffusion passes (0: plain P1)
+  /// --decompose: texel size of the converged CPU deep light maps, in voxels (default map: 1).
+  double reference_dlm_texel_voxels = 1.0;
 };
 
 struct SweepRow {

@@ -50,6 +50,8 @@ reference::PathTracerSettings pathTracerSettingsForGpu(const render::RenderSetti
   s.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_ice};
   s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, rs.g_water};
   s.sky_radiance = lighting::skyLightFor(rs, sun.elevation_deg, sun.colour, sun.intensity).above;
+  if (settings.part == TruthPart::SkyOnly) s.sun_enabled = false;
+  if (settings.part == TruthPart::SunOnly) s.sky_radiance = glm::dvec3(0.0);
   s.ground_enabled = false;
   s.include_background = false;
   s.pixel_jitter = false;
@@ -85,6 +87,7 @@ std::string groundTruthKey(const AccuracyScene& sc, const render::RenderSettings
   h.add(gs.max_events);
   h.add(gs.roulette_after_events);
   h.add(gs.seed);
+  if (gs.part != TruthPart::Full) h.add(gs.part);  // the full truth's keys stay those of the cache
   return cache::toHex(h.digest());
 }
 
@@ -94,7 +97,9 @@ GroundTruth groundTruth(const AccuracyScene& sc, const render::RenderSettings& r
   const int w = sc.camera.width, hgt = sc.camera.height;
   const std::size_t n = std::size_t(w) * std::size_t(hgt);
   std::filesystem::create_directories(cache_dir);
-  gt.cache_path = (std::filesystem::path(cache_dir) / (sc.name + "-" + groundTruthKey(sc, rs, gs) + ".gt")).string();
+  const char* part = gs.part == TruthPart::SkyOnly ? "-sky" : gs.part == TruthPart::SunOnly ? "-sun" : "";
+  gt.cache_path =
+      (std::filesystem::path(cache_dir) / (sc.name + part + "-" + groundTruthKey(sc, rs, gs) + ".gt")).string();
   gt.image.width = w;
   gt.image.height = hgt;
   if (std::ifstream in{gt.cache_path, std::ios::binary}) {

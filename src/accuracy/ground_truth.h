@@ -25,7 +25,14 @@
 
 namespace nph::accuracy {
 
+/// Which light the tracer carries (issue 12's bias decomposition, accuracy/decompose.h): the whole
+/// truth, only the sky (sun off, every order), or the sun alone up to `max_events` scattering orders
+/// (sky off; max_events = 1 is single scattering: the path's first collision with its next-event
+/// estimate to the sun, then cut — `truncated_share` is then the share of paths that collided).
+enum class TruthPart { Full, SkyOnly, SunOnly };
+
 struct GroundTruthSettings {
+  TruthPart part = TruthPart::Full;
   int samples_per_pixel = 256;
   /// Hard cap; paths cut by it are counted (their energy would be the truth's only bias). With the
   /// roulette below it is not reached in practice (probability ≈ e^{−99} per path).

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "accuracy/accuracy_sweep.h"
+#include "accuracy/decompose.h"
 #include "accuracy/ms_fit.h"
 #include "accuracy/octave_fit.h"
 #include "accuracy/pareto.h"
@@ -23,6 +24,8 @@ struct BenchAccuracyOptions {
   int spp = 0;
   bool fit_octaves = false;
   bool compare_ms = false;
+  bool decompose = false;
+  int decompose_spp = 4;
 };
 
 int runBenchAccuracy(BenchAccuracyOptions o) {
@@ -43,6 +46,13 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
     std::ofstream((std::filesystem::path(s.out_dir) / "ms-comparison.md").string()) << md;
     std::fputs(md.c_str(), stdout);
     log::info("wrote {}/ms-comparison.md", s.out_dir);
+    return kExitOk;
+  }
+  if (o.decompose) {
+    const std::string md = accuracy::decompositionMarkdown(accuracy::decomposeBias(s, o.decompose_spp));
+    std::ofstream((std::filesystem::path(s.out_dir) / "bias-decomposition.md").string()) << md;
+    std::fputs(md.c_str(), stdout);
+    log::info("wrote {}/bias-decomposition.md", s.out_dir);
     return kExitOk;
   }
   if (o.fit_octaves) {
@@ -100,6 +110,17 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
                 "instead of the sweep: compare the multiple-scattering terms (octaves, two-stream, octave weights by "
                 "column depth) against the path-traced truth on the CPU reference, fitting their free weights, and "
                 "write ms-comparison.md (issue 12)");
+  cmd->add_flag("--decompose", o->decompose,
+                "instead of the sweep: split the truth and the renderer into sky light, sunlight of order 1 and "
+                "orders >= 2 and compare them part by part (mean luminance), write bias-decomposition.md (issue 12)");
+  cmd->add_option("--decompose-spp", o->decompose_spp,
+                  "--decompose: samples per pixel of the truth's parts (their image means need few)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 65536));
+  cmd->add_option("--reference-dlm-texel", o->sweep.reference_dlm_texel_voxels,
+                  "--decompose: texel size of the converged CPU deep light maps, in voxels")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0625, 8.0));
   cmd->add_option("--ms-diffusion-coarsen", o->sweep.diffusion_coarsen_xy,
                   "--compare-ms: fine voxels per cell of the coarse diffusion volume, horizontally")
       ->capture_default_str()

@@ -41,6 +41,10 @@ double cloudSunFactor(const RenderSettings& s, double sunlight, double cos_psi, 
                              s.octaves.anisotropy_scale, tau.x, tau.y, sun_frame, mu_out);
 }
 double diffuseTransmittance(double tau, double g) { return f64::diffuseTransmittance(tau, g); }
+glm::dvec3 skyDiffuse(double tau_above, double tau_below, double g, double diffusion_scale, const glm::dvec3& above,
+                      const glm::dvec3& below) {
+  return f64::skyDiffuse(tau_above, tau_below, g, diffusion_scale, above, below);
+}
 double airMass(double sin_elevation) { return f64::airMass(sin_elevation); }
 glm::dvec3 clearSkyRadiance(double sin_elevation) { return f64::clearSkyRadiance(sin_elevation); }
 

@@ -31,6 +31,11 @@ double cloudSunFactor(const RenderSettings& s, double sunlight, double cos_psi, 
                       const glm::dvec2& tau, const glm::dvec3& sun_frame, double mu_out);
 /// Two-stream diffuse transmittance 1/(1 + ¾(1 − g)τ).
 double diffuseTransmittance(double tau, double g);
+/// Mean radiance I₀ at a sample τ_above below the top of a conservative Eddington slab of
+/// τ_above + τ_below lit by diffuse radiance `above` and `below` (glsl/common/cloud_light.glsl
+/// skyDiffuse): the sky light a cloud sample scatters; `above` everywhere when above = below.
+glm::dvec3 skyDiffuse(double tau_above, double tau_below, double g, double diffusion_scale, const glm::dvec3& above,
+                      const glm::dvec3& below);
 /// Kasten–Young relative air mass.
 double airMass(double sin_elevation);
 /// Uniform clear-sky radiance per unit solar irradiance (linear RGB at 680/550/440 nm).

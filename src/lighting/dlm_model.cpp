@@ -11,10 +11,10 @@ namespace nph::scene {
 
 std::string DlmSettings::key() const {
   return fmt::format("eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};"
-                     "ss={};cache={:.9g}",
+                     "ss={};cache={:.9g};fi={:.9g};fw={:.9g}",
                      epsilon, step_voxels, texel_voxels, max_texels, max_nodes, max_epsilon_doublings,
                      forward_angle_deg, cornette_shanks_g, peripheral ? 1 : 0, scatter_downsample, scatter_slice_steps,
-                     light_cache_voxels);
+                     light_cache_voxels, forward_peak_ice, forward_peak_water);
 }
 
 ForwardFractions forwardFractions(const DlmSettings& s) {
@@ -23,7 +23,8 @@ ForwardFractions forwardFractions(const DlmSettings& s) {
   const physics::PhaseFunction cs{physics::PhaseModel::CornetteShanks, s.cornette_shanks_g};
   const double cp4 = physics::cumulativePhase(cs, theta / 4.0);
   const double cp2 = physics::cumulativePhase(cs, theta / 2.0);
-  return {cp4, cp2 - cp4};
+  return {cp4, cp2 - cp4, s.forward_peak_ice >= 0.0 ? s.forward_peak_ice : cp4,
+          s.forward_peak_water >= 0.0 ? s.forward_peak_water : cp4};
 }
 
 }  // namespace nph::scene

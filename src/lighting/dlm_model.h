@@ -32,14 +32,20 @@
 namespace nph::scene {
 
 struct DlmSettings {
-  double epsilon = 0.01;             ///< max |I_stored − I_sampled| per texel (ε, Nes §5.3.4)
-  double step_voxels = 0.5;          ///< Δ as a fraction of the smallest voxel side
-  double texel_voxels = 1.0;         ///< DLM texel size as a multiple of the smallest horizontal voxel side
-  int max_texels = 1024;             ///< per side of the map
-  int max_nodes = 32;                ///< node budget per texel
-  int max_epsilon_doublings = 4;     ///< overflow rule: retry overflowed texels with 2ε, 4ε, ...
-  double forward_angle_deg = 20.0;   ///< θ: the forward-scattering cone (Nes §5.2.3)
-  double cornette_shanks_g = 0.9;    ///< asymmetry of the transport phase (Cornette–Shanks)
+  double epsilon = 0.01;            ///< max |I_stored − I_sampled| per texel (ε, Nes §5.3.4)
+  double step_voxels = 0.5;         ///< Δ as a fraction of the smallest voxel side
+  double texel_voxels = 1.0;        ///< DLM texel size as a multiple of the smallest horizontal voxel side
+  int max_texels = 1024;            ///< per side of the map
+  int max_nodes = 32;               ///< node budget per texel
+  int max_epsilon_doublings = 4;    ///< overflow rule: retry overflowed texels with 2ε, 4ε, ...
+  double forward_angle_deg = 20.0;  ///< θ: the forward-scattering cone (Nes §5.2.3)
+  double cornette_shanks_g = 0.9;   ///< asymmetry of the transport phase (Cornette–Shanks)
+  /// The beam's forward peak per medium (issue 12, twelfth session): the share f of each step's
+  /// scattered light the beam keeps, f_ice for β_ice and f_water for β_water, mixed by β at the
+  /// step (Nes 2008 eq. 5.12's weights). Negative: Nes' cone, CP(θ/4) of the Cornette–Shanks
+  /// transport phase for both media.
+  double forward_peak_ice = -1.0;
+  double forward_peak_water = -1.0;
   bool peripheral = true;            ///< passes 2-3 (scatter map)
   int scatter_downsample = 4;        ///< scatter-map cell = this many DLM texels per side
   int scatter_slice_steps = 4;       ///< scatter-map slice = this many steps Δ
@@ -54,10 +60,15 @@ struct DlmSettings {
   std::string key() const;
 };
 
-/// CP(θ/4) and CP(θ/2) − CP(θ/4) for the settings' cone and Cornette–Shanks phase.
+/// CP(θ/4) and CP(θ/2) − CP(θ/4) for the settings' cone and Cornette–Shanks phase; the central
+/// share per medium (forward_peak_ice/water, else CP(θ/4) for both).
 struct ForwardFractions {
   double central = 0.0;
   double peripheral = 0.0;
+  double central_ice = 0.0;
+  double central_water = 0.0;
+  /// The central share of a step whose extinction is β_ice/β = ice_weight.
+  double centralAt(double ice_weight) const { return central_water + (central_ice - central_water) * ice_weight; }
 };
 ForwardFractions forwardFractions(const DlmSettings& settings);
 

@@ -29,9 +29,10 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
     double* I = &central_[std::size_t(t) * std::size_t(samples_)];
     I[0] = 1.0;
     for (int n = 0; n + 1 < samples_; ++n) {
-      const double beta = f * sampler.at(start + (double(n) + 0.5) * sub_m_ * ls_.w).total();
+      const scene::ExtinctionSample e = sampler.at(start + (double(n) + 0.5) * sub_m_ * ls_.w);
+      const double beta = f * e.total();
       const double T = std::exp(-beta * sub_m_);
-      I[n + 1] = I[n] * scene::centralStepFactor(T, cp.central);
+      I[n + 1] = I[n] * scene::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0));
     }
   });
   final_ = central_;
@@ -59,10 +60,13 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
         return centralAtLight(p.x, p.y, sPrev) + at(xx, yy, k - 1);
       };
       const glm::dvec2 p = cellCentre(x, y);
-      const double beta = f * sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_})).total();
+      const scene::ExtinctionSample e = sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_}));
+      const double beta = f * e.total();
       const double T = std::exp(-beta * slice_m_);
       const double around = 0.25 * (lightAt(x + 1, y) + lightAt(x - 1, y) + lightAt(x, y + 1) + lightAt(x, y - 1));
-      at(x, y, k) = at(x, y, k - 1) * scene::centralStepFactor(T, cp.central) + around * (1.0 - T) * cp.peripheral;
+      at(x, y, k) =
+          at(x, y, k - 1) * scene::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0)) +
+          around * (1.0 - T) * cp.peripheral;
     });
   }
   // Pass 3: final = central + P (trilinear in the scatter map).

@@ -59,8 +59,9 @@ glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& dep
                           const RaySample& sample, const RayMarchSettings& s) {
   const glm::dvec2 tau = columnDepthAt(depths, frame, sample.position_m);
   const double g = s.g_water + (s.g_ice - s.g_water) * sample.ice_weight;
-  return 0.5 *
-         (sky.above * lighting::diffuseTransmittance(tau.x, g) + sky.below * lighting::diffuseTransmittance(tau.y, g));
+  // The vertical diffusion of the exaggerated world, as the two-stream term's (clouds.comp skyLightAt).
+  const double diffusion = lighting::twoStreamSunFrame(1.0, frame.height_exaggeration).z;
+  return lighting::skyDiffuse(tau.x, tau.y, g, diffusion, sky.above, sky.below);
 }
 
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,

@@ -45,7 +45,8 @@ void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& fr
                   const scene::TerrainField* terrain = nullptr, scene::Detail detail = scene::Detail::None);
 
 /// The sky light a sample scatters towards the eye (glsl/render/clouds.comp skyLightAt):
-/// ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) with g the sample's β-weighted asymmetry.
+/// the mean radiance of its Eddington column lit by L_above and L_below (lighting::skyDiffuse, with the
+/// exaggeration's vertical diffusion) with g the sample's β-weighted asymmetry.
 glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const scene::VolumeFrame& frame,
                           const RaySample& sample, const RayMarchSettings& settings);
 

@@ -40,6 +40,38 @@ TEST(CloudLight, DiffuseTransmittanceIsTheTwoStreamClosedForm) {
   EXPECT_NEAR(diffuseTransmittance(tau, g) * 0.75 * (1.0 - g) * tau, 1.0, 1e-3);
 }
 
+// The sky light inside a cloud (issue 12, twelfth session): the mean radiance I₀ of the conservative
+// Eddington column lit by diffuse light from above and below. Uniform light all round gives the
+// light itself at every depth (the white furnace: a non-absorbing medium cannot darken it); the
+// former ½·(L_a·T_d(τ_up) + L_b·T_d(τ_down)) gave ½·(T_d + T_d)·L, 0.15·L deep in a τ = 100 deck.
+TEST(CloudLight, SkyDiffuseKeepsTheWhiteFurnaceAndMatchesTheEddingtonColumn) {
+  const glm::dvec3 L{0.3, 0.5, 0.9};
+  for (double g : {0.0, 0.75, 0.85})
+    for (double scale : {1.0, 0.226, 0.085})
+      for (double tu : {0.0, 0.3, 5.0, 100.0})
+        for (double td : {0.0, 2.0, 100.0}) {
+          const glm::dvec3 s = skyDiffuse(tu, td, g, scale, L, L);
+          for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(s[c], L[c], 1e-12 * L[c]) << g << " " << scale << " " << tu << " " << td;
+        }
+  const glm::dvec3 a{1.0, 1.0, 1.0}, zero{0.0};
+  // Clear air: the two hemispheres averaged, as before.
+  EXPECT_NEAR(skyDiffuse(0.0, 0.0, 0.85, 1.0, a, zero).x, 0.5, 1e-15);
+  // Black below: the cloud's base sends ½·L·T_d(τ*) (the former term there), its top
+  // (⅔ + k·τ*)/(4/3 + k·τ*) → 1 for thick cloud (its reflectance), linear in between.
+  const double g = 0.85, tau = 40.0, k = 1.0 - g;
+  EXPECT_NEAR(skyDiffuse(tau, 0.0, g, 1.0, a, zero).x, 0.5 * diffuseTransmittance(tau, g), 1e-15);
+  EXPECT_NEAR(skyDiffuse(0.0, tau, g, 1.0, a, zero).x, (2.0 / 3.0 + k * tau) / (4.0 / 3.0 + k * tau), 1e-15);
+  EXPECT_NEAR(skyDiffuse(10.0, 30.0, g, 1.0, a, zero).x, (2.0 / 3.0 + k * 30.0) / (4.0 / 3.0 + k * tau), 1e-15);
+  // Linear in the light (superposition of the two hemispheres).
+  const glm::dvec3 b{0.2, 0.1, 0.05};
+  const glm::dvec3 sum = skyDiffuse(7.0, 3.0, g, 0.5, a, zero) + skyDiffuse(7.0, 3.0, g, 0.5, zero, b);
+  const glm::dvec3 both = skyDiffuse(7.0, 3.0, g, 0.5, a, b);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(both[c], sum[c], 1e-15);
+  // The exaggeration's slower vertical diffusion: k = (1 − g)/scale.
+  EXPECT_NEAR(skyDiffuse(0.0, 4.0, g, 0.5, a, zero).x, skyDiffuse(0.0, 8.0, g, 1.0, a, zero).x, 1e-15);
+}
+
 TEST(CloudLight, ClearSkyIsBlueOverheadFadesAtDuskAndScalesWithTheSun) {
   const glm::dvec3 noon = clearSkyRadiance(std::sin(60.0 * std::numbers::pi / 180.0));
   EXPECT_GT(noon.b, noon.g);

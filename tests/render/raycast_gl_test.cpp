@@ -305,6 +305,52 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   }
 }
 
+// White furnace of the eye pass (issue 12 "Done means": a non-absorbing cloud in a uniform white
+// sky with no sun looks uniform): a thick slab (τ = 100 vertically, ×8 exaggeration), sun colour 0
+// (the clear sky scales with the sun's intensity, not its colour), sky all round (sky_below), no
+// atmosphere. Radiative transfer gives the sky radiance L everywhere in the medium, so the cloud
+// layer is α·L at every pixel, on the GPU and in its CPU twin. Before the twelfth session the
+// sky term was ½·(T_d(τ_up) + T_d(τ_down))·L: 0.54 of α·L at this slab's top, 0.15 in its middle.
+// Bound: float rounding of the march's sums (measured on llvmpipe: max 2.5e-7 relative, CPU 3.2e-8) — 1e-4.
+TEST_F(RaycastTest, WhiteFurnaceCloudInAUniformSkyIsUniform) {
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 5e-2f);
+  scene::Sun sun{120.0, 40.0};
+  sun.colour = glm::dvec3(0.0);
+  render::RenderSettings rs;
+  rs.jitter = false;
+  rs.atmosphere = false;
+  rs.sky_below = true;
+  const glm::dvec3 L = lighting::skyLightFor(rs, sun.elevation_deg, sun.colour, sun.intensity).above;
+  ASSERT_GT(L.b, 0.0);
+  LookingDown view;
+  view.height_exaggeration = 8.0;
+  view.camera_world_z_m = 30000.0;
+  view.target_dx_m = 6000.0;  // oblique: the slab's top and one of its sides
+  const auto r = renderLookingDown(v, sun, rs, nullptr, view);
+  reference::RayMarchSettings ref = rs;
+  const auto cpu = reference::marchCloudLayer(
+      v, r.frame, r.camera, sun, [](const glm::dvec3&) { return 1.0; }, ref);
+  int covered = 0;
+  double worstGpu = 0.0, worstCpu = 0.0;
+  for (std::size_t i = 0; i < r.out.cloud_layer.rgba.size(); i += 4) {
+    for (const scene::RgbaImage* img : {&r.out.cloud_layer, &cpu}) {
+      const float* px = &img->rgba[i];
+      if (px[3] < 0.01f) continue;
+      if (img == &cpu) ++covered;
+      for (int c = 0; c < 3; ++c) {
+        const double rel = std::abs(double(px[c]) / (double(px[3]) * L[c]) - 1.0);
+        (img == &cpu ? worstCpu : worstGpu) = std::max(img == &cpu ? worstCpu : worstGpu, rel);
+      }
+    }
+  }
+  std::printf(
+      "[ furnace  ] slab tau 100 x8, uniform sky: %d covered pixels, max |C/(alpha L) - 1| GPU %.2e, CPU %.2e\n",
+      covered, worstGpu, worstCpu);
+  EXPECT_GT(covered, 100) << "the camera must see the slab";
+  EXPECT_LE(worstGpu, 1e-4);
+  EXPECT_LE(worstCpu, 1e-4);
+}
+
 }  // namespace
 }  // namespace nph::test
 

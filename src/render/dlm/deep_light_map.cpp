@@ -158,6 +158,9 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     return false;
   }
   if (settings.max_nodes < 2) throw UsageError("DLM settings: max_nodes must be at least 2");
+  if (settings.forward_peak_ice >= 0.0 || settings.forward_peak_water >= 0.0)
+    throw UsageError("DLM settings: forward_peak_ice/water (a per-medium forward peak) exist in the CPU reference "
+                     "(reference::DlmReference, `nephele-bench accuracy --decompose`) only, not in the GPU builder");
   depth_scale_ = depthScale;
   if (settings.scatter_slice_steps < 2 || settings.scatter_slice_steps % 2 != 0) {
     throw UsageError("DLM settings: scatter_slice_steps must be even and >= 2");

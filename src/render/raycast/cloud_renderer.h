@@ -94,6 +94,9 @@ struct EyePassBaseline {
   bool unclipped_steps = false;
   /// the separate ice, water and column-depth textures even where the packed one serves
   bool separate_textures = false;
+  /// the sky term before issue 12's twelfth session, ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down))
+  /// (glsl/render/clouds.comp skyLightAt), to measure skyDiffuse's cost against
+  bool sky_half_transmittance = false;
 };
 
 class CloudRenderer {
