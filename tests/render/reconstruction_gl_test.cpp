@@ -93,12 +93,15 @@ TEST_F(ReconstructionTest, EmptySpaceSkippingGivesTheSameImageWithCubic) {
 // column spans ~6 pixels). Reference-preset view steps, no jitter, DLM texels of ¼ voxel
 // (grid_artefacts.h). Measured on llvmpipe (docs/rendering.md "Reconstruction") on the storm with
 // domed cells, anvils and a lens-shaped shield (data_tools/wrf_hurricane.cpp):
-//   - single scattering, the filter alone: 2.3× in the band 0.75 … 1.25 cycles per column, 5.5× at
+//   - single scattering, the filter alone: 2.6× in the band 0.75 … 1.25 cycles per column, 3.5× at
 //     1.75 … 2.25 (the 10× of the issue is NOT reached at the column spacing by this metric);
-//   - the default, two_stream (issue 12): trilinear 5.22, cubic 2.32 (2.25×; 3.6× at twice the
+//   - the default, two_stream (issue 12): trilinear 4.45, cubic 2.08 (2.1×; 3.3× at twice the
 //     frequency) — the cubic filter reaches its column depths too (volume/column_depth.h; with
 //     trilinear depths under a cubic field the cubic power was 6× trilinear's on the old storm);
-//   - cubic two_stream has about half the power of cubic octaves (4.39), the default before.
+//   - cubic two_stream has about half the power of cubic octaves (4.28), the default before.
+// (Twelfth session: the sky term skyDiffuse — the sky the column reflects, read through the column
+// depths — added harmonic power to the cubic field: at 1.75 … 2.25 the ratios were 5.5× single and
+// 3.6× two_stream before it; the bounds below follow the new measurement.)
 // The test holds these with a 20–25 % margin, so a regression of the filter or of the column
 // depths' filter shows.
 TEST_F(ReconstructionTest, CubicLowersTheGridArtefactsOfTheCoarseStorm) {
@@ -133,9 +136,9 @@ TEST_F(ReconstructionTest, CubicLowersTheGridArtefactsOfTheCoarseStorm) {
               triTwo.harmonic / cubTwo.harmonic, cubOctaves.column, cubOctaves.harmonic);
   EXPECT_GT(triSingle.column, 0.0);
   EXPECT_GE(triSingle.column, 1.85 * cubSingle.column);
-  EXPECT_GE(triSingle.harmonic, 4.4 * cubSingle.harmonic);
+  EXPECT_GE(triSingle.harmonic, 2.8 * cubSingle.harmonic);
   EXPECT_GE(triTwo.column, 1.8 * cubTwo.column);
-  EXPECT_GE(triTwo.harmonic, 2.9 * cubTwo.harmonic);
+  EXPECT_GE(triTwo.harmonic, 2.6 * cubTwo.harmonic);
   EXPECT_LE(cubTwo.column, 0.65 * cubOctaves.column);
   EXPECT_LE(cubTwo.harmonic, 0.85 * cubOctaves.harmonic);
 }
