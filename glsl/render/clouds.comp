@@ -48,13 +48,13 @@
 #include "common/cloud_light.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform writeonly image2D u_cloud_layer;
-layout(rgba32f, binding = IMAGE_FRAME) uniform writeonly image2D u_frame;
-layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform writeonly uimage2D u_sample_count;  // statistics: samples per ray
+layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform image2D u_cloud_layer;
+layout(rgba32f, binding = IMAGE_FRAME) uniform image2D u_frame;
+layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform uimage2D u_sample_count;  // statistics: samples per ray
 // Compositing passes (issue 15; scene/passes.h), written when u_write_passes: the frame is
 // C + T_acc·(ground + sky), so a compositor can rebuild it or lay the clouds over its own map.
-layout(rgba32f, binding = IMAGE_PASS_GROUND) uniform writeonly image2D u_pass_ground;  // ground radiance, shadow matte
-layout(rgba32f, binding = IMAGE_PASS_SKY) uniform writeonly image2D u_pass_sky;        // sky radiance, cloud depth Z [m]
+layout(rgba32f, binding = IMAGE_PASS_GROUND) uniform image2D u_pass_ground;  // ground radiance, shadow matte
+layout(rgba32f, binding = IMAGE_PASS_SKY) uniform image2D u_pass_sky;        // sky radiance, cloud depth Z [m]
 layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // RGB linear albedo, A city lights, over u_basemap_min..max (world m)
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
 layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;  // (τ_up, τ_down) per voxel centre
@@ -93,6 +93,8 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   bool u_write_passes;        // fill u_pass_ground and u_pass_sky
   int u_cloud_ms_model;  // lighting::MultipleScattering: 0 single, 1 octaves, 2 two_stream
   float u_step_growth_max;  // adaptive steps (adaptiveStep below): at most this × u_step_m; 1 = fixed
+  vec2 u_subpixel;          // this sample's position in the pixel, [0, 1)² ((0.5, 0.5): the centre)
+  uint u_sample_index;      // k of RenderSettings::samples_per_pixel (runningMean below)
 };
 
 // Compile-time specialisation per view (issue 19, "Frame time"; see glsl/dlm/volume.glsl for the
@@ -369,14 +371,22 @@ vec2 volumeInterval(vec3 o, vec3 d) {
   return vec2(max(t.x, 0.0), t.y);
 }
 
+// Samples per pixel (RenderSettings::samples_per_pixel): CloudRenderer dispatches this pass once
+// per sample, each at its own sub-pixel position u_subpixel and with its own jitter; sample k > 0
+// folds its value into the mean of the k before it, in place (every invocation owns its pixel and
+// the dispatches are separated by a barrier), so the images hold the box-filtered pixel after the
+// last one. Sample 0 writes its value: one sample per pixel is the pass as it always was.
+vec4 runningMean(vec4 previous, vec4 value) { return previous + (value - previous) / float(u_sample_index + 1u); }
+
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(px, u_size))) return;
   // Same ray as scene::Camera::rayDirection at the pixel centre (row 0 at the top).
   vec2 ndc = vec2(2.0 * (float(px.x) + 0.5) / float(u_size.x) - 1.0, 1.0 - 2.0 * (float(px.y) + 0.5) / float(u_size.y));
-  vec3 dir = pixelRay(vec2(px) + 0.5);
+  vec2 at = vec2(px) + u_subpixel;  // this sample's image position (the centre: + 0.5)
+  vec3 dir = pixelRay(at);
   // The rays one pixel right and down: the ground's footprint for the imagery's filtering.
-  vec3 dirDx = pixelRay(vec2(px) + vec2(1.5, 0.5)) - dir, dirDy = pixelRay(vec2(px) + vec2(0.5, 1.5)) - dir;
+  vec3 dirDx = pixelRay(at + vec2(1.0, 0.0)) - dir, dirDy = pixelRay(at + vec2(0.0, 1.0)) - dir;
   vec3 origin = u_cam_pos_m;
   float hostDistance = kNoHostGeometry_m;  // distance along the ray to the host's opaque geometry
   if (u_has_host_depth) {
@@ -421,7 +431,8 @@ void main() {
   bool sunAtCloudsSet = !ATMOSPHERE_ON;
   float depthSum = 0.0;  // Σ t·(opacity added): the cloud layer's mean depth for aerial perspective
   if (span.x < span.y) {
-    float t = span.x + (u_jitter ? pixelHash(uvec2(px)) : 0.5) * u_step_m;
+    // (each sample of a pixel its own offset; sample 0 the one a single sample always had)
+    float t = span.x + (u_jitter ? pixelHash(uvec2(px) + u_sample_index * uvec2(7919u, 6007u)) : 0.5) * u_step_m;
     bool adaptive = u_step_growth_max > 1.0;
     float pixelAngle = length(dirDx);  // radians between neighbouring pixels' rays
     while (t < span.y && Tacc > u_min_transmittance) {
@@ -481,8 +492,9 @@ void main() {
                                    : aerialPerspectiveFlat(origin.z, dir, meanDepth, u_to_sun);
     C = C * ap.transmittance + alpha * u_sun_radiance * ap.inscattered;
   }
-  imageStore(u_cloud_layer, px, vec4(C, alpha));
-  if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples));
+  bool first = u_sample_index == 0u;
+  imageStore(u_cloud_layer, px, first ? vec4(C, alpha) : runningMean(imageLoad(u_cloud_layer, px), vec4(C, alpha)));
+  if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples + (first ? 0u : imageLoad(u_sample_count, px).x)));
 
   // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe), as two
   // passes: `ground` (the lit ground after the air's transmittance) and `sky` (the sky's radiance,
@@ -586,13 +598,21 @@ void main() {
   } else if (ATMOSPHERE_ON) {  // the sky above the flat view's horizon
     sky = u_sun_radiance * skyViewRadiance(dir, u_to_sun);
   }
-  imageStore(u_frame, px, vec4(C + Tacc * (ground + sky), 1.0));
+  vec4 beauty = vec4(C + Tacc * (ground + sky), 1.0);
+  imageStore(u_frame, px, first ? beauty : runningMean(imageLoad(u_frame, px), beauty));
   if (WRITE_PASSES) {
     // Z: the cloud's transmittance-weighted mean depth along the camera's view axis (planar depth,
     // as Nuke and Cycles read a Z channel); kNoCloudDepth_m where no cloud is seen.
     vec3 forward = u_world_from_view * vec3(0.0, 0.0, -1.0);
     float z = alpha > 0.0 ? meanDepth * dot(dir, forward) : kNoCloudDepth_m;
-    imageStore(u_pass_ground, px, vec4(ground, shadow));
-    imageStore(u_pass_sky, px, vec4(sky, z));
+    // Over several samples: the mean of radiance and matte; Z the nearest cloud any sample saw.
+    vec4 groundPass = vec4(ground, shadow), skyPass = vec4(sky, z);
+    if (!first) {
+      vec4 previousSky = imageLoad(u_pass_sky, px);
+      groundPass = runningMean(imageLoad(u_pass_ground, px), groundPass);
+      skyPass = vec4(runningMean(previousSky, skyPass).rgb, min(previousSky.w, z));
+    }
+    imageStore(u_pass_ground, px, groundPass);
+    imageStore(u_pass_sky, px, skyPass);
   }
 }

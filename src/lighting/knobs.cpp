@@ -83,7 +83,7 @@ constexpr std::array kKnobs{
     Knob{.name = "shadows", .unit = "", .min = 0, .max = 1, .field = &Q::shadows,
          .preset = {1, 1, 1}, .doc = "cloud shadows on the ground"},
     Knob{.name = "samples_per_pixel", .unit = "", .min = 1, .max = 1024, .field = &Q::samples_per_pixel,
-         .preset = {1, 1, 1}, .doc = "parsed, but the ray caster takes one jittered sample per pixel for now"},
+         .preset = {1, 1, 1}, .doc = "eye-pass samples per pixel at sub-pixel positions, averaged (anti-aliasing; the DLM is built once)"},
     // The extinction filter (volume/reconstruction.h; issue 13). Trilinear is data-true but shows
     // the grid of coarse models as terraces and blocks; the cubic B-spline removes them (docs/
     // rendering.md "Reconstruction") at 8 texture fetches per sample instead of 1. "auto" (every
@@ -201,6 +201,7 @@ RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& 
   r.step_growth_max = q.step_growth_max;
   r.min_transmittance = q.early_termination_transmittance;
   r.jitter = q.jitter;
+  r.samples_per_pixel = q.samples_per_pixel;
   r.empty_space_skipping = q.empty_space_skipping;
   r.shadows = q.shadows;
   r.multiple_scattering = MultipleScattering(q.multiple_scattering);

@@ -51,7 +51,7 @@ struct QualitySettings {
   bool empty_space_skipping{};               ///< skip empty occupancy bricks (DLM and ray caster)
   bool jitter{};                             ///< per-pixel start offset against banding
   bool shadows{};                            ///< cloud shadows on the basemap
-  int samples_per_pixel{};                   ///< parsed; the ray caster takes one jittered sample for now
+  int samples_per_pixel{};                   ///< eye-pass samples per pixel (RenderSettings::samples_per_pixel)
   int reconstruction{};                      ///< 0 trilinear, 1 cubic B-spline, 2 auto (reconstructionOf)
   int detail{};                              ///< scene::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
   int multiple_scattering{};                 ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream

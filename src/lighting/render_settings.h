@@ -62,6 +62,11 @@ struct RenderSettings : StyleSettings {
   double step_growth_max = 1.0;
   double min_transmittance = 0.01;  ///< early ray termination
   bool jitter = true;               ///< per-pixel start offset against banding
+  /// Samples per pixel (the knob `samples_per_pixel`): the eye pass runs this many times at
+  /// sub-pixel positions of the R2 sequence (the first at the pixel's centre), each with its own
+  /// jitter, and keeps their mean — a box filter over the pixel, so cloud edges, the horizon and
+  /// the terrain are anti-aliased and the jitter's noise averages out. The DLM is built once.
+  int samples_per_pixel = 1;
   bool empty_space_skipping = true;
   bool shadows = true;  ///< cloud shadows on the ground (DLM at z = 0)
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer

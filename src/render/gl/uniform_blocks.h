@@ -160,6 +160,9 @@ struct RaycastBlock {
   std::uint32_t write_passes = 0;    ///< u_write_passes (bool): fill the compositing-pass images
   std::int32_t cloud_ms_model = 0;   ///< u_cloud_ms_model: lighting::MultipleScattering
   float step_growth_max = 1.0f;      ///< u_step_growth_max: adaptive steps up to this × Δ (1 = fixed)
+  glm::vec2 subpixel{0.5f};          ///< u_subpixel: this sample's position inside the pixel [0, 1)²
+  std::uint32_t sample_index = 0;    ///< u_sample_index: k of samples_per_pixel; k > 0 averages into the images
+  std::uint32_t pad = 0;             ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(RaycastBlock, world_from_view) == 64 && offsetof(RaycastBlock, cam_pos_m) == 112 &&
               offsetof(RaycastBlock, step_m) == 124);
@@ -172,7 +175,8 @@ static_assert(offsetof(RaycastBlock, below_radiance) == 240 && offsetof(RaycastB
               offsetof(RaycastBlock, octaves) == 264 && offsetof(RaycastBlock, height_exaggeration) == 268);
 static_assert(offsetof(RaycastBlock, atmosphere) == 272 && offsetof(RaycastBlock, write_passes) == 276 &&
               offsetof(RaycastBlock, cloud_ms_model) == 280 && offsetof(RaycastBlock, step_growth_max) == 284);
-static_assert(sizeof(RaycastBlock) == 288, "std140 size of RaycastBlock, rounded to 16");
+static_assert(offsetof(RaycastBlock, subpixel) == 288 && offsetof(RaycastBlock, sample_index) == 296);
+static_assert(sizeof(RaycastBlock) == 304, "std140 size of RaycastBlock, rounded to 16");
 inline constexpr BlockMember kRaycastMembers[] = {
     {"u_view_from_clip", offsetof(RaycastBlock, view_from_clip)},
     {"u_world_from_view", offsetof(RaycastBlock, world_from_view)},
@@ -203,7 +207,10 @@ inline constexpr BlockMember kRaycastMembers[] = {
     {"u_height_exaggeration", offsetof(RaycastBlock, height_exaggeration)},
     {"u_atmosphere", offsetof(RaycastBlock, atmosphere)},
     {"u_write_passes", offsetof(RaycastBlock, write_passes)},
-    {"u_cloud_ms_model", offsetof(RaycastBlock, cloud_ms_model)}};
+    {"u_cloud_ms_model", offsetof(RaycastBlock, cloud_ms_model)},
+    {"u_step_growth_max", offsetof(RaycastBlock, step_growth_max)},
+    {"u_subpixel", offsetof(RaycastBlock, subpixel)},
+    {"u_sample_index", offsetof(RaycastBlock, sample_index)}};
 
 /// glsl/render/globe.glsl `GlobeBlock`: the globe view's mapping (render/raycast/globe.h), read
 /// only when RaycastBlock::globe is set.

@@ -26,6 +26,13 @@ gl::Defines EyePassFeatures::defines() const {
           {"SPEC_PACKED", bit(packed)}};
 }
 
+glm::vec2 subpixelPosition(int k) {
+  if (k <= 0) return {0.5f, 0.5f};
+  constexpr double kPlastic = 1.32471795724474602596;  // φ₂: x³ = x + 1
+  const double a = 0.5 + double(k) / kPlastic, b = 0.5 + double(k) / (kPlastic * kPlastic);
+  return {float(a - std::floor(a)), float(b - std::floor(b))};
+}
+
 CloudRenderer::CloudRenderer()
     : raycast_block_(gl::UniformBuffer<gl::RaycastBlock>::create({}, "raycast block")),
       globe_block_(gl::UniformBuffer<gl::GlobeBlock>::create({}, "globe block")),
@@ -315,19 +322,27 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     atmosphere_->bind();
     p.use();
   }
-  raycast_block_.update(b);
-  raycast_block_.bind();
   updateGlobeBlock(view, volume, s, sun.intensity);
   updateTerrainBlock(volume, s);
-  glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   // Without passes the units stay bound to the frame (valid, never written: u_write_passes is 0).
   const GLuint groundImage = passes_ ? ground_pass_tex_.id() : frame_tex_.id();
   const GLuint skyImage = passes_ ? sky_pass_tex_.id() : frame_tex_.id();
-  glBindImageTexture(gl::binding::IMAGE_PASS_GROUND, groundImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  p.dispatchCovering({w, h, 1});
+  glBindImageTexture(gl::binding::IMAGE_PASS_GROUND, groundImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  // Samples per pixel (RenderSettings::samples_per_pixel; clouds.comp runningMean): one dispatch
+  // per sample, each folding into the images the previous ones wrote.
+  const int samples = std::max(1, s.samples_per_pixel);
+  for (int k = 0; k < samples; ++k) {
+    b.subpixel = subpixelPosition(k);
+    b.sample_index = std::uint32_t(k);
+    raycast_block_.update(b);
+    raycast_block_.bind();
+    p.dispatchCovering({w, h, 1});
+    if (k + 1 < samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (finish) glFinish();
   gl::checkErrors("cloud ray caster");

@@ -58,6 +58,11 @@ struct HostDepth {
   unsigned texture = 0;
 };
 
+/// Where sample k of a pixel lies in it, [0, 1)² (RenderSettings::samples_per_pixel): the centre
+/// for k = 0, then Roberts' R2 sequence (the plastic number's low-discrepancy lattice,
+/// frac(½ + k·(1/φ₂, 1/φ₂²))), so any prefix of the samples covers the pixel evenly.
+glm::vec2 subpixelPosition(int k);
+
 struct RenderOutput {
   scene::RgbaImage cloud_layer;              ///< premultiplied linear RGBA: the clouds alone
   scene::RgbaImage frame;                    ///< clouds composited over the lit ground, alpha 1
