@@ -3,7 +3,9 @@
 // current camera into the renderer's frame texture, then a full-screen pass
 // (glsl/render/present.frag: exposure, tone curve, sRGB) blits it to the window.
 // Progressive: while the camera moves or the animation plays, frames are ray cast at 1/kPreviewDivisor
-// of the resolution on each axis and scaled up; one full-resolution frame follows when it stops.
+// of the resolution on each axis and scaled up; one full-resolution frame follows when it stops,
+// then, while everything stays still, one more sample per pixel at a time (refine()) up to
+// kRefineSamples: the idle view converges to the anti-aliased, jitter-free picture.
 // Non-interactive use (tests, scripts): --frames N renders N full-resolution frames and exits,
 // --screenshot PATH writes the window's last frame (8-bit sRGB PNG, what the window shows).
 #define GLFW_INCLUDE_NONE  // GL comes from the loader (render/gl/gl.h)
@@ -40,6 +42,7 @@ namespace {
 
 constexpr int kPreviewDivisor = 2;       // progressive preview: half resolution per axis
 constexpr double kSettleSeconds = 0.25;  // full resolution once nothing moved for this long
+constexpr int kRefineSamples = 16;       // a still frame is refined up to this many samples per pixel
 constexpr double kOrbitDegPerPixel = 0.3;
 constexpr double kZoomPerScrollStep = 0.9;
 constexpr double kScrubStep = 0.1;  // [ ] : a tenth of a timestep
@@ -149,6 +152,10 @@ class Viewer {
         }
         ctx_.swapBuffers();
         glfwPollEvents();
+      } else if (samples_shown_ < kRefineSamples) {
+        refine();  // still: one more sample per pixel into the frame shown
+        ctx_.swapBuffers();
+        glfwPollEvents();
       } else {
         glfwWaitEventsTimeout(0.1);  // idle: nothing to redraw until an event
       }
@@ -164,6 +171,33 @@ class Viewer {
     camera_.width = std::max(1, fbw / divisor);
     camera_.height = std::max(1, fbh / divisor);
     session_.dispatch(render::ViewRays::fromCamera(camera_));
+    samples_shown_ = std::max(1, session_.renderSettings().samples_per_pixel);
+    present(fbw, fbh);
+  }
+
+  // Progressive refinement of a still frame (issue 19, the interactive path): the next sample per
+  // pixel (RenderSettings::first_sample; its own sub-pixel position and jitter) folds into the
+  // frame on screen, so an idle view converges to the anti-aliased, noise-free picture of
+  // kRefineSamples samples. Only a still camera, sun and time are refined — any change starts a
+  // fresh frame — so nothing ghosts.
+  void refine() {
+    int fbw = 0, fbh = 0;
+    glfwGetFramebufferSize(window_, &fbw, &fbh);
+    if (fbw <= 0 || fbh <= 0 || camera_.width != fbw || camera_.height != fbh) {
+      full_res_shown_ = false;  // resized: draw afresh
+      return;
+    }
+    render::RenderSettings& rs = session_.renderSettings();
+    const render::RenderSettings kept = rs;
+    rs.first_sample = samples_shown_;
+    rs.samples_per_pixel = 1;
+    session_.dispatch(render::ViewRays::fromCamera(camera_));
+    rs = kept;
+    ++samples_shown_;
+    present(fbw, fbh);
+  }
+
+  void present(int fbw, int fbh) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fbw, fbh);
     present_.use();
@@ -176,11 +210,14 @@ class Viewer {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindSampler(gl::binding::UNIT_PRESENT_FRAME, 0);
     const auto& st = session_.stats();
-    glfwSetWindowTitle(window_, fmt::format("nephele view — t {:.2f}{} — sun {:.0f}/{:.0f} deg — {} — {}x{} {:.0f} ms",
-                                            time_, playing_ ? fmt::format(" (playing x{:g})", speed_) : "",
-                                            sun_.azimuth_deg, sun_.elevation_deg, lighting::kPresetNames[quality_],
-                                            camera_.width, camera_.height, st.raycast_ms + st.dlm_ms)
-                                    .c_str());
+    const double ms = st.raycast_ms + st.dlm_ms;
+    glfwSetWindowTitle(
+        window_, fmt::format("nephele view — t {:.2f}{} — sun {:.0f}/{:.0f} deg — {} — {}x{} {:.0f} ms ({:.1f} fps), "
+                             "{} sample{} per pixel",
+                             time_, playing_ ? fmt::format(" (playing x{:g})", speed_) : "", sun_.azimuth_deg,
+                             sun_.elevation_deg, lighting::kPresetNames[quality_], camera_.width, camera_.height, ms,
+                             ms > 0.0 ? 1000.0 / ms : 0.0, samples_shown_, samples_shown_ > 1 ? "s" : "")
+                     .c_str());
   }
 
   void screenshot(const std::string& path) {
@@ -296,6 +333,7 @@ class Viewer {
   scene::Sun sun_;
   double time_ = 0.0, speed_ = 1.0;  // speed: timesteps per second
   bool playing_ = false, orbiting_ = false, panning_ = false, full_res_shown_ = false;
+  int samples_shown_ = 0;  ///< samples per pixel in the frame on screen (refine())
   std::size_t quality_ = 1;
   double last_input_ = -1e9;
   glm::dvec2 cursor_{0.0};

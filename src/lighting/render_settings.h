@@ -67,6 +67,10 @@ struct RenderSettings : StyleSettings {
   /// jitter, and keeps their mean — a box filter over the pixel, so cloud edges, the horizon and
   /// the terrain are anti-aliased and the jitter's noise averages out. The DLM is built once.
   int samples_per_pixel = 1;
+  /// The index of a dispatch's first sample (not a knob): 0 starts the images afresh; k > 0 folds
+  /// the dispatch's samples into the mean the previous dispatches left (`nephele view` refines a
+  /// still frame one sample at a time this way).
+  int first_sample = 0;
   bool empty_space_skipping = true;
   bool shadows = true;  ///< cloud shadows on the ground (DLM at z = 0)
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer

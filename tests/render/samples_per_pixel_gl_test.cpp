@@ -115,6 +115,19 @@ TEST_F(SamplesPerPixelTest, EdgePixelsTakeTheirCoverage) {
   EXPECT_LT(sixteen.mean, 0.5 * one.mean);
   EXPECT_LE(many.max, 0.08);
   EXPECT_LE(many.mean, 0.02);
+
+  // `nephele view` refines a still frame one sample per dispatch (RenderSettings::first_sample):
+  // four dispatches of one sample each leave the same floats as one dispatch of four.
+  rs.samples_per_pixel = 4;
+  const auto atOnce = renderer.render(tex, dlm, camera, sun, rs);
+  rs.samples_per_pixel = 1;
+  render::RenderOutput stepwise;
+  for (int k = 0; k < 4; ++k) {
+    rs.first_sample = k;
+    stepwise = renderer.render(tex, dlm, camera, sun, rs);
+  }
+  EXPECT_EQ(stepwise.frame.rgba, atOnce.frame.rgba);
+  EXPECT_EQ(stepwise.cloud_layer.rgba, atOnce.cloud_layer.rgba);
 }
 
 }  // namespace

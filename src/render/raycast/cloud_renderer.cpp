@@ -334,14 +334,14 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   // Samples per pixel (RenderSettings::samples_per_pixel; clouds.comp runningMean): one dispatch
   // per sample, each folding into the images the previous ones wrote.
-  const int samples = std::max(1, s.samples_per_pixel);
-  for (int k = 0; k < samples; ++k) {
+  const int first = std::max(0, s.first_sample), samples = std::max(1, s.samples_per_pixel);
+  for (int k = first; k < first + samples; ++k) {
     b.subpixel = subpixelPosition(k);
     b.sample_index = std::uint32_t(k);
     raycast_block_.update(b);
     raycast_block_.bind();
     p.dispatchCovering({w, h, 1});
-    if (k + 1 < samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    if (k + 1 < first + samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (finish) glFinish();
