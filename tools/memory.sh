@@ -3,7 +3,9 @@
 # size (GNU time's "Maximum resident set size"; on llvmpipe GL texture storage is process memory)
 # of each binary on each scene, the binaries interleaved with the order rotated per round, and the
 # peak per million voxels of the scene's grid. Also the 8-bit PNG difference of the last round's
-# images (oiiotool --diff) between the first binary and each other one.
+# images (oiiotool --diff) between the first binary and each other one, and, for binaries that log
+# them (NEPHELE_LOG=debug: "memory after <phase>", core/process_memory.h), the resident and peak
+# memory after each phase of the last round (where the peak is reached and what is held after).
 # Usage: tools/memory.sh OUT_DIR ROUNDS SCENE_JSON[,SCENE_JSON...] BUILD_DIR [BUILD_DIR...]
 # Each scene must write exactly one .png path (output.paths); it is redirected per binary and
 # round into OUT_DIR. The voxel count is read from `nephele info` of the scene's data.path.
@@ -33,11 +35,18 @@ s = json.loads(t)
 s["output"]["paths"] = [sys.argv[2]]
 print(json.dumps(s))
 EOF
-      /usr/bin/time -v "$b/src/cli/nephele" render "$out/$name-$tag.json" > "$out/$name-$tag.log" 2>&1
+      NEPHELE_LOG=debug /usr/bin/time -v "$b/src/cli/nephele" render "$out/$name-$tag.json" > "$out/$name-$tag.log" 2>&1
       kb=$(grep -oP 'Maximum resident set size \(kbytes\): \K[0-9]+' "$out/$name-$tag.log")
       printf '%-24s %-28s %5d %12.1f %10.2f %10.2f\n' "$name" "$b" "$r" "$(echo "$kb*1.024/1000" | bc -l)" "$mvox" \
         "$(echo "$kb*1.024/1000/$mvox" | bc -l)"
     done
+  done
+  for b in "${builds[@]}"; do
+    tag=$(echo "$b" | tr '/' '_' | sed 's/^_//')
+    if grep -q 'memory after' "$out/$name-$tag.log"; then
+      echo "$name: $b, by phase (resident / peak so far, MB):"
+      grep -oP 'memory after \K.*' "$out/$name-$tag.log" | sed 's/^/  /'
+    fi
   done
   first=$(echo "${builds[0]}" | tr '/' '_' | sed 's/^_//')
   for ((i = 1; i < ${#builds[@]}; ++i)); do

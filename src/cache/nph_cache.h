@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "volume/extinction_slices.h"
 #include "volume/extinction_volumes.h"
 
 namespace nph::cache {
@@ -130,6 +131,13 @@ class NphReader {
   ExtinctionVolumes read(std::size_t t) const;
   /// The same timestep without decoding (see QuantisedVolumes); same checks as read().
   QuantisedVolumes readQuantised(std::size_t t) const;
+  /// Timestep t kept in its 16-bit codes and decoded one layer at a time (volume/extinction_slices.h;
+  /// issue 19, memory): 4 bytes per voxel held instead of read()'s 8, and every layer decodes to
+  /// read()'s floats bit for bit (dequantise). Same checks as read().
+  std::unique_ptr<ExtinctionSlices> readSlices(std::size_t t) const;
+  /// Timestep t as read() returns it without its volumes (ice_per_m, water_per_m empty): grid,
+  /// georeference, terrain, time, provenance and maxima. Reads no chunk.
+  ExtinctionVolumes readHeader(std::size_t t) const;
 
  private:
   struct State;

@@ -237,15 +237,14 @@ QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
   return q;
 }
 
-ExtinctionVolumes NphReader::read(std::size_t t) const {
+ExtinctionVolumes NphReader::readHeader(std::size_t t) const {
   const State& s = *state_;
   const TimestepInfo& info = timestep(t);
   const NphMetadata& m = s.index.metadata;
-  const QuantisedVolumes q = readQuantised(t);
   ExtinctionVolumes v;
-  v.nx = q.nx;
-  v.ny = q.ny;
-  v.nz = q.nz;
+  v.nx = m.nx;
+  v.ny = m.ny;
+  v.nz = s.index.nz;
   v.dz_m = m.dz_m;
   v.z_bottom_m = m.z_bottom_m;
   v.georef = m.georef;
@@ -253,12 +252,49 @@ ExtinctionVolumes NphReader::read(std::size_t t) const {
   v.time_utc = info.time_utc;
   v.source_file = info.source_file;
   v.source_time_index = info.source_time_index;
+  v.max_ice_per_m = info.max_ice_per_m;
+  v.max_water_per_m = info.max_water_per_m;
+  return v;
+}
+
+namespace {
+/// A timestep held as its codes (QuantisedVolumes), decoded a layer at a time with read()'s rule.
+class NphSlices final : public ExtinctionSlices {
+ public:
+  NphSlices(ExtinctionVolumes header, QuantisedVolumes codes) : header_(std::move(header)), q_(std::move(codes)) {}
+  const ExtinctionVolumes& volumes() const override { return header_; }
+  Slice slice(int k, std::vector<float>& scratch) const override {
+    const std::size_t layer = std::size_t(q_.nx) * std::size_t(q_.ny), base = std::size_t(k) * layer;
+    scratch.resize(2 * layer);
+    const std::span<float> ice(scratch.data(), layer), water(scratch.data() + layer, layer);
+    dequantise(std::span(q_.ice_codes).subspan(base, layer), q_.max_ice_per_m, ice);
+    dequantise(std::span(q_.water_codes).subspan(base, layer), q_.max_water_per_m, water);
+    return {ice.data(), water.data()};
+  }
+  std::size_t heldBytes() const override {
+    return (q_.ice_codes.size() + q_.water_codes.size()) * sizeof(std::uint16_t);
+  }
+
+ private:
+  ExtinctionVolumes header_;
+  QuantisedVolumes q_;
+};
+}  // namespace
+
+std::unique_ptr<ExtinctionSlices> NphReader::readSlices(std::size_t t) const {
+  ExtinctionVolumes header = readHeader(t);
+  return std::make_unique<NphSlices>(std::move(header), readQuantised(t));
+}
+
+ExtinctionVolumes NphReader::read(std::size_t t) const {
+  QuantisedVolumes q = readQuantised(t);
+  ExtinctionVolumes v = readHeader(t);
+  // Each phase's codes are freed once decoded: codes and floats of both phases never coexist.
   v.ice_per_m.resize(v.voxelCount());
-  v.water_per_m.resize(v.voxelCount());
   dequantise(q.ice_codes, q.max_ice_per_m, v.ice_per_m);
+  std::vector<std::uint16_t>().swap(q.ice_codes);
+  v.water_per_m.resize(v.voxelCount());
   dequantise(q.water_codes, q.max_water_per_m, v.water_per_m);
-  v.max_ice_per_m = q.max_ice_per_m;
-  v.max_water_per_m = q.max_water_per_m;
   return v;
 }
 

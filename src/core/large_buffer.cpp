@@ -44,4 +44,12 @@ bool reuseFreedMemoryForLargeBlocks() noexcept {
 #endif
 }
 
+bool releaseFreedMemory() noexcept {
+#if defined(__GLIBC__)
+  return malloc_trim(0) == 1;
+#else
+  return false;
+#endif
+}
+
 }  // namespace nph

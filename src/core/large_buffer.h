@@ -34,4 +34,11 @@ std::vector<float> hugePageFloats(std::size_t n);
 /// applied.
 bool reuseFreedMemoryForLargeBlocks() noexcept;
 
+/// Hands the heap's free pages back to the kernel (glibc's malloc_trim(0)): memory freed by a
+/// phase that allocated hundreds of MB in pieces (the basemap's decode and reprojection through
+/// GDAL, the .nph chunk) stays resident in malloc's heap otherwise, and is counted again under the
+/// next phase's peak (issue 19, docs/benchmarks.md "Memory": `nephele render` calls it between
+/// phases). No-op without glibc. Returns whether memory was released.
+bool releaseFreedMemory() noexcept;
+
 }  // namespace nph

@@ -23,6 +23,8 @@ class NphDataset final : public Dataset {
   NphDataset(const std::string& path, cache::NphReader reader, std::vector<geo::OptionalUtcTime> times)
       : Dataset(path, std::move(times)), reader_(std::move(reader)) {}
   ExtinctionVolumes load(std::size_t t) const override { return reader_.read(t); }
+  std::unique_ptr<ExtinctionSlices> loadSlices(std::size_t t) const override { return reader_.readSlices(t); }
+  std::optional<ExtinctionVolumes> loadHeader(std::size_t t) const override { return reader_.readHeader(t); }
 
  private:
   cache::NphReader reader_;  // read() is thread-safe (pread)
@@ -101,6 +103,12 @@ Dataset::Dataset(std::string path, std::vector<geo::OptionalUtcTime> times, std:
   if (times_.empty()) throw InputError(fmt::format("{}: has no timesteps", path_));
   if (!sources_.empty() && sources_.size() != times_.size()) throw UsageError("Dataset: one source file per timestep");
 }
+
+std::unique_ptr<ExtinctionSlices> Dataset::loadSlices(std::size_t t) const {
+  return std::make_unique<VolumeSlices>(std::make_shared<const ExtinctionVolumes>(load(t)));
+}
+
+std::optional<ExtinctionVolumes> Dataset::loadHeader(std::size_t) const { return std::nullopt; }
 
 std::string Dataset::identity(std::size_t t) const {
   if (sources_.empty()) return fmt::format("{}#{}", std::filesystem::absolute(path_).string(), t);

@@ -13,10 +13,12 @@
 // translating — model output every 5–15 minutes keeps that small; hourly output shows it.
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/model_fields.h"
+#include "volume/extinction_slices.h"
 #include "volume/extinction_volumes.h"
 
 namespace nph::engine {
@@ -50,6 +52,13 @@ class Dataset {
   const std::string& isoTime(std::size_t t) const { return iso_times_.at(t); }
   /// Reads (and for model files converts) timestep t; thread-safe. InputError on bad data.
   virtual ExtinctionVolumes load(std::size_t t) const = 0;
+  /// Timestep t read one layer at a time (volume/extinction_slices.h; issue 19, memory): a .nph
+  /// cache keeps its 16-bit codes (4 bytes per voxel) and decodes each layer as load() would;
+  /// other datasets wrap load(t). For a one-shot upload that never needs the floats whole.
+  virtual std::unique_ptr<ExtinctionSlices> loadSlices(std::size_t t) const;
+  /// Timestep t's grid, georeference, terrain, time and maxima without its volumes, where that
+  /// is cheap (a .nph cache: from its index); std::nullopt otherwise (use load()).
+  virtual std::optional<ExtinctionVolumes> loadHeader(std::size_t t) const;
   /// Names the content of timestep t (absolute path + index) for the DLM cache key.
   std::string identity(std::size_t t) const;
   /// The file timestep t is read from (the dataset's path unless it is a series).

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/log.h"
+#include "core/process_memory.h"
 #include "engine/session.h"
 #include "scene/passes.h"
 
@@ -40,7 +41,8 @@ SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& sce
               double(session.deepLightMap().textureBytes()) / 1e6, double(session.renderer().textureBytes()) / 1e6);
   }
   const scene::FramePasses* passes = f.out.passes ? &*f.out.passes : nullptr;
-  f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
+  if (scene.output.wantsPasses()) f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
+  logMemoryPhase("output frame");
   f.options = scene::imageOptionsFor(scene.output, session.sun().elevation_deg);
   if (scene.output.exposure == scene::ExposureMode::Sun) {
     log::info("exposure follows the sun ({:.1f} deg): {:+.2f} EV ({:+.2f} over output.exposure_ev)",
@@ -56,8 +58,8 @@ void writeSceneOutputs(const scene::SceneDescription& s, const SceneFrame& f, co
   };
   for (const auto& path : s.output.paths) {
     prepare(path);
-    scene::writeImage(f.image, path, f.options);
-    log::info("wrote {}{}", path, f.image.layers.empty() ? "" : " (with the compositing passes)");
+    scene::writeImage(f.written(), path, f.options);
+    log::info("wrote {}{}", path, f.written().layers.empty() ? "" : " (with the compositing passes)");
   }
   for (const auto& [pass, path] : s.output.pass_files) {
     prepare(path);
@@ -68,6 +70,7 @@ void writeSceneOutputs(const scene::SceneDescription& s, const SceneFrame& f, co
     scene::writeImage(f.out.cloud_layer, layer_path, f.options);
     log::info("wrote {} (premultiplied cloud layer)", layer_path);
   }
+  logMemoryPhase("image writing");
 }
 
 }  // namespace nph::engine

@@ -3,6 +3,7 @@
 // and a dataset, shared with the Python module (issue #16 item 3) so both produce the same pixels
 // and the same files from the same scene keys (docs/scene-file.md).
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "engine/dataset.h"
@@ -14,9 +15,14 @@
 namespace nph::engine {
 
 struct SceneFrame {
-  render::RenderOutput out;           ///< frame, premultiplied cloud layer, passes (when the scene wants them)
-  scene::RgbaImage image;             ///< what output.paths receive: the frame with Z or the pass layers (outputFrame)
+  render::RenderOutput out;  ///< frame, premultiplied cloud layer, passes (when the scene wants them)
+  /// The frame with Z or the pass layers (outputFrame) when the scene asks for them; none when
+  /// output.paths receive out.frame as it is (no second copy of the output, issue 19).
+  std::optional<scene::RgbaImage> image;
   scene::ImageOutputOptions options;  ///< how they are written: output.image, exposure resolved for the sun
+
+  /// What output.paths receive: image, else out.frame.
+  const scene::RgbaImage& written() const { return image ? *image : out.frame; }
 };
 
 /// Renders `scene` of `dataset` once (Session: its timestep, camera, sun, quality), logging the

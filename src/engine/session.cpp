@@ -5,7 +5,9 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/log.h"
+#include "core/process_memory.h"
 
 namespace nph::engine {
 namespace {
@@ -24,7 +26,15 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
   if (scene_.data) spec = *scene_.data;
   const std::size_t t = scene::timestepIndexFor(spec, dataset_->times(), dataset_->path());
   time_index_ = double(t);
-  prepared_ = scene::prepareScene(scene_, *timesteps_->get(t));
+  logMemoryPhase("start-up");
+  // The scene needs the grid, its place and its time, not the volume: a .nph cache gives them from
+  // its index (issue 19, memory: no float volume is decoded before the first frame asks for it).
+  if (const std::optional<ExtinctionVolumes> header = dataset_->loadHeader(t)) {
+    prepared_ = scene::prepareScene(scene_, *header);
+    reads_by_layer_ = true;
+  } else {
+    prepared_ = scene::prepareScene(scene_, *timesteps_->get(t));
+  }
   sun_ = prepared_.sun;
   style_ = scene_.style;
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
@@ -37,6 +47,7 @@ Session::Session(std::shared_ptr<const Dataset> dataset, scene::SceneDescription
     renderer_.setGlobe(render::buildGlobeMapping(*prepared_.geo), prepared_.basemap_equirect, *prepared_.to_sun_ecef,
                        prepared_.basemap_equirect_lights);
   }
+  logMemoryPhase("scene preparation (basemap reprojected and uploaded)");
 }
 
 Session::~Session() = default;
@@ -49,6 +60,8 @@ void Session::setReleaseAfterUpload(bool on) {
   for (std::vector<float>* lights :
        {&prepared_.basemap_lights, &prepared_.far_basemap_lights, &prepared_.basemap_equirect_lights})
     std::vector<float>().swap(*lights);
+  releaseFreedMemory();  // the basemap's decode and reprojection left their pages in the heap
+  logMemoryPhase("basemap images dropped");
 }
 
 void Session::setCacheLimit(std::size_t timesteps) {
@@ -110,21 +123,41 @@ void Session::update() {
   if (key != volume_key_ || !textures_) {
     auto t0 = std::chrono::steady_clock::now();
     const double blocked0 = timesteps_->stats().blocked_ms;
-    const auto a = timesteps_->get(b.first);
-    std::shared_ptr<const ExtinctionVolumes> v = a;
-    if (b.weight > 0.0)
-      v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timesteps_->get(b.second), b.weight));
+    // A one-shot frame (setReleaseAfterUpload) of a single timestep of a .nph cache reads it
+    // layer by layer (its 16-bit codes, 4 bytes per voxel) and never holds its floats whole
+    // (issue 19, memory); otherwise the decoded volumes of the cache, kept for re-use (a model
+    // file's timestep converted once by the constructor stays there until the upload).
+    std::unique_ptr<ExtinctionSlices> slices;
+    if (release_after_upload_ && reads_by_layer_ && b.weight == 0.0) {
+      slices = dataset_->loadSlices(b.first);
+    } else {
+      const auto a = timesteps_->get(b.first);
+      std::shared_ptr<const ExtinctionVolumes> v = a;
+      if (b.weight > 0.0)
+        v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timesteps_->get(b.second), b.weight));
+      slices = std::make_unique<VolumeSlices>(std::move(v));
+    }
     stats_.load_ms = msSince(t0);
     stats_.blocked_ms = timesteps_->stats().blocked_ms - blocked0;
+    logMemoryPhase("volume load");
     t0 = std::chrono::steady_clock::now();
     if (textures_ && textures_->noise()) noise_ = textures_->noise();  // the noise tile is generated once
     textures_.reset();  // free the old volume before uploading the new one
-    textures_.emplace(
-        render::VolumeTextures::upload(*v, scene::frameOf(*v, scene_.height_exaggeration), content, reconstruction, 8,
-                                       detail, noise_, render::VolumeStorage::Compact,
-                                       prepared_.dem ? &*prepared_.dem : nullptr));  // identity() is `key`
+    render::UploadOptions options;
+    options.reconstruction = reconstruction;
+    options.detail = detail;
+    options.noise = noise_;
+    options.dem = prepared_.dem ? &*prepared_.dem : nullptr;
+    const ExtinctionVolumes& header = slices->volumes();
+    textures_.emplace(render::VolumeTextures::upload(*slices, scene::frameOf(header, scene_.height_exaggeration),
+                                                     content, options));  // identity() is `key`
     if (textures_->noise()) noise_ = textures_->noise();
-    if (release_after_upload_) timesteps_->releaseAll();  // `a` and `v`, the last holders, end below
+    if (release_after_upload_) {
+      slices.reset();
+      timesteps_->releaseAll();  // the cache's copy, if any (a blend); `slices` held the last other
+      releaseFreedMemory();
+    }
+    logMemoryPhase("volume upload");
     stats_.upload_ms = msSince(t0);
     volume_key_ = key;
     stats_.volume_changed = true;
@@ -136,7 +169,11 @@ void Session::update() {
   }
   const auto t0 = std::chrono::steady_clock::now();
   stats_.dlm_rebuilt = dlm_.build(*textures_, -sun_.toSun(), lighting::dlmSettingsFor(scene_.quality));
-  if (stats_.dlm_rebuilt) stats_.dlm_ms = msSince(t0);
+  if (stats_.dlm_rebuilt) {
+    stats_.dlm_ms = msSince(t0);
+    if (release_after_upload_) releaseFreedMemory();  // the build's freed scatter map and staging
+    logMemoryPhase("deep light map build");
+  }
   stats_.dlm_builds = dlm_.stats().builds;
   stats_.dlm_reuses = dlm_.stats().reuses;
 }
@@ -145,6 +182,7 @@ render::RenderOutput Session::render(const scene::Camera& camera) {
   update();
   auto out = renderer_.render(*textures_, dlm_, camera, sun_, render_settings_);
   stats_.raycast_ms = out.milliseconds;
+  logMemoryPhase("ray cast and read-back");
   return out;
 }
 

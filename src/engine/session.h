@@ -98,7 +98,9 @@ class Session {
   /// again. Off by default: playback, blending and re-visited timesteps re-use the decoded ones.
   /// On in engine::renderSceneFrame(dataset, scene) (`nephele render`). Turning it on also drops
   /// prepared()'s basemap images and city lights (on the GPU since construction; nothing reads
-  /// the CPU copies again).
+  /// the CPU copies again). With a .nph dataset the frame's timestep (unblended) is then not
+  /// decoded at all: the upload reads its 16-bit codes a layer at a time (Dataset::loadSlices,
+  /// 4 bytes per voxel instead of 8, never the float volume whole).
   void setReleaseAfterUpload(bool on);
   /// The decoded-timestep cache: at most this many timesteps are kept (default 4, at least 2).
   void setCacheLimit(std::size_t timesteps);
@@ -119,7 +121,8 @@ class Session {
   double time_index_ = 0.0;
   int direction_ = 0;
   bool release_after_upload_ = false;
-  std::string volume_key_;  // identity of the uploaded volume
+  bool reads_by_layer_ = false;  ///< the dataset gives headers and layers cheaply (a .nph cache)
+  std::string volume_key_;       // identity of the uploaded volume
   std::optional<render::VolumeTextures> textures_;
   std::shared_ptr<const render::NoiseTexture> noise_;  ///< the detail noise tile, generated on first use
   render::DeepLightMap dlm_;

@@ -13,24 +13,29 @@ namespace nph {
 namespace {
 // The value the GPU stores: half precision (RG16F), clamped to the largest finite half.
 std::uint16_t halfBits(double x) { return glm::packHalf1x16(float(std::min(x, 65504.0))); }
-// β_ice + β_water of voxel i times the layer thickness (double: a column of 100 layers of small β
-// keeps its sum).
-double betaDz(const ExtinctionVolumes& v, std::size_t i) {
-  double b = 0.0;
-  if (i < v.ice_per_m.size()) b += double(v.ice_per_m[i]);
-  if (i < v.water_per_m.size()) b += double(v.water_per_m[i]);
-  return b * v.dz_m;
+// β_ice + β_water of column c of a layer times the layer thickness (double: a column of 100 layers
+// of small β keeps its sum). An absent phase reads 0 (ExtinctionSlices), which adds nothing.
+double betaDz(const ExtinctionSlices::Slice& s, std::size_t c, double dz_m) {
+  return (double(s.ice[c]) + double(s.water[c])) * dz_m;
 }
 }  // namespace
 
 ColumnDepthSlices::ColumnDepthSlices(const ExtinctionVolumes& v)
-    : v_(v),
-      total_(std::size_t(v.nx) * std::size_t(v.ny), 0.0),
+    : ColumnDepthSlices(std::make_unique<VolumeSlices>(v), VolumeSlices(v)) {}
+
+ColumnDepthSlices::ColumnDepthSlices(const ExtinctionSlices& slices) : ColumnDepthSlices(nullptr, slices) {}
+
+ColumnDepthSlices::ColumnDepthSlices(std::unique_ptr<VolumeSlices> own, const ExtinctionSlices& slices)
+    : own_(std::move(own)),
+      src_(own_ ? own_.get() : &slices),
+      dz_m_(slices.volumes().dz_m),
+      total_(std::size_t(slices.volumes().nx) * std::size_t(slices.volumes().ny), 0.0),
       above_(total_.size(), 0.0),
       slice_(2 * total_.size()),
-      next_k_(v.nz - 1) {
-  for (int k = v.nz - 1; k >= 0; --k) {
-    for (std::size_t c = 0; c < total_.size(); ++c) total_[c] += betaDz(v, std::size_t(k) * total_.size() + c);
+      next_k_(slices.volumes().nz - 1) {
+  for (int k = next_k_; k >= 0; --k) {
+    const ExtinctionSlices::Slice s = src_->slice(k, scratch_);
+    for (std::size_t c = 0; c < total_.size(); ++c) total_[c] += betaDz(s, c, dz_m_);
   }
 }
 
@@ -38,9 +43,9 @@ const std::vector<std::uint16_t>& ColumnDepthSlices::next(int k) {
   if (k != next_k_ || k < 0) {
     throw UsageError(fmt::format("ColumnDepthSlices::next: slice {} asked for, {} is next", k, next_k_));
   }
-  const std::size_t base = std::size_t(k) * total_.size();
+  beta_ = src_->slice(k, scratch_);
   for (std::size_t c = 0; c < total_.size(); ++c) {
-    const double full = betaDz(v_, base + c), half = 0.5 * full;
+    const double full = betaDz(beta_, c, dz_m_), half = 0.5 * full;
     slice_[2 * c] = halfBits(above_[c] + half);
     slice_[2 * c + 1] = halfBits(std::max(total_[c] - above_[c] - half, 0.0));
     above_[c] += full;

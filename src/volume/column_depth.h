@@ -15,10 +15,12 @@
 // bring the grid back into the sky light and the two-stream term (issue 12/13: the power at the
 // column spacing of the coarse storm went from 2.2 to 14.1 with two_stream).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "volume/extinction_slices.h"
 #include "volume/extinction_volumes.h"
 #include "volume/reconstruction.h"
 #include "volume/volume_frame.h"
@@ -48,14 +50,25 @@ ColumnDepths columnDepths(const ExtinctionVolumes& volumes,
 class ColumnDepthSlices {
  public:
   explicit ColumnDepthSlices(const ExtinctionVolumes& volumes);  ///< one pass for the column totals
+  /// The same over a source read layer by layer (volume/extinction_slices.h; `slices` must outlive
+  /// this): a `.nph` upload that never holds the float volume whole.
+  explicit ColumnDepthSlices(const ExtinctionSlices& slices);
   /// Slice k's (τ_up, τ_down) half bits, interleaved, x fastest (2·nx·ny values): call for
   /// k = nz − 1, nz − 2, …, 0 in turn (UsageError otherwise).
   const std::vector<std::uint16_t>& next(int k);
+  /// The β of the layer the last next(k) read (valid until the next call): the packed upload
+  /// writes it beside the depths without reading the layer again.
+  const ExtinctionSlices::Slice& beta() const { return beta_; }
 
  private:
-  const ExtinctionVolumes& v_;
+  ColumnDepthSlices(std::unique_ptr<VolumeSlices> own, const ExtinctionSlices& slices);
+  std::unique_ptr<VolumeSlices> own_;  // when constructed from ExtinctionVolumes
+  const ExtinctionSlices* src_;
+  double dz_m_;
   std::vector<double> total_, above_;
   std::vector<std::uint16_t> slice_;
+  std::vector<float> scratch_;
+  ExtinctionSlices::Slice beta_;
   int next_k_;
 };
 

@@ -6,6 +6,13 @@ namespace nph::scene {
 
 OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstruction reconstruction,
                              int extra_reach_voxels, float max_scale) {
+  return buildOccupancy(VolumeSlices(v), brick, reconstruction, extra_reach_voxels, max_scale);
+}
+
+OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick, Reconstruction reconstruction,
+                             int extra_reach_voxels, float max_scale) {
+  const ExtinctionVolumes& v = slices.volumes();
+  std::vector<float> scratch;
   OccupancyGrid g;
   g.brick = brick;
   const int d = reachVoxels(reconstruction) + extra_reach_voxels;
@@ -14,12 +21,12 @@ OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstructi
   g.max_per_m.assign(std::size_t(g.bricks.x) * std::size_t(g.bricks.y) * std::size_t(g.bricks.z), 0.0f);
   g.nonEmptyMinVoxel = {v.nx, v.ny, v.nz};
   g.nonEmptyMaxVoxel = {-1, -1, -1};
-  const bool hasIce = !v.ice_per_m.empty(), hasWater = !v.water_per_m.empty();
-  for (int k = 0; k < v.nz; ++k)
+  for (int k = 0; k < v.nz; ++k) {
+    const ExtinctionSlices::Slice s = slices.slice(k, scratch);  // an absent phase reads 0: the same sum
     for (int j = 0; j < v.ny; ++j)
       for (int i = 0; i < v.nx; ++i) {
-        const std::size_t idx = v.index(i, j, k);
-        const float b = ((hasIce ? v.ice_per_m[idx] : 0.0f) + (hasWater ? v.water_per_m[idx] : 0.0f)) * max_scale;
+        const std::size_t idx = std::size_t(j) * std::size_t(v.nx) + std::size_t(i);
+        const float b = (s.ice[idx] + s.water[idx]) * max_scale;
         if (!(b > 0.0f)) continue;  // also skips NaN (the loaders never produce it)
         g.nonEmptyMinVoxel = glm::min(g.nonEmptyMinVoxel, glm::ivec3(i, j, k));
         g.nonEmptyMaxVoxel = glm::max(g.nonEmptyMaxVoxel, glm::ivec3(i, j, k));
@@ -35,6 +42,7 @@ OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstructi
               m = std::max(m, b);
             }
       }
+  }
   return g;
 }
 

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "volume/extinction_slices.h"
 #include "volume/extinction_volumes.h"
 #include "volume/reconstruction.h"
 
@@ -32,6 +33,11 @@ struct OccupancyGrid {
 /// stored maxima: the sub-grid detail (volume/detail.h) displaces samples by up to its reach and
 /// multiplies β by at most kMaxDetailDensity, so a brick stays a bound of the detailed field.
 OccupancyGrid buildOccupancy(const ExtinctionVolumes& volumes, int brick = 8,
+                             Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
+                             float max_scale = 1.0f);
+/// The same from a source read layer by layer (volume/extinction_slices.h: the upload of a `.nph`
+/// timestep that never holds its floats whole); buildOccupancy(volumes) is this over VolumeSlices.
+OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick = 8,
                              Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
                              float max_scale = 1.0f);
 

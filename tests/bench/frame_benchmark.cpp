@@ -463,8 +463,7 @@ struct DemoScene {
   // Both copies (VolumeStorage::Reference): the separate-textures variant reads its own R32F/RG16F
   // textures, and every map is built from float β as when these variants were chosen.
   render::VolumeTextures tex =
-      render::VolumeTextures::upload(v, frame, "bench", scene::Reconstruction::Trilinear, 8, scene::Detail::None, {},
-                                     render::VolumeStorage::Reference);
+      render::VolumeTextures::upload(v, frame, "bench", {.storage = render::VolumeStorage::Reference});
   scene::Sun sun{140.0, 35.0};
   scene::Camera camera = demoCamera(frame, width, height);
 
@@ -629,7 +628,8 @@ void BM_DetailCost(benchmark::State& state) {
     const Variant& var = variants[k];
     uploadMs[k] = timed([&] {
                     tex.push_back(std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(
-                        sc.v, sc.frame, std::string("bench|") + var.name, var.reconstruction, 8, var.detail, noise)));
+                        sc.v, sc.frame, std::string("bench|") + var.name,
+                        {.reconstruction = var.reconstruction, .detail = var.detail, .noise = noise})));
                   }).wall_ms;
     if (!noise && tex.back()->noise()) noise = tex.back()->noise();
     maps.push_back(std::make_unique<render::DeepLightMap>());
@@ -716,11 +716,11 @@ void BM_DetailMass(benchmark::State& state) {
   double samples[kVariants], uploadMs[kVariants];
   for (int k = 0; k < kVariants; ++k) {
     const scene::MassPattern& p = variants[k].pattern;
-    uploadMs[k] =
-        timed([&] {
-          tex.push_back(std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(
-              v, frame, "bench-mass", r, 8, scene::Detail::Full, noise, render::VolumeStorage::Compact, nullptr, p)));
-        }).wall_ms;
+    uploadMs[k] = timed([&] {
+                    tex.push_back(std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(
+                        v, frame, "bench-mass",
+                        {.reconstruction = r, .detail = scene::Detail::Full, .noise = noise, .mass = p})));
+                  }).wall_ms;
     if (!noise) noise = tex.back()->noise();
     render::DeepLightMap dlm;
     dlm.build(*tex.back(), -sun.toSun(), scene::DlmSettings{});

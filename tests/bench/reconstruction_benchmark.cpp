@@ -47,8 +47,8 @@ void BM_ReconstructionCost(benchmark::State& state) {
   cs.fov_deg = 40.0;
   const scene::Camera camera = scene::cameraFor(cs, frame, 1920, 1080);
   const render::VolumeTextures tex[2] = {
-      render::VolumeTextures::upload(v, frame, "bench", scene::Reconstruction::Trilinear),
-      render::VolumeTextures::upload(v, frame, "bench", scene::Reconstruction::Cubic)};
+      render::VolumeTextures::upload(v, frame, "bench", {.reconstruction = scene::Reconstruction::Trilinear}),
+      render::VolumeTextures::upload(v, frame, "bench", {.reconstruction = scene::Reconstruction::Cubic})};
   render::CloudRenderer renderer;
   render::RenderSettings rs;
   std::vector<double> dlm_ms[2], ray_ms[2];

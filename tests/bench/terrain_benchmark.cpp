@@ -114,8 +114,7 @@ void BM_DemFarFieldFrame(benchmark::State& state) {
     }
   }
   const auto without = render::VolumeTextures::upload(volumes, frame, "bench");
-  const auto with = render::VolumeTextures::upload(volumes, frame, "bench", scene::Reconstruction::Trilinear, 8,
-                                                   scene::Detail::None, {}, render::VolumeStorage::Compact, &dem);
+  const auto with = render::VolumeTextures::upload(volumes, frame, "bench", {.dem = &dem});
   const scene::Sun sun{215.0, 6.0};
   render::DeepLightMap dlm;
   dlm.build(without, -sun.toSun(), scene::DlmSettings{});  // the DLM does not read the terrain

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -148,6 +149,55 @@ TEST_F(NphCacheTest, RoundTripWithinDocumentedBoundAndPadsToCommonNz) {
   EXPECT_EQ(q.max_water_per_m, f.max_water_per_m);
   for (std::size_t n = 0; n < f.voxelCount(); n += 13) {
     EXPECT_EQ(f.water_per_m[n], static_cast<float>(double(q.water_codes[n]) * double(q.max_water_per_m) / 65535.0));
+  }
+}
+
+// Issue 19 (memory, docs/benchmarks.md "Memory"): readSlices keeps a timestep in its 16-bit codes
+// (4 bytes per voxel, half of read()'s floats) and decodes every layer, the padding above a
+// cropped timestep included, to read()'s floats bit for bit; readHeader is read() without the
+// volumes, and materialise() is read().
+TEST_F(NphCacheTest, LayersDecodeAsReadBitForBitFromHalfTheBytes) {
+  const NphMetadata m = smallMetadata();
+  const std::vector<ExtinctionVolumes> steps = {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 9, 2, 2e-5f),
+                                                randomVolumes(m, 0, 3, 1.0f)};
+  const NphReader r(writeFile(dir_ / "storm.nph", m, steps));
+  for (std::size_t t = 0; t < steps.size(); ++t) {
+    const ExtinctionVolumes full = r.read(t);
+    const std::unique_ptr<ExtinctionSlices> slices = r.readSlices(t);
+    const ExtinctionVolumes& header = slices->volumes();
+    EXPECT_EQ(slices->whole(), nullptr) << "the floats are never held whole";
+    EXPECT_EQ(slices->heldBytes(), 4 * full.voxelCount());
+    EXPECT_EQ(VolumeSlices(full).heldBytes(), 8 * full.voxelCount());
+    EXPECT_TRUE(header.ice_per_m.empty() && header.water_per_m.empty());
+    const ExtinctionVolumes read_header = r.readHeader(t);
+    for (const ExtinctionVolumes* h : {&header, &read_header}) {
+      EXPECT_EQ(h->nx, full.nx);
+      EXPECT_EQ(h->ny, full.ny);
+      EXPECT_EQ(h->nz, full.nz);
+      EXPECT_EQ(h->dz_m, full.dz_m);
+      EXPECT_EQ(h->z_bottom_m, full.z_bottom_m);
+      EXPECT_EQ(h->georef, full.georef);
+      EXPECT_EQ(h->terrain_height_m, full.terrain_height_m);
+      EXPECT_EQ(h->time_utc, full.time_utc);
+      EXPECT_EQ(h->source_file, full.source_file);
+      EXPECT_EQ(h->source_time_index, full.source_time_index);
+      EXPECT_EQ(h->max_ice_per_m, full.max_ice_per_m);
+      EXPECT_EQ(h->max_water_per_m, full.max_water_per_m);
+    }
+    const std::size_t layer = std::size_t(full.nx) * std::size_t(full.ny);
+    std::vector<float> scratch;
+    for (int k = full.nz - 1; k >= 0; --k) {  // any order: the upload reads from the top
+      const ExtinctionSlices::Slice s = slices->slice(k, scratch);
+      for (std::size_t c = 0; c < layer; ++c) {
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(s.ice[c]),
+                  std::bit_cast<std::uint32_t>(full.ice_per_m[std::size_t(k) * layer + c]));
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(s.water[c]),
+                  std::bit_cast<std::uint32_t>(full.water_per_m[std::size_t(k) * layer + c]));
+      }
+    }
+    const ExtinctionVolumes again = slices->materialise();
+    EXPECT_EQ(again.ice_per_m, full.ice_per_m);
+    EXPECT_EQ(again.water_per_m, full.water_per_m);
   }
 }
 

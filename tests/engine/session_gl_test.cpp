@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "cache/nph_cache.h"
 #include "engine/session.h"
 #include "engine_test_support.h"
 #include "scene/scene_file.h"
@@ -130,6 +131,49 @@ TEST_F(SessionTest, AutoReconstructionIsTheFilterOfTheGrid) {
     const auto c = cubic.render(cubic.prepared().camera), t = trilinear.render(trilinear.prepared().camera);
     EXPECT_NE(c.frame.rgba, t.frame.rgba) << "the two filters must differ for the test to mean anything";
     expectSameImage(a.frame, expected == scene::Reconstruction::Cubic ? c.frame : t.frame, "auto");
+  }
+}
+
+// Memory (issue 19, docs/benchmarks.md "Memory"): a one-shot session (`nephele render`,
+// setReleaseAfterUpload) of a .nph cache prepares the scene from the file's index and uploads the
+// timestep from its 16-bit codes a layer at a time, never decoding the float volume; a blended
+// time still goes through the decoded cache. Every frame is the frame of the session that keeps
+// the decoded volumes, bit for bit.
+TEST_F(SessionTest, ReleaseAfterUploadReadsTheCacheByLayerForTheSameFrame) {
+  // The tiny storm's first two timesteps as a .nph cache.
+  const auto model = engine::Dataset::open(tinyStormFile());
+  const std::string file = (engineTestDir() / "session-release.nph").string();
+  {
+    const ExtinctionVolumes v0 = model->load(0), v1 = model->load(1);
+    cache::NphMetadata m;
+    m.nx = v0.nx;
+    m.ny = v0.ny;
+    m.dz_m = v0.dz_m;
+    m.z_bottom_m = v0.z_bottom_m;
+    m.georef = v0.georef;
+    m.terrain_height_m = v0.terrain_height_m;
+    cache::NphWriter w(file, m);
+    w.append(v0);
+    w.append(v1);
+    w.commit();
+  }
+  const auto ds = engine::Dataset::open(file);
+  ASSERT_TRUE(ds->loadHeader(0).has_value()) << "a .nph cache gives its header from the index";
+  scene::SceneDescription s = tinyScene();
+  s.data->path = file;
+  engine::Session keeping(ds, s), releasing(ds, s);
+  releasing.setReleaseAfterUpload(true);
+  for (const double t : {1.0, 0.5, 0.0}) {
+    keeping.setTime(t);
+    releasing.setTime(t);
+    const auto a = keeping.render(keeping.prepared().camera);
+    const auto b = releasing.render(releasing.prepared().camera);
+    EXPECT_TRUE(releasing.stats().volume_changed);
+    EXPECT_EQ(releasing.volumeTextures().identity(), keeping.volumeTextures().identity());
+    EXPECT_GT(meanAlpha(a.cloud_layer), 0.01) << "the storm must be in view";
+    expectSameImage(b.cloud_layer, a.cloud_layer, "cloud layer");
+    expectSameImage(b.frame, a.frame, "frame");
+    EXPECT_EQ(releasing.prefetchStats().bytes, 0u) << "nothing decoded is kept after the upload";
   }
 }
 

@@ -70,8 +70,7 @@ TEST_F(DetailTest, GpuNoiseTileMatchesTheCpuTwin) {
 TEST_F(DetailTest, GpuDetailMatchesTheCpuReferenceRayMarcher) {
   const ExtinctionVolumes v = coarseStorm();
   const DemoView d = demoView(v, 96, 54);
-  auto tex =
-      render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
+  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   EXPECT_EQ(tex.occupancy().dilation_voxels, 1 + tex.detail().reach_voxels);
   render::DeepLightMap dlm;
   dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
@@ -110,7 +109,8 @@ TEST_F(DetailTest, GpuMassMeasurementMatchesTheCpuTwinAndSkipsOnlyZeros) {
   const scene::VolumeFrame f = scene::frameOf(v, 8.0);
   for (const scene::Reconstruction r : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
     const char* name = r == scene::Reconstruction::Cubic ? "cubic" : "trilinear";
-    const auto tex = render::VolumeTextures::upload(v, f, "coarse-storm", r, 8, Detail::Full);
+    const auto tex =
+        render::VolumeTextures::upload(v, f, "coarse-storm", {.reconstruction = r, .detail = Detail::Full});
     const scene::ExtinctionSampler s(v, f, r, Detail::Full);
     const scene::HalfColumnMasses gpu = tex.measureHalfColumnMasses(v, scene::kMassPattern),
                                   cpu = s.measureHalfColumnMasses(scene::kMassPattern);
@@ -177,8 +177,7 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   const ExtinctionVolumes v = coarseStorm();
   const DemoView d = demoView(v, 96, 54);
   render::RenderSettings rs;
-  auto tex =
-      render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
+  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   render::DeepLightMap dlm;
   dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
   render::CloudRenderer renderer;
@@ -186,8 +185,7 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   const auto b = renderer.render(tex, dlm, d.camera, d.sun, rs);
   EXPECT_EQ(a.cloud_layer.rgba, b.cloud_layer.rgba);
   // A second upload regenerating the tile gives the same frame too.
-  auto tex2 =
-      render::VolumeTextures::upload(v, d.frame, "coarse-storm", scene::Reconstruction::Trilinear, 8, Detail::Full);
+  auto tex2 = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   render::DeepLightMap dlm2;
   dlm2.build(tex2, -d.sun.toSun(), scene::DlmSettings{});
   const auto c = renderer.render(tex2, dlm2, d.camera, d.sun, rs);

@@ -289,8 +289,8 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
     const scene::VolumeFrame frame = scene::frameOf(sc.volumes, 8.0);
     // Reference storage: both copies, the DLM from the float textures as when this was measured
     // (the Compact upload's own test: CompactUploadHoldsOnlyThePackedTexture…).
-    const auto tex = render::VolumeTextures::upload(sc.volumes, frame, sc.name, scene::Reconstruction::Trilinear, 8,
-                                                    scene::Detail::None, {}, render::VolumeStorage::Reference);
+    const auto tex =
+        render::VolumeTextures::upload(sc.volumes, frame, sc.name, {.storage = render::VolumeStorage::Reference});
     ASSERT_TRUE(tex.hasPacked());
     ASSERT_TRUE(tex.hasSeparateTextures());
     const scene::Camera cam = ObliqueHurricane::obliqueCamera(frame);
@@ -319,7 +319,8 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
   }
   const ExtinctionVolumes v = generatedHurricane();
   const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
-  const auto cubic = render::VolumeTextures::upload(v, frame, "hurricane", scene::Reconstruction::Cubic);
+  const auto cubic =
+      render::VolumeTextures::upload(v, frame, "hurricane", {.reconstruction = scene::Reconstruction::Cubic});
   EXPECT_FALSE(cubic.hasPacked()) << "the cubic B-spline keeps the separate textures";
   render::DeepLightMap dlm;
   dlm.build(cubic, -h.sun.toSun(), scene::DlmSettings{});
@@ -346,8 +347,8 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   const ObliqueHurricane h;
   const auto& [v, frame, unused, sun, cam, rs] = h;
   const auto compact = render::VolumeTextures::upload(v, frame, "hurricane-x8");
-  const auto reference = render::VolumeTextures::upload(v, frame, "hurricane-x8", scene::Reconstruction::Trilinear, 8,
-                                                        scene::Detail::None, {}, render::VolumeStorage::Reference);
+  const auto reference =
+      render::VolumeTextures::upload(v, frame, "hurricane-x8", {.storage = render::VolumeStorage::Reference});
   ASSERT_TRUE(compact.hasPacked());
   EXPECT_FALSE(compact.hasSeparateTextures());
   EXPECT_TRUE(compact.hasIce() && compact.hasWater()) << "the phases are known without their textures";
@@ -383,7 +384,8 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   EXPECT_LE(vsReference.max, 2);
   EXPECT_LE(compactVsCpu.max, referenceVsCpu.max + 1);
 
-  const auto cubic = render::VolumeTextures::upload(v, frame, "hurricane-x8", scene::Reconstruction::Cubic);
+  const auto cubic =
+      render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = scene::Reconstruction::Cubic});
   EXPECT_FALSE(cubic.hasPacked());
   EXPECT_TRUE(cubic.hasSeparateTextures());
   EXPECT_EQ(cubic.bytes(), 12 * voxels + 4 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
@@ -423,6 +425,61 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   std::printf("[ memory   ] DLM %.2f MB after the build; basemap %dx%d: %.2f MB with mips (RGBA32F: %.2f MB)\n",
               double(dlmCompact.textureBytes()) / 1e6, kMapW, kMapH, 8.0 * double(mipTexels) / 1e6,
               16.0 * double(mipTexels) / 1e6);
+}
+
+// Memory (issue 19, docs/benchmarks.md "Memory"): `nephele render` uploads a .nph timestep from
+// its 16-bit codes a layer at a time (cache::NphReader::readSlices, Session::setReleaseAfterUpload)
+// and never holds the float volume whole. The layered upload must be the float upload bit for bit:
+// the packed texels (β rounded to half, the column depths), the occupancy, the phases, the
+// identity and the texture bytes. The source here serves copies of the layers through its scratch
+// (whole() null), as the .nph one does; NphCacheTest.LayersDecodeAsReadBitForBitFromHalfTheBytes
+// checks that the .nph layers are read()'s floats. The cubic filter takes the materialised path.
+class CopiedLayers final : public ExtinctionSlices {
+ public:
+  explicit CopiedLayers(const ExtinctionVolumes& v) : header_(v) {
+    header_.ice_per_m.clear();
+    header_.water_per_m.clear();
+    full_ = &v;
+  }
+  const ExtinctionVolumes& volumes() const override { return header_; }
+  Slice slice(int k, std::vector<float>& scratch) const override {
+    const std::size_t layer = std::size_t(full_->nx) * std::size_t(full_->ny), base = std::size_t(k) * layer;
+    scratch.assign(full_->ice_per_m.begin() + std::ptrdiff_t(base),
+                   full_->ice_per_m.begin() + std::ptrdiff_t(base + layer));
+    scratch.insert(scratch.end(), full_->water_per_m.begin() + std::ptrdiff_t(base),
+                   full_->water_per_m.begin() + std::ptrdiff_t(base + layer));
+    ++layers_read;
+    return {scratch.data(), scratch.data() + layer};
+  }
+  std::size_t heldBytes() const override { return 0; }
+  mutable int layers_read = 0;
+
+ private:
+  ExtinctionVolumes header_;
+  const ExtinctionVolumes* full_;
+};
+
+TEST_F(LightCacheTest, LayeredUploadIsTheFloatUploadBitForBit) {
+  const ExtinctionVolumes v = generatedHurricane();
+  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  for (const scene::Reconstruction r : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
+    const CopiedLayers layers(v);
+    const auto floats = render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = r});
+    const auto layered = render::VolumeTextures::upload(layers, frame, "hurricane-x8", {.reconstruction = r});
+    EXPECT_GE(layers.layers_read, 3 * v.nz) << "checks, column totals and packing read layers";
+    EXPECT_EQ(layered.identity(), floats.identity());
+    EXPECT_EQ(layered.bytes(), floats.bytes());
+    EXPECT_EQ(layered.hasIce(), floats.hasIce());
+    EXPECT_EQ(layered.hasWater(), floats.hasWater());
+    EXPECT_EQ(layered.hasPacked(), r == scene::Reconstruction::Trilinear);
+    EXPECT_EQ(layered.occupancy().max_per_m, floats.occupancy().max_per_m);
+    EXPECT_EQ(layered.occupancy().nonEmptyMinVoxel, floats.occupancy().nonEmptyMinVoxel);
+    EXPECT_EQ(layered.occupancy().nonEmptyMaxVoxel, floats.occupancy().nonEmptyMaxVoxel);
+    EXPECT_EQ(layered.packedBetaUnit_per_m(), floats.packedBetaUnit_per_m());
+    const std::vector<std::uint16_t> a = layered.readBackPacked(), b = floats.readBackPacked();
+    EXPECT_EQ(a.size(), r == scene::Reconstruction::Trilinear ? 4 * v.voxelCount() : 0u);
+    EXPECT_TRUE(a == b) << "the packed texels differ";
+  }
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ render::RenderOutput renderWith(const ExtinctionVolumes& v, const DemoView& d, R
 TEST_F(ReconstructionTest, GpuCubicMatchesTheCpuReferenceRayMarcher) {
   const ExtinctionVolumes v = coarseStorm();
   const DemoView d = demoView(v, 96, 54);
-  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", Reconstruction::Cubic);
+  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.reconstruction = Reconstruction::Cubic});
   EXPECT_EQ(tex.occupancy().dilation_voxels, 2);
   render::DeepLightMap dlm;
   dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});

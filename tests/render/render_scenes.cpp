@@ -109,7 +109,8 @@ DemoView demoView(const ExtinctionVolumes& v, int width, int height, double dist
 render::RenderOutput renderDemoView(const ExtinctionVolumes& v, const DemoView& d, const render::RenderSettings& rs,
                                     scene::Reconstruction reconstruction, scene::Detail detail,
                                     double dlm_texel_voxels) {
-  auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", reconstruction, 8, detail);
+  auto tex =
+      render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.reconstruction = reconstruction, .detail = detail});
   render::DeepLightMap dlm;
   scene::DlmSettings ds;
   ds.empty_space_skipping = rs.empty_space_skipping;

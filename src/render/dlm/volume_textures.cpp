@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -26,29 +27,33 @@ gl::Texture upload3D(const std::vector<float>& data, glm::ivec3 size, const char
 // keeps β_ice + β_water and β·Δ far from float overflow. The loaders already reject non-finite
 // fields (io/field_checks.h); this guards volumes from caches and hosts (stress-tested).
 constexpr float kMaxExtinction_per_m = 1e6f;
-void checkVoxels(const std::vector<float>& a, const char* name) {
-  for (std::size_t i = 0; i < a.size(); ++i) {
+void checkVoxels(const float* a, std::size_t n, std::size_t base, const char* name) {
+  for (std::size_t i = 0; i < n; ++i) {
     if (!(a[i] >= 0.0f && a[i] <= kMaxExtinction_per_m)) {
       throw InputError(
           fmt::format("VolumeTextures::upload: {} voxel {} is {}, expected a finite extinction in [0, {:g}] 1/m", name,
-                      i, a[i], kMaxExtinction_per_m));
+                      base + i, a[i], kMaxExtinction_per_m));
     }
   }
 }
-bool anyPositive(const std::vector<float>& a) {
-  for (float x : a)
-    if (x > 0.0f) return true;
+bool anyPositive(const float* a, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (a[i] > 0.0f) return true;
   return false;
 }
 }  // namespace
 
 VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame, std::string identity,
-                                      scene::Reconstruction reconstruction, int brickVoxels, scene::Detail detail,
-                                      std::shared_ptr<const NoiseTexture> noise, VolumeStorage storage,
-                                      const scene::DemHeights* dem, const scene::MassPattern& mass) {
-  if (v.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
-  checkVoxels(v.ice_per_m, "ice_per_m");
-  checkVoxels(v.water_per_m, "water_per_m");
+                                      const UploadOptions& o) {
+  return upload(VolumeSlices(v), frame, std::move(identity), o);
+}
+
+VolumeTextures VolumeTextures::upload(const ExtinctionSlices& src, const scene::VolumeFrame& frame,
+                                      std::string identity, const UploadOptions& o) {
+  const ExtinctionVolumes& header = src.volumes();
+  if (header.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
+  const scene::Reconstruction reconstruction = o.reconstruction;
+  const scene::Detail detail = o.detail;
   VolumeTextures t;
   t.frame_ = frame;
   t.identity_ = std::move(identity);
@@ -58,27 +63,42 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   if (t.detail_.on()) {
     t.identity_ += fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]);
     const scene::MassPattern& d = scene::kMassPattern;
-    if (mass.rays_per_axis != d.rays_per_axis || mass.step_layers != d.step_layers ||
-        mass.occupied_only != d.occupied_only)
-      t.identity_ += fmt::format("|mass={},{},{}", mass.rays_per_axis, mass.step_layers, int(mass.occupied_only));
+    if (o.mass.rays_per_axis != d.rays_per_axis || o.mass.step_layers != d.step_layers ||
+        o.mass.occupied_only != d.occupied_only)
+      t.identity_ += fmt::format("|mass={},{},{}", o.mass.rays_per_axis, o.mass.step_layers, int(o.mass.occupied_only));
   }
-  const glm::ivec3 n(v.nx, v.ny, v.nz);
-  t.has_ice_ = v.ice_per_m.size() == v.voxelCount() && anyPositive(v.ice_per_m);
-  t.has_water_ = v.water_per_m.size() == v.voxelCount() && anyPositive(v.water_per_m);
+  const glm::ivec3 n(header.nx, header.ny, header.nz);
+  const std::size_t layer = std::size_t(n.x) * std::size_t(n.y);
+  // The voxel checks and which phases are present, a layer at a time (an absent phase reads 0).
+  {
+    std::vector<float> scratch;
+    for (int k = 0; k < n.z; ++k) {
+      const ExtinctionSlices::Slice s = src.slice(k, scratch);
+      checkVoxels(s.ice, layer, std::size_t(k) * layer, "ice_per_m");
+      checkVoxels(s.water, layer, std::size_t(k) * layer, "water_per_m");
+      t.has_ice_ = t.has_ice_ || anyPositive(s.ice, layer);
+      t.has_water_ = t.has_water_ || anyPositive(s.water, layer);
+    }
+  }
   // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
   // depths in 8 bytes per voxel. Where it serves (the trilinear filter without sub-grid detail) a
   // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
   // (12 bytes per voxel more) are made only for the cubic filter and the detail, whose fetches need
   // the zero border or displaced positions, and for VolumeStorage::Reference (the float baseline).
   const bool packed = reconstruction == scene::Reconstruction::Trilinear && !t.detail_.on();
-  const bool separate = !packed || storage == VolumeStorage::Reference;
+  const bool separate = !packed || o.storage == VolumeStorage::Reference;
   if (packed && separate) t.identity_ += "|reference";  // its DLM reads β in float: another map
+  // The float volume whole, where a path reads the grid at once (the separate textures, the
+  // detail's controls and mass): the source's own, or decoded here (a layer-by-layer source).
+  std::optional<ExtinctionVolumes> decoded;
+  const ExtinctionVolumes* whole = src.whole();
+  if (!whole && (separate || t.detail_.on())) whole = &decoded.emplace(src.materialise());
   if (separate && t.has_ice_) {
-    t.ice_ = upload3D(v.ice_per_m, n, "ice extinction [1/m]");
+    t.ice_ = upload3D(whole->ice_per_m, n, "ice extinction [1/m]");
     t.ice_.sampling(GL_LINEAR, GL_CLAMP_TO_BORDER);
   }
   if (separate && t.has_water_) {
-    t.water_ = upload3D(v.water_per_m, n, "water extinction [1/m]");
+    t.water_ = upload3D(whole->water_per_m, n, "water extinction [1/m]");
     t.water_.sampling(GL_LINEAR, GL_CLAMP_TO_BORDER);
   }
   // Vertical optical depths above and below each voxel for the sky light (volume/column_depth.h),
@@ -87,7 +107,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   // half bit patterns, for the separate texture over the whole grid (4 bytes per voxel, transient),
   // for the packed one slice by slice (ColumnDepthSlices: the same values, two doubles per column).
   if (separate) {
-    const std::vector<std::uint16_t> rg = columnDepthsHalf(v);
+    const std::vector<std::uint16_t> rg = columnDepthsHalf(*whole);
     t.column_depth_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("column optical depth (up, down)");
     glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_HALF_FLOAT, rg.data());
     t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
@@ -102,19 +122,19 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   // slice goes up as GL_HALF_FLOAT: the column depths are already the CPU twin's halves, and β is
   // rounded to half here once (glm::packHalf1x16, round to nearest), so the driver converts nothing.
   if (packed) {
-    const float maxBeta = std::max({v.max_ice_per_m, v.max_water_per_m, 1e-30f});
+    const float maxBeta = std::max({header.max_ice_per_m, header.max_water_per_m, 1e-30f});
     const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
     t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
     t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
     std::vector<std::uint16_t> slice(4 * std::size_t(n.x) * std::size_t(n.y));
-    ColumnDepthSlices depths(v);
+    ColumnDepthSlices depths(src);
     const std::uint16_t zero = glm::packHalf1x16(0.0f);
     for (int k = n.z - 1; k >= 0; --k) {
       const std::vector<std::uint16_t>& rg = depths.next(k);
-      const std::size_t base = std::size_t(k) * std::size_t(n.x) * std::size_t(n.y);
+      const ExtinctionSlices::Slice& beta = depths.beta();  // layer k, as the depths read it
       for (std::size_t i = 0; i < slice.size() / 4; ++i) {
-        slice[4 * i] = t.has_ice_ ? glm::packHalf1x16(v.ice_per_m[base + i] * storedPerM) : zero;
-        slice[4 * i + 1] = t.has_water_ ? glm::packHalf1x16(v.water_per_m[base + i] * storedPerM) : zero;
+        slice[4 * i] = t.has_ice_ ? glm::packHalf1x16(beta.ice[i] * storedPerM) : zero;
+        slice[4 * i + 1] = t.has_water_ ? glm::packHalf1x16(beta.water[i] * storedPerM) : zero;
         slice[4 * i + 2] = rg[2 * i];
         slice[4 * i + 3] = rg[2 * i + 1];
       }
@@ -124,10 +144,10 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   }
   // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
   // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
-  t.terrain_ = scene::terrainOf(v, frame, dem);
+  t.terrain_ = scene::terrainOf(header, frame, o.dem);
   {
     const bool present = t.terrain_.present();
-    const int w = present ? v.nx : 1, h = present ? v.ny : 1;
+    const int w = present ? n.x : 1, h = present ? n.y : 1;
     t.terrain_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("terrain height [m]");
     const float zero = 0.0f;
     glTextureSubImage2D(t.terrain_tex_.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT,
@@ -151,13 +171,13 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   }
   if (t.detail_.on()) {
     // Sub-grid detail (volume/detail.h): the controls at data resolution and the noise tile.
-    const scene::DetailControls controls = scene::buildDetailControls(v);
+    const scene::DetailControls controls = scene::buildDetailControls(*whole);
     t.controls_ = gl::Texture::create3D(GL_RGBA8, n.x, n.y, n.z).label("detail controls");
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(t.controls_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RGBA, GL_UNSIGNED_BYTE, controls.rgba.data());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     t.controls_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
-    t.noise_ = noise ? std::move(noise) : NoiseTexture::generate();
+    t.noise_ = o.noise ? o.noise : NoiseTexture::generate();
   }
   gl::VolumeBlock block;
   block.box_min_m = glm::vec3(t.frame_.min_m());
@@ -191,7 +211,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   if (t.detail_.on()) {
-    const scene::HalfColumnMasses masses = t.measureHalfColumnMasses(v, mass);
+    const scene::HalfColumnMasses masses = t.measureHalfColumnMasses(*whole, o.mass);
     const std::vector<float> c = scene::solveDetailCorrection(masses);
     maxScale = float(scene::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
     t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
@@ -199,8 +219,8 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
     t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // constant per column (volume/detail.h)
   }
   t.occupancy_ = t.detail_.on()
-                     ? scene::buildOccupancy(v, brickVoxels, reconstruction, t.detail_.reach_voxels, maxScale)
-                     : scene::buildOccupancy(v, brickVoxels, reconstruction);
+                     ? scene::buildOccupancy(src, o.brick_voxels, reconstruction, t.detail_.reach_voxels, maxScale)
+                     : scene::buildOccupancy(src, o.brick_voxels, reconstruction);
   t.occupancy_tex_ = upload3D(t.occupancy_.max_per_m, t.occupancy_.bricks, "occupancy max [1/m]");
   t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   return t;
@@ -258,6 +278,15 @@ void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
   const glm::dvec3 b = glm::dvec3(occupancy_.nonEmptyMaxVoxel + 1 + reach);
   lo = frame_.worldFromGrid(a);
   hi = frame_.worldFromGrid(b);
+}
+
+std::vector<std::uint16_t> VolumeTextures::readBackPacked() const {
+  if (!packed_) return {};
+  const glm::ivec3 n = frame_.voxels;
+  std::vector<std::uint16_t> texels(4 * std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z));
+  glGetTextureImage(packed_.id(), 0, GL_RGBA, GL_HALF_FLOAT, GLsizei(texels.size() * sizeof(std::uint16_t)),
+                    texels.data());
+  return texels;
 }
 
 std::size_t VolumeTextures::bytes() const {

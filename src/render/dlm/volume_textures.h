@@ -9,6 +9,7 @@
 #include "render/gl/program.h"
 #include "render/gl/uniform_blocks.h"
 #include "volume/detail.h"
+#include "volume/extinction_slices.h"
 #include "volume/extinction_volumes.h"
 #include "volume/occupancy.h"
 #include "volume/terrain_field.h"
@@ -28,29 +29,43 @@ enum class VolumeStorage {
   Reference,
 };
 
+/// How VolumeTextures::upload builds the textures (issue 19 item 3: one struct instead of eight
+/// positional parameters). Defaults: trilinear, 8-voxel bricks, no detail, Compact, no user DEM.
+struct UploadOptions {
+  /// The filter every pass applies (volume/reconstruction.h): the occupancy is dilated by its
+  /// reach, and a cubic upload's identity gets "|cubic" appended (a DLM built with one filter is
+  /// never reused for the other).
+  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
+  int brick_voxels = 8;  ///< the occupancy's brick edge
+  /// Other than None (volume/detail.h): the per-voxel controls are built and uploaded, the noise
+  /// tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by the
+  /// displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
+  /// measured on the GPU with `mass` and solved, and the identity gets "|detail=<name>" (and
+  /// "|mass=<rays>,<step>,<occupied>" for a pattern other than kMassPattern: benchmarks, tests).
+  scene::Detail detail = scene::Detail::None;
+  std::shared_ptr<const NoiseTexture> noise = nullptr;
+  VolumeStorage storage = VolumeStorage::Compact;
+  /// A user DEM (scene/dem.h) resampled for the terrain (scene::terrainOf's rule: it wins where
+  /// it has data) and its far field beyond the domain; null for none. The DLM does not read the
+  /// terrain, so the identity does not change with it. Must outlive the upload call only.
+  const scene::DemHeights* dem = nullptr;
+  scene::MassPattern mass = scene::kMassPattern;
+};
+
 class VolumeTextures {
  public:
-  /// Uploads `volumes` placed by `frame`; `identity` names this content (file + timestep) for the
-  /// DLM cache key — two uploads with the same identity must hold the same data. Throws
-  /// InputError for a NaN, infinite, negative or absurd (> 1e6 /m) voxel. `reconstruction` is the
-  /// filter every pass applies (volume/reconstruction.h): the occupancy is dilated by its reach,
-  /// and a cubic upload's identity gets "|cubic" appended (a DLM built with one filter is never
-  /// reused for the other).
-  /// `detail` (volume/detail.h): other than None, the per-voxel controls are built and uploaded, the
-  /// noise tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by
-  /// the displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
-  /// measured on the GPU with `mass` and solved (volume/detail.h), and the identity gets
-  /// "|detail=<name>" (and "|mass=<rays>,<step>,<occupied>" for a pattern other than kMassPattern:
-  /// benchmarks and tests only).
-  /// `dem` (scene/dem.h): a user DEM resampled for the terrain (scene::terrainOf's rule: it wins
-  /// where it has data) and its far field beyond the domain. The DLM does not read the terrain,
-  /// so the identity does not change with it.
+  /// Uploads `volumes` placed by `frame` as `options` say; `identity` names this content (file +
+  /// timestep) for the DLM cache key — two uploads with the same identity must hold the same data.
+  /// Throws InputError for a NaN, infinite, negative or absurd (> 1e6 /m) voxel.
   static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, std::string identity,
-                               scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
-                               int brickVoxels = 8, scene::Detail detail = scene::Detail::None,
-                               std::shared_ptr<const NoiseTexture> noise = {},
-                               VolumeStorage storage = VolumeStorage::Compact, const scene::DemHeights* dem = nullptr,
-                               const scene::MassPattern& mass = scene::kMassPattern);
+                               const UploadOptions& options = {});
+  /// The same from a source read layer by layer (volume/extinction_slices.h; issue 19, memory):
+  /// where the packed texture is the only copy (trilinear, no detail, Compact) the checks, the
+  /// occupancy, the column depths and the packed texture are built a layer at a time, so a
+  /// cache::NphReader::readSlices source never holds its float volume whole; the other paths
+  /// materialise it. The same textures, bit for bit, as upload(slices.materialise(), …).
+  static VolumeTextures upload(const ExtinctionSlices& slices, const scene::VolumeFrame& frame, std::string identity,
+                               const UploadOptions& options = {});
 
   const scene::VolumeFrame& frame() const { return frame_; }
   const scene::OccupancyGrid& occupancy() const { return occupancy_; }
@@ -67,6 +82,9 @@ class VolumeTextures {
   /// border, the detail displaces its fetches): otherwise the separate textures serve.
   bool hasPacked() const { return bool(packed_); }
   float packedBetaUnit_per_m() const { return packed_beta_unit_per_m_; }
+  /// The packed texture's texels as half bits, (β_ice, β_water, τ_up, τ_down) per voxel in
+  /// ExtinctionVolumes::index order; empty without it (tests: a layered upload against a float one).
+  std::vector<std::uint16_t> readBackPacked() const;
   bool hasWater() const { return has_water_; }
   /// The separate R32F ice and water textures exist (VolumeStorage; the cubic filter, the detail).
   bool hasSeparateTextures() const { return bool(column_depth_); }
