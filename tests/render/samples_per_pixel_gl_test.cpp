@@ -53,7 +53,7 @@ TEST_F(SamplesPerPixelTest, EdgePixelsTakeTheirCoverage) {
       for (int i = 10; i <= 21; ++i) v.water_per_m[v.index(i, j, k)] = 0.5f;
   v.updateMaxima();
   const scene::VolumeFrame frame = scene::frameOf(v, 1.0);
-  auto tex = render::VolumeTextures::upload(v, frame, "slab", scene::Reconstruction::Trilinear);
+  auto tex = render::VolumeTextures::upload(v, frame, "slab", {.reconstruction = scene::Reconstruction::Trilinear});
   const scene::Sun sun{150.0, 60.0};
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
