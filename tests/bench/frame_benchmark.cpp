@@ -411,6 +411,58 @@ BENCHMARK(BM_SkyTermCost)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(9);
 
+// Issue 12, thirteenth session: the cost of the forward lobe (glsl/common/cloud_light.glsl
+// forwardLobe: an exp and two HG lobes per sample) in the eye pass, against two_stream without it
+// (EyePassBaseline::no_forward_lobe), interleaved in rotating order as BM_SkyTermCost.
+void BM_ForwardLobeCost(benchmark::State& state) {
+  const bool demo = state.range(0) == 0;
+  const int width = int(state.range(1)), height = width * 9 / 16;
+  const auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes v = benchVolumes(demo);
+  const auto frame = scene::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  const scene::Camera camera = demoCamera(frame, width, height);
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  const render::RenderSettings rs;
+  render::CloudRenderer renderer[2];  // 0: without the lobe, 1: with it (the default)
+  render::EyePassBaseline without;
+  without.no_forward_lobe = true;
+  renderer[0].setBaseline(without);
+  for (auto& r : renderer) r.render(tex, dlm, camera, sun, rs);  // compiles, warms up
+  Series cast[2];
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < 2; ++j) {
+      const int job = (j + round) % 2;
+      const Timing t = timed([&] { renderer[job].render(tex, dlm, camera, sun, rs); });
+      cast[job].add(t);
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  auto& c = state.counters;
+  c["cast_ms_without"] = median(cast[0].wall);
+  c["cast_ms_forward_lobe"] = median(cast[1].wall);
+  c["cast_ratio"] = median(cast[1].wall) / median(cast[0].wall);
+  c["cast_cpu_ratio"] = median(cast[1].cpu) / median(cast[0].cpu);
+  std::fprintf(stderr,
+               "forward lobe cost, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n"
+               "  ray cast wall ms without %.0f, with %.0f (CPU %.0f, %.0f): ratio wall %.3f, CPU %.3f\n",
+               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str(),
+               median(cast[0].wall), median(cast[1].wall), median(cast[0].cpu), median(cast[1].cpu),
+               double(c["cast_ratio"]), double(c["cast_cpu_ratio"]));
+}
+BENCHMARK(BM_ForwardLobeCost)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 640})  // coarse storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(9);
+
 // Issue 19 item 1: the eye pass's sampling options measured together under the default light
 // model (two_stream), to choose the defaults: the DLM's direct look-up (the reference path), the
 // light cache (DlmSettings::light_cache_voxels; glsl/dlm/light_cache.comp) at ½ and ¼ of the
