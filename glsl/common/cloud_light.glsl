@@ -90,6 +90,41 @@ Number twoStreamDiffuse(Number tauAbove, Number tauBelow, Number mu0, Number flu
   return max(i0 + g * muOut * i1, Number(0.0));
 }
 
+// The same Eddington column with its three transport constants free (issue 12, thirteenth
+// session; docs/accuracy.md "Thirteenth session"): the moment equations (τ' = (1 − g²)τ downward)
+//   dI₁/dτ' = −¾F·e^{−τ'/μ₀},   dI₀/dτ' = k·I₁ + ¾F·(K − k)·μ₀·e^{−τ'/μ₀}
+// with k the vertical resistance (1 − g')/diffusionScale, K − k the drift of the first-scattered
+// light along the beam (twoStreamDiffuse: K = 1; the physical column of the exaggerated world:
+// K = 1/diffusionScale, lighting/diffusion_volume.h) and Marshak's conditions with a free
+// extrapolation constant b (I₀ ∓ b·I₁ = 0 at the top and the bottom; b = ⅔ for radiance that is
+// isotropic in the frame where the layer is measured, (e + 1)/3 for radiance isotropic in the
+// exaggerated world, whose mean |vertical cosine| in the data is 1/(e + 1)) give
+//   I₁ = ¾Fμ₀·e^{−τ'/μ₀} + C₁,   I₀ = k·C₁·τ' − ¾Fμ₀²K·e^{−τ'/μ₀} + C₂,
+//   C₁ = −¾Fμ₀·[μ₀K·(1 − e^{−τ*'/μ₀}) + b·(1 + e^{−τ*'/μ₀})] / (k·τ*' + 2b),
+//   C₂ = ¾Fμ₀·(μ₀K + b) + b·C₁;
+// twoStreamDiffuse is the case K = 1, b = ⅔. twoStreamColumnMoments returns (I₀, I₁, 0) per unit
+// irradiance; twoStreamColumn the source function I₀ + g·μ_out·I₁ [1/sr] (clamped at 0).
+Vec3 twoStreamColumnMoments(Number tauAbove, Number tauBelow, Number mu0, Number fluxScale, Number k, Number K,
+                            Number b, Number g) {
+  if (mu0 <= Number(0.0)) return Vec3(Number(0.0));
+  Number m = max(mu0, Number(0.02));
+  Number f = g * g;
+  Number ta = (Number(1.0) - f) * max(tauAbove, Number(0.0));
+  Number tt = ta + (Number(1.0) - f) * max(tauBelow, Number(0.0));
+  Number A = Number(0.75) * kInvFourPi * Number(4.0) * fluxScale * m;  // ¾Fμ₀, πF = E = 1
+  Number beam = exp(-ta / m);
+  Number et = exp(-tt / m);
+  Number c1 = -A * (m * K * (Number(1.0) - et) + b * (Number(1.0) + et)) / (k * tt + Number(2.0) * b);
+  Number c2 = A * (m * K + b) + b * c1;
+  return Vec3(k * c1 * ta - A * m * K * beam + c2, A * beam + c1, Number(0.0));
+}
+
+Number twoStreamColumn(Number tauAbove, Number tauBelow, Number mu0, Number fluxScale, Number k, Number K, Number b,
+                       Number muOut, Number g) {
+  Vec3 moments = twoStreamColumnMoments(tauAbove, tauBelow, mu0, fluxScale, k, K, b, g);
+  return max(moments.x + g * muOut * moments.y, Number(0.0));
+}
+
 // The sun of the two-stream term in a height-exaggerated world (docs/rendering.md "Conventions":
 // heights × e, β × f(d) = |(d_x, d_y, d_z/e)| along d, so vertical optical depth is the data's).
 // For a sun of world vertical cosine μ_w (Vec3 result):
@@ -117,11 +152,45 @@ Vec3 twoStreamSunFrame(Number muWorld, Number exaggeration) {
   return Vec3(mu0, flux, diffusion);
 }
 
+// The forward lobe of the light scattered once (issue 12, thirteenth session; docs/accuracy.md
+// "Thirteenth session"): `nephele-bench accuracy --decompose` found the thin cirrus' orders ≥ 2 of
+// sunlight at half the truth's (3.7 cone + 1.4 two-stream against 9.6) although their energy is
+// there: light scattered forward out of a grazing beam keeps travelling near the sun's direction,
+// and an eye 35° off the sun sees it through the phase function's forward lobe. Two places of the
+// model throw that lobe's shape away; both are restored here without adding energy:
+//   1. The deep light map's cone carries I_DLM − e^{−τ_s} of light scattered within a few degrees
+//      of the beam (Nes 2008 §5.2.3), and the eye scattered it with p(ψ; g) as if it were still the
+//      beam. Light scattered once by an HG lobe and then by another is spread by their convolution,
+//      and HG(g₁) ⊗ HG(g₂) = HG(g₁g₂) exactly (the Legendre moments g₁ⁿ and g₂ⁿ multiply), so it
+//      reaches the eye with p(ψ; g²): + (I_DLM − e^{−τ_s})·(p(ψ; g²) − p(ψ; g)).
+//   2. The two-stream source I₀ + g·μ_out·I₁ is the azimuthal mean over the vertical: the lobe of the
+//      once-scattered light around the (grazing) sun is averaged away. In the small-angle picture
+//      the light scattered once out of the δ-scaled beam at slant depth τ_s is (1 − f)·τ_s·e^{−τ_s}
+//      (Poisson's first order) with the angular shape of p' = HG(g'), seen by the eye through
+//      HG(g'·g); the two-stream keeps its isotropic part 1/(4π): + (1 − f)·τ_s·e^{−τ_s}·(p(ψ; g·g') −
+//      1/(4π)), f = g², g' = g/(1 + g) (Joseph, Wiscombe & Weinman 1976).
+// τ_s = τ_above/μ₀ is the slant depth of the column to the sun in the data (twoStreamSunFrame's μ₀),
+// e^{−τ_s} the direct beam the cone's light is counted above. Both terms integrate to 0 over the
+// sphere (HG lobes are normalised); no constant is fitted. Per unit irradiance [1/sr]; the sum
+// with single scattering (sunlight·p(ψ; g) ≥ the cone's part) stays ≥ 0 for the cone, and
+// cloudSunFactor clamps the total at 0.
+Number forwardLobe(Number sunlight, Number cosPsi, Number g, Number tauAbove, Number mu0) {
+  if (mu0 <= Number(0.0)) return Number(0.0);
+  Number slant = max(tauAbove, Number(0.0)) / max(mu0, Number(0.02));
+  Number direct = exp(-slant);
+  Number f = g * g;
+  Number gs = g / (Number(1.0) + g);
+  Number cone = max(sunlight - direct, Number(0.0)) * (hgPhase(cosPsi, f) - hgPhase(cosPsi, g));
+  Number firstOrder = (Number(1.0) - f) * slant * direct * (hgPhase(cosPsi, g * gs) - kInvFourPi);
+  return cone + firstOrder;
+}
+
 // The sunlight a cloud sample scatters towards the eye per unit solar irradiance [1/sr], by the
 // multiple-scattering model `mode` (lighting/render_settings.h MultipleScattering, the knob
 // `multiple_scattering`): 0 single scattering E·p_v·I_DLM only; 1 the octave series (octaveSeries);
-// 2 single scattering plus the independent-column two-stream diffuse light (twoStreamDiffuse) with
-// g the sample's β-weighted asymmetry, the sample's column depths (τ_above, τ_below), the sun frame
+// 2 single scattering plus the independent-column two-stream diffuse light (twoStreamDiffuse) and
+// the once-scattered light's forward lobe (forwardLobe, thirteenth session) with g the sample's
+// β-weighted asymmetry, the sample's column depths (τ_above, τ_below), the sun frame
 // of twoStreamSunFrame and the view's vertical cosine μ_out (towards the eye, in the data).
 Number cloudSunFactor(int mode, Number sunlight, Number cosPsi, Number iceWeight, Number gIce, Number gWater,
                       int octaves, Number extinctionScale, Number energyScale, Number anisotropyScale,
@@ -132,7 +201,11 @@ Number cloudSunFactor(int mode, Number sunlight, Number cosPsi, Number iceWeight
   Number single = sunlight * mixedPhase(cosPsi, iceWeight, gIce, gWater);
   if (mode != 2) return single;
   Number g = gWater + (gIce - gWater) * iceWeight;
-  return single + twoStreamDiffuse(tauAbove, tauBelow, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+  Number diffuse = twoStreamDiffuse(tauAbove, tauBelow, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+#ifndef NO_FORWARD_LOBE  // benchmark baseline (render::EyePassBaseline::no_forward_lobe)
+  diffuse += forwardLobe(sunlight, cosPsi, g, tauAbove, sunFrame.x);
+#endif
+  return max(single + diffuse, Number(0.0));
 }
 
 // Diffuse (hemispherically incident) transmittance of a conservatively scattering layer of

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <random>
 
 #include <fmt/format.h>
 
@@ -29,9 +30,18 @@ enum Term : int {
   kSlabSide,        // same, only shorter paths (side light; a candidate, not kept)
   kDiffusionIso,    // the coarse diffusion volume's (DLM source, physical drift) isotropic part φ/(4π)
   kDiffusion0,  // kDiffusionConfigs × {3-D (φ + 3g·F·ω)/(4π), the same grid's columns, two_stream × φ/φ₁}
-  kAlpha,       // Σ w (diagnostics)
-  kTauColumn,   // Σ w·(τ_a + τ_b) (diagnostics)
-  kColumn0,     // kColumnBins × 2 octaves
+  kColMarshak,  // twoStreamColumn: Marshak's b = (e + 1)/3 (radiance isotropic in the world), K = 1
+  kColPhys,     // twoStreamColumn: the physical drift K = 1/ds, b = ⅔
+  kColPhysMarshak,  // both
+  kColGreenKubo,    // resistance and drift of the data frame by Green–Kubo (greenKubo below), b = (e + 1)/3
+  kColGreenKuboB,   // the same with b = ⅔
+  kFwdOrder2,       // small-angle order 2: τ_s·e^{−τ_s}·p(ψ; g²) added to two_stream
+  kFwdReshape,      // first-order diffuse light reshaped: (1 − f)·τ_s·e^{−τ_s}·(p(ψ; g·g') − 1/4π)
+  kConeReshape,     // the cone's light seen through the convolved lobe: (I − e^{−τ_s})·(p(ψ; g²) − p(ψ; g))
+  kForwardLobe,     // the two together, as the eye pass adds them since (lighting::forwardLobe)
+  kAlpha,           // Σ w (diagnostics)
+  kTauColumn,       // Σ w·(τ_a + τ_b) (diagnostics)
+  kColumn0,         // kColumnBins × 2 octaves
 };
 constexpr int kColumnBins = 8;
 constexpr std::array<double, kColumnBins - 1> kColumnEdges{0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0};
@@ -92,6 +102,49 @@ glm::dvec3 sunPathSlab(double tau_above, double tau_below, double sunlight, doub
   const double te = ts * me;
   if (!shadow && te >= ta) return {tau_above, tau_below, mu0};
   return {te, tau_below, me};
+}
+
+// The vertical transport of the scattered light in the data frame of a height-exaggerated world
+// (thirteenth session, a candidate): light travels straight in the data, collides at β per data
+// metre whatever its direction, and its world direction is redrawn by HG(g') at each collision
+// (δ-Eddington: the forward peak stays in the beam), so the stationary distribution is isotropic
+// in the world and the data's vertical velocity is v = d_z/√(e²(d_x² + d_y²) + d_z²). Green–Kubo:
+// the vertical diffusion D_z = Σ_{n≥0}⟨v₀v_n⟩/β' — as a diffusion scale 3(1 − g')Σ⟨v₀v_n⟩ (1 at
+// e = 1; twoStreamSunFrame's 3⟨v²⟩ keeps only n = 0 and the world's decorrelation) — and the mean
+// displacement of light first scattered out of the beam, Σ_{n≥1}E[v_n | beam]/β' = q·v_beam/σ'_tr,
+// the drift q (g' at e = 1). Monte Carlo (fixed seed, 2·10⁵ histories × 60 collisions; ≈ 1 % noise).
+glm::dvec2 greenKubo(double e, double g, double muWorld) {
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto vz = [&](const glm::dvec3& d) { return d.z / std::sqrt(e * e * (d.x * d.x + d.y * d.y) + d.z * d.z); };
+  auto scatter = [&](const glm::dvec3& d) {
+    double c = 1.0 - 2.0 * u(rng);
+    if (std::abs(g) > 1e-6) {
+      const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u(rng));
+      c = (1.0 + g * g - s * s) / (2.0 * g);
+    }
+    const double sn = std::sqrt(std::max(0.0, 1.0 - c * c)), ph = 2.0 * std::numbers::pi * u(rng);
+    const glm::dvec3 a = glm::normalize(glm::cross(d, std::abs(d.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+    const glm::dvec3 b = glm::cross(d, a);
+    return glm::normalize(c * d + sn * (std::cos(ph) * a + std::sin(ph) * b));
+  };
+  const int histories = 200000, collisions = 60;
+  double corr = 0.0, drift = 0.0;
+  const glm::dvec3 beam(std::sqrt(std::max(0.0, 1.0 - muWorld * muWorld)), 0.0, -muWorld);
+  for (int i = 0; i < histories; ++i) {
+    const double z = 1.0 - 2.0 * u(rng), ph = 2.0 * std::numbers::pi * u(rng), r = std::sqrt(1.0 - z * z);
+    glm::dvec3 d(r * std::cos(ph), r * std::sin(ph), z);
+    const double v0 = vz(d);
+    for (int n = 1; n < collisions; ++n) corr += v0 * vz(d = scatter(d));
+    d = beam;
+    for (int n = 1; n < collisions; ++n) drift += vz(d = scatter(d));
+  }
+  corr /= histories;
+  drift /= histories;
+  const double ds0 = lighting::twoStreamSunFrame(0.5, e).z;  // 3⟨v²⟩, exact (the n = 0 term)
+  const double ds = (1.0 - g) * ds0 + 3.0 * (1.0 - g) * corr;
+  const double vb = -vz(beam);
+  return {ds, vb > 0.0 ? (1.0 - g) * -drift / vb : g};
 }
 
 // Least squares of the free weights θ over `free` terms with `fixed` terms at weight 1.
@@ -253,6 +306,13 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
     }
     const double exag = sc.frame.height_exaggeration;
     const int w = sc.camera.width;
+    // Thirteenth session's candidates: the column's transport constants in the data frame.
+    const double gsIce = march.g_ice / (1.0 + march.g_ice), gsWater = march.g_water / (1.0 + march.g_water);
+    const glm::dvec2 gkIce = greenKubo(exag, gsIce, toSun.z), gkWater = greenKubo(exag, gsWater, toSun.z);
+    log::info("{}: Green-Kubo in the data frame (e {:.0f}, mu_w {:.3f}): diffusion scale {:.4f} ice / {:.4f} water "
+              "against 3<v^2> {:.4f}; drift {:.3f} / {:.3f} against g' {:.3f} / {:.3f}",
+              sc.name, exag, toSun.z, gkIce.x, gkWater.x, sunFrame.z, gkIce.y, gkWater.y, gsIce, gsWater);
+    const double marshakWorld = (exag + 1.0) / 3.0;
     reference::marchSamples(
         *sc.volumes, sc.frame, sc.camera, march.step_voxels, 0.0,
         [&](int x, int y, const glm::dvec3& dir, const reference::RaySample& s) {
@@ -271,6 +331,29 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
           t[kTwoStreamWorld] += s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, toSun.z, 1.0, 1.0, -dir.z, g);
           t[kTwoStream] +=
               s.weight * lighting::twoStreamDiffuse(tau.x, tau.y, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+          {
+            const double gs = g / (1.0 + g), ds = sunFrame.z, k = (1.0 - gs) / ds;
+            auto col = [&](double kk, double K, double b) {
+              return lighting::twoStreamColumn(tau.x, tau.y, sunFrame.x, sunFrame.y, kk, K, b, muOut, g);
+            };
+            t[kColMarshak] += s.weight * col(k, 1.0, marshakWorld);
+            t[kColPhys] += s.weight * col(k, 1.0 / ds, 2.0 / 3.0);
+            t[kColPhysMarshak] += s.weight * col(k, 1.0 / ds, marshakWorld);
+            const glm::dvec2 gk = gkWater + (gkIce - gkWater) * s.ice_weight;
+            const double kg = (1.0 - gs) / gk.x, Kg = kg + gk.y / gk.x;
+            t[kColGreenKubo] += s.weight * col(kg, Kg, marshakWorld);
+            t[kColGreenKuboB] += s.weight * col(kg, Kg, 2.0 / 3.0);
+            // Forward-peaked orders ≥ 2 (the cirrus): τ_s the true slant depth to the sun through
+            // the column (τ_a/μ₀ in the data frame), HG ⊗ HG = HG(g₁g₂) (Legendre moments multiply).
+            const double taus = std::max(tau.x, 0.0) / std::max(sunFrame.x, 0.02);
+            const double poisson = taus * std::exp(-taus);
+            const double f = g * g, iso = 1.0 / (4.0 * std::numbers::pi);
+            t[kFwdOrder2] += s.weight * poisson * lighting::hgPhase(cosPsi, g * g);
+            t[kFwdReshape] += s.weight * (1.0 - f) * poisson * (lighting::hgPhase(cosPsi, g * gs) - iso);
+            t[kConeReshape] += s.weight * std::max(I - std::exp(-taus), 0.0) *
+                               (lighting::hgPhase(cosPsi, g * g) - lighting::hgPhase(cosPsi, g));
+            t[kForwardLobe] += s.weight * lighting::forwardLobe(I, cosPsi, g, tau.x, sunFrame.x);
+          }
           for (const bool shadow : {true, false}) {
             const glm::dvec3 slab = sunPathSlab(tau.x, tau.y, I, sunFrame.x, g, shadow);
             t[shadow ? kSlabBoth : kSlabSide] +=
@@ -369,11 +452,24 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       {"octave weights by column depth (16 fitted)", {}, column},
       {"two_stream, data frame's mu0 only", {kTwoStreamData}, {}},
       {"two_stream, world's mu0 (exaggeration ignored)", {kTwoStreamWorld}, {}},
-      {"**two_stream** (eye pass: sun frame scaled)", {kTwoStream}, {}},
+      {"two_stream without the forward lobe (the twelfth session's default)", {kTwoStream}, {}},
+      {"**two_stream** (eye pass: sun frame scaled, + forwardLobe since the thirteenth session)",
+       {kTwoStream, kForwardLobe},
+       {}},
       {"two_stream, scale fitted", {}, {kTwoStream}},
       {"two_stream on the sun-path slab, both ways", {kSlabBoth}, {}},
       {"two_stream on the sun-path slab, side light only", {kSlabSide}, {}},
       {"two_stream + octaves, both fitted", {}, {kTwoStream, kOctaves}},
+      {"column: Marshak b = (e + 1)/3", {kColMarshak}, {}},
+      {"column: physical drift K = 1/ds", {kColPhys}, {}},
+      {"column: physical drift + Marshak (e + 1)/3", {kColPhysMarshak}, {}},
+      {"column: Green-Kubo diffusion and drift + Marshak (e + 1)/3", {kColGreenKubo}, {}},
+      {"column: Green-Kubo diffusion and drift, b = 2/3", {kColGreenKuboB}, {}},
+      {"two_stream + small-angle order 2 tau_s e^-tau_s p(g^2)", {kTwoStream, kFwdOrder2}, {}},
+      {"two_stream + first order reshaped (1-f) tau_s e^-tau_s (p(g g') - 1/4pi)", {kTwoStream, kFwdReshape}, {}},
+      {"two_stream + cone reshaped (I - e^-tau_s)(p(g^2) - p(g))", {kTwoStream, kConeReshape}, {}},
+      {"two_stream + cone reshaped + first order reshaped", {kTwoStream, kConeReshape, kFwdReshape}, {}},
+      {"two_stream + small-angle order 2, weight fitted", {kTwoStream}, {kFwdOrder2}},
   };
   models.push_back({"diffusion volume, isotropic part (DLM source, physical drift)", {kDiffusionIso}, {}});
   for (int c = 0; c < kDiffusionConfigs; ++c) {

@@ -29,6 +29,17 @@ double twoStreamDiffuse(double tau_above, double tau_below, double mu0, double f
                         double mu_out, double g) {
   return f64::twoStreamDiffuse(tau_above, tau_below, mu0, flux_scale, diffusion_scale, mu_out, g);
 }
+double twoStreamColumn(double tau_above, double tau_below, double mu0, double flux_scale, double k, double K, double b,
+                       double mu_out, double g) {
+  return f64::twoStreamColumn(tau_above, tau_below, mu0, flux_scale, k, K, b, mu_out, g);
+}
+glm::dvec2 twoStreamColumnMoments(double tau_above, double tau_below, double mu0, double flux_scale, double k, double K,
+                                  double b, double g) {
+  return glm::dvec2(f64::twoStreamColumnMoments(tau_above, tau_below, mu0, flux_scale, k, K, b, g));
+}
+double forwardLobe(double sunlight, double cos_psi, double g, double tau_above, double mu0) {
+  return f64::forwardLobe(sunlight, cos_psi, g, tau_above, mu0);
+}
 glm::dvec3 twoStreamSunFrame(double mu_world, double exaggeration) {
   return f64::twoStreamSunFrame(mu_world, exaggeration);
 }

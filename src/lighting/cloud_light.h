@@ -20,6 +20,17 @@ double octaveSeries(double sunlight, double cos_psi, double ice_weight, double g
 /// a direction of vertical cosine μ_out (glsl/common/cloud_light.glsl twoStreamDiffuse).
 double twoStreamDiffuse(double tau_above, double tau_below, double mu0, double flux_scale, double diffusion_scale,
                         double mu_out, double g);
+/// The same column with its resistance k, drift constant K and Marshak constant b free
+/// (glsl/common/cloud_light.glsl twoStreamColumn; K = 1, b = ⅔ is twoStreamDiffuse).
+double twoStreamColumn(double tau_above, double tau_below, double mu0, double flux_scale, double k, double K, double b,
+                       double mu_out, double g);
+/// Its moments (I₀, I₁) per unit irradiance.
+glm::dvec2 twoStreamColumnMoments(double tau_above, double tau_below, double mu0, double flux_scale, double k, double K,
+                                  double b, double g);
+/// The once-scattered light's forward lobe restored [1/sr] (glsl/common/cloud_light.glsl
+/// forwardLobe): the cone's light through p(ψ; g²), the first diffuse order's lobe through
+/// p(ψ; g·g'); integrates to 0 over the sphere.
+double forwardLobe(double sunlight, double cos_psi, double g, double tau_above, double mu0);
 /// (μ₀ in the data, beam scale, vertical diffusion scale) of a sun of world vertical cosine μ_w under
 /// height exaggeration e (glsl/common/cloud_light.glsl twoStreamSunFrame).
 glm::dvec3 twoStreamSunFrame(double mu_world, double exaggeration);

@@ -358,11 +358,12 @@ BENCHMARK(BM_MultipleScatteringCost)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(7);
 
-// Issue 12, twelfth session: the sky term's cost. The eye pass with skyDiffuse (the default) against
-// the former ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) (EyePassBaseline::sky_half_transmittance),
-// same storm, camera and DLM as BM_MultipleScatteringCost, ray casts interleaved in rotating order;
-// medians over the rounds, ratio = new / old (wall and process CPU).
-void BM_SkyTermCost(benchmark::State& state) {
+// Issue 12: the cost of a change to the eye pass's light, against the pass without it (an
+// EyePassBaseline), same storm, camera and DLM as BM_MultipleScatteringCost, ray casts interleaved
+// in rotating order; medians over the rounds, ratio = new / old (wall and process CPU). `what`
+// names the measurement, `oldName`/`newName` the two passes (counters cast_ms_<name>).
+void baselineCastCost(benchmark::State& state, const render::EyePassBaseline& baseline, const char* what,
+                      const std::string& oldName, const std::string& newName) {
   const bool demo = state.range(0) == 0;
   const int width = int(state.range(1)), height = width * 9 / 16;
   const auto ctx = bench::hiddenContext();
@@ -374,10 +375,8 @@ void BM_SkyTermCost(benchmark::State& state) {
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
   const render::RenderSettings rs;
-  render::CloudRenderer renderer[2];  // 0: former term, 1: skyDiffuse
-  render::EyePassBaseline former;
-  former.sky_half_transmittance = true;
-  renderer[0].setBaseline(former);
+  render::CloudRenderer renderer[2];  // 0: the baseline, 1: the default
+  renderer[0].setBaseline(baseline);
   for (auto& r : renderer) r.render(tex, dlm, camera, sun, rs);  // compiles, warms up
   Series cast[2];
   int round = 0;
@@ -393,18 +392,41 @@ void BM_SkyTermCost(benchmark::State& state) {
     state.SetIterationTime(total * 1e-3);
   }
   auto& c = state.counters;
-  c["cast_ms_former"] = median(cast[0].wall);
-  c["cast_ms_sky_diffuse"] = median(cast[1].wall);
+  c["cast_ms_" + oldName] = median(cast[0].wall);
+  c["cast_ms_" + newName] = median(cast[1].wall);
   c["cast_ratio"] = median(cast[1].wall) / median(cast[0].wall);
   c["cast_cpu_ratio"] = median(cast[1].cpu) / median(cast[0].cpu);
   std::fprintf(stderr,
-               "sky term cost, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n"
-               "  ray cast wall ms former %.0f, skyDiffuse %.0f (CPU %.0f, %.0f): ratio wall %.3f, CPU %.3f\n",
-               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str(),
-               median(cast[0].wall), median(cast[1].wall), median(cast[0].cpu), median(cast[1].cpu),
-               double(c["cast_ratio"]), double(c["cast_cpu_ratio"]));
+               "%s, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n"
+               "  ray cast wall ms %s %.0f, %s %.0f (CPU %.0f, %.0f): ratio wall %.3f, CPU %.3f\n",
+               what, demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str(),
+               oldName.c_str(), median(cast[0].wall), newName.c_str(), median(cast[1].wall), median(cast[0].cpu),
+               median(cast[1].cpu), double(c["cast_ratio"]), double(c["cast_cpu_ratio"]));
+}
+
+// Issue 12, twelfth session: the sky term's cost. The eye pass with skyDiffuse (the default) against
+// the former ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down)) (EyePassBaseline::sky_half_transmittance).
+void BM_SkyTermCost(benchmark::State& state) {
+  render::EyePassBaseline former;
+  former.sky_half_transmittance = true;
+  baselineCastCost(state, former, "sky term cost", "former", "sky_diffuse");
 }
 BENCHMARK(BM_SkyTermCost)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 640})  // coarse storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(9);
+
+// Issue 12, thirteenth session: the cost of the forward lobe (glsl/common/cloud_light.glsl
+// forwardLobe: an exp and two HG lobes per sample) against two_stream without it
+// (EyePassBaseline::no_forward_lobe).
+void BM_ForwardLobeCost(benchmark::State& state) {
+  render::EyePassBaseline without;
+  without.no_forward_lobe = true;
+  baselineCastCost(state, without, "forward lobe cost", "without", "forward_lobe");
+}
+BENCHMARK(BM_ForwardLobeCost)
     ->ArgNames({"scene", "width"})
     ->Args({1, 640})  // coarse storm, 640 × 360
     ->UseManualTime()

@@ -156,6 +156,91 @@ TEST(CloudLight, TwoStreamSlabReflectsJosephWiscombeWeinmanAndConservesEnergy) {
   EXPECT_TRUE(std::isfinite(twoStreamDiffuse(1e4, 1e4, 1e-4, 50.0, 0.01, -1.0, 0.99)));
 }
 
+// twoStreamColumn (the thirteenth session's candidates, docs/accuracy.md): with K = 1 and b = ⅔ it
+// is twoStreamDiffuse; for any resistance k, drift constant K and Marshak constant b its moments
+// solve the column's equations — dI₁/dτ' = −¾F·e^{−τ'/μ₀}, dI₀/dτ' = k·I₁ + ¾F(K − k)μ₀·e^{−τ'/μ₀}
+// (central differences), I₀ ∓ b·I₁ = 0 at the top and the bottom — and conserve energy: the net
+// flux (4π/3)·I₁ − B·μ₀·e^{−τ'/μ₀} (B the beam scale) is the same at every depth.
+TEST(CloudLight, TwoStreamColumnSolvesItsEquationsForAnyConstants) {
+  const double pi = std::numbers::pi;
+  for (double tau : {0.5, 5.0, 40.0})
+    for (double mu0 : {0.9, 0.3, 0.05}) {
+      const glm::dvec3 sf = twoStreamSunFrame(0.5, 8.0);
+      for (double muOut : {0.0, 0.8, -0.6})
+        EXPECT_NEAR(
+            twoStreamColumn(0.3 * tau, 0.7 * tau, mu0, sf.y, (1.0 - 0.85 / 1.85) / sf.z, 1.0, 2.0 / 3.0, muOut, 0.85),
+            twoStreamDiffuse(0.3 * tau, 0.7 * tau, mu0, sf.y, sf.z, muOut, 0.85), 1e-12);
+    }
+  const double g = 0.75, f = g * g, beamScale = 2.5;
+  struct Constants {
+    double k, K, b;
+  };
+  for (const Constants c : {Constants{0.57, 1.0, 2.0 / 3.0}, Constants{6.7, 11.7, 2.0 / 3.0}, Constants{6.7, 1.0, 3.0},
+                            Constants{0.3, 4.0, 1.5}})
+    for (double tau : {0.5, 5.0, 40.0})
+      for (double mu0 : {0.9, 0.3, 0.05}) {
+        // Moments at the δ-scaled depth t of the slab τ.
+        auto moments = [&](double t) {
+          const double ta = t / (1.0 - f);
+          return twoStreamColumnMoments(ta, tau - ta, mu0, beamScale, c.k, c.K, c.b, g);
+        };
+        const double tt = (1.0 - f) * tau, F = beamScale / pi, scale = F * mu0;
+        const glm::dvec2 top = moments(0.0), bottom = moments(tt);
+        EXPECT_NEAR(top.x - c.b * top.y, 0.0, 1e-9 * scale) << tau << " " << mu0;
+        EXPECT_NEAR(bottom.x + c.b * bottom.y, 0.0, 1e-9 * scale) << tau << " " << mu0;
+        const double net0 = 4.0 * pi / 3.0 * top.y - beamScale * mu0;
+        for (double frac : {0.1, 0.5, 0.9}) {
+          const double t = frac * tt, h = 1e-5 * std::max(tt, 1.0);
+          const glm::dvec2 m = moments(t), lo = moments(t - h), hi = moments(t + h);
+          const double beam = std::exp(-t / mu0);
+          EXPECT_NEAR(4.0 * pi / 3.0 * m.y - beamScale * mu0 * beam, net0, 1e-9) << tau << " " << mu0;
+          EXPECT_NEAR((hi.y - lo.y) / (2.0 * h), -0.75 * F * beam, 1e-5 * (1.0 + F)) << tau << " " << mu0;
+          EXPECT_NEAR((hi.x - lo.x) / (2.0 * h), c.k * m.y + 0.75 * F * (c.K - c.k) * mu0 * beam,
+                      1e-5 * (1.0 + F * c.K))
+              << tau << " " << mu0 << " k " << c.k << " K " << c.K;
+        }
+      }
+}
+
+// forwardLobe (the thirteenth session): its premise, HG(g₁) ⊗ HG(g₂) = HG(g₁g₂) — light scattered
+// by one lobe about the sun and then by another towards the eye — checked by quadrature over the
+// sphere; and it only reshapes: ∫ forwardLobe dΩ = 0 (both lobes normalised), for the cone's light
+// (sunlight above the direct beam) and the first diffuse order alike; 0 when the sun has set.
+TEST(CloudLight, ForwardLobeConvolvesTheLobesAndAddsNoEnergy) {
+  const double pi = std::numbers::pi;
+  const int n = 400;  // midpoint rule in cos θ and φ
+  for (double g1 : {0.3, 0.75, 0.85})
+    for (double g2 : {0.43, 0.75})
+      for (double psiDeg : {0.0, 35.0, 120.0}) {
+        const double psi = psiDeg * pi / 180.0;
+        // Both lobes on the grid's equator, where the midpoint rule in cos θ is finest in angle.
+        const glm::dvec3 sun(1.0, 0.0, 0.0), eye(std::cos(psi), std::sin(psi), 0.0);
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < 2 * n; ++j) {
+            const double c = -1.0 + (i + 0.5) * 2.0 / n, phi = (j + 0.5) * pi / n, sn = std::sqrt(1.0 - c * c);
+            const glm::dvec3 w(sn * std::cos(phi), sn * std::sin(phi), c);
+            sum += hgPhase(glm::dot(w, sun), g1) * hgPhase(glm::dot(w, eye), g2) * (2.0 / n) * (pi / n);
+          }
+        EXPECT_NEAR(sum, hgPhase(std::cos(psi), g1 * g2), 2e-3 * hgPhase(std::cos(psi), g1 * g2))
+            << g1 << " " << g2 << " " << psiDeg;
+      }
+  for (double g : {0.75, 0.85})
+    for (double tauAbove : {0.0, 0.05, 1.0, 30.0})
+      for (double sunlight : {0.0, 0.3, 1.0}) {
+        double integral = 0.0;
+        const int m = 200000;
+        for (int i = 0; i < m; ++i) {
+          const double c = -1.0 + (i + 0.5) * 2.0 / m;
+          integral += 2.0 * pi * forwardLobe(sunlight, c, g, tauAbove, 0.2) * 2.0 / m;
+        }
+        EXPECT_NEAR(integral, 0.0, 1e-6) << g << " " << tauAbove << " " << sunlight;
+      }
+  EXPECT_EQ(forwardLobe(0.5, 0.8, 0.85, 1.0, 0.0), 0.0);
+  // At a 35° forward angle the cone's light is seen brighter than by p(ψ; g) alone (the cirrus).
+  EXPECT_GT(forwardLobe(0.8, std::cos(35.0 * pi / 180.0), 0.75, 0.1, 0.05), 0.0);
+}
+
 TEST(CloudLight, TwoStreamSunFrameKeepsTheSlantedOpticalDepthOfTheExaggeratedWorld) {
   // At true scale the frame is (μ_w, 1, 1).
   const glm::dvec3 one = twoStreamSunFrame(0.6, 1.0);

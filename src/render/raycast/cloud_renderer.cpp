@@ -246,6 +246,7 @@ const gl::Program& CloudRenderer::program(const EyePassFeatures& features) {
   if (baseline_.binary_search) defines.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
   if (baseline_.unclipped_steps) defines.emplace_back("ADAPTIVE_STEPS_UNCLIPPED", "1");
   if (baseline_.sky_half_transmittance) defines.emplace_back("SKY_HALF_TRANSMITTANCE", "1");
+  if (baseline_.no_forward_lobe) defines.emplace_back("NO_FORWARD_LOBE", "1");
   std::string key;
   for (const auto& [name, value] : defines) key += name + "=" + value + ";";
   auto it = programs_.find(key);

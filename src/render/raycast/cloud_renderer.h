@@ -102,6 +102,9 @@ struct EyePassBaseline {
   /// the sky term before issue 12's twelfth session, ½·(L_above·T_d(τ_up) + L_below·T_d(τ_down))
   /// (glsl/render/clouds.comp skyLightAt), to measure skyDiffuse's cost against
   bool sky_half_transmittance = false;
+  /// two_stream without the once-scattered light's forward lobe (before issue 12's thirteenth
+  /// session; glsl/common/cloud_light.glsl forwardLobe), to measure its cost against
+  bool no_forward_lobe = false;
 };
 
 class CloudRenderer {
