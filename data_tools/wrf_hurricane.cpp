@@ -78,27 +78,33 @@ struct ProjectionSetup {
   std::string name;
 };
 
-constexpr double kCenLat_deg = 25.0;
-constexpr double kCenLon_deg = -75.0;
-
-ProjectionSetup projectionSetup(WrfProjection p) {
+// The projection's parameters follow the domain centre (WrfHurricaneSpec::centre_*): the
+// defaults (−75°, 25°) give TRUELAT1/2 = 20°/30° and STAND_LON = −77° as always, so every file
+// written before the centre could move is written bit for bit the same.
+ProjectionSetup projectionSetup(WrfProjection p, double cen_lon, double cen_lat) {
   ProjectionSetup s;
   const double r = kWrfEarthRadius_m;
+  const double stand_lon = cen_lon - 2.0;
   // The generator deliberately uses a different but equivalent parameterisation from the loader
   // (lat_0 = TRUELAT1 instead of MOAD_CEN_LAT, CF-style rotated pole), so that a test comparing
   // the loader's georeference with XLAT/XLONG checks the loader rather than repeating it.
   switch (p) {
-    case WrfProjection::Lambert:
-      s = {1, "", false, 20.0, 30.0, -77.0, 90.0, 0.0, "Lambert Conformal"};
-      s.proj_definition = fmt::format("+proj=lcc +lat_1=20 +lat_2=30 +lat_0=20 +lon_0=-77 +R={} +units=m +no_defs", r);
+    case WrfProjection::Lambert: {
+      const double t1 = cen_lat - 5.0, t2 = cen_lat + 5.0;
+      s = {1, "", false, t1, t2, stand_lon, 90.0, 0.0, "Lambert Conformal"};
+      s.proj_definition = fmt::format("+proj=lcc +lat_1={} +lat_2={} +lat_0={} +lon_0={} +R={} +units=m +no_defs", t1,
+                                      t2, t1, stand_lon, r);
       break;
+    }
     case WrfProjection::PolarStereographic:
-      s = {2, "", false, 60.0, 0.0, -77.0, 90.0, 0.0, "Polar Stereographic"};
-      s.proj_definition = fmt::format("+proj=stere +lat_0=90 +lat_ts=60 +lon_0=-77 +R={} +units=m +no_defs", r);
+      s = {2, "", false, 60.0, 0.0, stand_lon, 90.0, 0.0, "Polar Stereographic"};
+      s.proj_definition =
+          fmt::format("+proj=stere +lat_0=90 +lat_ts=60 +lon_0={} +R={} +units=m +no_defs", stand_lon, r);
       break;
     case WrfProjection::Mercator:
-      s = {3, "", false, 22.5, 0.0, -77.0, 90.0, 0.0, "Mercator"};
-      s.proj_definition = fmt::format("+proj=merc +lat_ts=22.5 +lon_0=-77 +R={} +units=m +no_defs", r);
+      s = {3, "", false, cen_lat - 2.5, 0.0, stand_lon, 90.0, 0.0, "Mercator"};
+      s.proj_definition =
+          fmt::format("+proj=merc +lat_ts={} +lon_0={} +R={} +units=m +no_defs", cen_lat - 2.5, stand_lon, r);
       break;
     case WrfProjection::LatLon:
       s = {6, "", true, 0.0, 0.0, 0.0, 90.0, 0.0, "Cylindrical Equidistant"};
@@ -108,9 +114,9 @@ ProjectionSetup projectionSetup(WrfProjection p) {
       // WPS convention for a rotated grid centred on (lat0, lon0): POLE_LAT = 90 - lat0,
       // POLE_LON = 180, STAND_LON = 180 - lon0. As CF grid_mapping: grid_north_pole_latitude =
       // 90 - lat0, grid_north_pole_longitude = lon0 - 180, i.e. PROJ o_lat_p = 90 - lat0, lon_0 = lon0.
-      s = {6, "", true, 0.0, 0.0, 180.0 - kCenLon_deg, 90.0 - kCenLat_deg, 180.0, "Cylindrical Equidistant"};
+      s = {6, "", true, 0.0, 0.0, 180.0 - cen_lon, 90.0 - cen_lat, 180.0, "Cylindrical Equidistant"};
       s.proj_definition = fmt::format("+proj=ob_tran +o_proj=longlat +o_lat_p={} +o_lon_p=0 +lon_0={} +R={} +no_defs",
-                                      90.0 - kCenLat_deg, kCenLon_deg, r);
+                                      90.0 - cen_lat, cen_lon, r);
       break;
     case WrfProjection::Cartesian: s = {0, "", false, 0.0, 0.0, 0.0, 90.0, 0.0, "Cartesian"}; break;
   }
@@ -130,7 +136,10 @@ struct Grid {
 class Writer {
  public:
   Writer(const WrfHurricaneSpec& spec, const std::string& path)
-      : spec_(spec), nc_(path, spec.format), proj_(projectionSetup(spec.projection)), noise_(spec.seed) {}
+      : spec_(spec),
+        nc_(path, spec.format),
+        proj_(projectionSetup(spec.projection, spec.centre_lon_deg, spec.centre_lat_deg)),
+        noise_(spec.seed) {}
 
   WrfTruth run();
 
@@ -385,11 +394,11 @@ void Writer::defineFile() {
   nc_.attInt(G, "PARENT_GRID_RATIO", 1);
   nc_.attFloat(G, "DT", static_cast<float>(6.0 * spec_.dx_m / 1000.0));
   const bool has_geo = proj_.map_proj != 0;
-  nc_.attFloat(G, "CEN_LAT", has_geo ? static_cast<float>(kCenLat_deg) : 0.0f);
-  nc_.attFloat(G, "CEN_LON", has_geo ? static_cast<float>(kCenLon_deg) : 0.0f);
+  nc_.attFloat(G, "CEN_LAT", has_geo ? static_cast<float>(spec_.centre_lat_deg) : 0.0f);
+  nc_.attFloat(G, "CEN_LON", has_geo ? static_cast<float>(spec_.centre_lon_deg) : 0.0f);
   nc_.attFloat(G, "TRUELAT1", static_cast<float>(proj_.truelat1));
   nc_.attFloat(G, "TRUELAT2", static_cast<float>(proj_.truelat2));
-  nc_.attFloat(G, "MOAD_CEN_LAT", has_geo ? static_cast<float>(kCenLat_deg) : 0.0f);
+  nc_.attFloat(G, "MOAD_CEN_LAT", has_geo ? static_cast<float>(spec_.centre_lat_deg) : 0.0f);
   nc_.attFloat(G, "STAND_LON", static_cast<float>(proj_.stand_lon));
   nc_.attFloat(G, "POLE_LAT", static_cast<float>(proj_.pole_lat));
   nc_.attFloat(G, "POLE_LON", static_cast<float>(proj_.pole_lon));
@@ -742,7 +751,7 @@ WrfTruth Writer::run() {
   if (proj_.map_proj != 0) {
     // (the definitions of projectionSetup() name WRF's sphere, +R=kWrfEarthRadius_m)
     const geo::MapProjection projection(proj_.proj_definition);
-    const glm::dvec2 centre = projection.forward({kCenLon_deg, kCenLat_deg});
+    const glm::dvec2 centre = projection.forward({spec_.centre_lon_deg, spec_.centre_lat_deg});
     const double xc = centre.x, yc = centre.y;
     const double step = proj_.geographic ? spec_.dx_m / (kWrfEarthRadius_m * kPi / 180.0) : spec_.dx_m;
     lat_.resize(g_.n2());
@@ -807,6 +816,23 @@ WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path
       !(spec.mountain.sigma_m > 0.0) || !std::isfinite(spec.mountain.height_m)) {
     throw UsageError(
         fmt::format("{}: hurricane grid must have nx, ny, nz, ntimes >= 1 and dx > 0; a mountain sigma > 0", path));
+  }
+  const double lat = spec.centre_lat_deg, lon = spec.centre_lon_deg;
+  if (!(std::abs(lat) <= 80.0) || !(std::abs(lon) <= 180.0)) {
+    throw UsageError(fmt::format("{}: the domain centre must be a longitude in [-180, 180] and a latitude in "
+                                 "[-80, 80] (got {}, {})",
+                                 path, lon, lat));
+  }
+  if (spec.projection == WrfProjection::Lambert && std::abs(lat) < 10.0) {
+    throw UsageError(fmt::format("{}: a Lambert domain needs its centre at least 10 degrees from the equator (its "
+                                 "true latitudes are 5 degrees either side; got latitude {}): use --proj mercator",
+                                 path, lat));
+  }
+  if (spec.projection == WrfProjection::PolarStereographic && lat < 10.0) {
+    throw UsageError(fmt::format(
+        "{}: the polar stereographic domain is projected from the north pole: its centre needs a latitude >= 10 "
+        "(got {})",
+        path, lat));
   }
   Writer writer(spec, path);
   return writer.run();

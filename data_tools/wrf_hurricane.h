@@ -55,6 +55,11 @@ struct WrfHurricaneSpec {
   bool keep_truth = false;  ///< fill WrfTruth's 3-D fields (tests; costs memory)
   WrfCase weather = WrfCase::Hurricane;
   GaussianMountain mountain;  ///< none by default (height 0); needs a projection (not Cartesian)
+  /// The domain centre (CEN_LON, CEN_LAT) [deg]: the mass-point grid's middle lies there, and the
+  /// projection follows it (Lambert's true latitudes 5° either side, the standard longitude 2° west,
+  /// Mercator's true latitude 2.5° south). The default is the sample storm's place east of the
+  /// Bahamas (over the sea); issue 14's terrain demo moves it over the Alps (`nephele-gen wrf --centre`).
+  double centre_lon_deg = -75.0, centre_lat_deg = 25.0;
   /// The hurricane's ice tops (eyewall ice and outflow anvil) rise by this much per hour and
   /// reach their standard heights at the file's last timestep (0: steady tops). A series whose cloud top rises crops
   /// each timestep converted on the fly to a different column (issue 18: `animate` straight on such a wrfout).

@@ -18,14 +18,16 @@ if [ ! -f "$out/hurricane-$size.nph" ]; then
   "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$out/hurricane-$size.nph" --progress
   rm -f "$out/wrfout-hurricane-$size.nc"
 fi
-# The terrain demo (issue 14): issue 13's coarse storm over a generated Gaussian mountain.
-if [ ! -f "$out/storm-mountain.nph" ]; then
-  echo "demo: generating the coarse storm over a 3000 m mountain (wrfout with HGT)"
-  "$gen" wrf --case storm --times 1 --mountain=-77.9,24.4,3000,35000 -o "$out/wrfout-storm-mountain.nc"
-  "$nephele" convert "$out/wrfout-storm-mountain.nc" -o "$out/storm-mountain.nph" --progress
-  rm -f "$out/wrfout-storm-mountain.nc"
+# The terrain demo (issue 14): issue 13's coarse storm over a generated Gaussian mountain, the
+# domain centred over the Alps so that Blue Marble drapes land on it: the mountain stands on the
+# Bernese Alps' snow (8° E, 46.5° N; docs/terrain.md).
+if [ ! -f "$out/storm-alps.nph" ]; then
+  echo "demo: generating the coarse storm over a 3000 m mountain in the Alps (wrfout with HGT)"
+  "$gen" wrf --case storm --times 1 --centre 11.85,47.1 --mountain=8,46.5,3000,35000 -o "$out/wrfout-storm-alps.nc"
+  "$nephele" convert "$out/wrfout-storm-alps.nc" -o "$out/storm-alps.nph" --progress
+  rm -f "$out/wrfout-storm-alps.nc"
 fi
-sed "s|@DATA@|$out/storm-mountain.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
+sed "s|@DATA@|$out/storm-alps.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
 for view in demo demo-globe demo-golden-hour demo-dawn; do
   sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
 done

@@ -164,10 +164,11 @@ struct AtmosphereSegment {
 // `toSun`, in `steps` pieces (σ_t and S at each piece's midpoint, integrated analytically);
 // `quadratic`: piece boundaries at ℓ·(i/N)², dense near the origin where a sky ray is lowest
 // (Hillaire's sky-view march). `planeParallel`: altitude = origin's + t·dir.z and μ_s = toSun.z
-// everywhere (the flat view's world), the ozone's path capped (planeParallelOzoneCap). Mirrors
-// atmosphere::integrateSegment.
+// everywhere (the flat view's world), the ozone's path capped (planeParallelOzoneCap). `flatSun`:
+// μ_s = toSun.z everywhere on a round ray too (the flat view's sun over a round chord, sky.glsl
+// aerialPerspectiveOfFlatPoint). Mirrors atmosphere::integrateSegment.
 AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps, bool quadratic,
-                                    bool planeParallel) {
+                                    bool planeParallel, bool flatSun) {
   AtmosphereSegment s;
   s.transmittance = vec3(1.0);
   s.inscattered = vec3(0.0);
@@ -188,7 +189,10 @@ AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 
     } else {
       vec3 x = origin + t * dir;
       r = length(x);
-      muS = dot(x, toSun) / r;
+      muS = flatSun ? toSun.z : dot(x, toSun) / r;
+      // A chord between two points in the air dips below the ground when they lie beyond each
+      // other's horizon (sky.glsl aerialPerspectiveOfFlatPoint): the air there is the ground's.
+      r = max(r, u_bottom_radius_m);
     }
     AtmosphereMedium m = atmosphereMedium(r - u_bottom_radius_m);
     if (planeParallel) m.extinction_per_m -= (1.0 - ozonePathCap) * atmosphereOzone(r - u_bottom_radius_m);
@@ -199,6 +203,10 @@ AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 
     s.transmittance *= exp(-m.extinction_per_m * dt);
   }
   return s;
+}
+AtmosphereSegment atmosphereSegment(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps, bool quadratic,
+                                    bool planeParallel) {
+  return atmosphereSegment(origin, dir, length_m, toSun, steps, quadratic, planeParallel, planeParallel);
 }
 
 // The sky-view table (Hillaire 2020 §5.3, his SkyViewLut): for the observer at u_sky_view_radius_m

@@ -45,7 +45,9 @@ AtmosphereSegment aerialPerspectiveFlat(float altitude0_m, vec3 dir, float lengt
 // The part [t0, t1] of the segment [0, length_m] of the ray from `origin` (planet-centred) along
 // `dir` that lies inside the atmosphere's top sphere, in `steps` pieces; length_m = kNoHit_m for a
 // ray into space. Transmittance 1 and nothing in-scattered where the ray misses the shell.
-AtmosphereSegment atmosphereSegmentInShell(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps) {
+// `flatSun`: the sun's zenith cosine is toSun.z all along (the flat view's sun, model.glsl).
+AtmosphereSegment atmosphereSegmentInShell(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps,
+                                           bool flatSun) {
   AtmosphereSegment s;
   s.transmittance = vec3(1.0);
   s.inscattered = vec3(0.0);
@@ -55,7 +57,38 @@ AtmosphereSegment atmosphereSegmentInShell(vec3 origin, vec3 dir, float length_m
   if (disc <= 0.0) return s;
   float t0 = max(-b - sqrt(disc), 0.0), t1 = min(-b + sqrt(disc), length_m);
   if (t1 <= t0) return s;
-  return atmosphereSegment(origin + t0 * dir, dir, t1 - t0, toSun, steps, false, false);
+  return atmosphereSegment(origin + t0 * dir, dir, t1 - t0, toSun, steps, false, false, flatSun);
+}
+AtmosphereSegment atmosphereSegmentInShell(vec3 origin, vec3 dir, float length_m, vec3 toSun, int steps) {
+  return atmosphereSegmentInShell(origin, dir, length_m, toSun, steps, false);
+}
+
+// The flat view's aerial perspective of a point in the air: a cloud (issue 14, thirteenth
+// session). The flat world is a map: the point `length_m` along unit `dir` from an eye h0 up lies
+// D = length·|dir_xy| away over the ground, h = h0 + length·dir.z up. Plane-parallel, the air
+// between is a straight line through layers that stay level; on the planet the same point (ground
+// distance D, altitude h) is seen along the straight chord from the eye, which sags below that line
+// by up to D²/(8R) (1.8 km at 300 km: a cloud's haze from 2 km up is that of air 1.8 km lower,
+// ×1.25 Rayleigh and ×4.4 Mie density). So the clouds' haze is taken along the round chord
+// (Hillaire 2020 eq. 1 along the line of sight's real air); within a few tens of kilometres the two
+// agree to O(D²/R). The sun stays the flat view's, μ_s = toSun.z all along: the clouds themselves
+// are lit by it (clouds.comp sunAtClouds), and on the planet a 2° sun is 1.6° below the horizon
+// 400 km away from it, so the air in front of a sunlit cloud would fall into the planet's shadow
+// (a blue rim on every distant cloud base turned dark: seen on `make demo`'s terrain shot). The point is placed on the sphere at angle θ = D/R;
+// the chord's vertical part in closed form, (h − h0) − 2(R + h)·sin²(θ/2), as the difference of two
+// radii in float would lose it. CPU twin: atmosphere::aerialPerspectiveOfFlatPoint.
+AtmosphereSegment aerialPerspectiveOfFlatPoint(float altitude0_m, vec3 dir, float length_m, vec3 toSun) {
+  float horizontal = length(dir.xy);
+  float theta = length_m * horizontal / u_bottom_radius_m;
+  float h = altitude0_m + length_m * dir.z;
+  float r = u_bottom_radius_m + h;
+  vec2 e = horizontal > 0.0 ? dir.xy / horizontal : vec2(0.0);
+  float s = sin(0.5 * theta);
+  vec3 chord = vec3(r * sin(theta) * e, (h - altitude0_m) - 2.0 * r * s * s);
+  float chordLength = length(chord);
+  vec3 eye = vec3(0.0, 0.0, u_bottom_radius_m + altitude0_m);
+  if (chordLength <= 0.0) return atmosphereSegmentInShell(eye, dir, 0.0, toSun, kAerialPerspectiveSteps, true);
+  return atmosphereSegmentInShell(eye, chord / chordLength, chordLength, toSun, kAerialPerspectiveSteps, true);
 }
 
 // The globe (planet-centred rays): the part of the segment [0, length_m] of the ray from `origin`

@@ -479,6 +479,9 @@ void main() {
   // Aerial perspective of the cloud layer, taken at its opacity-weighted mean depth d̄ (before the
   // renormalisation below, which rescales C and α but not where the cloud is):
   // C·T(0, d̄) + α·E·L_in(0, d̄) (Hillaire 2020 §5.4 samples his froxels the same way per pixel).
+  // In the flat view along the round planet's chord to the cloud's place (atmosphere/sky.glsl
+  // aerialPerspectiveOfFlatPoint): clouds 100–300 km away at low views sit behind denser air than
+  // the plane-parallel world's, lit by a lower sun.
   float meanDepth = Tacc < 1.0 ? depthSum / (1.0 - Tacc) : 0.0;
   // Renormalised early termination: the medium left behind is assumed to send the mean radiance of
   // what was gathered, C/(1 − T_acc), and to be opaque (docs/rendering.md "Conventions" 4).
@@ -489,7 +492,7 @@ void main() {
   float alpha = 1.0 - Tacc;
   if (ATMOSPHERE_ON && alpha > 0.0) {
     AtmosphereSegment ap = VIEW_GLOBE ? aerialPerspectiveGlobe(origin, dir, meanDepth, u_to_sun)
-                                   : aerialPerspectiveFlat(origin.z, dir, meanDepth, u_to_sun);
+                                   : aerialPerspectiveOfFlatPoint(origin.z, dir, meanDepth, u_to_sun);
     C = C * ap.transmittance + alpha * u_sun_radiance * ap.inscattered;
   }
   bool first = u_sample_index == 0u;

@@ -4,7 +4,7 @@
 // (r, μ) = a.xy; 2 flat aerial perspective from altitude a.x along b.xyz for a.y metres (sun
 // a.zw = (azimuth, elevation) in radians), result rgb = inscattered, and transmittance in the
 // second half of the buffer; 3 sky irradiance at altitude a.x, sin(sun elevation) a.y; 4 Ψ_ms
-// at (r, μ_s) = a.xy.
+// at (r, μ_s) = a.xy; 5 as 2 for a point in the air, the clouds' aerialPerspectiveOfFlatPoint.
 #include "common/math.glsl"
 #include "atmosphere/model.glsl"
 #include "atmosphere/sky.glsl"
@@ -25,6 +25,11 @@ void main() {
   } else if (u_mode == 2) {
     vec3 toSun = vec3(cos(a.w) * cos(a.z), cos(a.w) * sin(a.z), sin(a.w));
     AtmosphereSegment s = aerialPerspectiveFlat(a.x, b.xyz, a.y, toSun);
+    out0 = s.inscattered;
+    out1 = s.transmittance;
+  } else if (u_mode == 5) {
+    vec3 toSun = vec3(cos(a.w) * cos(a.z), cos(a.w) * sin(a.z), sin(a.w));
+    AtmosphereSegment s = aerialPerspectiveOfFlatPoint(a.x, b.xyz, a.y, toSun);
     out0 = s.inscattered;
     out1 = s.transmittance;
   } else if (u_mode == 3) {

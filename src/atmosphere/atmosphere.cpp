@@ -153,7 +153,7 @@ double planeParallelOzoneCap(const Parameters& p, double mu) {
 }
 
 Segment integrateSegment(const Parameters& p, const glm::dvec3& origin, const glm::dvec3& dir, double length,
-                         const glm::dvec3& to_sun, const Quadrature& q, bool plane_parallel) {
+                         const glm::dvec3& to_sun, const Quadrature& q, bool plane_parallel, bool flat_sun) {
   Segment s;
   if (length <= 0.0) return s;
   const double cos_theta = glm::dot(dir, to_sun);  // scattering angle: sunlight → towards the eye is −dir
@@ -161,7 +161,11 @@ Segment integrateSegment(const Parameters& p, const glm::dvec3& origin, const gl
   const double dt = length / q.view_steps;
   const double ozone_cap = plane_parallel ? planeParallelOzoneCap(p, dir.z) : 1.0;
   for (int i = 0; i < q.view_steps; ++i) {
-    const Sample x = sampleAt(origin, dir, (i + 0.5) * dt, to_sun, plane_parallel);
+    Sample x = sampleAt(origin, dir, (i + 0.5) * dt, to_sun, plane_parallel);
+    // A straight ray between two points in the air dips below the ground when they lie beyond
+    // each other's horizon (flatPointAlongRoundPlanet): the air there is taken as the ground's.
+    if (!plane_parallel) x.r_m = std::max(x.r_m, p.bottom_radius_m);
+    if (flat_sun) x.mu_s = to_sun.z;
     Medium m = mediumAt(p, x.r_m - p.bottom_radius_m);
     if (plane_parallel) m.extinction_per_m -= (1.0 - ozone_cap) * ozoneAbsorption(p, x.r_m - p.bottom_radius_m);
     const glm::dvec3 sun = sunTransmittance(p, x.r_m, x.mu_s, q.transmittance_steps);
@@ -172,6 +176,34 @@ Segment integrateSegment(const Parameters& p, const glm::dvec3& origin, const gl
     s.transmittance *= expNeg(m.extinction_per_m * dt);
   }
   return s;
+}
+
+RoundChord flatPointOnRoundPlanet(const Parameters& p, double eye_altitude_m, const glm::dvec3& dir, double length_m) {
+  const double horizontal = std::hypot(dir.x, dir.y);
+  const double d = length_m * horizontal;  // the ground distance
+  const double h = eye_altitude_m + length_m * dir.z;
+  const double theta = d / p.bottom_radius_m, r = p.bottom_radius_m + h;
+  const glm::dvec2 e = horizontal > 0.0 ? glm::dvec2(dir.x, dir.y) / horizontal : glm::dvec2(0.0);
+  // P − E with the vertical difference in closed form: (R + h)cos θ − (R + h0) = (h − h0) − 2(R + h)sin²(θ/2).
+  const double s = std::sin(0.5 * theta);
+  const glm::dvec3 v(r * std::sin(theta) * e, (h - eye_altitude_m) - 2.0 * r * s * s);
+  RoundChord c;
+  c.origin_m = observerAt(p, eye_altitude_m);
+  c.length_m = glm::length(v);
+  c.dir = c.length_m > 0.0 ? v / c.length_m : dir;
+  return c;
+}
+
+Segment aerialPerspectiveOfFlatPoint(const Parameters& p, double eye_altitude_m, const glm::dvec3& dir, double length_m,
+                                     const glm::dvec3& to_sun, const Quadrature& q) {
+  const RoundChord c = flatPointOnRoundPlanet(p, eye_altitude_m, dir, length_m);
+  // The part of the chord inside the atmosphere's top sphere.
+  const double b = glm::dot(c.origin_m, c.dir);
+  const double disc = b * b - (glm::dot(c.origin_m, c.origin_m) - p.top_radius_m * p.top_radius_m);
+  if (disc <= 0.0) return {};
+  const double t0 = std::max(-b - std::sqrt(disc), 0.0), t1 = std::min(-b + std::sqrt(disc), c.length_m);
+  if (t1 <= t0) return {};
+  return integrateSegment(p, c.origin_m + t0 * c.dir, c.dir, t1 - t0, to_sun, q, false, true);
 }
 
 glm::dvec3 skyRadiance(const Parameters& p, const glm::dvec3& origin, const glm::dvec3& dir, const glm::dvec3& to_sun,

@@ -123,9 +123,32 @@ struct Segment {
 /// ∫ e^{−σ_t t} S dt = S·(1 − e^{−σ_t Δ})/σ_t (Hillaire 2020 §5.1, after Hillaire 2015).
 /// `plane_parallel`: the altitude is origin's plus t·dir.z and the sun's zenith cosine is
 /// to_sun.z everywhere (the flat view's world, where the ground is the plane z = 0), the ozone's
-/// absorption times planeParallelOzoneCap(dir.z).
+/// absorption times planeParallelOzoneCap(dir.z). `flat_sun`: the sun's zenith cosine is to_sun.z
+/// everywhere on a round ray too (the flat view's sun over a round chord, aerialPerspectiveOfFlatPoint).
 Segment integrateSegment(const Parameters& p, const glm::dvec3& origin_m, const glm::dvec3& dir, double length_m,
-                         const glm::dvec3& to_sun, const Quadrature& q, bool plane_parallel = false);
+                         const glm::dvec3& to_sun, const Quadrature& q, bool plane_parallel = false,
+                         bool flat_sun = false);
+
+/// A point of the flat view's world carried onto the round planet (issue 14, thirteenth session:
+/// the clouds' aerial perspective). The flat world is a map: a point `length_m` along unit `dir`
+/// from an eye `eye_altitude_m` up lies D = length·|dir_xy| away over the ground at altitude
+/// h = h0 + length·dir.z. On the planet the same point (ground distance D, altitude h) is seen along
+/// the straight chord from the eye at observerAt(h0): that chord sags below the straight line of
+/// the flat world by up to D²/(8R) (1.8 km at 300 km: denser air).
+struct RoundChord {
+  glm::dvec3 origin_m{0.0};  ///< the eye, planet-centred: observerAt(eye_altitude_m)
+  glm::dvec3 dir{0.0};       ///< unit, in the eye's local frame (x, y horizontal as the flat view's)
+  double length_m = 0.0;
+};
+RoundChord flatPointOnRoundPlanet(const Parameters& p, double eye_altitude_m, const glm::dvec3& dir, double length_m);
+
+/// The aerial perspective of a point of the flat view in the air (a cloud): integrateSegment along
+/// its round chord, the part inside the top sphere (an eye above the atmosphere looks in through
+/// it), with the flat view's sun: zenith cosine to_sun.z all along, as the clouds are lit. Where the chord passes below
+/// the ground (the point beyond the eye's horizon and the eye beyond its), the air there is the ground's. Twin of
+/// glsl/atmosphere/sky.glsl aerialPerspectiveOfFlatPoint.
+Segment aerialPerspectiveOfFlatPoint(const Parameters& p, double eye_altitude_m, const glm::dvec3& dir, double length_m,
+                                     const glm::dvec3& to_sun, const Quadrature& q);
 
 /// Sky radiance seen from `origin_m` (planet-centred, inside or outside the atmosphere) along
 /// unit `dir`: the segment through the atmosphere up to the ground or space (the ground's own

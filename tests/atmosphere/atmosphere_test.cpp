@@ -33,6 +33,42 @@ TEST(AtmosphereModel, PhaseFunctionsIntegrateToOne) {
   EXPECT_NEAR(mie, 1.0, 1e-4);  // the forward peak is steep; 1e-4 is the quadrature's error
 }
 
+// The flat view's point carried onto the planet (the clouds' aerial perspective): the chord from
+// the eye ends at the point's altitude, at the ground angle D/R in the flat ray's azimuth; close by
+// it is the flat ray itself; a point beyond the horizon is reached through the ground.
+TEST(AtmosphereModel, FlatPointOnTheRoundPlanetKeepsItsAltitudeAndGroundDistance) {
+  const Parameters p = Parameters::earth();
+  const double R = p.bottom_radius_m, eye = 6000.0;
+  for (double d : {1000.0, 100000.0, 300000.0, 2000000.0}) {
+    for (double h : {0.0, 2000.0, 12000.0, 150000.0}) {
+      const glm::dvec3 v(d * std::cos(0.4), d * std::sin(0.4), h - eye);
+      const RoundChord c = flatPointOnRoundPlanet(p, eye, glm::normalize(v), glm::length(v));
+      const glm::dvec3 end = c.origin_m + c.length_m * c.dir;
+      EXPECT_NEAR(glm::length(end), R + h, 1e-6 * R) << d << " " << h;
+      EXPECT_NEAR(std::acos(std::clamp(end.z / glm::length(end), -1.0, 1.0)), d / R, 1e-9) << d << " " << h;
+      EXPECT_NEAR(std::atan2(end.y, end.x), 0.4, 1e-9) << d << " " << h;
+      EXPECT_NEAR(glm::length(c.dir), 1.0, 1e-12);
+      // Close by, the chord is the flat ray (they part by O(D/R)).
+      if (d <= 1000.0) {
+        EXPECT_LT(glm::length(c.dir - glm::normalize(v)), 1e-3);
+      }
+    }
+  }
+  // Beyond each other's horizon the chord passes below the ground; the air there is the ground's,
+  // so the segment stays finite and dim.
+  const glm::dvec3 far(2000000.0, 0.0, -eye);
+  Quadrature q;
+  q.view_steps = 64;
+  Parameters once = p;
+  once.multiple_scattering = false;
+  const Segment s =
+      aerialPerspectiveOfFlatPoint(once, eye, glm::normalize(far), glm::length(far), viewDir(10.0, 0.0), q);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_TRUE(std::isfinite(s.inscattered[k]) && std::isfinite(s.transmittance[k]));
+    EXPECT_LT(s.transmittance[k], 1e-3);
+  }
+}
+
 // A homogeneous layer: the transmittance to the top is e^{−σ_t·L} with L the chord to the top
 // sphere, to the quadrature's rounding.
 TEST(AtmosphereModel, HomogeneousTransmittanceIsBeerLambert) {

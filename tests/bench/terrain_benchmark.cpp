@@ -33,7 +33,9 @@ using bench::median;
 ExtinctionVolumes stormOverMountain(const char* file) {
   datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
   spec.ntimes = 1;
-  spec.mountain = {-77.9, 24.4, 3000.0, 35000.0};
+  spec.centre_lon_deg = 11.85;  // tools/demo.sh: the domain over the Alps, the mountain on the Bernese Alps
+  spec.centre_lat_deg = 47.1;
+  spec.mountain = {8.0, 46.5, 3000.0, 35000.0};
   return bench::generatedVolumes(spec, file);
 }
 

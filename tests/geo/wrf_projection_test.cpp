@@ -4,6 +4,7 @@
 // (lat_0 = TRUELAT1, CF-style rotated pole), so this checks the loader rather than repeating it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -26,20 +27,26 @@ void PrintTo(const ProjectionCase& c, std::ostream* os) { *os << c.name; }
 
 class WrfProjectionTest : public ::testing::TestWithParam<ProjectionCase> {};
 
-TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
-  const ProjectionCase& c = GetParam();
-  nph::test::ScratchDir dir("io");
-  const std::string path = dir.file(std::string("wrfout_") + c.name + ".nc");
+/// One timestep of the hurricane on four levels in `projection` (small and quick).
+datagen::WrfHurricaneSpec smallSpec(datagen::WrfProjection projection) {
   datagen::WrfHurricaneSpec spec;
   spec.ntimes = 1;
   spec.nz = 4;
-  spec.projection = c.projection;
+  spec.projection = projection;
+  return spec;
+}
+
+/// Writes `spec` to `path`, loads it and checks the loader's georeference against XLAT/XLONG;
+/// returns what the generator wrote.
+datagen::WrfTruth checkCornersMatchXlatXlong(const ProjectionCase& c, const datagen::WrfHurricaneSpec& spec,
+                                             const std::string& path) {
   const auto truth = datagen::writeWrfHurricane(spec, path);
   const ModelTimestep ts = loadWrfTimestep(path, 0);
   EXPECT_NE(ts.georef.proj_definition.find(c.proj_keyword), std::string::npos) << ts.georef.proj_definition;
   EXPECT_NE(ts.georef.proj_definition.find("+R=6370000"), std::string::npos);
   EXPECT_EQ(ts.georef.geographic, c.geographic);
-  ASSERT_EQ(ts.georef.lat_deg.size(), std::size_t(ts.nx) * std::size_t(ts.ny));
+  EXPECT_EQ(ts.georef.lat_deg.size(), std::size_t(ts.nx) * std::size_t(ts.ny));
+  if (ts.georef.lat_deg.size() != std::size_t(ts.nx) * std::size_t(ts.ny)) return truth;
 
   const geo::MapProjection projection(ts.georef.proj_definition);
   constexpr double kToleranceDeg = 1e-3;
@@ -57,6 +64,56 @@ TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
   const double lon0 = geo::gridLonLat(projection, ts.georef, 0, 0).lon_deg;
   const double lon1 = geo::gridLonLat(projection, ts.georef, ts.nx - 1, 0).lon_deg;
   EXPECT_NE(lon0, lon1);
+  return truth;
+}
+
+TEST_P(WrfProjectionTest, CornersMatchXlatXlong) {
+  const ProjectionCase& c = GetParam();
+  nph::test::ScratchDir dir("io");
+  checkCornersMatchXlatXlong(c, smallSpec(c.projection), dir.file(std::string("wrfout_") + c.name + ".nc"));
+}
+
+// The domain moved (nephele-gen wrf --centre; issue 14's terrain demo over the Alps): the
+// projection follows the centre, the loader still reproduces XLAT/XLONG, the middle mass point is
+// at CEN_LON/CEN_LAT, and a mountain placed at a lon/lat has its summit on the mass point there.
+TEST_P(WrfProjectionTest, DomainCentredOverTheAlpsKeepsItsGeoreference) {
+  const ProjectionCase& c = GetParam();
+  nph::test::ScratchDir dir("io");
+  datagen::WrfHurricaneSpec spec = smallSpec(c.projection);
+  spec.nx = 41;  // odd: a mass point at the centre
+  spec.ny = 37;
+  spec.centre_lon_deg = 11.85;
+  spec.centre_lat_deg = 47.1;
+  spec.mountain = {11.0, 46.9, 3000.0, 35000.0};  // the Ötztal Alps: inside every projection's 600 km grid
+  const datagen::WrfTruth truth =
+      checkCornersMatchXlatXlong(c, spec, dir.file(std::string("wrfout_alps_") + c.name + ".nc"));
+  const std::size_t middle = std::size_t(spec.ny / 2) * std::size_t(spec.nx) + std::size_t(spec.nx / 2);
+  EXPECT_NEAR(truth.lon_deg[middle], 11.85, 1e-7) << c.name;
+  EXPECT_NEAR(truth.lat_deg[middle], 47.1, 1e-7) << c.name;
+  const auto summit = std::max_element(truth.terrain_m.begin(), truth.terrain_m.end()) - truth.terrain_m.begin();
+  // Within a 15 km cell of the mountain's lon/lat (0.2° of longitude at 46.9° N, 0.14° of latitude).
+  EXPECT_NEAR(truth.lon_deg[std::size_t(summit)], 11.0, 0.2) << c.name;
+  EXPECT_NEAR(truth.lat_deg[std::size_t(summit)], 46.9, 0.14) << c.name;
+  EXPECT_GT(truth.terrain_m[std::size_t(summit)], 2500.0);
+}
+
+// A centre the projection cannot serve is refused, naming what it needs.
+TEST(WrfGeoreference, DomainCentreOutsideTheProjectionsRangeIsRefused) {
+  nph::test::ScratchDir dir("io");
+  datagen::WrfHurricaneSpec spec = smallSpec(datagen::WrfProjection::Lambert);
+  spec.centre_lat_deg = 3.0;  // Lambert's true latitudes would straddle the equator
+  EXPECT_THROW(
+      {
+        try {
+          datagen::writeWrfHurricane(spec, dir.file("equator.nc"));
+        } catch (const std::exception& e) {
+          EXPECT_NE(std::string(e.what()).find("mercator"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      std::exception);
+  spec.centre_lat_deg = 85.0;
+  EXPECT_THROW(datagen::writeWrfHurricane(spec, dir.file("pole.nc")), std::exception);
 }
 
 INSTANTIATE_TEST_SUITE_P(
