@@ -132,7 +132,9 @@ vec2 plainExtinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(0.0);
   if (u_packed_only) return packedTexel(uvw).xy;
-  return vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0);
+  // ≥ 0: the interpolating spline's coefficients ring below 0 at cloud edges (volume/spline_coefficients.h).
+  return max(vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0),
+             vec2(0.0));
 }
 
 // The shape's coverage at a world position (glsl/common/detail.glsl detailShape): the largest

@@ -115,7 +115,10 @@ void Session::update() {
                                   : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
   const scene::Detail detail = lighting::detailOf(scene_.quality);
   const std::string key =
-      content + (reconstruction == scene::Reconstruction::Cubic ? "|cubic" : "") +
+      content +
+      (reconstruction == scene::Reconstruction::Trilinear
+           ? ""
+           : fmt::format("|{}", scene::kReconstructionNames[std::size_t(reconstruction)])) +
       (detail == scene::Detail::None ? "" : fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]));
   std::vector<std::size_t> pinned{b.first};
   if (b.weight > 0.0) pinned.push_back(b.second);

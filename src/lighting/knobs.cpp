@@ -88,8 +88,10 @@ constexpr std::array kKnobs{
     // the grid of coarse models as terraces and blocks; the cubic B-spline removes them (docs/
     // rendering.md "Reconstruction") at 8 texture fetches per sample instead of 1. "auto" (every
     // preset) takes cubic on grids of kCubicFromSpacing_m and coarser, trilinear on finer ones.
-    Knob{.name = "reconstruction", .unit = "", .min = 0, .max = 2, .field = &Q::reconstruction,
-         .preset = {2, 2, 2}, .doc = "extinction filter: trilinear (data-true), cubic B-spline (no grid artefacts), or auto (cubic on grids of 4 km and coarser)",
+    // cubic_interpolating evaluates the same spline on coefficients that make it pass through the
+    // voxels (volume/spline_coefficients.h): smooth and data-true at the voxel centres.
+    Knob{.name = "reconstruction", .unit = "", .min = 0, .max = 3, .field = &Q::reconstruction,
+         .preset = {2, 2, 2}, .doc = "extinction filter: trilinear (data-true), cubic B-spline (no grid artefacts, lowers peaks), auto (cubic on grids of 4 km and coarser), or cubic_interpolating (smooth spline through the voxels)",
          .choices = kReconstructionChoices},
     // Procedural sub-grid detail (volume/detail.h; issue 13, Muth 2026 §3.3.1): none is the
     // data-true field; subtle and full add turbulent displacement and regime-adaptive density that

@@ -68,8 +68,11 @@ scene::DlmSettings dlmSettingsFor(const QualitySettings& quality);
 /// The ray caster's settings: sampling from `quality`, appearance from `style`.
 RenderSettings renderSettingsFor(const QualitySettings& quality, const StyleSettings& style);
 /// The knob `reconstruction`'s values: the filters of volume/reconstruction.h, then "auto".
-inline constexpr std::array<std::string_view, 3> kReconstructionChoices{"trilinear", "cubic", "auto"};
+/// (cubic_interpolating came later: it follows "auto", so the values of the C API stay as they were.)
+inline constexpr std::array<std::string_view, 4> kReconstructionChoices{"trilinear", "cubic", "auto",
+                                                                        "cubic_interpolating"};
 inline constexpr int kReconstructionAuto = 2;
+inline constexpr int kReconstructionCubicInterpolating = 3;
 
 /// "auto" chooses the cubic B-spline on grids this coarse or coarser (the larger horizontal spacing)
 /// and trilinear below (issue 13; docs/rendering.md "Reconstruction"). On the 10 km storm trilinear
@@ -84,6 +87,7 @@ inline scene::Reconstruction reconstructionOf(const QualitySettings& quality, gl
   if (quality.reconstruction == kReconstructionAuto)
     return std::max(spacing_m.x, spacing_m.y) >= kCubicFromSpacing_m ? scene::Reconstruction::Cubic
                                                                      : scene::Reconstruction::Trilinear;
+  if (quality.reconstruction == kReconstructionCubicInterpolating) return scene::Reconstruction::CubicInterpolating;
   return quality.reconstruction == 1 ? scene::Reconstruction::Cubic : scene::Reconstruction::Trilinear;
 }
 

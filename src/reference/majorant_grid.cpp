@@ -11,17 +11,19 @@ namespace nph::reference {
 MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : field_(field), brick_(brick_voxels) {
   if (brick_voxels < 1) throw UsageError("MajorantGrid: brick size must be at least 1 voxel");
   const ExtinctionVolumes& v = field.volumes();
-  // Per-voxel total β, validated.
+  // Per-voxel total β, validated; the interpolating spline's coefficients may be negative
+  // (volume/spline_coefficients.h): their positive parts bound β_ice⁺ + β_water⁺ as the voxels do.
+  const bool coefficients = scene::readsSplineCoefficients(field.reconstruction());
   std::vector<double> total(v.voxelCount(), 0.0);
   for (const std::vector<float>* a : {&v.ice_per_m, &v.water_per_m}) {
     if (a->empty()) continue;
     for (std::size_t i = 0; i < total.size(); ++i) {
       const float x = (*a)[i];
-      if (!std::isfinite(x) || x < 0.0f) {
+      if (!std::isfinite(x) || (x < 0.0f && !coefficients)) {
         throw InputError("MajorantGrid: " + std::string(a == &v.ice_per_m ? "ice_per_m" : "water_per_m") + " voxel " +
                          std::to_string(i) + " is " + std::to_string(x) + ", expected a finite extinction >= 0 1/m");
       }
-      total[i] += double(x);
+      total[i] += std::max(double(x), 0.0);
     }
   }
   const glm::ivec3 n{v.nx, v.ny, v.nz};

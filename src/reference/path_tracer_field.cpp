@@ -83,8 +83,8 @@ double ExtinctionField::opticalDepth(const glm::dvec3& origin_m, const glm::dvec
                                 {0.5 * a, 0.5 * wa},
                                 {0.5 * b, 0.5 * wb}}};
   }();
-  const std::span<const Node> nodes = reconstruction() == scene::Reconstruction::Cubic ? std::span<const Node>(kGauss5)
-                                                                                       : std::span<const Node>(kGauss2);
+  const std::span<const Node> nodes =
+      scene::cubicWeights(reconstruction()) ? std::span<const Node>(kGauss5) : std::span<const Node>(kGauss2);
   double tau = 0.0;
   for (double t = t0;;) {
     int axis = -1;

@@ -50,7 +50,9 @@ class ExtinctionField {
   double opticalDepth(const glm::dvec3& origin_m, const glm::dvec3& dir, double t_min, double t_max) const;
 
   const scene::VolumeFrame& frame() const { return frame_; }
-  const ExtinctionVolumes& volumes() const { return v_; }
+  /// The voxels the filter reads (for CubicInterpolating the spline coefficients): the majorants'
+  /// source.
+  const ExtinctionVolumes& volumes() const { return sampler_.voxels(); }
 
  private:
   const ExtinctionVolumes& v_;

@@ -8,11 +8,14 @@
 #include <glm/gtc/packing.hpp>
 
 #include "core/error.h"
+#include "volume/spline_coefficients.h"
 
 namespace nph {
 namespace {
 // The value the GPU stores: half precision (RG16F), clamped to the largest finite half.
-std::uint16_t halfBits(double x) { return glm::packHalf1x16(float(std::min(x, 65504.0))); }
+// Clamped at 0: the interpolating spline's coefficients (volume/spline_coefficients.h) ring below 0
+// above a cloud top, so a partial sum may dip a little below 0 (never for voxels ≥ 0).
+std::uint16_t halfBits(double x) { return glm::packHalf1x16(float(std::clamp(x, 0.0, 65504.0))); }
 // β_ice + β_water of column c of a layer times the layer thickness (double: a column of 100 layers
 // of small β keeps its sum). An absent phase reads 0 (ExtinctionSlices), which adds nothing.
 double betaDz(const ExtinctionSlices::Slice& s, std::size_t c, double dz_m) {
@@ -66,6 +69,11 @@ std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& v) {
 }
 
 ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reconstruction) {
+  if (scene::readsSplineCoefficients(reconstruction)) {  // the sums of what the filter reads
+    ColumnDepths c = columnDepths(scene::splineCoefficientVolumes(v), scene::Reconstruction::Cubic);
+    c.reconstruction = reconstruction;
+    return c;
+  }
   ColumnDepths d;
   d.reconstruction = reconstruction;
   d.nx = v.nx;

@@ -6,18 +6,26 @@
 
 #include <tbb/parallel_for.h>
 
+#include "volume/spline_coefficients.h"
+
 namespace nph::scene {
 
 double ExtinctionSampler::fetch(const std::vector<float>& a, int i, int j, int k) const {
-  if (i < 0 || j < 0 || k < 0 || i >= v_.nx || j >= v_.ny || k >= v_.nz) return 0.0;
-  return double(a[v_.index(i, j, k)]);
+  if (i < 0 || j < 0 || k < 0 || i >= v_->nx || j >= v_->ny || k >= v_->nz) return 0.0;
+  return double(a[v_->index(i, j, k)]);
 }
 
 ExtinctionSampler::ExtinctionSampler(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
                                      Reconstruction reconstruction, Detail detail)
-    : v_(volumes), f_(frame), r_(reconstruction), detail_(detailParameters(detail, frame)) {
+    : coefficients_(readsSplineCoefficients(reconstruction)
+                        ? std::make_shared<const ExtinctionVolumes>(splineCoefficientVolumes(volumes))
+                        : nullptr),
+      v_(coefficients_ ? coefficients_.get() : &volumes),
+      f_(frame),
+      r_(reconstruction),
+      detail_(detailParameters(detail, frame)) {
   if (!detail_.on()) return;
-  controls_ = std::make_shared<const DetailControls>(buildDetailControls(volumes));
+  controls_ = std::make_shared<const DetailControls>(buildDetailControls(volumes));  // from the data
   correction_ = solveDetailCorrection(measureHalfColumnMasses(kMassPattern));
 }
 
@@ -67,7 +75,7 @@ double ExtinctionSampler::coverageAt(const glm::dvec3& world_m) const {
     for (int dx = -1; dx <= 1; ++dx) {
       const int i = nearest.x + dx, j = nearest.y + dy;
       double b = 0.0;
-      for (const std::vector<float>* a : {&v_.ice_per_m, &v_.water_per_m}) {
+      for (const std::vector<float>* a : {&v_->ice_per_m, &v_->water_per_m}) {
         if (a->empty()) continue;
         b += (1.0 - tz) * fetch(*a, i, j, k0) + tz * fetch(*a, i, j, k0 + 1);
       }
@@ -88,7 +96,7 @@ HalfColumnMasses ExtinctionSampler::measureHalfColumnMasses(const MassPattern& p
   m.detailed.assign(m.plain.size(), 0.0);
   const int reach = reachVoxels(r_) + detail_.reach_voxels;
   const double g0 = -double(reach), step = pattern.step_layers;
-  const std::vector<glm::ivec2> ranges = massStepRanges(v_, reachVoxels(r_), reach, pattern);
+  const std::vector<glm::ivec2> ranges = massStepRanges(*v_, reachVoxels(r_), reach, pattern);
   tbb::parallel_for(0, hy, [&](int l) {
     for (int h = 0; h < hx; ++h) {
       const glm::ivec2 range = ranges[std::size_t(l / 2) * std::size_t(m.nx) + std::size_t(h / 2)];
@@ -113,17 +121,17 @@ ExtinctionSample ExtinctionSampler::plainAt(const glm::dvec3& world_m) const {
   const glm::dvec3 g = f_.gridFromWorld(world_m);
   ExtinctionSample s;
   const double reach = reachVoxels(r_);
-  if (!(g.x >= -reach && g.y >= -reach && g.z >= -reach && g.x <= v_.nx + reach && g.y <= v_.ny + reach &&
-        g.z <= v_.nz + reach)) {
+  if (!(g.x >= -reach && g.y >= -reach && g.z >= -reach && g.x <= v_->nx + reach && g.y <= v_->ny + reach &&
+        g.z <= v_->nz + reach)) {
     return s;  // outside (β = 0 there) or NaN
   }
   // Ice and water through the filter together (volume/reconstruction.h), zero outside the grid.
-  const bool ice = !v_.ice_per_m.empty(), water = !v_.water_per_m.empty();
+  const bool ice = !v_->ice_per_m.empty(), water = !v_->water_per_m.empty();
   const glm::dvec2 b = reconstructAt(r_, g - 0.5, [&](int i, int j, int k) {
-    return glm::dvec2(ice ? fetch(v_.ice_per_m, i, j, k) : 0.0, water ? fetch(v_.water_per_m, i, j, k) : 0.0);
+    return glm::dvec2(ice ? fetch(v_->ice_per_m, i, j, k) : 0.0, water ? fetch(v_->water_per_m, i, j, k) : 0.0);
   });
-  s.ice_per_m = b.x;
-  s.water_per_m = b.y;
+  s.ice_per_m = std::max(b.x, 0.0);  // the interpolating spline's ringing (volume/spline_coefficients.h)
+  s.water_per_m = std::max(b.y, 0.0);
   return s;
 }
 

@@ -34,6 +34,9 @@ class ExtinctionSampler {
   /// β without the sub-grid detail (the reconstruction alone).
   ExtinctionSample plainAt(const glm::dvec3& world_m) const;
   const VolumeFrame& frame() const { return f_; }
+  /// The voxels the filter reads: the volumes given, or for CubicInterpolating their spline
+  /// coefficients (volume/spline_coefficients.h), which this sampler then owns.
+  const ExtinctionVolumes& voxels() const { return *v_; }
   Reconstruction reconstruction() const { return r_; }
   const DetailParameters& detail() const { return detail_; }
   /// The per-column mass correction in use (volume/detail.h; empty without detail).
@@ -47,7 +50,8 @@ class ExtinctionSampler {
  private:
   double fetch(const std::vector<float>& a, int i, int j, int k) const;
   ExtinctionSample detailedAt(const glm::dvec3& world_m, bool corrected) const;
-  const ExtinctionVolumes& v_;
+  std::shared_ptr<const ExtinctionVolumes> coefficients_;  ///< for CubicInterpolating
+  const ExtinctionVolumes* v_;
   VolumeFrame f_;
   Reconstruction r_;
   DetailParameters detail_;

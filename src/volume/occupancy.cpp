@@ -2,10 +2,15 @@
 
 #include <algorithm>
 
+#include "volume/spline_coefficients.h"
+
 namespace nph::scene {
 
 OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstruction reconstruction,
                              int extra_reach_voxels, float max_scale) {
+  if (readsSplineCoefficients(reconstruction))  // the bound is the largest coefficient in reach
+    return buildOccupancy(VolumeSlices(std::make_shared<const ExtinctionVolumes>(splineCoefficientVolumes(v))), brick,
+                          reconstruction, extra_reach_voxels, max_scale);
   return buildOccupancy(VolumeSlices(v), brick, reconstruction, extra_reach_voxels, max_scale);
 }
 
@@ -26,7 +31,9 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick, Reconstr
     for (int j = 0; j < v.ny; ++j)
       for (int i = 0; i < v.nx; ++i) {
         const std::size_t idx = std::size_t(j) * std::size_t(v.nx) + std::size_t(i);
-        const float b = (s.ice[idx] + s.water[idx]) * max_scale;
+        // Positive parts: β_ice⁺ + β_water⁺ ≤ Σw·(c_ice⁺ + c_water⁺) also where the interpolating
+        // spline's coefficients are negative (volume/spline_coefficients.h); the voxels' sum otherwise.
+        const float b = (std::max(s.ice[idx], 0.0f) + std::max(s.water[idx], 0.0f)) * max_scale;
         if (!(b > 0.0f)) continue;  // also skips NaN (the loaders never produce it)
         g.nonEmptyMinVoxel = glm::min(g.nonEmptyMinVoxel, glm::ivec3(i, j, k));
         g.nonEmptyMaxVoxel = glm::max(g.nonEmptyMaxVoxel, glm::ivec3(i, j, k));

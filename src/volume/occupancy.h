@@ -37,6 +37,8 @@ OccupancyGrid buildOccupancy(const ExtinctionVolumes& volumes, int brick = 8,
                              float max_scale = 1.0f);
 /// The same from a source read layer by layer (volume/extinction_slices.h: the upload of a `.nph`
 /// timestep that never holds its floats whole); buildOccupancy(volumes) is this over VolumeSlices.
+/// `slices` are the voxels the filter reads: for CubicInterpolating, the spline coefficients
+/// (buildOccupancy(volumes) converts the voxels itself).
 OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick = 8,
                              Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
                              float max_scale = 1.0f);

@@ -16,6 +16,15 @@
 //     stays within the range of the voxels it reads, and ∫β over all space — the optical mass — is
 //     unchanged), but it approximates rather than interpolates: peaks are lowered and spread.
 //     The shaders evaluate it with 8 trilinear fetches per phase, the CPU with the 64 weights.
+//   - CubicInterpolating: the same B-spline evaluated on the interpolating spline's coefficients
+//     (volume/spline_coefficients.h), so it passes through the voxels: C² and data-true at the
+//     voxel centres. Every consumer that filters β (the upload's textures, the CPU sampler, the
+//     occupancy maxima) converts the voxels to the coefficients first and then evaluates the cubic
+//     weights (`cubicWeights`), clamping β at 0 (the spline rings below 0 at cloud edges); the
+//     column depths are the coefficients' sums (clamped at 0), the detail's controls keep the
+//     voxels. Reach, support and cost are the
+//     cubic B-spline's; the path tracer's optical depths (Gauss nodes per polynomial piece) are
+//     exact except where the clamp cuts a piece.
 //
 // Reach: a point in voxel cell v (grid coordinates in [v, v + 1) per axis) reads the voxels
 // v − reach … v + reach on each axis (trilinear: v − 1 … v + 1, cubic: v − 2 … v + 2). β is 0
@@ -29,13 +38,18 @@
 
 namespace nph::scene {
 
-enum class Reconstruction { Trilinear = 0, Cubic = 1 };
+enum class Reconstruction { Trilinear = 0, Cubic = 1, CubicInterpolating = 2 };
 
-/// Names in the order of the enum values (knob `reconstruction`, scene files, docs).
-inline constexpr std::array<std::string_view, 2> kReconstructionNames{"trilinear", "cubic"};
+/// Names in the order of the enum values (scene files, docs).
+inline constexpr std::array<std::string_view, 3> kReconstructionNames{"trilinear", "cubic", "cubic_interpolating"};
+
+/// Whether `r` evaluates the cubic B-spline's weights (on the voxels or on their spline coefficients).
+constexpr bool cubicWeights(Reconstruction r) { return r != Reconstruction::Trilinear; }
+/// Whether `r` reads the interpolating spline's coefficients instead of the voxels.
+constexpr bool readsSplineCoefficients(Reconstruction r) { return r == Reconstruction::CubicInterpolating; }
 
 /// Voxels a sample reads beyond its own cell, per side (see above).
-constexpr int reachVoxels(Reconstruction r) { return r == Reconstruction::Cubic ? 2 : 1; }
+constexpr int reachVoxels(Reconstruction r) { return cubicWeights(r) ? 2 : 1; }
 /// How far β reaches outside the box [voxels]: reach − ½.
 constexpr double supportVoxels(Reconstruction r) { return double(reachVoxels(r)) - 0.5; }
 
@@ -58,7 +72,7 @@ auto reconstructAt(Reconstruction r, const glm::dvec3& c, Fetch&& fetch) -> decl
   const glm::dvec3 lo = glm::floor(c);
   const glm::dvec3 f = c - lo;
   const glm::ivec3 i0(lo);
-  const bool cubic = r == Reconstruction::Cubic;
+  const bool cubic = cubicWeights(r);
   const int taps = cubic ? 4 : 2, first = cubic ? -1 : 0;
   std::array<std::array<double, 4>, 3> w{};
   for (int a = 0; a < 3; ++a)

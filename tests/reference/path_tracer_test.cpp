@@ -202,7 +202,8 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
                                    {8, scene::Reconstruction::Trilinear},
                                    {1, scene::Reconstruction::Cubic},
                                    {4, scene::Reconstruction::Cubic},
-                                   {8, scene::Reconstruction::Cubic}}) {
+                                   {8, scene::Reconstruction::Cubic},
+                                   {4, scene::Reconstruction::CubicInterpolating}}) {
     SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
     const ExtinctionField field(v, frame, rec);
     const MajorantGrid grid(field, brick);

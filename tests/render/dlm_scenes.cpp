@@ -64,6 +64,52 @@ ExtinctionVolumes coarseStorm() {
   return convert(path);
 }
 
+ExtinctionVolumes analyticStorm(const ExtinctionVolumes& like, int factor) {
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(like.nx * factor, like.ny * factor, like.nz, like.georef.dx_m / factor,
+                                                 like.dz_m, like.z_bottom_m);
+  v.georef = like.georef;
+  v.georef.dx_m = like.georef.dx_m / factor;
+  v.georef.dy_m = like.georef.dy_m / factor;
+  v.georef.x0 = like.georef.x0 - 0.5 * like.georef.dx_m + 0.5 * v.georef.dx_m;
+  v.georef.y0 = like.georef.y0 - 0.5 * like.georef.dy_m + 0.5 * v.georef.dy_m;
+  v.georef.lat_deg.clear();
+  v.georef.lon_deg.clear();
+  // Cells in coarse-column units from the domain's corner: centre, σ_h, height of the core, β at
+  // the core. Drawn once from a fixed seed, so every run and both resolutions see the same storm.
+  struct Cell {
+    double x, y, sigma, zc_m, beta;
+  };
+  std::vector<Cell> cells;
+  std::mt19937 rng(1303u);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int c = 0; c < 40; ++c) {
+    cells.push_back({like.nx * (0.15 + 0.7 * u(rng)), like.ny * (0.15 + 0.7 * u(rng)), 1.0 + 1.0 * u(rng),
+                     3500.0 + 3000.0 * u(rng), 0.01 + 0.02 * u(rng)});
+  }
+  const double cx = 0.5 * like.nx, cy = 0.5 * like.ny, shield_sigma = 0.22 * std::min(like.nx, like.ny);
+  for (int k = 0; k < v.nz; ++k) {
+    const double z = v.layerCentreHeight_m(k);
+    const double iceShare = std::clamp((z - 5000.0) / 3000.0, 0.0, 1.0);
+    const double shieldZ = std::exp(-0.5 * std::pow((z - 7500.0) / 900.0, 2.0));
+    for (int j = 0; j < v.ny; ++j) {
+      for (int i = 0; i < v.nx; ++i) {
+        const double x = (i + 0.5) / factor, y = (j + 0.5) / factor;  // in coarse columns
+        double beta = 0.0005 * shieldZ *
+                      std::exp(-0.5 * ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (shield_sigma * shield_sigma));
+        for (const Cell& c : cells) {
+          const double r2 = ((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)) / (c.sigma * c.sigma);
+          beta += c.beta * std::exp(-0.5 * r2 - 0.5 * std::pow((z - c.zc_m) / 2500.0, 2.0));
+        }
+        const std::size_t n = v.index(i, j, k);
+        v.ice_per_m[n] = float(beta * iceShare);
+        v.water_per_m[n] = float(beta * (1.0 - iceShare));
+      }
+    }
+  }
+  v.updateMaxima();
+  return v;
+}
+
 LayerDifference layerDifference(const scene::RgbaImage& a, const scene::RgbaImage& b) {
   LayerDifference d;
   for (std::size_t i = 0; i < b.rgba.size(); ++i) {

@@ -18,6 +18,14 @@ ExtinctionVolumes generatedIconScene();
 /// Issue 13's coarse storm (datagen::coarseStormSpec: 72×64 columns at 10 km, 30 levels),
 /// timestep 0, through the real loader and optics (250 m output levels).
 ExtinctionVolumes coarseStorm();
+/// A grid-free storm on the coarse storm's grid (`like`: its columns, levels and georeference), its
+/// columns refined `factor`× horizontally (the fine cells tiling the coarse ones, as
+/// nephele_grid_spectrum's band-limited rendition): convective cells and a stratiform shield as
+/// smooth analytic functions of position (Gaussians of σ = 1–2 columns), sampled at each cell's
+/// centre. Nothing in it varies at the column spacing (a Gaussian of σ ≥ 1.8 columns keeps
+/// e^{−2π²σ²} < 1e-27 of its amplitude at 1 cycle per column), so a rendition's power there is the
+/// filter's (issue 13's artefact metric, tests/render/grid_artefacts.h).
+ExtinctionVolumes analyticStorm(const ExtinctionVolumes& like, int factor = 1);
 
 /// Per-component |a − b| of two cloud layers of the same size (max and mean over every RGBA
 /// value) and b's mean alpha (how much of the frame is cloud).

@@ -16,6 +16,7 @@
 // every column — and by the lighting's own sampling, which the test keeps out of the band with
 // deep-light-map texels of ¼ voxel (1-voxel texels put light stripes at the column spacing with
 // either filter: docs/rendering.md).
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -84,6 +85,17 @@ inline std::vector<double> gridPowerSpectrum(const scene::RgbaImage& layer, cons
     flush();
   }
   return power;
+}
+
+/// a − b in colour, the smaller alpha (so the metric's opaque runs are opaque in both): the
+/// spectrum of a rendition's difference from a reference.
+inline scene::RgbaImage layerMinus(const scene::RgbaImage& a, const scene::RgbaImage& b) {
+  scene::RgbaImage d = a;
+  for (std::size_t i = 0; i < d.rgba.size(); i += 4) {
+    for (std::size_t c = 0; c < 3; ++c) d.rgba[i + c] = a.rgba[i + c] - b.rgba[i + c];
+    d.rgba[i + 3] = std::min(a.rgba[i + 3], b.rgba[i + 3]);
+  }
+  return d;
 }
 
 /// The metric: the power of gridPowerSpectrum summed over `f_lo` … `f_hi` cycles per column in

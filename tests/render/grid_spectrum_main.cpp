@@ -8,9 +8,16 @@
 // the *band-limited* rendition of the same data — every horizontal row upsampled 4× with a
 // Lanczos-3 kernel (windowed sinc: the data's own content below ½ cycle per column, no grid kinks
 // or steps) and rendered trilinearly on the 2.5 km grid — at the same view, light and steps, and
-// prints the spectra of all three and of each filter's difference from the band-limited one.
+// prints the spectra of all three (and of the interpolating cubic spline,
+// volume/spline_coefficients.h) and of each filter's difference from the band-limited one.
 //
-//   NEPHELE_GL=egl NEPHELE_LOG=warn build/tests/render/nephele_grid_spectrum [single|two_stream] [PNG_DIR]
+// With --analytic the storm is grid-free instead (dlm_scenes.h analyticStorm: smooth cells and a
+// shield as functions of position, nothing at the column spacing), sampled at the 10 km cell
+// centres for the two filters and at the 2.5 km centres for the reference: there the reference's
+// power in the band is the picture's own, and each filter's difference from it is the filter's
+// artefact alone (docs/rendering.md "A grid-free storm").
+//
+//   NEPHELE_GL=egl NEPHELE_LOG=warn build/tests/render/nephele_grid_spectrum [single|two_stream] [PNG_DIR] [--analytic]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -86,20 +93,12 @@ ExtinctionVolumes bandLimited(const ExtinctionVolumes& v, int f) {
   return o;
 }
 
-/// a − b in colour, the smaller alpha (so the metric's opaque runs are opaque in both).
-scene::RgbaImage difference(const scene::RgbaImage& a, const scene::RgbaImage& b) {
-  scene::RgbaImage d = a;
-  for (std::size_t i = 0; i < d.rgba.size(); i += 4) {
-    for (std::size_t c = 0; c < 3; ++c) d.rgba[i + c] = a.rgba[i + c] - b.rgba[i + c];
-    d.rgba[i + 3] = std::min(a.rgba[i + 3], b.rgba[i + 3]);
-  }
-  return d;
-}
-
-int run(lighting::MultipleScattering ms, const char* png_dir) {
+int run(lighting::MultipleScattering ms, const char* png_dir, bool analytic) {
   glContext().makeCurrent();
-  const ExtinctionVolumes v = coarseStorm();
-  const ExtinctionVolumes fine = bandLimited(v, 4);
+  const ExtinctionVolumes storm = coarseStorm();
+  const ExtinctionVolumes v = analytic ? analyticStorm(storm) : storm;
+  const ExtinctionVolumes fine = analytic ? analyticStorm(storm, 4) : bandLimited(v, 4);
+  const std::string prefix = analytic ? "grid-spectrum-analytic-" : "grid-spectrum-";
   // The test's view (ReconstructionTest.CubicLowersTheGridArtefactsOfTheCoarseStorm): the demo's
   // direction at half its distance, 640 × 360, quarter-voxel steps, DLM texels of ¼ column, no
   // jitter; the ground a plane (the island's terrain is not under test).
@@ -114,28 +113,33 @@ int run(lighting::MultipleScattering ms, const char* png_dir) {
   const auto tri = renderDemoView(v, d, rs, Reconstruction::Trilinear, scene::Detail::None, 0.25).cloud_layer;
   const auto cub = renderDemoView(v, d, rs, Reconstruction::Cubic, scene::Detail::None, 0.25).cloud_layer;
   const auto ref = renderDemoView(fine, df, rs, Reconstruction::Trilinear, scene::Detail::None, 1.0).cloud_layer;
+  const auto itp = renderDemoView(v, d, rs, Reconstruction::CubicInterpolating, scene::Detail::None, 0.25).cloud_layer;
   if (png_dir != nullptr) {  // the three cloud layers, for looking at (default exposure)
     scene::ImageOutputOptions o;
     o.exposure_ev = scene::kDefaultExposureEv;
     const std::string dir(png_dir);
-    scene::writePng(tri, dir + "/grid-spectrum-trilinear.png", o);
-    scene::writePng(cub, dir + "/grid-spectrum-cubic.png", o);
-    scene::writePng(ref, dir + "/grid-spectrum-band-limited.png", o);
+    scene::writePng(tri, dir + "/" + prefix + "trilinear.png", o);
+    scene::writePng(cub, dir + "/" + prefix + "cubic.png", o);
+    scene::writePng(itp, dir + "/" + prefix + "interpolating.png", o);
+    scene::writePng(ref, dir + "/" + prefix + (analytic ? "fine.png" : "band-limited.png"), o);
   }
   std::vector<double> f;
   for (int k = 0; k <= 24; ++k) f.push_back(0.3 + 0.1 * k);
   // Every spectrum in the coarse grid's columns (the band-limited field's frame has the same faces).
   auto spectrum = [&](const scene::RgbaImage& l) { return gridPowerSpectrum(l, d.camera, d.frame, zMid_m, f); };
   const auto sTri = spectrum(tri), sCub = spectrum(cub), sRef = spectrum(ref);
-  const auto dTri = spectrum(difference(tri, ref)), dCub = spectrum(difference(cub, ref));
-  std::printf("coarse storm %dx%dx%d at %.0f km, band-limited rendition %dx%d at %.1f km; light model %s\n", v.nx, v.ny,
-              v.nz, v.georef.dx_m / 1000.0, fine.nx, fine.ny, fine.georef.dx_m / 1000.0,
+  const auto dTri = spectrum(layerMinus(tri, ref)), dCub = spectrum(layerMinus(cub, ref));
+  const auto sItp = spectrum(itp), dItp = spectrum(layerMinus(itp, ref));
+  std::printf("%s storm %dx%dx%d at %.0f km, %s rendition %dx%d at %.1f km; light model %s\n",
+              analytic ? "grid-free" : "coarse", v.nx, v.ny, v.nz, v.georef.dx_m / 1000.0,
+              analytic ? "fine analytic" : "band-limited", fine.nx, fine.ny, fine.georef.dx_m / 1000.0,
               ms == lighting::MultipleScattering::Single ? "single" : "two_stream");
   std::printf(
-      "| cycles per column | trilinear | cubic | band-limited | trilinear − band-limited | cubic − band-limited |\n"
-      "| ---: | ---: | ---: | ---: | ---: | ---: |\n");
+      "| cycles per column | trilinear | cubic | interpolating cubic | reference | trilinear − ref | cubic − ref | "
+      "interpolating − ref |\n| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   for (std::size_t k = 0; k < f.size(); ++k)
-    std::printf("| %.1f | %.4g | %.4g | %.4g | %.4g | %.4g |\n", f[k], sTri[k], sCub[k], sRef[k], dTri[k], dCub[k]);
+    std::printf("| %.1f | %.4g | %.4g | %.4g | %.4g | %.4g | %.4g | %.4g |\n", f[k], sTri[k], sCub[k], sItp[k], sRef[k],
+                dTri[k], dCub[k], dItp[k]);
   auto band = [&](const std::vector<double>& s, double lo, double hi) {
     double p = 0.0;
     for (std::size_t k = 0; k < f.size(); ++k)
@@ -147,6 +151,9 @@ int run(lighting::MultipleScattering ms, const char* png_dir) {
               band(sTri, 0.8, 1.2), band(sCub, 0.8, 1.2), band(sRef, 0.8, 1.2),
               band(sTri, 0.8, 1.2) / band(sRef, 0.8, 1.2), band(dTri, 0.8, 1.2), band(dCub, 0.8, 1.2),
               band(dTri, 0.8, 1.2) / band(dCub, 0.8, 1.2));
+  for (const auto& [lo, hi] : {std::pair{0.3, 0.7}, std::pair{0.8, 1.2}, std::pair{1.8, 2.2}})
+    std::printf("difference from the reference at %.1f … %.1f: trilinear %.4g, cubic %.4g, interpolating cubic %.4g\n",
+                lo, hi, band(dTri, lo, hi), band(dCub, lo, hi), band(dItp, lo, hi));
   return 0;
 }
 
@@ -155,16 +162,23 @@ int run(lighting::MultipleScattering ms, const char* png_dir) {
 
 int main(int argc, char** argv) {
   try {
-    const bool single = argc > 1 && std::strcmp(argv[1], "single") == 0;
-    if (argc > 1 && !single && std::strcmp(argv[1], "two_stream") != 0) {
+    bool analytic = false, single = false;
+    std::vector<const char*> positional;
+    for (int i = 1; i < argc; ++i) {
+      if (std::strcmp(argv[i], "--analytic") == 0) analytic = true;
+      else positional.push_back(argv[i]);
+    }
+    single = !positional.empty() && std::strcmp(positional[0], "single") == 0;
+    if (positional.size() > 2 || (!positional.empty() && !single && std::strcmp(positional[0], "two_stream") != 0)) {
       std::fprintf(stderr,
-                   "usage: %s [single|two_stream] [PNG_DIR]   (default two_stream; PNG_DIR: write the layers)\n",
+                   "usage: %s [single|two_stream] [PNG_DIR] [--analytic]\n"
+                   "  default two_stream; PNG_DIR: write the layers; --analytic: the grid-free storm\n",
                    argv[0]);
       return 2;
     }
     return nph::test::run(
         single ? nph::lighting::MultipleScattering::Single : nph::lighting::MultipleScattering::TwoStream,
-        argc > 2 ? argv[2] : nullptr);
+        positional.size() > 1 ? positional[1] : nullptr, analytic);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nephele_grid_spectrum: %s\n", e.what());
     return 1;

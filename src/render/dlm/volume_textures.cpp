@@ -12,6 +12,7 @@
 #include "render/gl/bindings.h"
 #include "render/gl/program.h"
 #include "volume/column_depth.h"
+#include "volume/spline_coefficients.h"
 
 namespace nph::render {
 
@@ -48,16 +49,17 @@ VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::V
   return upload(VolumeSlices(v), frame, std::move(identity), o);
 }
 
-VolumeTextures VolumeTextures::upload(const ExtinctionSlices& src, const scene::VolumeFrame& frame,
+VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene::VolumeFrame& frame,
                                       std::string identity, const UploadOptions& o) {
-  const ExtinctionVolumes& header = src.volumes();
+  const ExtinctionVolumes& header = data.volumes();
   if (header.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
   const scene::Reconstruction reconstruction = o.reconstruction;
   const scene::Detail detail = o.detail;
   VolumeTextures t;
   t.frame_ = frame;
   t.identity_ = std::move(identity);
-  if (reconstruction == scene::Reconstruction::Cubic) t.identity_ += "|cubic";
+  if (reconstruction != scene::Reconstruction::Trilinear)
+    t.identity_ += fmt::format("|{}", scene::kReconstructionNames[std::size_t(reconstruction)]);
   t.reconstruction_ = reconstruction;
   t.detail_ = scene::detailParameters(detail, frame);
   if (t.detail_.on()) {
@@ -73,13 +75,26 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& src, const scene::
   {
     std::vector<float> scratch;
     for (int k = 0; k < n.z; ++k) {
-      const ExtinctionSlices::Slice s = src.slice(k, scratch);
+      const ExtinctionSlices::Slice s = data.slice(k, scratch);
       checkVoxels(s.ice, layer, std::size_t(k) * layer, "ice_per_m");
       checkVoxels(s.water, layer, std::size_t(k) * layer, "water_per_m");
       t.has_ice_ = t.has_ice_ || anyPositive(s.ice, layer);
       t.has_water_ = t.has_water_ || anyPositive(s.water, layer);
     }
   }
+  // cubic_interpolating (volume/spline_coefficients.h): from here on every texture, the column
+  // depths, the detail's controls and the occupancy are made from the spline's coefficients, which
+  // the cubic B-spline then evaluates — the field passes through the checked voxels.
+  // The column depths are the coefficients' sums (the integral of the field the filter makes); the
+  // detail's controls stay the voxels' own, on both sides (ExtinctionSampler).
+  std::optional<ExtinctionVolumes> decodedData;
+  std::optional<VolumeSlices> coefficients;
+  const ExtinctionVolumes* dataWhole = data.whole();
+  if (scene::readsSplineCoefficients(reconstruction)) {
+    if (!dataWhole) dataWhole = &decodedData.emplace(data.materialise());
+    coefficients.emplace(std::make_shared<const ExtinctionVolumes>(scene::splineCoefficientVolumes(*dataWhole)));
+  }
+  const ExtinctionSlices& src = coefficients ? *coefficients : data;
   // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
   // depths in 8 bytes per voxel. Where it serves (the trilinear filter without sub-grid detail) a
   // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
@@ -171,7 +186,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& src, const scene::
   }
   if (t.detail_.on()) {
     // Sub-grid detail (volume/detail.h): the controls at data resolution and the noise tile.
-    const scene::DetailControls controls = scene::buildDetailControls(*whole);
+    const scene::DetailControls controls = scene::buildDetailControls(coefficients ? *dataWhole : *whole);
     t.controls_ = gl::Texture::create3D(GL_RGBA8, n.x, n.y, n.z).label("detail controls");
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(t.controls_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RGBA, GL_UNSIGNED_BYTE, controls.rgba.data());
@@ -186,7 +201,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& src, const scene::
   block.brick_voxels = t.occupancy_.brick;
   block.has_ice = t.hasIce() ? 1u : 0u;
   block.has_water = t.hasWater() ? 1u : 0u;
-  block.reconstruction = static_cast<std::int32_t>(reconstruction);
+  block.reconstruction = scene::cubicWeights(reconstruction) ? 1 : 0;  // the shaders' RECONSTRUCTION_CUBIC
   block.reach_voxels = float(scene::reachVoxels(reconstruction) + t.detail_.reach_voxels);
   block.packed_beta_unit_per_m = t.packed_beta_unit_per_m_;
   block.packed_only = packed && !separate ? 1u : 0u;

@@ -235,7 +235,7 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Deep
   f.atmosphere = s.atmosphere;
   f.passes = passes_;
   f.detail = volume.detail().on();
-  f.cubic = volume.reconstruction() == scene::Reconstruction::Cubic;
+  f.cubic = scene::cubicWeights(volume.reconstruction());
   f.light_cache = dlm.hasLightCache();
   f.packed = volume.hasPacked() && !baseline_.separate_textures;
   return f;
