@@ -166,9 +166,32 @@ TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame, con
     const FieldBounds far = boundsOf(t.far_height_m, n.x, n.y, dem->source, "far DEM");
     lo = std::min(lo, far.lo);
     hi = std::max(hi, far.hi);
-    // Beyond the footprint h = mix(h_far, h_edge, fade): |∇| ≤ |∇h_far| + |∇h_edge| + |h_edge − h_far|/fade_m.
-    lipschitz = inside + std::hypot(e * far.step_x / t.far_cell_m.x, e * far.step_y / t.far_cell_m.y) +
-                e * (std::max(near.hi, -near.lo) + std::max(far.hi, -far.lo)) / t.fade_m;
+    // The join: the far field is the DEM, so beyond the lattice's edge the ground goes over to it
+    // within two far pixels, not a tenth of the footprint. The edge's heights are held outward
+    // (clamp to edge), which over a wide fade drew a rough DEM's edge as streaks across it.
+    t.fade_m = std::min(t.fade_m, 2.0 * std::max(t.far_cell_m.x, t.far_cell_m.y));
+    // Beyond the footprint h = mix(h_far, h_edge, fade): |∇| ≤ |∇h_far| + |∇h_edge| + |h_edge − h_far|/fade_m,
+    // and within the fade |h_edge − h_far| is at most its largest value at the lattice's edge points
+    // plus what either field changes between two of them and what the far field changes across the fade.
+    const f64::TerrainGrid g = f64::gridOf(t);
+    double edgeGap = 0.0;
+    const auto gapAt = [&](int i, int j) {
+      const glm::dvec2 xy((i + 0.5) * t.cell_m.x, (j + 0.5) * t.cell_m.y);
+      const double h = t.height_m[std::size_t(j) * std::size_t(t.size.x) + std::size_t(i)];
+      edgeGap = std::max(edgeGap, std::abs(h - f64::terrainFarHeight_m(g, xy)));
+    };
+    for (int i = 0; i < t.size.x; ++i) {
+      gapAt(i, 0);
+      gapAt(i, t.size.y - 1);
+    }
+    for (int j = 0; j < t.size.y; ++j) {
+      gapAt(0, j);
+      gapAt(t.size.x - 1, j);
+    }
+    const double farSlope = std::hypot(far.step_x / t.far_cell_m.x, far.step_y / t.far_cell_m.y);
+    const double gap =
+        edgeGap + std::max(near.step_x, near.step_y) + std::max(far.step_x, far.step_y) + farSlope * t.fade_m;
+    lipschitz = inside + e * farSlope + e * gap / t.fade_m;
   }
   t.max_m = hi * e;
   t.min_m = lo * e;
