@@ -125,6 +125,37 @@ TEST_F(RaycastTest, EmptyVolumeGroundSeenThroughTheAtmosphereMatchesTheCpuModel)
   }
 }
 
+/// An empty scene's column of 3 × `rows` pixels seen from `eye_m` up, looking east `pitch_deg`
+/// above the horizontal, height × 4, sun 25° high in the east; the horizon tests' frame.
+struct HorizonColumn {
+  scene::Sun sun{90.0, 25.0};  // azimuth clockwise from north: east, ahead of the camera
+  scene::Camera cam;
+  render::RenderOutput out;
+};
+HorizonColumn renderHorizonColumn(double eye_m, double pitch_deg, double fov_deg, int rows, const std::string& id) {
+  HorizonColumn h;
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
+  const scene::LinearRgbImage map = uniformBasemap();
+  render::RenderSettings rs;
+  EXPECT_TRUE(rs.atmosphere);
+  const scene::VolumeFrame frame = scene::frameOf(v, 4.0);
+  auto tex = render::VolumeTextures::upload(v, frame, id);
+  render::DeepLightMap dlm;
+  dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
+  const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
+  h.cam.position_m = {c.x, c.y, eye_m};
+  h.cam.target_m =
+      h.cam.position_m + glm::dvec3(std::cos(glm::radians(pitch_deg)), 0.0, std::sin(glm::radians(pitch_deg)));
+  h.cam.up = {0.0, 0.0, 1.0};
+  h.cam.vertical_fov_deg = fov_deg;
+  h.cam.width = 3;
+  h.cam.height = rows;
+  render::CloudRenderer renderer;
+  renderer.setBasemap(map, {{-1e6, -1e6}, {1e6, 1e6}});
+  h.out = renderer.render(tex, dlm, h.cam, h.sun, rs);
+  return h;
+}
+
 // The low view's horizon (issue 14, twelfth session): an empty scene at height exaggeration 4 seen
 // from a drawn 30 km (the DEM pictures' camera, docs/terrain.md), looking east a little below the
 // horizontal, sun 25° high ahead. The air lives in the drawn world, so the sky is the CPU model's
@@ -145,27 +176,11 @@ TEST_F(RaycastTest, EmptyVolumeGroundSeenThroughTheAtmosphereMatchesTheCpuModel)
 //    (B > G > R): no band at the horizon.
 // The CPU model on every fourth row (its Ψ_ms at every sample costs seconds per row).
 TEST_F(RaycastTest, LowViewHorizonMeetsTheSkyOfTheCpuModel) {
-  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
-  const scene::LinearRgbImage map = uniformBasemap();
-  const scene::Sun sun{90.0, 25.0};  // azimuth clockwise from north: east, ahead of the camera
-  render::RenderSettings rs;
-  ASSERT_TRUE(rs.atmosphere);
-  const double exaggeration = 4.0, eye_m = 30000.0, pitch_deg = -4.0;
-  const scene::VolumeFrame frame = scene::frameOf(v, exaggeration);
-  auto tex = render::VolumeTextures::upload(v, frame, "horizon-test");
-  render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
-  scene::Camera cam;
-  const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
-  cam.position_m = {c.x, c.y, eye_m};
-  cam.target_m = cam.position_m + glm::dvec3(std::cos(glm::radians(pitch_deg)), 0.0, std::sin(glm::radians(pitch_deg)));
-  cam.up = {0.0, 0.0, 1.0};
-  cam.vertical_fov_deg = 10.0;
-  cam.width = 3;
-  cam.height = 129;
-  render::CloudRenderer renderer;
-  renderer.setBasemap(map, {{-1e6, -1e6}, {1e6, 1e6}});
-  const render::RenderOutput out = renderer.render(tex, dlm, cam, sun, rs);
+  const double eye_m = 30000.0;
+  const HorizonColumn h = renderHorizonColumn(eye_m, -4.0, 10.0, 129, "horizon-test");
+  const scene::Sun& sun = h.sun;
+  const scene::Camera& cam = h.cam;
+  const render::RenderOutput& out = h.out;
 
   const atmosphere::Parameters p = atmosphere::Parameters::earth();
   atmosphere::Quadrature q;
@@ -233,27 +248,12 @@ TEST_F(RaycastTest, LowViewHorizonMeetsTheSkyOfTheCpuModel) {
 // row against the CPU model's skyRadiance along the direction δ lower (double precision, 64
 // steps), the first rows above the horizon not black, and the limb fading into space above.
 TEST_F(RaycastTest, HighEyeSkyAboveTheHorizonIsThePlanetsLimb) {
-  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
-  const scene::LinearRgbImage map = uniformBasemap();
-  const scene::Sun sun{90.0, 25.0};
-  render::RenderSettings rs;
-  ASSERT_TRUE(rs.atmosphere);
-  const double eye_m = 150000.0, pitch_deg = 2.0;
-  const scene::VolumeFrame frame = scene::frameOf(v, 4.0);
-  auto tex = render::VolumeTextures::upload(v, frame, "high-horizon-test");
-  render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
-  scene::Camera cam;
-  const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
-  cam.position_m = {c.x, c.y, eye_m};
-  cam.target_m = cam.position_m + glm::dvec3(std::cos(glm::radians(pitch_deg)), 0.0, std::sin(glm::radians(pitch_deg)));
-  cam.up = {0.0, 0.0, 1.0};
-  cam.vertical_fov_deg = 20.0;  // −8° to +12°: the horizon, the limb and black space above it
-  cam.width = 3;
-  cam.height = 161;
-  render::CloudRenderer renderer;
-  renderer.setBasemap(map, {{-1e6, -1e6}, {1e6, 1e6}});
-  const render::RenderOutput out = renderer.render(tex, dlm, cam, sun, rs);
+  const double eye_m = 150000.0;
+  // −8° to +12°: the horizon, the limb and black space above it.
+  const HorizonColumn h = renderHorizonColumn(eye_m, 2.0, 20.0, 161, "high-horizon-test");
+  const scene::Sun& sun = h.sun;
+  const scene::Camera& cam = h.cam;
+  const render::RenderOutput& out = h.out;
 
   const atmosphere::Parameters p = atmosphere::Parameters::earth();
   atmosphere::Quadrature q;
