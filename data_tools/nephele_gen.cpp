@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "dem_writer.h"
 #include "grib2_writer.h"
 #include "presets.h"
 
@@ -116,6 +117,23 @@ int main(int argc, char** argv) {
                    "ecCodes packingType: grid_simple (default), grid_ccsds, grid_ieee (exact floats), grid_png, ...");
   icon->add_option("--grib2-bits", grib2.bits_per_value, "bitsPerValue of the packing (default 16)");
 
+  CLI::App* dem = app.add_subcommand(
+      "dem", "generated Alpine mountain range as a Float32 GeoTIFF (EPSG:4326) for \"terrain\": {\"dem\": FILE}");
+  std::string dem_out = "alps-dem.tif";
+  nph::datagen::DemSpec dem_spec;
+  std::vector<double> dem_region;
+  dem->add_option("-o,--output", dem_out, "output GeoTIFF");
+  dem->add_option("--region", dem_region,
+                  "LON_MIN,LAT_MIN,LON_MAX,LAT_MAX of the raster (default 3,42,21,51: the Alps and their "
+                  "foreland; the range's belt follows the real Alps' axis, its ridges are synthesis)")
+      ->expected(4)
+      ->delimiter(',');
+  dem->add_option("--pixel-deg", dem_spec.pixel_deg, "pixel size [deg] (default 0.01, about 1 km)")
+      ->check(CLI::Range(0.001, 1.0));
+  dem->add_option("--peak", dem_spec.peak_m, "height of the ridges on the range's axis [m] (default 4000)")
+      ->check(CLI::Range(100.0, 8000.0));
+  dem->add_option("--seed", dem_spec.seed, "random seed; same seed, same bytes");
+
   CLI::App* all =
       app.add_subcommand("all", "standard set: wrf lambert/mercator x thompson/wsm3, icon regular + native");
   std::string dir = "sample-data";
@@ -175,7 +193,18 @@ int main(int argc, char** argv) {
                  truth.nlat, truth.nz, truth.ntimes, truth.clc_zero_with_condensate, truth.clc_without_condensate,
                  secondsSince(t0));
     };
-    if (wrf->parsed()) {
+    if (dem->parsed()) {
+      if (!dem_region.empty()) {
+        dem_spec.lon_min_deg = dem_region[0];
+        dem_spec.lat_min_deg = dem_region[1];
+        dem_spec.lon_max_deg = dem_region[2];
+        dem_spec.lat_max_deg = dem_region[3];
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto truth = nph::datagen::writeGeneratedDem(dem_spec, dem_out);
+      fmt::print("{}: DEM {}x{} pixels of {}°, heights {:.0f}..{:.0f} m, {:.2f} s\n", dem_out, truth.width,
+                 truth.height, dem_spec.pixel_deg, truth.min_m, truth.max_m, secondsSince(t0));
+    } else if (wrf->parsed()) {
       write_wrf(wrf_out, kProjections.at(proj_name), kSchemes.at(scheme_name));
     } else if (icon->parsed() && !grib2_dir.empty()) {
       write_icon_grib2(grib2_dir, native);

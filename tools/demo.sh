@@ -27,6 +27,13 @@ if [ ! -f "$out/storm-alps.nph" ]; then
   "$nephele" convert "$out/wrfout-storm-alps.nc" -o "$out/storm-alps.nph" --progress
   rm -f "$out/wrfout-storm-alps.nc"
 fi
+# Its ground: a generated Alpine range as a GeoTIFF (nephele-gen dem; no real DEM ships or may be
+# downloaded), read through the user-DEM path as SRTM would be (docs/terrain.md "A generated
+# Alpine DEM").
+if [ ! -f "$out/alps-dem.tif" ]; then
+  echo "demo: generating the Alpine DEM (ridged multifractal, 0.01° GeoTIFF)"
+  "$gen" dem -o "$out/alps-dem.tif"
+fi
 sed "s|@DATA@|$out/storm-alps.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
 for view in demo demo-globe demo-golden-hour demo-dawn; do
   sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"

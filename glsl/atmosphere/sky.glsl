@@ -134,3 +134,31 @@ AtmosphereSegment roundPlanetAlong(float eyeAltitude_m, vec3 dir, vec3 toSun) {
   float length_m = atmosphereRayHitsGround(r, mu) ? atmosphereDistanceToGround(r, mu) : kNoHit_m;
   return atmosphereSegmentInShell(vec3(0.0, 0.0, r), normalize(dir), length_m, toSun, kAerialPerspectiveSteps);
 }
+
+// The flat view's sky above its horizon (issue 14, fourteenth session). For an eye in the air it is
+// the sky-view table's. An eye above the air (the table's observer held at its top) saw black
+// above the horizontal: a plane-parallel atmosphere has nothing above its top, while the flat
+// ground's haze below the horizontal runs through all of it — a hard black strip over a bright
+// band. On the planet, the horizon of an eye h up lies the dip δ = acos(R/(R + h)) below the
+// horizontal (12.4° from 150 km) and the atmosphere's limb glows just above it, fading into space
+// over the few degrees in which the line of sight's tangent height climbs through the air. The
+// flat view puts its horizon at the horizontal, so it shows the planet's limb where the planet's
+// horizon would be: the direction at elevation α is taken at α − δ on the round planet
+// (roundPlanetAlong, the straight ray through the spherical shell), so the limb sits on the flat
+// horizon and fades upward into black space. The same fade as flatGroundVisibility's hands over
+// between the two: the table up to half the atmosphere's height, the limb above its top.
+// CPU check: render.*.RaycastTest.HighEyeSkyAboveTheHorizonIsThePlanetsLimb.
+vec3 flatSkyRadiance(float eyeAltitude_m, vec3 dir, vec3 toSun) {
+  vec3 table = skyViewRadiance(dir, toSun);
+  float thickness_m = u_top_radius_m - u_bottom_radius_m;
+  float aboveTheAir = smoothstep(0.5 * thickness_m, thickness_m, eyeAltitude_m);
+  if (aboveTheAir <= 0.0) return table;
+  float r = u_bottom_radius_m + max(eyeAltitude_m, 1.0);
+  float dip = acos(clamp(u_bottom_radius_m / r, -1.0, 1.0));
+  vec3 d = normalize(dir);
+  float horizontal = length(d.xy);
+  vec2 e = horizontal > 1e-6 ? d.xy / horizontal : vec2(1.0, 0.0);
+  float elevation = atan(d.z, horizontal) - dip;
+  vec3 limbDir = vec3(cos(elevation) * e, sin(elevation));
+  return mix(table, roundPlanetAlong(eyeAltitude_m, limbDir, toSun).inscattered, aboveTheAir);
+}

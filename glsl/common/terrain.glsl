@@ -33,6 +33,11 @@
 // the way across the far square (1024 pixels a side, 1448 on the diagonal: ≤ 2900 steps, plus the
 // lattice's) stays within kTerrainMaxSteps. Beyond the far square the ground is the plane z = 0.
 //
+// A DEM finer than the model (scene::demRefinementFor) makes the lattice finer: r·nx × r·ny points at
+// (i + ½)·dx/r, the same footprint; size and cell_m are the lattice's, so nothing below changes but
+// the floor step (a quarter of the finer cell) and hence kTerrainMaxSteps (a lattice of 8 × 72
+// points and the far square crossed by one grazing ray: ≤ 2300 + 2900 steps).
+//
 // Written in the GLSL subset that also compiles as C++ (core/glsl_cpp.h). Each side supplies
 // TerrainGrid, TERRAIN_TEXEL(grid, i, j) (the height [m] at mass point (i, j), not exaggerated) and
 // TERRAIN_FAR_TEXEL(grid, i, j) (the far field's, the same) before including this file: the shader
@@ -44,7 +49,7 @@
 #endif
 
 const Number kTerrainMiss_m = Number(3.0e38);  // "no hit" distance
-const int kTerrainMaxSteps = 4096;              // 4096 quarter cells: a 1000-cell domain end to end
+const int kTerrainMaxSteps = 8192;              // quarter cells: a 1000-cell lattice end to end and the far square
 const int kTerrainBisections = 14;              // hit to 2^-14 of the last step
 
 // The far field's height [m above MSL, not exaggerated] at world (x, y): bilinear between its

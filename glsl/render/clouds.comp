@@ -189,6 +189,8 @@ layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {
   vec2 u_far_terrain_min_m;      // its world rectangle's south-west corner
   vec2 u_far_terrain_cell_m;     // its pixel size
   bool u_has_far_terrain;
+  bool u_ground_tint;            // snow and rock from the terrain (common/ground_tint.glsl; style ground_tint)
+  float u_snow_line_m;           // its snow line [m above MSL]
 };
 #ifdef SPEC_TERRAIN
 #define HAS_TERRAIN (SPEC_TERRAIN != 0)
@@ -207,6 +209,7 @@ struct TerrainGrid {
 #define TERRAIN_TEXEL(g, i, j) texelFetch(u_terrain, ivec2(i, j), 0).r
 #define TERRAIN_FAR_TEXEL(g, i, j) texelFetch(u_far_terrain, ivec2(i, j), 0).r
 #include "common/terrain.glsl"
+#include "common/ground_tint.glsl"
 
 TerrainGrid terrainGrid() {
   return TerrainGrid(u_terrain_size, u_terrain_cell_m, u_terrain_exaggeration, u_terrain_fade_m, u_terrain_max_m,
@@ -517,6 +520,10 @@ void main() {
       vec4 imagery = globeAlbedo(g, globeFootprint(origin, dir, dirDx, g, tGround),
                                  globeFootprint(origin, dir, dirDy, g, tGround), u_ocean_albedo);
       vec3 albedo = imagery.rgb;
+      if (HAS_TERRAIN && u_ground_tint) {
+        albedo = groundTint(albedo, (length(g) - u_earth_radius_m) / u_terrain_exaggeration, dot(n, gn),
+                            u_terrain_exaggeration, u_snow_line_m);
+      }
       float sunCos = dot(gn, u_to_sun);
       float sunLambert = max(dot(n, u_to_sun), 0.0);
       vec3 gw = globeWorldFromEcef(g);
@@ -562,6 +569,9 @@ void main() {
     vec4 imagery = flatGroundAlbedo(g.xy, surfaceDifferential(dir, dirDx, n, tFlatGround).xy,
                                     surfaceDifferential(dir, dirDy, n, tFlatGround).xy);
     vec3 albedo = imagery.rgb;
+    if (HAS_TERRAIN && u_ground_tint) {
+      albedo = groundTint(albedo, g.z / u_terrain_exaggeration, n.z, u_terrain_exaggeration, u_snow_line_m);
+    }
     // The night side's city lights (common/night_lights.glsl), emitted: added before the air's
     // transmittance and the clouds in front dim them. The flat view's sun has one elevation,
     // u_to_sun.z; exactly 0 while it is up.
@@ -599,7 +609,7 @@ void main() {
                lights;
     }
   } else if (ATMOSPHERE_ON) {  // the sky above the flat view's horizon
-    sky = u_sun_radiance * skyViewRadiance(dir, u_to_sun);
+    sky = u_sun_radiance * flatSkyRadiance(origin.z, dir, u_to_sun);
   }
   vec4 beauty = vec4(C + Tacc * (ground + sky), 1.0);
   imageStore(u_frame, px, first ? beauty : runningMean(imageLoad(u_frame, px), beauty));

@@ -122,6 +122,10 @@ constexpr std::array kKnobs{
          .doc = "physically based sky, sunlight and aerial perspective (0: uniform ambient sky)"},
     Knob{.name = "terrain", .unit = "", .min = 0, .max = 1, .field = &S::terrain,
          .doc = "ground displaced by the model's terrain height (WRF HGT, ICON HSURF), exaggerated as the clouds"},
+    Knob{.name = "ground_tint", .unit = "", .min = 0, .max = 1, .field = &S::ground_tint,
+         .doc = "synthesised ground detail on the terrain: snow above snow_line_m, bare rock on slopes over 30–45°, blended over the imagery (0: the imagery as it is)"},
+    Knob{.name = "snow_line_m", .unit = "m", .min = 0.0, .max = 6000.0, .field = &S::snow_line_m,
+         .doc = "snow line of ground_tint, above mean sea level"},
     Knob{.name = "city_lights", .unit = "E/π", .min = 0.0, .max = 1.0, .field = &S::city_lights,
          .doc = "night side: city lights (basemap.night_lights, default Marble's citylights.jpg) at this fraction of E/π; 0 = off"},
 };

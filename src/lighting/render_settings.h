@@ -45,6 +45,14 @@ struct StyleSettings {
   /// height exaggeration of the clouds. Off: the plane z = 0 of before (the clouds then reach down
   /// to the data's lowest layer wherever the terrain is).
   bool terrain = true;
+  /// Ground detail on the terrain (issue 14; glsl/common/ground_tint.glsl): snow above the snow
+  /// line and bare rock on steep slopes, from the height field at its own resolution, blended over
+  /// the imagery by area. Synthesis, not data: off by default (the imagery as it is), on for a
+  /// broadcast look (make demo's terrain shot).
+  bool ground_tint = false;
+  /// The snow line of ground_tint [m above MSL]: the Alps' late-summer firn line is near 2900 m,
+  /// the autumn equinox's snow line near 2700 m (docs/terrain.md "Ground detail").
+  double snow_line_m = 2700.0;
   /// City lights on the night side (issue 14; glsl/common/night_lights.glsl): the radiance of a
   /// fully lit texel as a fraction of E/π (a white Lambertian ground under the overhead sun),
   /// faded in as the sun sets at the ground point; 0 = off (the lights raster is then not read).

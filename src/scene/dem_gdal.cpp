@@ -197,11 +197,51 @@ std::vector<float> warpDem(const DemRaster& dem, const SceneGeoreference& geo, c
   return out;
 }
 
-DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame, bool far_field) {
+int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame) {
+  registerGdal();
+  const DemRaster::Impl& src = dem.impl();
+  const char* toLonLat[] = {"DST_SRS=+proj=longlat +datum=WGS84 +no_defs", nullptr};
+  void* t = GDALCreateGenImgProjTransformer2(src.dataset.get(), nullptr, const_cast<char**>(toLonLat));
+  if (!t) return 1;
+  // The footprint's centre -> the DEM's pixel there -> its neighbours one pixel east and north ->
+  // the world frame: the DEM's pixel size in world metres where the clouds are.
+  const glm::dvec3 size = frame.size_m();
+  const LonLat c = geo.lonLatFromWorld({0.5 * size.x, 0.5 * size.y});
+  double x[3] = {c.lon_deg, 0.0, 0.0}, y[3] = {c.lat_deg, 0.0, 0.0}, z[3] = {0.0, 0.0, 0.0};
+  int ok[3] = {0, 0, 0};
+  int refine = 1;
+  if (GDALGenImgProjTransform(t, TRUE, 1, x, y, z, ok) && ok[0] && x[0] >= 0.0 && y[0] >= 0.0 && x[0] <= src.width &&
+      y[0] <= src.height) {
+    x[1] = x[0] + 1.0, y[1] = y[0];
+    x[2] = x[0], y[2] = y[0] + 1.0;
+    if (GDALGenImgProjTransform(t, FALSE, 3, x, y, z, ok) && ok[0] && ok[1] && ok[2]) {
+      const glm::dvec2 p0 = geo.worldFromLonLat({x[0], y[0]});
+      const double pixel_m = std::min(glm::length(geo.worldFromLonLat({x[1], y[1]}) - p0),
+                                      glm::length(geo.worldFromLonLat({x[2], y[2]}) - p0));
+      const double cell_m = std::min(frame.voxel_size_m.x, frame.voxel_size_m.y);
+      if (pixel_m > 0.0 && std::isfinite(pixel_m)) {
+        const int side = std::max(frame.voxels.x, frame.voxels.y);
+        refine = int(std::clamp(std::lround(cell_m / pixel_m), 1L, long(kMaxTerrainRefine)));
+        refine = std::max(1, std::min(refine, 4096 / side));
+      }
+    }
+  }
+  GDALDestroyGenImgProjTransformer(t);
+  return refine;
+}
+
+DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame, bool far_field,
+                         int refine) {
   DemHeights d;
   d.source = dem.name();
+  if (refine < 1 || refine > kMaxTerrainRefine) {
+    throw UsageError(
+        fmt::format("{}: DEM lattice refined {} times, expected 1 to {}", d.source, refine, kMaxTerrainRefine));
+  }
+  d.refine = refine;
   const glm::dvec3 size = frame.size_m();
-  d.model_m = warpDem(dem, geo, WorldRect{{0.0, 0.0}, {size.x, size.y}}, frame.voxels.x, frame.voxels.y);
+  d.model_m =
+      warpDem(dem, geo, WorldRect{{0.0, 0.0}, {size.x, size.y}}, refine * frame.voxels.x, refine * frame.voxels.y);
   if (far_field) {
     const WorldRect far = farBasemapRectangle(frame);
     d.far_size = glm::ivec2(kFarBasemapPixels);
@@ -212,8 +252,8 @@ DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, con
   const auto covered = [](const std::vector<float>& v) {
     return std::count_if(v.begin(), v.end(), [](float h) { return !std::isnan(h); });
   };
-  log::info("DEM {}: heights on {} of {} model columns, {} of {} far pixels", dem.name(), covered(d.model_m),
-            d.model_m.size(), covered(d.far_m), d.far_m.size());
+  log::info("DEM {}: heights on {} of {} lattice points ({}x the model's cell), {} of {} far pixels", dem.name(),
+            covered(d.model_m), d.model_m.size(), refine, covered(d.far_m), d.far_m.size());
   return d;
 }
 

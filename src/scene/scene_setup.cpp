@@ -68,7 +68,9 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
                                    s.source_file));
     }
     // The far field only for the flat view: the globe's terrain ends with its table (docs/terrain.md).
-    p.dem = demHeightsFor(DemRaster::open(s.terrain->dem), *geo, p.frame, s.view == ViewMode::Flat);
+    // On a lattice as fine as the DEM's own pixels (up to 8x the model's): its ridges and valleys.
+    const DemRaster raster = DemRaster::open(s.terrain->dem);
+    p.dem = demHeightsFor(raster, *geo, p.frame, s.view == ViewMode::Flat, demRefinementFor(raster, *geo, p.frame));
   }
   if (s.basemap) {
     if (!geo) {

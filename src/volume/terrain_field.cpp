@@ -103,19 +103,47 @@ TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame, con
     throw InputError(fmt::format("{}: terrain has {} heights, expected {} ({}x{} columns)", v.source_file,
                                  v.terrain_height_m.size(), columns, v.nx, v.ny));
   }
-  t.height_m = v.terrain_height_m.empty() ? std::vector<float>(columns, 0.0f) : v.terrain_height_m;
+  const int r = hasDem && !dem->model_m.empty() ? dem->refine : 1;
+  if (r < 1 || r > kMaxTerrainRefine) {
+    throw UsageError(
+        fmt::format("{}: DEM lattice refined {} times, expected 1 to {}", dem->source, r, kMaxTerrainRefine));
+  }
+  t.size = {r * v.nx, r * v.ny};
+  t.cell_m /= double(r);
+  const std::vector<float> model = v.terrain_height_m.empty() ? std::vector<float>(columns, 0.0f) : v.terrain_height_m;
+  if (r == 1) {
+    t.height_m = model;
+  } else {
+    // The model's field on the refined lattice: bilinear between its mass points, clamped to its
+    // edge, so that where the DEM has no data the surface is the one the model's lattice gives.
+    t.height_m.resize(std::size_t(t.size.x) * std::size_t(t.size.y));
+    const auto at = [&](int i, int j) { return double(model[std::size_t(j) * std::size_t(v.nx) + std::size_t(i)]); };
+    for (int j = 0; j < t.size.y; ++j) {
+      const double qy = std::clamp((j + 0.5) / r - 0.5, 0.0, double(v.ny - 1));
+      const int j0 = int(qy), j1 = std::min(j0 + 1, v.ny - 1);
+      for (int i = 0; i < t.size.x; ++i) {
+        const double qx = std::clamp((i + 0.5) / r - 0.5, 0.0, double(v.nx - 1));
+        const int i0 = int(qx), i1 = std::min(i0 + 1, v.nx - 1);
+        const double fx = qx - i0, fy = qy - j0;
+        const double h =
+            (at(i0, j0) * (1.0 - fx) + at(i1, j0) * fx) * (1.0 - fy) + (at(i0, j1) * (1.0 - fx) + at(i1, j1) * fx) * fy;
+        t.height_m[std::size_t(j) * std::size_t(t.size.x) + std::size_t(i)] = float(h);
+      }
+    }
+  }
+  const std::size_t texels = t.height_m.size();
   if (hasDem && !dem->model_m.empty()) {
-    if (dem->model_m.size() != columns) {
-      throw UsageError(fmt::format("{}: DEM resampled to {} columns, the model has {} ({}x{})", dem->source,
-                                   dem->model_m.size(), columns, v.nx, v.ny));
+    if (dem->model_m.size() != texels) {
+      throw UsageError(fmt::format("{}: DEM resampled to {} columns, the model's lattice has {} ({}x{} x {}²)",
+                                   dem->source, dem->model_m.size(), texels, v.nx, v.ny, r));
     }
     // The rule (docs/terrain.md "A user DEM"): the DEM wins where it has data, the model's own
     // field (or sea level without one) where it has none.
-    for (std::size_t k = 0; k < columns; ++k) {
+    for (std::size_t k = 0; k < texels; ++k) {
       if (!std::isnan(dem->model_m[k])) t.height_m[k] = dem->model_m[k];
     }
   }
-  const FieldBounds near = boundsOf(t.height_m, v.nx, v.ny, hasDem ? dem->source : v.source_file, "terrain");
+  const FieldBounds near = boundsOf(t.height_m, t.size.x, t.size.y, hasDem ? dem->source : v.source_file, "terrain");
   const double e = t.exaggeration;
   double lo = near.lo, hi = near.hi;
   // A bilinear patch's gradient is a blend of its edges' differences, so |∂z/∂x| ≤ e·sx/dx and
@@ -138,9 +166,32 @@ TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame, con
     const FieldBounds far = boundsOf(t.far_height_m, n.x, n.y, dem->source, "far DEM");
     lo = std::min(lo, far.lo);
     hi = std::max(hi, far.hi);
-    // Beyond the footprint h = mix(h_far, h_edge, fade): |∇| ≤ |∇h_far| + |∇h_edge| + |h_edge − h_far|/fade_m.
-    lipschitz = inside + std::hypot(e * far.step_x / t.far_cell_m.x, e * far.step_y / t.far_cell_m.y) +
-                e * (std::max(near.hi, -near.lo) + std::max(far.hi, -far.lo)) / t.fade_m;
+    // The join: the far field is the DEM, so beyond the lattice's edge the ground goes over to it
+    // within two far pixels, not a tenth of the footprint. The edge's heights are held outward
+    // (clamp to edge), which over a wide fade drew a rough DEM's edge as streaks across it.
+    t.fade_m = std::min(t.fade_m, 2.0 * std::max(t.far_cell_m.x, t.far_cell_m.y));
+    // Beyond the footprint h = mix(h_far, h_edge, fade): |∇| ≤ |∇h_far| + |∇h_edge| + |h_edge − h_far|/fade_m,
+    // and within the fade |h_edge − h_far| is at most its largest value at the lattice's edge points
+    // plus what either field changes between two of them and what the far field changes across the fade.
+    const f64::TerrainGrid g = f64::gridOf(t);
+    double edgeGap = 0.0;
+    const auto gapAt = [&](int i, int j) {
+      const glm::dvec2 xy((i + 0.5) * t.cell_m.x, (j + 0.5) * t.cell_m.y);
+      const double h = t.height_m[std::size_t(j) * std::size_t(t.size.x) + std::size_t(i)];
+      edgeGap = std::max(edgeGap, std::abs(h - f64::terrainFarHeight_m(g, xy)));
+    };
+    for (int i = 0; i < t.size.x; ++i) {
+      gapAt(i, 0);
+      gapAt(i, t.size.y - 1);
+    }
+    for (int j = 0; j < t.size.y; ++j) {
+      gapAt(0, j);
+      gapAt(t.size.x - 1, j);
+    }
+    const double farSlope = std::hypot(far.step_x / t.far_cell_m.x, far.step_y / t.far_cell_m.y);
+    const double gap =
+        edgeGap + std::max(near.step_x, near.step_y) + std::max(far.step_x, far.step_y) + farSlope * t.fade_m;
+    lipschitz = inside + e * farSlope + e * gap / t.fade_m;
   }
   t.max_m = hi * e;
   t.min_m = lo * e;

@@ -20,16 +20,23 @@ namespace nph::scene {
 /// wins, the model's field where the DEM has no data), and a far field over the far basemap's
 /// square (scene::farBasemapRectangle), so the ground beyond the domain has the DEM's relief.
 struct DemHeights {
-  std::string source;                         ///< the DEM file, for messages
-  std::vector<float> model_m;                 ///< nx·ny, x fastest, NaN = no data; empty = none
+  std::string source;  ///< the DEM file, for messages
+  /// The lattice of model_m: the model's mass points refined `refine` times per cell each way
+  /// (r·nx × r·ny texels at ((i + ½)·dx/r, (j + ½)·dy/r)), so a DEM finer than the model's grid
+  /// keeps its ridges and valleys (docs/terrain.md "A DEM finer than the model"); 1 = the mass points.
+  int refine = 1;
+  std::vector<float> model_m;                 ///< (r·nx)·(r·ny), x fastest, NaN = no data; empty = none
   glm::ivec2 far_size{0};                     ///< far field pixels (0: none)
   glm::dvec2 far_min_m{0.0}, far_max_m{0.0};  ///< its world rectangle
   std::vector<float> far_m;                   ///< far_size.x·far_size.y, x fastest, row 0 south; NaN = no data
 };
 
+/// The most a DEM's lattice refines the model's mass points (per axis; scene::demRefinementFor).
+inline constexpr int kMaxTerrainRefine = 8;
+
 struct TerrainField {
-  glm::ivec2 size{0};           ///< mass points nx, ny
-  glm::dvec2 cell_m{0.0};       ///< world dx, dy
+  glm::ivec2 size{0};           ///< lattice points: the mass points nx, ny (× DemHeights::refine)
+  glm::dvec2 cell_m{0.0};       ///< lattice spacing: world dx, dy (÷ DemHeights::refine)
   double exaggeration = 1.0;    ///< heights in world metres are height_m × this
   double fade_m = 0.0;          ///< outside the footprint, heights fall linearly to 0 over this distance
   double max_m = 0.0;           ///< highest world height, ≥ 0 (the ground beyond the fade is at 0)
@@ -57,7 +64,9 @@ struct TerrainField {
 /// The terrain of `volumes` placed by `frame` (its exaggeration and cell size). The fade beyond
 /// the footprint is a tenth of the footprint's longer side. With `dem`, its heights replace the
 /// model's where they are not NaN and its far field carries the relief beyond the footprint (NaN
-/// there is sea level). Throws InputError for a field of the wrong size or a non-finite height.
+/// there is sea level); a DEM on a refined lattice (DemHeights::refine > 1) makes the field that
+/// lattice, the model's own heights bilinear between its mass points where the DEM has no data. Throws InputError for a
+/// field of the wrong size or a non-finite height.
 TerrainField terrainOf(const ExtinctionVolumes& volumes, const VolumeFrame& frame, const DemHeights* dem = nullptr);
 
 }  // namespace nph::scene

@@ -125,6 +125,37 @@ TEST_F(RaycastTest, EmptyVolumeGroundSeenThroughTheAtmosphereMatchesTheCpuModel)
   }
 }
 
+/// An empty scene's column of 3 × `rows` pixels seen from `eye_m` up, looking east `pitch_deg`
+/// above the horizontal, height × 4, sun 25° high in the east; the horizon tests' frame.
+struct HorizonColumn {
+  scene::Sun sun{90.0, 25.0};  // azimuth clockwise from north: east, ahead of the camera
+  scene::Camera cam;
+  render::RenderOutput out;
+};
+HorizonColumn renderHorizonColumn(double eye_m, double pitch_deg, double fov_deg, int rows, const std::string& id) {
+  HorizonColumn h;
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
+  const scene::LinearRgbImage map = uniformBasemap();
+  render::RenderSettings rs;
+  EXPECT_TRUE(rs.atmosphere);
+  const scene::VolumeFrame frame = scene::frameOf(v, 4.0);
+  auto tex = render::VolumeTextures::upload(v, frame, id);
+  render::DeepLightMap dlm;
+  dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
+  const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
+  h.cam.position_m = {c.x, c.y, eye_m};
+  h.cam.target_m =
+      h.cam.position_m + glm::dvec3(std::cos(glm::radians(pitch_deg)), 0.0, std::sin(glm::radians(pitch_deg)));
+  h.cam.up = {0.0, 0.0, 1.0};
+  h.cam.vertical_fov_deg = fov_deg;
+  h.cam.width = 3;
+  h.cam.height = rows;
+  render::CloudRenderer renderer;
+  renderer.setBasemap(map, {{-1e6, -1e6}, {1e6, 1e6}});
+  h.out = renderer.render(tex, dlm, h.cam, h.sun, rs);
+  return h;
+}
+
 // The low view's horizon (issue 14, twelfth session): an empty scene at height exaggeration 4 seen
 // from a drawn 30 km (the DEM pictures' camera, docs/terrain.md), looking east a little below the
 // horizontal, sun 25° high ahead. The air lives in the drawn world, so the sky is the CPU model's
@@ -145,27 +176,11 @@ TEST_F(RaycastTest, EmptyVolumeGroundSeenThroughTheAtmosphereMatchesTheCpuModel)
 //    (B > G > R): no band at the horizon.
 // The CPU model on every fourth row (its Ψ_ms at every sample costs seconds per row).
 TEST_F(RaycastTest, LowViewHorizonMeetsTheSkyOfTheCpuModel) {
-  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
-  const scene::LinearRgbImage map = uniformBasemap();
-  const scene::Sun sun{90.0, 25.0};  // azimuth clockwise from north: east, ahead of the camera
-  render::RenderSettings rs;
-  ASSERT_TRUE(rs.atmosphere);
-  const double exaggeration = 4.0, eye_m = 30000.0, pitch_deg = -4.0;
-  const scene::VolumeFrame frame = scene::frameOf(v, exaggeration);
-  auto tex = render::VolumeTextures::upload(v, frame, "horizon-test");
-  render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
-  scene::Camera cam;
-  const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
-  cam.position_m = {c.x, c.y, eye_m};
-  cam.target_m = cam.position_m + glm::dvec3(std::cos(glm::radians(pitch_deg)), 0.0, std::sin(glm::radians(pitch_deg)));
-  cam.up = {0.0, 0.0, 1.0};
-  cam.vertical_fov_deg = 10.0;
-  cam.width = 3;
-  cam.height = 129;
-  render::CloudRenderer renderer;
-  renderer.setBasemap(map, {{-1e6, -1e6}, {1e6, 1e6}});
-  const render::RenderOutput out = renderer.render(tex, dlm, cam, sun, rs);
+  const double eye_m = 30000.0;
+  const HorizonColumn h = renderHorizonColumn(eye_m, -4.0, 10.0, 129, "horizon-test");
+  const scene::Sun& sun = h.sun;
+  const scene::Camera& cam = h.cam;
+  const render::RenderOutput& out = h.out;
 
   const atmosphere::Parameters p = atmosphere::Parameters::earth();
   atmosphere::Quadrature q;
@@ -223,6 +238,70 @@ TEST_F(RaycastTest, LowViewHorizonMeetsTheSkyOfTheCpuModel) {
   }
   std::printf("across the horizon: (%.4e, %.4e, %.4e) above, (%.4e, %.4e, %.4e) below\n", above.x, above.y, above.z,
               below.x, below.y, below.z);
+}
+
+// The flat view from above the air (issue 14, fourteenth session): an eye 150 km up saw a hard
+// black strip above the horizontal (the sky-view table's observer is held at the atmosphere's
+// top, and a plane-parallel atmosphere has nothing above it) over the ground's bright haze. The
+// sky above the flat horizon is now the planet's limb as the eye sees it over the planet's own
+// horizon, moved up by the horizon's dip δ = acos(R/(R + h)) (sky.glsl flatSkyRadiance): each sky
+// row against the CPU model's skyRadiance along the direction δ lower (double precision, 64
+// steps), the first rows above the horizon not black, and the limb fading into space above.
+TEST_F(RaycastTest, HighEyeSkyAboveTheHorizonIsThePlanetsLimb) {
+  const double eye_m = 150000.0;
+  // −8° to +12°: the horizon, the limb and black space above it.
+  const HorizonColumn h = renderHorizonColumn(eye_m, 2.0, 20.0, 161, "high-horizon-test");
+  const scene::Sun& sun = h.sun;
+  const scene::Camera& cam = h.cam;
+  const render::RenderOutput& out = h.out;
+
+  const atmosphere::Parameters p = atmosphere::Parameters::earth();
+  atmosphere::Quadrature q;
+  q.view_steps = 64;
+  const glm::dvec3 toSun = sun.toSun();
+  const glm::dvec3 eye = atmosphere::observerAt(p, eye_m);
+  const double dip = std::acos(p.bottom_radius_m / (p.bottom_radius_m + eye_m));
+  auto pixel = [&](int y) {
+    const std::size_t i = (std::size_t(y) * std::size_t(cam.width) + 1) * 4;
+    return glm::dvec3(out.frame.rgba[i], out.frame.rgba[i + 1], out.frame.rgba[i + 2]);
+  };
+  auto luminance = [](const glm::dvec3& x) { return 0.2126 * x.x + 0.7152 * x.y + 0.0722 * x.z; };
+  int firstSkyRow = -1, compared = 0;
+  double worst = 0.0, brightest = 0.0;
+  for (int y = cam.height - 1; y >= 0; --y) {  // bottom (ground) to top
+    const glm::dvec3 dir = cam.rayDirection(1.5, y + 0.5);
+    if (dir.z <= 0.0) continue;
+    if (firstSkyRow < 0) firstSkyRow = y;
+    const double elevation = std::asin(dir.z);
+    const double horizontal = std::hypot(dir.x, dir.y);
+    const glm::dvec3 limbDir(std::cos(elevation - dip) * dir.x / horizontal,
+                             std::cos(elevation - dip) * dir.y / horizontal, std::sin(elevation - dip));
+    const glm::dvec3 expected = atmosphere::skyRadiance(p, eye, limbDir, toSun, q);
+    const glm::dvec3 got = pixel(y);
+    brightest = std::max(brightest, luminance(expected));
+    // Where the limb is brighter than a thousandth of its brightest (above: space, both ≈ 0).
+    if (luminance(expected) < 1e-3 * brightest) {
+      EXPECT_LT(luminance(got), 2e-3 * brightest) << "row " << y << ": space above the limb";
+      continue;
+    }
+    ++compared;
+    for (int k = 0; k < 3; ++k) {
+      worst = std::max(worst, std::abs(got[k] / expected[k] - 1.0));
+      EXPECT_NEAR(got[k], expected[k], 0.05 * expected[k])
+          << "row " << y << " elevation " << glm::degrees(elevation) << "°, channel " << k;
+    }
+  }
+  ASSERT_GT(firstSkyRow, 0);
+  const glm::dvec3 sky = pixel(firstSkyRow), ground = pixel(firstSkyRow + 1);
+  std::printf("high horizon: %d limb rows within %.4f of the CPU; first sky row (%.3e, %.3e, %.3e), last ground row "
+              "(%.3e, %.3e, %.3e)\n",
+              compared, worst, sky.x, sky.y, sky.z, ground.x, ground.y, ground.z);
+  EXPECT_GT(compared, 8);
+  // Not black: the sky just above the horizon is a sizeable part of the haze just below it
+  // (before the fix it was 0: the strip).
+  EXPECT_GT(luminance(sky), 0.2 * luminance(ground));
+  // Space above: the top row is black to a thousandth of the limb.
+  EXPECT_LT(luminance(pixel(0)), 1e-3 * luminance(sky));
 }
 
 // A homogeneous slab seen head-on: alpha = 1 − exp(−τ) with τ = β·(nz·dz) — the zero-padded

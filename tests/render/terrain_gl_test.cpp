@@ -178,6 +178,68 @@ TEST_F(TerrainRender, MountainHidesTheCloudBehindIt) {
   EXPECT_GT(weakest, 0.5);
 }
 
+// 3. Ground detail (style knob ground_tint; glsl/common/ground_tint.glsl). Off (the default) the
+//    branch is skipped: the frame is the imagery's. On, with the snow line at 2000 m, the ground
+//    above 2300 m (the transition's top) on the mountain's gentle slopes (≤ 3°, far below the rock's
+//    30°) is 95 % snow: the coded basemap's constant blue 0.2 becomes 0.05·0.2 + 0.95·0.83 under the
+//    same light, so each such pixel's blue is exactly 3.9925 times the untinted one (float rounding
+//    only); below 1700 m the covers are zero and the pixel is the untinted one bit for bit; and with
+//    the snow line above every summit the whole frame is the untinted one bit for bit.
+TEST_F(TerrainRender, GroundTintPutsSnowAboveTheSnowLineAndNothingElsewhere) {
+  auto session = open(240, 180);
+  lighting::StyleSettings style = session->style();
+  ASSERT_FALSE(style.ground_tint) << "synthesis is off by default";
+  style.atmosphere = false;
+  style.ambient = glm::dvec3(0.0);  // sunlight only, as the placement test
+  session->setStyle(style);
+  session->renderSettings().min_transmittance = 1.0;  // clouds off
+  session->renderSettings().jitter = false;
+  const auto& prep = session->prepared();
+  const scene::TerrainField terrain = scene::terrainOf(session->dataset().load(0), prep.frame);
+  const glm::dvec2 summitXy = prep.geo->worldFromLonLat({kMountainLon_deg, kMountainLat_deg});
+  const glm::dvec3 summit(summitXy, terrain.heightAt(summitXy));
+  scene::Camera cam = prep.flat_camera;
+  const double az = glm::radians(225.0), el = glm::radians(25.0), distance_m = 120000.0;
+  cam.target_m = summit;
+  cam.position_m =
+      summit + distance_m * glm::dvec3(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
+  const auto frameWith = [&](bool tint, double snowLine_m) {
+    session->renderSettings().ground_tint = tint;
+    session->renderSettings().snow_line_m = snowLine_m;
+    return session->render(cam).frame;
+  };
+  const scene::RgbaImage off = frameWith(false, 2000.0), on = frameWith(true, 2000.0),
+                         nothing = frameWith(true, 6000.0);
+  EXPECT_EQ(nothing.rgba, off.rgba) << "a snow line above every summit tints nothing";
+  const double ratio = (0.05 * 0.2 + 0.95 * 0.83) / 0.2;
+  int snow = 0, bare = 0;
+  double worst = 0.0;
+  for (int y = 0; y < cam.height; ++y) {
+    for (int x = 0; x < cam.width; ++x) {
+      const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5);
+      const double t = terrain.hitDistance(cam.position_m, d, 0.0, 1e30);
+      if (t < 0.0) continue;
+      const glm::dvec3 hit = cam.position_m + t * d;
+      const double height_m = hit.z / kExaggeration;
+      const std::size_t o = (std::size_t(y) * std::size_t(cam.width) + std::size_t(x)) * 4;
+      if (height_m > 2400.0) {
+        ++snow;
+        worst = std::max(worst, std::abs(double(on.rgba[o + 2]) / double(off.rgba[o + 2]) / ratio - 1.0));
+      } else if (height_m < 1600.0) {
+        ++bare;
+        for (int k = 0; k < 4; ++k)
+          ASSERT_EQ(on.rgba[o + std::size_t(k)], off.rgba[o + std::size_t(k)]) << x << ", " << y;
+      }
+    }
+  }
+  std::printf("[ terrain] ground tint: %d snow pixels, blue x %.4f within %.2e; %d pixels below the snow line "
+              "unchanged\n",
+              snow, ratio, worst, bare);
+  EXPECT_GT(snow, 200);
+  EXPECT_GT(bare, 2000);
+  EXPECT_LT(worst, 1e-4);
+}
+
 // 2b. Occlusion on the globe: the flat test's low camera carried onto the sphere. The reference
 // marches each pixel's straight ECEF ray on the CPU in 250 m steps, mapping every point to the world
 // through the globe's table (render::worldXyFromTable, the shader's twin): the ray is under the

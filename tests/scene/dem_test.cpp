@@ -10,7 +10,9 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "dem_writer.h"
 #include "gdal_raster_writer.h"
+#include "io/field_checks.h"
 #include "scene/dem.h"
 #include "scene/scene_file.h"
 #include "scene/scene_setup.h"
@@ -171,6 +173,205 @@ TEST(Dem, TheDemWinsWhereItHasDataTheModelFieldElsewhere) {
   EXPECT_NEAR(t.heightAt(c.hole_xy), 4.0 * 100.0, 1e-3);
 }
 
+// A DEM finer than the model (docs/terrain.md "A DEM finer than the model"): the 1 km UTM DEM
+// over 3 km cells refines the lattice 3 times; the field then holds the DEM at 1 km (its warp's
+// values exactly), the model's own field bilinear between its mass points where the DEM has none.
+TEST(Dem, AFinerDemRefinesTheLatticeAndKeepsTheModelFieldInItsHoles) {
+  nph::test::ScratchDir dir("dem");
+  DemCase c;
+  // The model's own field: a tilted plane, which bilinear resampling reproduces exactly.
+  c.volumes.terrain_height_m.resize(std::size_t(100 * 80));
+  for (int j = 0; j < 80; ++j)
+    for (int i = 0; i < 100; ++i)
+      c.volumes.terrain_height_m[std::size_t(j) * 100 + std::size_t(i)] = float(100 + 2 * i + j);
+  const DemRaster dem = DemRaster::open(writeUtmDem(dir, c));
+  const int r = demRefinementFor(dem, c.geo, c.frame);
+  EXPECT_EQ(r, 3) << "1 km pixels in 3 km cells";
+  const DemHeights d = demHeightsFor(dem, c.geo, c.frame, true, r);
+  ASSERT_EQ(d.model_m.size(), std::size_t(300 * 240));
+  const TerrainField t = terrainOf(c.volumes, c.frame, &d);
+  ASSERT_EQ(t.size, glm::ivec2(300, 240));
+  EXPECT_NEAR(t.cell_m.x, c.frame.voxel_size_m.x / 3.0, 1e-9);
+  int holes = 0;
+  for (int j = 0; j < 240; ++j) {
+    for (int i = 0; i < 300; ++i) {
+      const std::size_t k = std::size_t(j) * 300 + std::size_t(i);
+      if (!std::isnan(d.model_m[k])) {
+        ASSERT_EQ(t.height_m[k], d.model_m[k]) << i << ", " << j;
+        continue;
+      }
+      // The plane at the lattice point's continuous mass-point index ((i + ½)/3 − ½).
+      const double qx = (i + 0.5) / 3.0 - 0.5, qy = (j + 0.5) / 3.0 - 0.5;
+      EXPECT_NEAR(t.height_m[k], 100.0 + 2.0 * qx + qy, 1e-3) << i << ", " << j;
+      ++holes;
+    }
+  }
+  EXPECT_GT(holes, 3 * 3 * 16);  // the 20 km nodata square: ~20 × 20 points of 1 km
+  // The summit of the σ = 15 km Gaussian: on 1 km points the bilinear top is within 0.1 %.
+  EXPECT_NEAR(t.heightAt(c.peak_xy), 4.0 * kPeak_m, 4.0 * 0.003 * kPeak_m);
+  // The march on the finer lattice: straight down onto the summit.
+  const glm::dvec3 above(c.peak_xy, 20000.0);
+  EXPECT_NEAR(t.hitDistance(above, {0.0, 0.0, -1.0}, 0.0, 1e9), 20000.0 - t.heightAt(c.peak_xy), 1.0);
+  // A DEM as coarse as the model does not refine; the default is the mass points.
+  EXPECT_EQ(demHeightsFor(dem, c.geo, c.frame, false).model_m.size(), std::size_t(100 * 80));
+  EXPECT_THROW(demHeightsFor(dem, c.geo, c.frame, false, kMaxTerrainRefine + 1), UsageError);
+}
+
+// The march on a refined lattice joined to the far field within two far pixels ("The join with
+// the far field"), over rough ground (the generated Alpine DEM's relief placed over the Lambert
+// test grid), rays grazing across the lattice, its edge, the fade and the far field, against a
+// dense march (25 m steps, bisection): every ray that meets the ground gets a hit, never in front
+// of the ground, and what it skips is what the march's floor step allows by design
+// (glsl/common/terrain.glsl: near the surface a step is at least a quarter of the lattice's cell,
+// half a far pixel beyond it, so a grazing ray may pass under a crest's tip that rises less than
+// the bound's slope times one floor step). Measured: 5 of 400 rays skip a tip, by 22 m inside the
+// footprint and up to 696 m (world, × 4) in the far field's 3.9 km pixels.
+TEST(Dem, TheMarchFindsTheFirstGroundPointAcrossTheRefinedLatticeAndTheJoin) {
+  nph::test::ScratchDir dir("dem");
+  DemCase c;
+  const datagen::DemSpec spec;  // the generator's function only: its seed
+  const std::string path = dir.file("rough.tif");
+  {
+    // Heights of the Bernese Oberland (8° E, 46.5° N) moved onto the grid, through the same GeoTIFF
+    // writer the generator uses (gdal_raster_writer.h).
+    const int w = 800, h = 800;
+    std::vector<double> z(std::size_t(w) * h);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        z[std::size_t(j) * w + std::size_t(i)] =
+            datagen::generatedDemHeight_m(spec, 8.0 - 4.0 + (i + 0.5) * 0.01, 46.5 + 4.0 - (j + 0.5) * 0.01);
+    test::writeGeoTiff(path,
+                       {w, h, 1, GDT_Float32, std::array<double, 6>{-84.0, 0.01, 0.0, 29.0, 0.0, -0.01}, "EPSG:4326"},
+                       z, std::nullopt);
+  }
+  const DemRaster dem = DemRaster::open(path);
+  const DemHeights d = demHeightsFor(dem, c.geo, c.frame, true, demRefinementFor(dem, c.geo, c.frame));
+  const TerrainField t = terrainOf(c.volumes, c.frame, &d);
+  ASSERT_TRUE(t.hasFar());
+  ASSERT_GT(t.max_m, 4.0 * 2000.0);
+  const glm::dvec2 size(c.frame.size_m());
+  int rays = 0, hits = 0;
+  double worst_m = 0.0;
+  for (int k = 0; k < 400; ++k) {
+    // Eyes around the grid, low, rays across the edge and the fade at shallow angles.
+    const double a = 2.0 * M_PI * k / 400.0;
+    const glm::dvec3 o(0.5 * size.x + 0.8 * size.x * std::cos(a), 0.5 * size.y + 0.8 * size.y * std::sin(a),
+                       t.max_m * (0.6 + 0.3 * ((k * 7) % 5) / 4.0));
+    const glm::dvec2 to =
+        glm::dvec2(0.5 * size.x, 0.5 * size.y) + 0.3 * size * glm::dvec2(std::sin(3.0 * a), std::cos(5.0 * a));
+    const glm::dvec3 ray =
+        glm::normalize(glm::dvec3(to - glm::dvec2(o), -(0.02 + 0.05 * (k % 4)) * glm::length(to - glm::dvec2(o))));
+    const double tHit = t.hitDistance(o, ray, 0.0, 2.0e6);
+    // The dense march: 25 m steps up to the conservative hit (or 1500 km), bisection on a crossing.
+    double first = -1.0, prev = 0.0;
+    const double end = tHit >= 0.0 ? tHit : 1.5e6;
+    for (double s = 25.0; s <= end + 25.0; s += 25.0) {
+      const glm::dvec3 p = o + s * ray;
+      if (p.z <= t.heightAt(glm::dvec2(p))) {
+        double lo = prev, hi = s;
+        for (int b = 0; b < 30; ++b) {
+          const double m = 0.5 * (lo + hi);
+          const glm::dvec3 q = o + m * ray;
+          (q.z > t.heightAt(glm::dvec2(q)) ? lo : hi) = m;
+        }
+        first = hi;
+        break;
+      }
+      prev = s;
+    }
+    ++rays;
+    if (first < 0.0) continue;  // the dense march found nothing before the conservative hit
+    ++hits;
+    ASSERT_GE(tHit, 0.0) << "ray " << k << ": the march missed ground at " << first << " m";
+    // How deep the skipped ground reaches above the ray (world metres, exaggerated).
+    double depth_m = 0.0;
+    for (double s = first; s < tHit; s += 5.0) {
+      const glm::dvec3 p = o + s * ray;
+      depth_m = std::max(depth_m, t.heightAt(glm::dvec2(p)) - p.z);
+    }
+    if (tHit - first > 1.0)
+      std::printf("[ dem] ray %d: hit %.0f m beyond the first crossing at (%.0f, %.0f) km of the %.0f x %.0f km "
+                  "footprint, skipped ground %.2f m above the ray\n",
+                  k, tHit - first, (o + first * ray).x / 1e3, (o + first * ray).y / 1e3, size.x / 1e3, size.y / 1e3,
+                  depth_m);
+    EXPECT_GE(tHit, first - 0.5) << "ray " << k << ": a hit in front of the ground";
+    const glm::dvec3 at = o + first * ray;
+    const bool inLattice = at.x > -t.fade_m && at.y > -t.fade_m && at.x < size.x + t.fade_m && at.y < size.y + t.fade_m;
+    const double floor_m =
+        inLattice ? 0.25 * std::min(t.cell_m.x, t.cell_m.y) : 0.5 * std::min(t.far_cell_m.x, t.far_cell_m.y);
+    EXPECT_LE(depth_m, t.lipschitz * floor_m) << "ray " << k << ": more than one floor step's rise skipped";
+    worst_m = std::max(worst_m, depth_m);
+  }
+  std::printf("[ dem] %d of %d rough rays meet ground; skipped crest tips rise at most %.2f m above the ray (slope "
+              "bound %.2f)\n",
+              hits, rays, worst_m, t.lipschitz);
+  EXPECT_GT(hits, 300);
+}
+
+// nephele-gen dem (data_tools/dem_writer.h): a Float32 GeoTIFF that the user-DEM path opens as it
+// would SRTM (CRS, metres, one band), whose pixels are the generator's function at their centres,
+// and whose relief reads as mountains: a range along the Alps' axis with steep slopes and deep
+// valleys, a low foreland, sea level far away.
+TEST(Dem, GeneratedAlpineDemIsARealGeoTiffOfMountains) {
+  nph::test::ScratchDir dir("dem");
+  datagen::DemSpec spec;
+  spec.lon_min_deg = 6.0, spec.lat_min_deg = 45.0, spec.lon_max_deg = 10.0, spec.lat_max_deg = 48.0;
+  spec.pixel_deg = 0.01;
+  const std::string path = dir.file("alps.tif");
+  const datagen::DemTruth truth = datagen::writeGeneratedDem(spec, path);
+  ASSERT_EQ(truth.width, 400);
+  ASSERT_EQ(truth.height, 300);
+  const DemRaster dem = DemRaster::open(path);  // the user-DEM path's checks: CRS, metres, a band
+  EXPECT_EQ(dem.width(), 400);
+  EXPECT_FALSE(dem.hasNoData());
+  // Read back through GDAL: the generator's function at the pixel centres, bit for bit.
+  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+  ASSERT_NE(ds, nullptr);
+  std::vector<float> h(std::size_t(400) * 300);
+  ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, 0, 0, 400, 300, h.data(), 400, 300, GDT_Float32, 0, 0),
+            CE_None);
+  GDALClose(ds);
+  for (int j = 0; j < 300; j += 37)
+    for (int i = 0; i < 400; i += 41)
+      EXPECT_EQ(h[std::size_t(j) * 400 + std::size_t(i)],
+                float(datagen::generatedDemHeight_m(spec, 6.0 + (i + 0.5) * 0.01, 48.0 - (j + 0.5) * 0.01)));
+  // Mountains: the Bernese Oberland's axis (7.5–9° E, 46.4–46.7° N) reaches 2500 m and more,
+  // with a tenth or more of its slopes steeper than 30° (pixels ≈ 0.77 × 1.11 km); the Swiss
+  // plateau 100 km north (47.4–47.6° N) stays under 1200 m.
+  const double dx_m = 0.01 * 111320.0 * std::cos(46.5 * M_PI / 180.0), dy_m = 0.01 * 111320.0;
+  double axisMax = 0.0, plateauMax = 0.0;
+  int axisPixels = 0, steep = 0;
+  for (int j = 1; j + 1 < 300; ++j) {
+    const double lat = 48.0 - (j + 0.5) * 0.01;
+    for (int i = 1; i + 1 < 400; ++i) {
+      const double lon = 6.0 + (i + 0.5) * 0.01;
+      const auto at = [&](int x, int y) { return double(h[std::size_t(y) * 400 + std::size_t(x)]); };
+      if (lon > 7.5 && lon < 9.0 && lat > 46.4 && lat < 46.7) {
+        axisMax = std::max(axisMax, at(i, j));
+        const double gx = (at(i + 1, j) - at(i - 1, j)) / (2.0 * dx_m),
+                     gy = (at(i, j + 1) - at(i, j - 1)) / (2.0 * dy_m);
+        steep += std::hypot(gx, gy) > std::tan(30.0 * M_PI / 180.0) ? 1 : 0;
+        ++axisPixels;
+      }
+      if (lon > 7.5 && lon < 9.0 && lat > 47.4 && lat < 47.6) plateauMax = std::max(plateauMax, at(i, j));
+    }
+  }
+  std::printf(
+      "[ dem] generated: axis max %.0f m, %.1f %% of its slopes > 30°, plateau max %.0f m, range %.0f..%.0f m\n",
+      axisMax, 100.0 * steep / axisPixels, plateauMax, truth.min_m, truth.max_m);
+  EXPECT_GT(axisMax, 2500.0);
+  EXPECT_LT(truth.max_m, io::kHighestTerrain_m);
+  EXPECT_GE(truth.min_m, 0.0);
+  EXPECT_GT(double(steep) / axisPixels, 0.1);
+  EXPECT_LT(plateauMax, 1200.0);
+  // Far from the range: sea level (the generator's function 550 km south of the axis).
+  EXPECT_LT(datagen::generatedDemHeight_m(spec, 8.0, 39.0), 1.0);
+  // Deterministic: the same seed gives the same heights, another seed other ridges.
+  datagen::DemSpec other = spec;
+  other.seed = 2;
+  EXPECT_NE(datagen::generatedDemHeight_m(other, 8.0, 46.5), datagen::generatedDemHeight_m(spec, 8.0, 46.5));
+}
+
 void expectDemError(const std::string& path, const std::string& expected) {
   DemCase c;
   try {
@@ -226,7 +427,9 @@ TEST(Dem, SceneFileKeyAndPreparedScene) {
   SceneDescription scene = parseSceneText("{\"terrain\": {\"dem\": \"" + path + "\"}}", "s.json");
   const PreparedScene p = prepareScene(scene, c.volumes);
   ASSERT_TRUE(p.dem);
-  EXPECT_EQ(p.dem->model_m.size(), std::size_t(100 * 80));
+  // On the lattice refined to the DEM's 1 km pixels (3 km cells: demRefinementFor).
+  EXPECT_EQ(p.dem->refine, 3);
+  EXPECT_EQ(p.dem->model_m.size(), std::size_t(300 * 240));
   EXPECT_EQ(p.dem->far_size, glm::ivec2(kFarBasemapPixels));
   const WorldRect far = farBasemapRectangle(p.frame);
   EXPECT_EQ(p.dem->far_min_m, far.min_m);

@@ -162,7 +162,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
   t.terrain_ = scene::terrainOf(header, frame, o.dem);
   {
     const bool present = t.terrain_.present();
-    const int w = present ? n.x : 1, h = present ? n.y : 1;
+    const int w = present ? t.terrain_.size.x : 1, h = present ? t.terrain_.size.y : 1;
     t.terrain_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("terrain height [m]");
     const float zero = 0.0f;
     glTextureSubImage2D(t.terrain_tex_.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT,

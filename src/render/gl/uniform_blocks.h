@@ -283,7 +283,10 @@ struct TerrainBlock {
   glm::vec2 far_terrain_min_m{0.0f};   ///< u_far_terrain_min_m: its world rectangle's south-west corner
   glm::vec2 far_terrain_cell_m{1.0f};  ///< u_far_terrain_cell_m: its pixel size
   std::uint32_t has_far_terrain = 0;   ///< u_has_far_terrain (bool)
-  std::uint32_t pad = 0;               ///< to a multiple of 16 bytes (std140 block rounding)
+  /// Ground detail (glsl/common/ground_tint.glsl; style knobs ground_tint, snow_line_m):
+  std::uint32_t ground_tint = 0;  ///< u_ground_tint (bool): snow and rock from the terrain
+  float snow_line_m = 2700.0f;    ///< u_snow_line_m [m above MSL]
+  std::uint32_t pad[3] = {};      ///< to a multiple of 16 bytes (std140 block rounding)
 };
 static_assert(offsetof(TerrainBlock, cell_m) == 8 && offsetof(TerrainBlock, exaggeration) == 16 &&
               offsetof(TerrainBlock, lipschitz) == 32 && offsetof(TerrainBlock, has_terrain) == 36);
@@ -291,7 +294,8 @@ static_assert(offsetof(TerrainBlock, far_basemap_min_m) == 40 && offsetof(Terrai
               offsetof(TerrainBlock, has_far_basemap) == 56 && offsetof(TerrainBlock, city_lights) == 60);
 static_assert(offsetof(TerrainBlock, far_terrain_size) == 64 && offsetof(TerrainBlock, far_terrain_min_m) == 72 &&
               offsetof(TerrainBlock, far_terrain_cell_m) == 80 && offsetof(TerrainBlock, has_far_terrain) == 88);
-static_assert(sizeof(TerrainBlock) == 96, "std140 size of TerrainBlock, rounded to 16");
+static_assert(offsetof(TerrainBlock, ground_tint) == 92 && offsetof(TerrainBlock, snow_line_m) == 96);
+static_assert(sizeof(TerrainBlock) == 112, "std140 size of TerrainBlock, rounded to 16");
 inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(TerrainBlock, size)},
                                                   {"u_terrain_cell_m", offsetof(TerrainBlock, cell_m)},
                                                   {"u_terrain_exaggeration", offsetof(TerrainBlock, exaggeration)},
@@ -307,7 +311,9 @@ inline constexpr BlockMember kTerrainMembers[] = {{"u_terrain_size", offsetof(Te
                                                   {"u_far_terrain_size", offsetof(TerrainBlock, far_terrain_size)},
                                                   {"u_far_terrain_min_m", offsetof(TerrainBlock, far_terrain_min_m)},
                                                   {"u_far_terrain_cell_m", offsetof(TerrainBlock, far_terrain_cell_m)},
-                                                  {"u_has_far_terrain", offsetof(TerrainBlock, has_far_terrain)}};
+                                                  {"u_has_far_terrain", offsetof(TerrainBlock, has_far_terrain)},
+                                                  {"u_ground_tint", offsetof(TerrainBlock, ground_tint)},
+                                                  {"u_snow_line_m", offsetof(TerrainBlock, snow_line_m)}};
 
 /// glsl/atmosphere/model.glsl `AtmosphereBlock`: the atmosphere's constants (atmosphere/atmosphere.h
 /// Parameters) and the sky-view table's observer and sun (render/atmosphere/atmosphere_luts.h).

@@ -200,6 +200,9 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
   b.lipschitz = float(t.lipschitz);
   // Flat view and globe (render/globe_terrain.glsl) alike.
   b.has_terrain = s.terrain && t.present() ? 1u : 0u;
+  // Ground detail (glsl/common/ground_tint.glsl): synthesis, off unless the style asks for it.
+  b.ground_tint = s.ground_tint ? 1u : 0u;
+  b.snow_line_m = float(s.snow_line_m);
   b.has_far_basemap = far_basemap_ && !globe_ ? 1u : 0u;
   b.far_basemap_min_m = glm::vec2(far_basemap_rect_.min_m);
   b.far_basemap_max_m = glm::vec2(far_basemap_rect_.max_m);
