@@ -120,11 +120,13 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
 
 // Reduced-resolution clouds (issue 19 item 4, the knob `cloud_resolution`; docs/rendering.md
 // "Reduced-resolution clouds"). The march is the frame's cost and scales with the pixels, while
-// the clouds are soft: film and game renderers march them at a fraction of the resolution and
-// upsample (Schneider 2015, "The real-time volumetric cloudscapes of Horizon Zero Dawn": ¼ of the
-// pixels per frame; Hillaire 2016, "Physically based sky, atmosphere and cloud rendering in
-// Frostbite" §5: half resolution; Muth 2026 §3.4.9 reprojects a reduced-resolution march). With
-// SPEC_CLOUD_PASS (CloudRenderer) the pass runs in one of three roles:
+// the clouds are soft: real-time renderers march them at reduced resolution (Schneider 2015, "The
+// real-time volumetric cloudscapes of Horizon Zero Dawn"; Hillaire 2016, "Physically based sky,
+// atmosphere and cloud rendering in Frostbite"); Muth 2026 §3.4.9 marches at half resolution
+// (1280 × 720 for 2560 × 1440, his Table 4.1) and fills the full resolution by temporal
+// accumulation of jittered frames instead of a spatial upsampling. Here the upsampling is spatial,
+// so a single still frame needs no history. With SPEC_CLOUD_PASS (CloudRenderer) the pass runs in
+// one of three roles:
 //   0  march and composite at the image's resolution (the pass as it always was; no define = 0);
 //   1  the march only, at W/s × H/s (u_size is the reduced size): one sample's cloud layer (aerial
 //      perspective and renormalisation applied) and its guide (α·mean depth, march end), then stop;
