@@ -6,9 +6,10 @@
 # page faults and peak RSS from GNU time, medians over the rounds and ratios against the first
 # variant (> 1: faster than it); then the 8-bit PNG difference of the last round's images
 # (oiiotool --diff) against the first variant's.
-# Usage: tools/render_speed.sh OUT_DIR ROUNDS SCENE_JSON WIDTHxHEIGHT LABEL=BUILD_DIR [...]
+# Usage: tools/render_speed.sh OUT_DIR ROUNDS SCENE_JSON WIDTHxHEIGHT LABEL=BUILD_DIR[+KNOB=VALUE...] [...]
 #   e.g. tools/render_speed.sh /tmp/rs 3 out/demo.json 1920x1080 old=/tmp/old-build new=build
-# (BUILD_DIR/src/cli/nephele is run.)
+#        tools/render_speed.sh /tmp/rs 3 out/demo.json 1920x1080 full=build half=build+cloud_resolution=2
+# (BUILD_DIR/src/cli/nephele is run; each +KNOB=VALUE is set in the scene's quality.overrides.)
 set -euo pipefail
 out=$1
 rounds=$2
@@ -21,13 +22,19 @@ runs="$out/runs.tsv"
 printf 'variant\tround\twall_s\tcpu_s\tminor_faults\tmax_rss_kb\n' > "$runs"
 for v in "${variants[@]}"; do
   label=${v%%=*}
-  python3 - "$scene" "$out/$label.png" "$size" > "$out/$label.json" <<'PY'
+  rest=${v#*=}
+  overrides=""
+  [[ $rest == *+* ]] && overrides=${rest#*+}
+  python3 - "$scene" "$out/$label.png" "$size" "$overrides" > "$out/$label.json" <<'PY'
 import json, re, sys
 t = re.sub(r"^\s*//.*$", "", open(sys.argv[1]).read(), flags=re.M)
 s = json.loads(t)
 w, h = (int(x) for x in sys.argv[3].split("x"))
 s["output"]["paths"] = [sys.argv[2]]
 s["output"]["width"], s["output"]["height"] = w, h
+for kv in filter(None, sys.argv[4].split("+")):
+    k, v = kv.split("=", 1)
+    s.setdefault("quality", {}).setdefault("overrides", {})[k] = json.loads(v)
 print(json.dumps(s))
 PY
 done
@@ -36,6 +43,7 @@ for ((r = 0; r < rounds; ++r)); do
     v=${variants[$(((i + r) % ${#variants[@]}))]}
     label=${v%%=*}
     build=${v#*=}
+    build=${build%%+*}
     /usr/bin/time -f '%e %U %S %R %M' -o "$out/time.txt" "$build/src/cli/nephele" render "$out/$label.json" \
       > "$out/$label.log" 2>&1
     read -r wall user sys faults rss < "$out/time.txt"

@@ -118,6 +118,35 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
 #define WRITE_PASSES u_write_passes
 #endif
 
+// Reduced-resolution clouds (issue 19 item 4, the knob `cloud_resolution`; docs/rendering.md
+// "Reduced-resolution clouds"). The march is the frame's cost and scales with the pixels, while
+// the clouds are soft: real-time renderers march them at reduced resolution (Schneider 2015, "The
+// real-time volumetric cloudscapes of Horizon Zero Dawn"; Hillaire 2016, "Physically based sky,
+// atmosphere and cloud rendering in Frostbite"); Muth 2026 §3.4.9 marches at half resolution
+// (1280 × 720 for 2560 × 1440, his Table 4.1) and fills the full resolution by temporal
+// accumulation of jittered frames instead of a spatial upsampling. Here the upsampling is spatial,
+// so a single still frame needs no history. With SPEC_CLOUD_PASS (CloudRenderer) the pass runs in
+// one of three roles:
+//   0  march and composite at the image's resolution (the pass as it always was; no define = 0);
+//   1  the march only, at W/s × H/s (u_size is the reduced size): one sample's cloud layer (aerial
+//      perspective and renormalisation applied) and its guide (α·mean depth, march end), then stop;
+//   2  the full-resolution pass: the ground, the sky and the passes as in 0, with the clouds taken
+//      from role 1's images by depth-aware upsampling (upsampleClouds below) instead of marched.
+// Samples per pixel alternate the two roles, sample k of role 1 then sample k of role 2, which
+// folds the composite into the running means as role 0 does: the frame stays the mean of
+// C + T·background over the samples.
+#ifdef SPEC_CLOUD_PASS
+#define CLOUD_PASS SPEC_CLOUD_PASS
+#else
+#define CLOUD_PASS 0
+#endif
+#if CLOUD_PASS == 1
+layout(rg32f, binding = IMAGE_LOW_CLOUD_GUIDE) uniform image2D u_low_cloud_guide_out;
+#elif CLOUD_PASS == 2
+layout(binding = UNIT_LOW_CLOUD_LAYER) uniform sampler2D u_low_cloud_layer;  // role 1's cloud layer
+layout(binding = UNIT_LOW_CLOUD_GUIDE) uniform sampler2D u_low_cloud_guide;  // role 1's guide
+#endif
+
 // The sunlight at a cloud sample (issue 19 item 1b): with SPEC_LIGHT_CACHE = 1 (CloudRenderer, when
 // the map was built with DlmSettings::light_cache_voxels > 0) one trilinear fetch from the light
 // cache the map baked over the volume's box (glsl/dlm/light_cache.comp); otherwise the map's
@@ -381,6 +410,73 @@ vec2 volumeInterval(vec3 o, vec3 d) {
 // last one. Sample 0 writes its value: one sample per pixel is the pass as it always was.
 vec4 runningMean(vec4 previous, vec4 value) { return previous + (value - previous) / float(u_sample_index + 1u); }
 
+#if CLOUD_PASS == 2
+// Depth-aware upsampling of the reduced-resolution clouds (role 2 of SPEC_CLOUD_PASS above): joint
+// bilateral upsampling (Kopf, Cohen, Lischinski & Uyttendaele 2007, "Joint bilateral upsampling")
+// over the 2×2 reduced pixels around this sample, with a binary range kernel on the march's end
+// guided by the full-resolution geometry — the nearest-depth upsampling of mixed-resolution
+// particle rendering (Bavoil & Sainz 2009, NVIDIA "Fast rendering of opacity-mapped particles
+// using DirectX 11 tessellation and mixed resolution"):
+//   w_i = b_i · [|e_i − e| ≤ κ·min(e_i, e)],   layer = Σ w_i·layer_i / Σ w_i,
+// b_i the bilinear weights, e the distance at which this ray's march ends (the volume's far face,
+// the terrain, the globe's ground or the host's geometry: `marchEnd_m`; 0 for a ray that misses
+// the volume) and e_i the reduced rays' ends (role 1's guide of the same sample). Where
+// all four match, this is the bilinear filter; where a reduced ray ended somewhere else (behind a
+// ridge, past a host object's edge), it is left out, so a mountain's near side never takes the
+// cloud behind it, nor the sky beside a cloud the cloud's alpha. Where none matches (a thin
+// feature narrower than a reduced pixel) the reduced ray whose end is nearest to this one's
+// stands in. The premultiplied layer is filtered as is (linear in the radiance); the mean depth
+// travels premultiplied as well (α·d̄) and is divided by the filtered α.
+// κ: neighbouring rays over smooth ground or through the box's faces end within a few per cent
+// of each other except at grazing angles (relative change per reduced pixel ≈ its angle / tan of
+// the grazing angle: 1080p/2 ≈ 1.5 mrad, so 10 % is reached below ~1° of grazing), while an
+// occluding edge jumps by far more (a ridge 30 km away against the box's far face 100 km
+// behind it).
+const float kUpsampleDepthTolerance = 0.1;  // κ
+struct UpsampledClouds {
+  vec4 layer;         // premultiplied (C, α)
+  float meanDepth_m;  // d̄ along the ray (0 where α = 0)
+};
+UpsampledClouds upsampleClouds(vec2 at, float marchEnd_m) {
+  ivec2 lowSize = textureSize(u_low_cloud_layer, 0);
+  // Reduced pixel coordinates with this sample's reduced rays at the integers: role 1 cast them
+  // through reduced position c + u_subpixel (the centres c + ½ for the first sample).
+  vec2 q = at * vec2(lowSize) / vec2(u_size) - u_subpixel;
+  ivec2 q0 = ivec2(floor(q));
+  vec2 f = q - vec2(q0);
+  vec4 layerSum = vec4(0.0), nearestLayer = vec4(0.0);
+  float depthSum = 0.0, weightSum = 0.0, nearestDepth = 0.0, nearestDifference = 3.0e38;
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      ivec2 c = clamp(q0 + ivec2(i, j), ivec2(0), lowSize - 1);
+      vec4 layer = texelFetch(u_low_cloud_layer, c, 0);
+      vec2 guide = texelFetch(u_low_cloud_guide, c, 0).xy;  // (α·d̄, march end)
+      float difference = abs(guide.y - marchEnd_m);
+      if (difference < nearestDifference) {
+        nearestDifference = difference;
+        nearestLayer = layer;
+        nearestDepth = guide.x;
+      }
+#ifdef UPSAMPLE_DEPTH_BLIND  // benchmark/test baseline (EyePassBaseline::depth_blind_upsampling)
+      if (true) {
+#else
+      if (difference <= kUpsampleDepthTolerance * min(guide.y, marchEnd_m)) {
+#endif
+        float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
+        layerSum += w * layer;
+        depthSum += w * guide.x;
+        weightSum += w;
+      }
+    }
+  }
+  UpsampledClouds u;
+  u.layer = weightSum > 0.0 ? layerSum / weightSum : nearestLayer;
+  float alphaDepth = weightSum > 0.0 ? depthSum / weightSum : nearestDepth;
+  u.meanDepth_m = u.layer.a > 0.0 ? alphaDepth / u.layer.a : 0.0;
+  return u;
+}
+#endif
+
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(px, u_size))) return;
@@ -393,7 +489,13 @@ void main() {
   vec3 origin = u_cam_pos_m;
   float hostDistance = kNoHostGeometry_m;  // distance along the ray to the host's opaque geometry
   if (u_has_host_depth) {
+#if CLOUD_PASS == 1  // the host's pixel under this reduced pixel's centre
+    ivec2 hostSize = textureSize(u_host_depth, 0);
+    ivec2 hostPx = min(ivec2((vec2(px) + 0.5) * vec2(hostSize) / vec2(u_size)), hostSize - 1);
+    float d = texelFetch(u_host_depth, ivec2(hostPx.x, hostSize.y - 1 - hostPx.y), 0).r;
+#else
     float d = texelFetch(u_host_depth, ivec2(px.x, u_size.y - 1 - px.y), 0).r;
+#endif
     if (d < 1.0) {
       vec4 hit = u_view_from_clip * vec4(ndc, 2.0 * d - 1.0, 1.0);
       hostDistance = length(hit.xyz / hit.w);
@@ -432,6 +534,15 @@ void main() {
   vec3 sunAtClouds = u_sun_radiance;
   vec3 skyAtClouds = u_sky_radiance;  // the upper hemisphere's radiance there (issue 12's clear sky without the atmosphere)
   bool sunAtCloudsSet = !ATMOSPHERE_ON;
+  bool first = u_sample_index == 0u;
+#if CLOUD_PASS == 2
+  // The clouds from the reduced-resolution march (role 2; upsampleClouds above).
+  UpsampledClouds upsampled = upsampleClouds(at, span.x < span.y ? span.y : 0.0);
+  C = upsampled.layer.rgb;
+  float alpha = upsampled.layer.a;
+  Tacc = 1.0 - alpha;
+  float meanDepth = upsampled.meanDepth_m;
+#else
   float depthSum = 0.0;  // Σ t·(opacity added): the cloud layer's mean depth for aerial perspective
   if (span.x < span.y) {
     // (each sample of a pixel its own offset; sample 0 the one a single sample always had)
@@ -498,9 +609,20 @@ void main() {
                                    : aerialPerspectiveOfFlatPoint(origin.z, dir, meanDepth, u_to_sun);
     C = C * ap.transmittance + alpha * u_sun_radiance * ap.inscattered;
   }
-  bool first = u_sample_index == 0u;
+#endif
+#if CLOUD_PASS == 1  // this sample alone: the full-resolution pass folds it into the means
+  imageStore(u_cloud_layer, px, vec4(C, alpha));
+#else
   imageStore(u_cloud_layer, px, first ? vec4(C, alpha) : runningMean(imageLoad(u_cloud_layer, px), vec4(C, alpha)));
+#endif
+#if CLOUD_PASS != 2
   if (u_count_samples) imageStore(u_sample_count, px, uvec4(samples + (first ? 0u : imageLoad(u_sample_count, px).x)));
+#endif
+#if CLOUD_PASS == 1
+  // The upsampling's guide (role 1), for this sample as the layer: α·d̄ and the march's end.
+  imageStore(u_low_cloud_guide_out, px, vec4(alpha * meanDepth, span.x < span.y ? span.y : 0.0, 0.0, 0.0));
+  return;  // the ground, the sky and the passes are the full-resolution pass's
+#endif
 
   // Background: the ground (plane z = 0 or the sphere R) or the sky (space on the globe), as two
   // passes: `ground` (the lit ground after the air's transmittance) and `sky` (the sky's radiance,

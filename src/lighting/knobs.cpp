@@ -84,6 +84,15 @@ constexpr std::array kKnobs{
          .preset = {1, 1, 1}, .doc = "cloud shadows on the ground"},
     Knob{.name = "samples_per_pixel", .unit = "", .min = 1, .max = 1024, .field = &Q::samples_per_pixel,
          .preset = {1, 1, 1}, .doc = "eye-pass samples per pixel at sub-pixel positions, averaged (anti-aliasing; the DLM is built once)"},
+    // Reduced-resolution clouds (issue 19 item 4; glsl/render/clouds.comp upsampleClouds): the
+    // clouds are marched at 1/s of the width and height and upsampled to the full resolution,
+    // guided by the full-resolution geometry, under the ground and sky drawn at full resolution.
+    // Presets by measurement (docs/benchmarks.md "Reduced-resolution clouds"): ½ moves the golden
+    // scenes' frames by max 0.022 (flat) and 0.055 (globe), above the broadcast preset's error
+    // budget (the golden tolerance, max 0.015), so broadcast and reference keep 1; draft, the
+    // interactive preset (`nephele view`'s Q, the plugin examples), takes ½.
+    Knob{.name = "cloud_resolution", .unit = "divisor", .min = 1, .max = 4, .field = &Q::cloud_resolution,
+         .preset = {2, 1, 1}, .doc = "clouds marched at 1/s of the width and height and upsampled, depth-aware (1: every pixel)"},
     // The extinction filter (volume/reconstruction.h; issue 13). Trilinear is data-true but shows
     // the grid of coarse models as terraces and blocks; the cubic B-spline removes them (docs/
     // rendering.md "Reconstruction") at 8 texture fetches per sample instead of 1. "auto" (every
@@ -208,6 +217,7 @@ RenderSettings renderSettingsFor(const QualitySettings& q, const StyleSettings& 
   r.min_transmittance = q.early_termination_transmittance;
   r.jitter = q.jitter;
   r.samples_per_pixel = q.samples_per_pixel;
+  r.cloud_resolution = q.cloud_resolution;
   r.empty_space_skipping = q.empty_space_skipping;
   r.shadows = q.shadows;
   r.multiple_scattering = MultipleScattering(q.multiple_scattering);

@@ -79,6 +79,12 @@ struct RenderSettings : StyleSettings {
   /// the dispatch's samples into the mean the previous dispatches left (`nephele view` refines a
   /// still frame one sample at a time this way).
   int first_sample = 0;
+  /// Reduced-resolution clouds (the knob `cloud_resolution`; issue 19 item 4): the eye pass marches
+  /// the clouds at W/s × H/s for s = this divisor and a full-resolution pass upsamples them,
+  /// guided by the full-resolution geometry (depth-aware upsampling, glsl/render/clouds.comp
+  /// upsampleClouds), under the ground and sky it draws at full resolution. 1: the march at every
+  /// pixel (bit for bit the pass before the knob).
+  int cloud_resolution = 1;
   bool empty_space_skipping = true;
   bool shadows = true;  ///< cloud shadows on the ground (DLM at z = 0)
   /// Multiple scattering of sunlight (issue 12): the octave series fitted to the path tracer

@@ -21,6 +21,7 @@
 // (16:9); this 2-core VM renders the demo at 960 × 540.
 // BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
 // BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
+// BM_CloudResolution (issue 19 item 4): the clouds marched at 1/1, 1/2, 1/4 of the resolution.
 // BM_DetailCost (issue 13): cubic reconstruction and sub-grid detail against the plain frame.
 // BM_DetailMass (issue 13): the detail's mass measurement, exhaustive against cheaper patterns.
 // Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
@@ -616,6 +617,74 @@ BENCHMARK(BM_EyePassDefaults)
     ->ArgNames({"scene", "width"})
     ->Args({1, 1280})  // coarse storm, 1280 × 720
     ->Args({0, 640})   // demo storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Issue 19 item 4: reduced-resolution clouds (RenderSettings::cloud_resolution, the knob
+// `cloud_resolution`; glsl/render/clouds.comp upsampleClouds): the eye pass with the clouds
+// marched at 1/1, 1/2 and 1/4 of the width and height and upsampled (depth-aware) under the ground
+// drawn at full resolution, the broadcast defaults otherwise (light cache ½), interleaved in
+// rotating order. Errors in 8-bit sRGB levels (as BM_EyePassDefaults): each frame against the
+// full-resolution frame, and each cloud layer (no jitter, no atmosphere) against the CPU reference
+// ray marcher at full resolution (reference::marchCloudLayer, the map's direct look-up per sample).
+void BM_CloudResolution(benchmark::State& state) {
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
+  constexpr int kVariants = 3;
+  const int divisors[kVariants] = {1, 2, 4};
+  scene::DlmSettings ds;
+  ds.light_cache_voxels = lighting::QualitySettings{}.light_cache_voxels;  // the broadcast preset's
+  render::DeepLightMap dlm;
+  dlm.build(sc.tex, -sc.sun.toSun(), ds);
+  render::DeepLightMap direct;  // the CPU reference evaluates the map itself, not its cache
+  direct.build(sc.tex, -sc.sun.toSun(), scene::DlmSettings{});
+  const scene::RgbaImage cpu = sc.cpuReference(direct);
+  render::CloudRenderer renderer;
+  render::RenderSettings rs[kVariants];
+  render::RenderOutput out[kVariants];
+  LevelStats vsFull[kVariants], vsCpu[kVariants];
+  double samples[kVariants];
+  for (int k = 0; k < kVariants; ++k) {
+    rs[k].cloud_resolution = divisors[k];
+    render::RenderSettings ref = DemoScene::referenceSettings();
+    ref.cloud_resolution = divisors[k];
+    renderer.countSamples(true);
+    out[k] = renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs[k]);  // compiles, warms up
+    samples[k] = double(renderer.sampleCount());
+    renderer.countSamples(false);
+    vsCpu[k] = levelStats(renderer.render(sc.tex, dlm, sc.camera, sc.sun, ref).cloud_layer, cpu);
+  }
+  for (int k = 0; k < kVariants; ++k) vsFull[k] = levelStats(out[k].frame, out[0].frame);
+  Series series[kVariants];
+  const int rounds = interleavedCasts<kVariants>(state, series, [&](int k) {
+    renderer.dispatch(sc.tex, dlm, render::ViewRays::fromCamera(sc.camera), sc.sun, rs[k]);
+  });
+  std::fprintf(stderr, "cloud resolution, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n",
+               sc.demo ? "demo" : "coarse", sc.v.nx, sc.v.ny, sc.v.nz, sc.width, sc.height, rounds,
+               sc.ctx->info().renderer.c_str());
+  auto& c = state.counters;
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = "1_" + std::to_string(divisors[k]);
+    const double cpuRatio = median(series[0].cpu) / median(series[k].cpu);
+    const double wallRatio = median(series[0].wall) / median(series[k].wall);
+    c["cast_ms_" + name] = median(series[k].wall);
+    c["cast_cpu_ms_" + name] = median(series[k].cpu);
+    c["cast_cpu_ratio_" + name] = cpuRatio;
+    c["levels_vs_full_max_" + name] = vsFull[k].max;
+    c["levels_vs_cpu_max_" + name] = vsCpu[k].max;
+    std::fprintf(stderr,
+                 "  clouds at 1/%d: eye pass wall %6.0f ms, CPU %6.0f ms, full/this wall %.2f CPU %.2f; %.3g samples\n"
+                 "  %-13s vs full resolution: mean %.3f p99 %.0f max %d, %.3f %% > 2; cloud layer vs CPU reference: "
+                 "mean %.3f p99 %.0f max %d, %.3f %% > 2\n",
+                 divisors[k], median(series[k].wall), median(series[k].cpu), wallRatio, cpuRatio, samples[k], "",
+                 vsFull[k].mean, vsFull[k].p99, vsFull[k].max, 100.0 * vsFull[k].over2, vsCpu[k].mean, vsCpu[k].p99,
+                 vsCpu[k].max, 100.0 * vsCpu[k].over2);
+  }
+}
+BENCHMARK(BM_CloudResolution)
+    ->ArgNames({"scene", "width"})
+    ->Args({0, 960})   // demo storm, 960 × 540 (the CPU reference at 1080p takes too long on the 2-core VM)
+    ->Args({1, 1920})  // coarse storm, 1920 × 1080
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

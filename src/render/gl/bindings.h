@@ -63,6 +63,9 @@
   X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \
   X(IMAGE_PASS_GROUND, 3)       /* image2D rgba32f: passes: ground radiance, shadow matte */    \
   X(IMAGE_PASS_SKY, 4)          /* image2D rgba32f: passes: sky radiance, cloud depth Z [m] */   \
+  X(IMAGE_LOW_CLOUD_GUIDE, 5)   /* image2D rg32f: reduced-resolution clouds: (α·mean depth, march end) [m] */ \
+  X(UNIT_LOW_CLOUD_LAYER, 22)   /* sampler2D: the reduced-resolution cloud layer, read by the upsampling pass */ \
+  X(UNIT_LOW_CLOUD_GUIDE, 23)   /* sampler2D: its (α·mean depth, march end), the upsampling's depth guide */ \
   /* Atmosphere, glsl/atmosphere/ (render/atmosphere/atmosphere_luts.cpp) */                   \
   X(UBO_ATMOSPHERE, 4)          /* AtmosphereBlock (render/gl/uniform_blocks.h) */             \
   X(UNIT_TRANSMITTANCE_LUT, 10) /* sampler2D: transmittance to the top (r, mu) */              \

@@ -23,7 +23,8 @@ gl::Defines EyePassFeatures::defines() const {
           {"SPEC_DETAIL", bit(detail)},
           {"SPEC_CUBIC", bit(cubic)},
           {"SPEC_LIGHT_CACHE", bit(light_cache)},
-          {"SPEC_PACKED", bit(packed)}};
+          {"SPEC_PACKED", bit(packed)},
+          {"SPEC_CLOUD_PASS", std::to_string(cloud_pass)}};
 }
 
 glm::vec2 subpixelPosition(int k) {
@@ -223,8 +224,9 @@ void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const Rende
 
 std::size_t CloudRenderer::textureBytes() const {
   std::size_t b = 0;
-  for (const gl::Texture* t : {&basemap_, &far_basemap_, &blank_, &cloud_tex_, &frame_tex_, &ground_pass_tex_,
-                               &sky_pass_tex_, &globe_table_, &globe_basemap_, &sample_count_tex_})
+  for (const gl::Texture* t :
+       {&basemap_, &far_basemap_, &blank_, &cloud_tex_, &frame_tex_, &ground_pass_tex_, &sky_pass_tex_, &globe_table_,
+        &globe_basemap_, &sample_count_tex_, &low_cloud_tex_, &low_guide_tex_})
     b += t->bytes();
   return b;
 }
@@ -246,10 +248,14 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Deep
 
 const gl::Program& CloudRenderer::program(const EyePassFeatures& features) {
   gl::Defines defines = baseline_.uniform_branches ? gl::Defines{} : features.defines();
+  // The role is no uniform branch: the baseline keeps it as a define.
+  if (baseline_.uniform_branches && features.cloud_pass != 0)
+    defines.emplace_back("SPEC_CLOUD_PASS", std::to_string(features.cloud_pass));
   if (baseline_.binary_search) defines.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
   if (baseline_.unclipped_steps) defines.emplace_back("ADAPTIVE_STEPS_UNCLIPPED", "1");
   if (baseline_.sky_half_transmittance) defines.emplace_back("SKY_HALF_TRANSMITTANCE", "1");
   if (baseline_.no_forward_lobe) defines.emplace_back("NO_FORWARD_LOBE", "1");
+  if (baseline_.depth_blind_upsampling && features.cloud_pass == 2) defines.emplace_back("UPSAMPLE_DEPTH_BLIND", "1");
   std::string key;
   for (const auto& [name, value] : defines) key += name + "=" + value + ";";
   auto it = programs_.find(key);
@@ -268,7 +274,6 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   if (target_size_ != glm::ivec2(w, h)) {
     cloud_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("cloud layer");
     frame_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("frame");
-    sample_count_tex_ = gl::Texture::create2D(GL_R32UI, w, h).label("samples per ray");
     ground_pass_tex_ = gl::Texture();
     sky_pass_tex_ = gl::Texture();
     target_size_ = {w, h};
@@ -277,8 +282,30 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     ground_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("ground pass, shadow matte");
     sky_pass_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("sky pass, cloud depth");
   }
+  // Reduced-resolution clouds (RenderSettings::cloud_resolution; clouds.comp SPEC_CLOUD_PASS):
+  // the march at ⌈W/s⌉ × ⌈H/s⌉ (the same field of view: the rays of ViewRays at that size), then
+  // the full-resolution pass over its upsampled clouds.
+  const int divisor = std::clamp(s.cloud_resolution, 1, 4);
+  const glm::ivec2 low{(w + divisor - 1) / divisor, (h + divisor - 1) / divisor};
+  if (divisor > 1 && low_size_ != low) {
+    low_cloud_tex_ = gl::Texture::create2D(GL_RGBA32F, low.x, low.y).label("cloud layer, reduced resolution");
+    low_guide_tex_ = gl::Texture::create2D(GL_RG32F, low.x, low.y).label("cloud guide, reduced resolution");
+    low_cloud_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+    low_guide_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
+    low_size_ = low;
+  }
+  const glm::ivec2 marched = divisor > 1 ? low : glm::ivec2(w, h);
+  if (count_size_ != marched) {
+    sample_count_tex_ = gl::Texture::create2D(GL_R32UI, marched.x, marched.y).label("samples per ray");
+    count_size_ = marched;
+  }
   const EyePassFeatures f = features(volume, dlm, s);
-  const gl::Program& p = program(f);
+  EyePassFeatures lowFeatures = f, fullFeatures = f;
+  lowFeatures.cloud_pass = 1;
+  lowFeatures.passes = false;  // the full-resolution pass writes them
+  fullFeatures.cloud_pass = 2;
+  const gl::Program& p = program(divisor > 1 ? fullFeatures : f);
+  const gl::Program* lowProgram = divisor > 1 ? &program(lowFeatures) : nullptr;
   p.use();
   volume.bind();
   dlm.bindForLookup();
@@ -328,24 +355,39 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   }
   updateGlobeBlock(view, volume, s, sun.intensity);
   updateTerrainBlock(volume, s);
-  glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, cloud_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-  glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-  glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-  // Without passes the units stay bound to the frame (valid, never written: u_write_passes is 0).
-  const GLuint groundImage = passes_ ? ground_pass_tex_.id() : frame_tex_.id();
-  const GLuint skyImage = passes_ ? sky_pass_tex_.id() : frame_tex_.id();
-  glBindImageTexture(gl::binding::IMAGE_PASS_GROUND, groundImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-  glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   // Samples per pixel (RenderSettings::samples_per_pixel; clouds.comp runningMean): one dispatch
-  // per sample, each folding into the images the previous ones wrote.
+  // per sample, each folding into the images the previous ones wrote. With reduced-resolution
+  // clouds each sample is two dispatches: the reduced march at the sample's sub-pixel position in
+  // the reduced pixel (so the samples spread over the s × s full pixels under it), then the
+  // full-resolution pass, which upsamples that sample's clouds and folds the composite into the
+  // means; a progressive refinement (first_sample > 0) folds one more such pair.
   const int first = std::max(0, s.first_sample), samples = std::max(1, s.samples_per_pixel);
-  for (int k = first; k < first + samples; ++k) {
+  auto run = [&](const gl::Program& program, glm::ivec2 size, int role, int k) {
+    program.use();
+    bindImages(role);
+    b.size = size;
+    b.write_passes = passes_ && role != 1 ? 1u : 0u;
     b.subpixel = subpixelPosition(k);
     b.sample_index = std::uint32_t(k);
     raycast_block_.update(b);
     raycast_block_.bind();
-    p.dispatchCovering({w, h, 1});
-    if (k + 1 < first + samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    program.dispatchCovering({size.x, size.y, 1});
+  };
+  if (lowProgram) {
+    glBindTextureUnit(gl::binding::UNIT_LOW_CLOUD_LAYER, low_cloud_tex_.id());
+    glBindTextureUnit(gl::binding::UNIT_LOW_CLOUD_GUIDE, low_guide_tex_.id());
+  }
+  for (int k = first; k < first + samples; ++k) {
+    if (lowProgram) {
+      run(*lowProgram, low, 1, k);
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      run(p, {w, h}, 2, k);
+      // the next reduced march overwrites what this pass read
+      if (k + 1 < first + samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    } else {
+      run(p, {w, h}, 0, k);
+      if (k + 1 < first + samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
   }
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (finish) glFinish();
@@ -353,9 +395,26 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void CloudRenderer::bindImages(int role) const {
+  // Role 1 (the reduced march) writes the reduced layer and guide; the frame and the passes stay
+  // bound (valid, never written by it).
+  const GLuint layer = role == 1 ? low_cloud_tex_.id() : cloud_tex_.id();
+  glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, layer, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  if (role == 1)
+    glBindImageTexture(gl::binding::IMAGE_LOW_CLOUD_GUIDE, low_guide_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_RG32F);
+  // Without passes the units stay bound to the frame (valid, never written: u_write_passes is 0).
+  const GLuint groundImage = passes_ ? ground_pass_tex_.id() : frame_tex_.id();
+  const GLuint skyImage = passes_ ? sky_pass_tex_.id() : frame_tex_.id();
+  glBindImageTexture(gl::binding::IMAGE_PASS_GROUND, groundImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+}
+
 std::uint64_t CloudRenderer::sampleCount() const {
   if (!count_samples_ || !sample_count_tex_) return 0;
-  std::vector<std::uint32_t> counts(std::size_t(target_size_.x) * std::size_t(target_size_.y));
+  std::vector<std::uint32_t> counts(std::size_t(count_size_.x) * std::size_t(count_size_.y));
   glGetTextureImage(sample_count_tex_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
                     static_cast<GLsizei>(counts.size() * sizeof(std::uint32_t)), counts.data());
   gl::checkErrors("sample count read-back");

@@ -84,6 +84,10 @@ struct EyePassFeatures {
   bool light_cache = false;
   /// one fetch per step from the packed texture (VolumeTextures::hasPacked), not three
   bool packed = false;
+  /// The pass's role with reduced-resolution clouds (RenderSettings::cloud_resolution;
+  /// clouds.comp SPEC_CLOUD_PASS): 0 march and composite, 1 the reduced march only, 2 the
+  /// full-resolution pass over the upsampled clouds. Set by dispatch(), not by features().
+  int cloud_pass = 0;
   /// {"SPEC_GLOBE", "0|1"}, … for gl::Program::compute.
   gl::Defines defines() const;
 };
@@ -105,6 +109,9 @@ struct EyePassBaseline {
   /// two_stream without the once-scattered light's forward lobe (before issue 12's thirteenth
   /// session; glsl/common/cloud_light.glsl forwardLobe), to measure its cost against
   bool no_forward_lobe = false;
+  /// reduced-resolution clouds upsampled by the bilinear filter alone, blind to the depth guide
+  /// (glsl/render/clouds.comp upsampleClouds), to show what the guide keeps off a ridge
+  bool depth_blind_upsampling = false;
 };
 
 class CloudRenderer {
@@ -138,7 +145,8 @@ class CloudRenderer {
   void setGlobeSun(const glm::dvec3& to_sun_ecef) { globe_to_sun_ = to_sun_ecef; }
   bool globe() const { return globe_.has_value(); }
   /// Statistics for benchmarks: when on, dispatch() also records the number of volume samples
-  /// (extinction look-ups) of every ray; sampleCount() sums the last dispatch's (a read-back).
+  /// (extinction look-ups) of every ray (the reduced rays with cloud_resolution > 1);
+  /// sampleCount() sums the last dispatch's (a read-back).
   void countSamples(bool on) { count_samples_ = on; }
   /// Compositing passes (scene/passes.h): when on, dispatch() also fills groundPass() (ground
   /// radiance, shadow matte in α) and skyPass() (sky radiance, cloud depth Z in α), and render()
@@ -168,6 +176,9 @@ class CloudRenderer {
   void updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& settings);
 
   const gl::Program& program(const EyePassFeatures& features);
+  /// Binds the output images of a pass (cloud layer, frame, sample counts, passes) for `role`
+  /// (EyePassFeatures::cloud_pass).
+  void bindImages(int role) const;
 
   std::map<std::string, gl::Program> programs_;  // by the defines they were built with
   EyePassBaseline baseline_;
@@ -175,6 +186,11 @@ class CloudRenderer {
   bool passes_ = false;
   scene::WorldRect far_basemap_rect_;
   glm::ivec2 target_size_{0};
+  // Reduced-resolution clouds (RenderSettings::cloud_resolution > 1): the reduced march's cloud
+  // layer and guide (clouds.comp SPEC_CLOUD_PASS 1), read by the full-resolution pass.
+  gl::Texture low_cloud_tex_, low_guide_tex_;
+  glm::ivec2 low_size_{0};
+  glm::ivec2 count_size_{0};  // sample_count_tex_'s size: the rays that march
   scene::WorldRect basemap_rect_;
   std::optional<GlobeMapping> globe_;
   gl::Texture globe_table_, globe_basemap_, sample_count_tex_;
