@@ -26,12 +26,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <random>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "input_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
@@ -175,13 +175,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view a(argv[i]);
     if (numberFlag(a, "-seed=", seed) || numberFlag(a, "-runs=", runs) || numberFlag(a, "-max_len=", maxLen)) continue;
-    const std::filesystem::path p(argv[i]);
-    if (std::filesystem::is_directory(p)) {
-      for (const auto& e : std::filesystem::recursive_directory_iterator(p))
-        if (e.is_regular_file()) paths.push_back(e.path());
-    } else if (std::filesystem::is_regular_file(p)) {
-      paths.push_back(p);
-    } else {
+    if (!nph::fuzz::addInputs(argv[i], paths)) {
       std::fprintf(stderr, "fuzz mutate: %s is neither a flag, a file nor a folder\n", argv[i]);
       return 2;
     }
@@ -193,8 +187,7 @@ int main(int argc, char** argv) {
   std::sort(paths.begin(), paths.end());  // the mutants depend on the inputs' order: make it fixed
   std::vector<Bytes> inputs;
   for (const auto& p : paths) {
-    std::ifstream in(p, std::ios::binary);
-    inputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    inputs.push_back(nph::fuzz::readInput(p));
     maxLen = std::max<std::uint64_t>(maxLen, inputs.back().size());
   }
   for (int sig : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, saveMutantAndDie);

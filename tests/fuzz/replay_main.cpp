@@ -6,24 +6,17 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
+
+#include "input_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
 int main(int argc, char** argv) {
   std::vector<std::filesystem::path> inputs;
   for (int i = 1; i < argc; ++i) {
-    const std::filesystem::path p(argv[i]);
-    if (std::filesystem::is_directory(p)) {
-      for (const auto& e : std::filesystem::recursive_directory_iterator(p)) {
-        if (e.is_regular_file()) inputs.push_back(e.path());
-      }
-    } else if (std::filesystem::is_regular_file(p)) {
-      inputs.push_back(p);
-    } else {
+    if (!nph::fuzz::addInputs(argv[i], inputs)) {
       std::fprintf(stderr, "replay: %s is neither a file nor a folder\n", argv[i]);
       return 2;
     }
@@ -34,10 +27,9 @@ int main(int argc, char** argv) {
   }
   std::sort(inputs.begin(), inputs.end());
   for (const auto& p : inputs) {
-    std::ifstream in(p, std::ios::binary);
-    const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::vector<std::uint8_t> bytes = nph::fuzz::readInput(p);
     std::fprintf(stderr, "replay: %s (%zu bytes)\n", p.c_str(), bytes.size());
-    LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    LLVMFuzzerTestOneInput(bytes.data(), bytes.size());
   }
   std::printf("replayed %zu inputs without a finding\n", inputs.size());
   return 0;
