@@ -17,7 +17,7 @@
 // attenuated by the two-stream diffuse transmittance T_d of that column's vertical optical depth
 // (volume/column_depth.h), and scattered isotropically on average (½ each hemisphere).
 // Height exaggeration keeps the data's optical depth: β is scaled by f(d) = |(d_x, d_y, d_z/e)|
-// along the ray (scene::VolumeFrame::opticalDepthScale). Early termination renormalises: a ray
+// along the ray (volume::VolumeFrame::opticalDepthScale). Early termination renormalises: a ray
 // stopped at T_acc < u_min_transmittance is written as (C/(1 − T_acc), 1), so opaque cloud has α = 1.
 // Output: the premultiplied cloud layer (rgb = C, a = 1 − T_acc) and the frame composited over the
 // lit ground: C + T_acc · L_ground (Nes eq. 5.18's background term).

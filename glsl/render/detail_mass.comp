@@ -3,7 +3,7 @@
 // half-column (2×2 per model column), the optical mass of the plain and of the uncorrected detailed
 // field along u_rays_per_axis² vertical rays, midpoint rule on the lattice −H + (k + ½)·u_step_layers
 // (grid units, H = u_reach_voxels) over the footprint's step range [x, y) from u_mass_range
-// (scene::massStepRanges: only the layers where a sample can be non-zero, none for a footprint
+// (volume::massStepRanges: only the layers where a sample can be non-zero, none for a footprint
 // without plain mass; docs/detail.md "A cheaper mass measurement"). The CPU solves the per-column
 // correction from them (solveDetailCorrection); the CPU twin is
 // ExtinctionSampler::measureHalfColumnMasses. Run at upload, with u_detail_correction bound to a

@@ -17,7 +17,7 @@ layout(std140, binding = UBO_GLOBE) uniform GlobeBlock {
   vec3 u_sphere_c_m2;       // |o|² − r² for r = R (ground), R + z_max (lens top); double on the CPU
   float u_lipschitz_h;      // world-xy metres per ECEF metre, upper bound (globe.h)
   vec3 u_limb_radiance;     // sky colour at the limb (a cosmetic atmosphere, docs/rendering.md)
-  float u_earth_radius_m;   // scene::kEarthRadius_m
+  float u_earth_radius_m;   // volume::kEarthRadius_m
   vec2 u_ab_min_rad;        // rotated lon/lat box of the table
   vec2 u_ab_max_rad;
   bool u_has_globe_basemap;

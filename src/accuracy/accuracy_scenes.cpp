@@ -182,7 +182,7 @@ SceneSet standardScenes(int width, int height, bool quick, const std::string& sc
     s.volume_name = names[vi];
     s.name = std::string(names[vi]) + "-" + view;
     s.volumes = &set.volumes[std::size_t(vi)];
-    s.frame = scene::frameOf(*s.volumes, exaggeration[vi]);
+    s.frame = volume::frameOf(*s.volumes, exaggeration[vi]);
     const glm::dvec3 size = s.frame.size_m();
     const glm::dvec3 centre = s.frame.min_m() + 0.5 * size;
     s.camera = orbit(centre, camAz, camEl, dist * std::max(size.x, size.y), fov, width, height);

@@ -27,7 +27,7 @@ struct AccuracyScene {
   std::string name;
   std::string volume_name;  ///< scenes sharing a volume share it (hurricane, cumulus)
   const ExtinctionVolumes* volumes = nullptr;
-  scene::VolumeFrame frame;
+  volume::VolumeFrame frame;
   scene::Camera camera;
   scene::Sun sun;
 };

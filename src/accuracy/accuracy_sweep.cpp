@@ -33,8 +33,8 @@ std::string number(double x) { return fmt::format("{:g}", x); }
 // map's own budgets (DlmSettings' 1024 texels and 32 nodes, so that no variant is limited by them).
 lighting::QualitySettings sweepBase() {
   lighting::QualitySettings q = lighting::qualityPreset(lighting::Preset::Broadcast);
-  q.dlm_resolution = scene::DlmSettings{}.max_texels;
-  q.dlm_max_nodes = scene::DlmSettings{}.max_nodes;
+  q.dlm_resolution = lighting::DlmSettings{}.max_texels;
+  q.dlm_max_nodes = lighting::DlmSettings{}.max_nodes;
   return q;
 }
 
@@ -78,19 +78,19 @@ const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextu
 
 }  // namespace
 
-std::unique_ptr<reference::DlmReference> convergedLight(const scene::DlmSettings& dlm,
+std::unique_ptr<reference::DlmReference> convergedLight(const lighting::DlmSettings& dlm,
                                                         const render::VolumeTextures& tex, const AccuracyScene& sc,
                                                         double texel_voxels) {
   // The model of `dlm` without compression, 4 sub-steps per default DLM step (Δ/8 = 1/8 voxel), on
   // the default light space (1 texel per voxel unless asked otherwise) the GPU builder lays out.
-  scene::DlmSettings model = dlm;
+  lighting::DlmSettings model = dlm;
   model.texel_voxels = texel_voxels;
-  model.step_voxels = scene::DlmSettings{}.step_voxels;
+  model.step_voxels = lighting::DlmSettings{}.step_voxels;
   render::DeepLightMap layout;  // the light space (texel grid, extent) and step the GPU would use
-  scene::DlmSettings gpu = model;
+  lighting::DlmSettings gpu = model;
   gpu.forward_peak_ice = gpu.forward_peak_water = -1.0;  // a CPU-only candidate (--decompose)
   layout.build(tex, -sc.sun.toSun(), gpu);
-  scene::DlmSettings cpu = layout.settings();
+  lighting::DlmSettings cpu = layout.settings();
   cpu.forward_peak_ice = model.forward_peak_ice;
   cpu.forward_peak_water = model.forward_peak_water;
   constexpr int kRefine = 4;
@@ -151,7 +151,7 @@ std::vector<Variant> sweepVariants(bool quick) {
   knob("dlm_epsilon", quick ? L{0.04} : L{0.08, 0.04, 0.02, 0.005, 0.0025});
   knob("multiple_scattering", quick ? L{1.0} : L{0.0, 1.0, 2.0});  // single, octaves, two_stream (issue 12)
   model("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
-        [](scene::DlmSettings& d, double x) { d.scatter_downsample = int(x); });
+        [](lighting::DlmSettings& d, double x) { d.scatter_downsample = int(x); });
   if (!quick) {
     Variant off = defaultVariant();
     off.knob = "scatter_downsample";
@@ -160,7 +160,7 @@ std::vector<Variant> sweepVariants(bool quick) {
     out.push_back(off);
   }
   model("forward_angle_deg", quick ? L{30.0} : L{10.0, 30.0, 40.0},
-        [](scene::DlmSettings& d, double x) { d.forward_angle_deg = x; });
+        [](lighting::DlmSettings& d, double x) { d.forward_angle_deg = x; });
   for (std::string_view p : lighting::kPresetNames) out.push_back(variantOf(lighting::qualityPreset(p)));
   return out;
 }

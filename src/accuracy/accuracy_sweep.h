@@ -29,7 +29,7 @@ struct Variant {
   std::string knob;   ///< "default", a knob of lighting/knobs.h ("step_voxels", "dlm_epsilon", ...), a
                       ///< transport-model setting ("scatter_downsample", "forward_angle_deg") or "preset"
   std::string value;  ///< the knob's value as text
-  scene::DlmSettings dlm;
+  lighting::DlmSettings dlm;
   render::RenderSettings render;
 };
 
@@ -39,9 +39,9 @@ Variant variantOf(const lighting::QualitySettings& quality);
 /// 1/8-voxel sub-steps, the GPU's default light space; needs a current GL context for the layout).
 /// `texel_voxels`: the light space's texel size (the default map's 1 voxel; finer to see what the
 /// texel size itself costs, `--decompose --reference-dlm-texel`).
-std::unique_ptr<reference::DlmReference> convergedLight(const scene::DlmSettings& dlm,
+std::unique_ptr<reference::DlmReference> convergedLight(const lighting::DlmSettings& dlm,
                                                         const render::VolumeTextures& tex, const AccuracyScene& sc,
-                                                        double texel_voxels = scene::DlmSettings{}.texel_voxels);
+                                                        double texel_voxels = lighting::DlmSettings{}.texel_voxels);
 /// The sweep's default variant: the broadcast preset with the DLM's own budgets (jitter off).
 Variant defaultVariant();
 /// default, the one-knob-at-a-time sweep and the three presets; `quick` keeps two values a knob.

@@ -43,9 +43,9 @@ constexpr int kCandidates = 3;
 constexpr int kRendererParts = kCandidate0 + kCandidates;
 
 // Candidate deep light maps (the forward peak the beam keeps), for the single-scattering term.
-std::array<scene::DlmSettings, kCandidates> candidateDlms(const scene::DlmSettings& base,
-                                                          const reference::RayMarchSettings& m) {
-  std::array<scene::DlmSettings, kCandidates> c{base, base, base};
+std::array<lighting::DlmSettings, kCandidates> candidateDlms(const lighting::DlmSettings& base,
+                                                             const reference::RayMarchSettings& m) {
+  std::array<lighting::DlmSettings, kCandidates> c{base, base, base};
   // (0) δ-Eddington's forward peak f = g² per medium, no scatter map.
   c[0].forward_peak_ice = m.g_ice * m.g_ice;
   c[0].forward_peak_water = m.g_water * m.g_water;
@@ -74,7 +74,7 @@ std::vector<SceneDecomposition> decomposeBias(const SweepOptions& o, int part_sp
   march.min_transmittance = 0.0;  // no early termination: the parts are the model's, not the cut's
   // The deep light map without its forward cone: the direct beam e^{−τ} exactly (dlm_model.h with
   // CP(0) = 0 and no peripheral passes).
-  scene::DlmSettings beamOnly = base.dlm;
+  lighting::DlmSettings beamOnly = base.dlm;
   beamOnly.forward_angle_deg = 0.0;
   beamOnly.peripheral = false;
   std::vector<SceneDecomposition> out;

@@ -35,7 +35,7 @@ class Renderer {
   /// Needs the host's context current with the entry points loaded (api.cpp does both).
   Renderer(std::shared_ptr<const engine::Dataset> dataset, const RendererOptions& options);
 
-  const scene::VolumeFrame& frame() const { return session_->prepared().frame; }
+  const volume::VolumeFrame& frame() const { return session_->prepared().frame; }
   void setTime(double time_index);
   void setCamera(const HostCamera& camera);
   /// "overview" | "oblique" | "top": scene::cameraFor with the preset's defaults.

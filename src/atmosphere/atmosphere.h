@@ -29,7 +29,7 @@ namespace nph::atmosphere {
 
 /// The atmosphere's constants. Defaults: Hillaire 2020's Earth (his reference code's
 /// `GetAtmosphereParameters`, the same numbers as Bruneton 2017's demo), with the planet radius of
-/// the renderer's globe (scene::kEarthRadius_m = 6370 km; Bruneton and Hillaire use 6360 km).
+/// the renderer's globe (volume::kEarthRadius_m = 6370 km; Bruneton and Hillaire use 6360 km).
 struct Parameters {
   double bottom_radius_m = 6370000.0;  ///< planet radius (ground at sea level)
   double top_radius_m = 6470000.0;     ///< top of the atmosphere: 100 km above the ground

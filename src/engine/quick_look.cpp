@@ -51,7 +51,7 @@ double quickLookExaggeration(double domain_long_side_m, double cloud_top_m) {
 }
 
 std::string quickLookSceneText(const QuickLookRequest& r, const ExtinctionVolumes& v) {
-  const scene::VolumeFrame unit = scene::frameOf(v, 1.0);
+  const volume::VolumeFrame unit = volume::frameOf(v, 1.0);
   const glm::dvec3 extent = unit.size_m();
   const double exaggeration = quickLookExaggeration(std::max(extent.x, extent.y), cloudTop_m(v));
   const bool on_earth = !v.georef.proj_definition.empty();
@@ -70,7 +70,7 @@ std::string quickLookSceneText(const QuickLookRequest& r, const ExtinctionVolume
   bool timed_sun = false;
   if (on_earth && v.time_utc) {
     try {
-      const scene::VolumeFrame frame = scene::frameOf(v, exaggeration);
+      const volume::VolumeFrame frame = volume::frameOf(v, exaggeration);
       const scene::SceneGeoreference geo(v, frame);
       scene::SunSpec spec;
       spec.from_time = true;

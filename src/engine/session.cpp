@@ -107,19 +107,19 @@ void Session::update() {
   // The weight enters the key exactly (17 significant digits round-trip a double): two frames
   // share a volume only when they would blend the same one, so reuse never changes a frame.
   // The filter is part of the key: the occupancy's dilation and the shaders' rule change with it.
-  const scene::Reconstruction reconstruction =
+  const volume::Reconstruction reconstruction =
       lighting::reconstructionOf(scene_.quality, glm::dvec2(prepared_.frame.voxel_size_m));
   render_settings_.reconstruction = reconstruction;  // the CPU references' filter is the upload's
   const std::string content = b.weight == 0.0
                                   ? dataset_->identity(b.first)
                                   : fmt::format("{}+{}@{:.17g}", dataset_->identity(b.first), b.second, b.weight);
-  const scene::Detail detail = lighting::detailOf(scene_.quality);
+  const volume::Detail detail = lighting::detailOf(scene_.quality);
   const std::string key =
       content +
-      (reconstruction == scene::Reconstruction::Trilinear
+      (reconstruction == volume::Reconstruction::Trilinear
            ? ""
-           : fmt::format("|{}", scene::kReconstructionNames[std::size_t(reconstruction)])) +
-      (detail == scene::Detail::None ? "" : fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]));
+           : fmt::format("|{}", volume::kReconstructionNames[std::size_t(reconstruction)])) +
+      (detail == volume::Detail::None ? "" : fmt::format("|detail={}", volume::kDetailNames[std::size_t(detail)]));
   std::vector<std::size_t> pinned{b.first};
   if (b.weight > 0.0) pinned.push_back(b.second);
   timesteps_->prefetch(pinned, direction_);  // the worker reads ahead while this frame is built
@@ -152,7 +152,7 @@ void Session::update() {
     options.noise = noise_;
     options.dem = prepared_.dem ? &*prepared_.dem : nullptr;
     const ExtinctionVolumes& header = slices->volumes();
-    textures_.emplace(render::VolumeTextures::upload(*slices, scene::frameOf(header, scene_.height_exaggeration),
+    textures_.emplace(render::VolumeTextures::upload(*slices, volume::frameOf(header, scene_.height_exaggeration),
                                                      content, options));  // identity() is `key`
     if (textures_->noise()) noise_ = textures_->noise();
     if (release_after_upload_) {

@@ -37,7 +37,7 @@ std::string equirectangularOf(const std::string& geographic_definition, double l
   const std::size_t r = d.find("+R=");
   if (r != std::string::npos) {
     const std::size_t end = d.find(' ', r);
-    d.replace(r, end == std::string::npos ? d.size() - r : end - r, fmt::format("+R={:.0f}", scene::kEarthRadius_m));
+    d.replace(r, end == std::string::npos ? d.size() - r : end - r, fmt::format("+R={:.0f}", volume::kEarthRadius_m));
   }
   return d;
 }
@@ -86,7 +86,7 @@ void writeThenRename(const std::filesystem::path& path, const char* what, Write&
 }  // namespace
 
 VdbFrame vdbFrameOf(const ExtinctionVolumes& v) {
-  const scene::VolumeFrame world = scene::frameOf(v);  // metres per voxel, as nephele renders it
+  const volume::VolumeFrame world = volume::frameOf(v);  // metres per voxel, as nephele renders it
   const geo::GridGeoreference& g = v.georef;
   VdbFrame f;
   f.dx_m = world.voxel_size_m.x;
@@ -131,7 +131,7 @@ VdbWriteStats writeVdb(const ExtinctionVolumes& v, const std::filesystem::path& 
 
   std::string corners;
   if (!v.georef.proj_definition.empty()) {
-    const scene::SceneGeoreference geo(v, scene::frameOf(v));
+    const scene::SceneGeoreference geo(v, volume::frameOf(v));
     for (const scene::LonLat& c : geo.footprintCorners()) {
       corners += fmt::format("{}{:.6f},{:.6f}", corners.empty() ? "" : ";", c.lon_deg, c.lat_deg);
     }

@@ -175,7 +175,7 @@ DiffusionSolution solveDiffusion(const DiffusionProblem& p, const DiffusionSolve
   return out;
 }
 
-DiffusionProblem diffusionProblemFor(const ExtinctionVolumes& v, const scene::VolumeFrame& frame,
+DiffusionProblem diffusionProblemFor(const ExtinctionVolumes& v, const volume::VolumeFrame& frame,
                                      const glm::dvec3& to_sun,
                                      const std::function<double(const glm::dvec3&, double)>& sunlight,
                                      const DiffusionVolumeOptions& o) {

@@ -98,7 +98,7 @@ struct DiffusionVolumeOptions {
 /// The coarse problem of a scene: σ_tr and S averaged over the fine voxels of each coarse cell
 /// (S and G from `sunlight(world point, g)` — the DLM's I — at every fine voxel centre), the data
 /// frame's cell size, a and Ω₀ from the sun's world direction `to_sun` and the frame's exaggeration.
-DiffusionProblem diffusionProblemFor(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
+DiffusionProblem diffusionProblemFor(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
                                      const glm::dvec3& to_sun,
                                      const std::function<double(const glm::dvec3&, double)>& sunlight,
                                      const DiffusionVolumeOptions& options);
@@ -108,7 +108,7 @@ DiffusionProblem diffusionProblemFor(const ExtinctionVolumes& volumes, const sce
 struct DiffusionVolume {
   DiffusionProblem problem;
   DiffusionSolution solution;
-  scene::VolumeFrame frame;  ///< the fine grid's world frame
+  volume::VolumeFrame frame;  ///< the fine grid's world frame
   glm::ivec3 coarsen{4, 4, 2};
 
   /// (φ, F) at a world point.

@@ -7,7 +7,7 @@
 
 #include "physics/phase.h"
 
-namespace nph::scene {
+namespace nph::lighting {
 
 std::string DlmSettings::key() const {
   return fmt::format("eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};"
@@ -27,4 +27,4 @@ ForwardFractions forwardFractions(const DlmSettings& s) {
           s.forward_peak_water >= 0.0 ? s.forward_peak_water : cp4};
 }
 
-}  // namespace nph::scene
+}  // namespace nph::lighting

@@ -29,7 +29,7 @@
 #include <cstdint>
 #include <string>
 
-namespace nph::scene {
+namespace nph::lighting {
 
 struct DlmSettings {
   double epsilon = 0.01;            ///< max |I_stored − I_sampled| per texel (ε, Nes §5.3.4)
@@ -77,4 +77,4 @@ inline double centralStepFactor(double transmittance, double centralFraction) {
   return transmittance + (1.0 - transmittance) * centralFraction;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::lighting

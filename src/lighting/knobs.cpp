@@ -107,7 +107,7 @@ constexpr std::array kKnobs{
     // redistributes (never adds) extinction inside each model cell (docs/detail.md).
     Knob{.name = "detail", .unit = "", .min = 0, .max = 2, .field = &Q::detail,
          .preset = {0, 0, 0}, .doc = "sub-grid detail: none (data-true), subtle or full (procedural, mass-preserving)",
-         .choices = scene::kDetailNames},
+         .choices = volume::kDetailNames},
     // The multiple-scattering term (issue 12; glsl/common/cloud_light.glsl cloudSunFactor). The
     // two-stream term has no fitted constant and halves the octaves' error against the path tracer
     // on the accuracy scenes at the same cost (docs/accuracy.md "Issue 12, third phase"). It reads
@@ -194,8 +194,8 @@ QualitySettings qualityPreset(std::string_view name) {
   throw InputError(fmt::format("quality preset '{}': expected \"draft\", \"broadcast\" or \"reference\"", name));
 }
 
-scene::DlmSettings dlmSettingsFor(const QualitySettings& q) {
-  scene::DlmSettings d;
+lighting::DlmSettings dlmSettingsFor(const QualitySettings& q) {
+  lighting::DlmSettings d;
   d.epsilon = q.dlm_epsilon;
   d.step_voxels = q.dlm_step_voxels;
   d.texel_voxels = q.dlm_texel_voxels;

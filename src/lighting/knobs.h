@@ -54,7 +54,7 @@ struct QualitySettings {
   int samples_per_pixel{};                   ///< eye-pass samples per pixel (RenderSettings::samples_per_pixel)
   int cloud_resolution{};     ///< divisor of the clouds' march resolution (RenderSettings::cloud_resolution)
   int reconstruction{};       ///< 0 trilinear, 1 cubic B-spline, 2 auto (reconstructionOf)
-  int detail{};               ///< scene::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
+  int detail{};               ///< volume::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
   int multiple_scattering{};  ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream
 
   bool operator==(const QualitySettings&) const = default;
@@ -65,7 +65,7 @@ QualitySettings qualityPreset(std::string_view name);
 QualitySettings qualityPreset(Preset preset);
 
 /// The deep light map settings of `quality` (the transport model keeps DlmSettings' defaults).
-scene::DlmSettings dlmSettingsFor(const QualitySettings& quality);
+lighting::DlmSettings dlmSettingsFor(const QualitySettings& quality);
 /// The ray caster's settings: sampling from `quality`, appearance from `style`.
 RenderSettings renderSettingsFor(const QualitySettings& quality, const StyleSettings& style);
 /// The knob `reconstruction`'s values: the filters of volume/reconstruction.h, then "auto".
@@ -84,17 +84,19 @@ inline constexpr double kCubicFromSpacing_m = 4000.0;
 
 /// The extinction filter of `quality` for a grid of horizontal spacing `spacing_m` (x, y) [m]
 /// (volume/reconstruction.h): the knob's filter, or for "auto" the one kCubicFromSpacing_m picks.
-inline scene::Reconstruction reconstructionOf(const QualitySettings& quality, glm::dvec2 spacing_m) {
+inline volume::Reconstruction reconstructionOf(const QualitySettings& quality, glm::dvec2 spacing_m) {
   if (quality.reconstruction == kReconstructionAuto)
-    return std::max(spacing_m.x, spacing_m.y) >= kCubicFromSpacing_m ? scene::Reconstruction::Cubic
-                                                                     : scene::Reconstruction::Trilinear;
-  if (quality.reconstruction == kReconstructionCubicInterpolating) return scene::Reconstruction::CubicInterpolating;
-  return quality.reconstruction == 1 ? scene::Reconstruction::Cubic : scene::Reconstruction::Trilinear;
+    return std::max(spacing_m.x, spacing_m.y) >= kCubicFromSpacing_m ? volume::Reconstruction::Cubic
+                                                                     : volume::Reconstruction::Trilinear;
+  if (quality.reconstruction == kReconstructionCubicInterpolating) return volume::Reconstruction::CubicInterpolating;
+  return quality.reconstruction == 1 ? volume::Reconstruction::Cubic : volume::Reconstruction::Trilinear;
 }
 
 /// The sub-grid detail of `quality` (volume/detail.h).
-inline scene::Detail detailOf(const QualitySettings& quality) {
-  return quality.detail == 2 ? scene::Detail::Full : quality.detail == 1 ? scene::Detail::Subtle : scene::Detail::None;
+inline volume::Detail detailOf(const QualitySettings& quality) {
+  return quality.detail == 2   ? volume::Detail::Full
+         : quality.detail == 1 ? volume::Detail::Subtle
+                               : volume::Detail::None;
 }
 
 /// One component of a vector field (ambient_r = component 0 of StyleSettings::ambient).

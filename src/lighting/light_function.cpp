@@ -5,7 +5,7 @@
 #include "core/error.h"
 #include "core/glsl_cpp.h"
 
-namespace nph::scene {
+namespace nph::lighting {
 
 namespace f64 {  // the DLM pass's window arithmetic in double precision (core/glsl_cpp.h)
 using namespace nph::glsl;
@@ -60,4 +60,4 @@ double evaluateLightFunction(const LightNode* nodes, int count, double s) {
   return f64::lightFunctionAt(nodes, count, s);
 }
 
-}  // namespace nph::scene
+}  // namespace nph::lighting

@@ -13,7 +13,7 @@
 // class (the test oracle) compiles it as C++ in double (core/glsl_cpp.h).
 #include <vector>
 
-namespace nph::scene {
+namespace nph::lighting {
 
 struct LightNode {
   float depth_m;
@@ -51,4 +51,4 @@ std::vector<LightNode> compressLightFunction(const std::vector<double>& depth_m,
 /// glsl/common/light_function.glsl, compiled as C++ in double (core/glsl_cpp.h).
 double evaluateLightFunction(const LightNode* nodes, int count, double depth_m);
 
-}  // namespace nph::scene
+}  // namespace nph::lighting

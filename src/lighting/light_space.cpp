@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 
-namespace nph::scene {
+namespace nph::lighting {
 
 void lightBasis(const glm::dvec3& lightDirection, glm::dvec3& u, glm::dvec3& v, glm::dvec3& w) {
   const double len = glm::length(lightDirection);
@@ -53,4 +53,4 @@ glm::dvec2 lightTexelSize(const LightSpace& basis, const glm::dvec3& voxelSize_m
   return glm::dvec2(glm::dot(au, voxelSize_m), glm::dot(av, voxelSize_m)) * texelVoxels;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::lighting

@@ -14,7 +14,7 @@
 
 #include "core/glsl_cpp.h"
 
-namespace nph::scene {
+namespace nph::lighting {
 
 struct LightSpace {
   glm::dvec3 u{1, 0, 0}, v{0, 1, 0}, w{0, 0, -1};  ///< orthonormal, w = light travel direction
@@ -78,4 +78,4 @@ LightSpace fitLightSpace(const glm::dvec3& lightDirection, const glm::dvec3& box
 /// a 3 km × 3 km × 250 m grid gives 3 km texels; a grazing sun gives ≈ 250 m along the vertical axis.
 glm::dvec2 lightTexelSize(const LightSpace& basis, const glm::dvec3& voxelSize_m, double texelVoxels);
 
-}  // namespace nph::scene
+}  // namespace nph::lighting

@@ -95,10 +95,10 @@ struct RenderSettings : StyleSettings {
   MultipleScattering multiple_scattering = MultipleScattering::TwoStream;
   /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
   /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.
-  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
+  volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;
   /// The sub-grid detail of the CPU references (volume/detail.h); the GPU passes take it from the
   /// uploaded volume, as the reconstruction.
-  scene::Detail detail = scene::Detail::None;
+  volume::Detail detail = volume::Detail::None;
 };
 
 }  // namespace nph::lighting

@@ -115,11 +115,11 @@ py::dict gridOf(const PyDataset& d, std::size_t t) {
   g["time_utc"] = geo::isoOrEmpty(v.time_utc);
   g["max_ice_per_m"] = v.max_ice_per_m;
   g["max_water_per_m"] = v.max_water_per_m;
-  const glm::dvec3 size = scene::frameOf(v).size_m();
+  const glm::dvec3 size = volume::frameOf(v).size_m();
   g["size_m"] = py::make_tuple(size.x, size.y, size.z);
   py::list corners;
   if (!v.georef.proj_definition.empty()) {
-    const scene::SceneGeoreference geo(v, scene::frameOf(v));
+    const scene::SceneGeoreference geo(v, volume::frameOf(v));
     for (const scene::LonLat& c : geo.footprintCorners()) corners.append(py::make_tuple(c.lon_deg, c.lat_deg));
   }
   g["lonlat_corners"] = corners;

@@ -9,12 +9,12 @@
 
 namespace nph::reference {
 
-DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-                           const scene::LightSpace& lightSpace, const scene::DlmSettings& settings, double step_m,
-                           int steps, int refine, scene::Reconstruction reconstruction)
+DlmReference::DlmReference(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
+                           const lighting::LightSpace& lightSpace, const lighting::DlmSettings& settings, double step_m,
+                           int steps, int refine, volume::Reconstruction reconstruction)
     : ls_(lightSpace), settings_(settings) {
-  const scene::ExtinctionSampler sampler(volumes, frame, reconstruction);
-  const scene::ForwardFractions cp = scene::forwardFractions(settings);
+  const volume::ExtinctionSampler sampler(volumes, frame, reconstruction);
+  const lighting::ForwardFractions cp = lighting::forwardFractions(settings);
   // Height exaggeration keeps the data's optical depth along the light (VolumeFrame).
   const double f = frame.opticalDepthScale(ls_.w);
   sub_m_ = step_m / refine;
@@ -29,10 +29,10 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
     double* I = &central_[std::size_t(t) * std::size_t(samples_)];
     I[0] = 1.0;
     for (int n = 0; n + 1 < samples_; ++n) {
-      const scene::ExtinctionSample e = sampler.at(start + (double(n) + 0.5) * sub_m_ * ls_.w);
+      const volume::ExtinctionSample e = sampler.at(start + (double(n) + 0.5) * sub_m_ * ls_.w);
       const double beta = f * e.total();
       const double T = std::exp(-beta * sub_m_);
-      I[n + 1] = I[n] * scene::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0));
+      I[n + 1] = I[n] * lighting::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0));
     }
   });
   final_ = central_;
@@ -60,12 +60,12 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const scene::Volume
         return centralAtLight(p.x, p.y, sPrev) + at(xx, yy, k - 1);
       };
       const glm::dvec2 p = cellCentre(x, y);
-      const scene::ExtinctionSample e = sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_}));
+      const volume::ExtinctionSample e = sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_}));
       const double beta = f * e.total();
       const double T = std::exp(-beta * slice_m_);
       const double around = 0.25 * (lightAt(x + 1, y) + lightAt(x - 1, y) + lightAt(x, y + 1) + lightAt(x, y - 1));
       at(x, y, k) =
-          at(x, y, k - 1) * scene::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0)) +
+          at(x, y, k - 1) * lighting::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0)) +
           around * (1.0 - T) * cp.peripheral;
     });
   }
@@ -119,12 +119,12 @@ double DlmReference::texelCentral(int a, int b, double s) const {
 }
 
 double DlmReference::centralAtLight(double u, double v, double s) const {
-  return scene::blendTexels(ls_, {u, v, s}, [&](int a, int b, double z) { return texelCentral(a, b, z); });
+  return lighting::blendTexels(ls_, {u, v, s}, [&](int a, int b, double z) { return texelCentral(a, b, z); });
 }
 
 double DlmReference::intensityAt(const glm::dvec3& world_m) const {
-  return scene::blendTexels(ls_, ls_.lightFromWorld(world_m),
-                            [&](int a, int b, double z) { return texelIntensity(a, b, z); });
+  return lighting::blendTexels(ls_, ls_.lightFromWorld(world_m),
+                               [&](int a, int b, double z) { return texelIntensity(a, b, z); });
 }
 
 }  // namespace nph::reference

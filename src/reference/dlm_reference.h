@@ -20,9 +20,9 @@ class DlmReference {
  public:
   /// Integrates every texel of `lightSpace` (use the GPU map's, so texels coincide) with the GPU
   /// step `step_m` divided into `refine` sub-steps over `steps` GPU steps.
-  DlmReference(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::LightSpace& lightSpace,
-               const scene::DlmSettings& settings, double step_m, int steps, int refine,
-               scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
+  DlmReference(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
+               const lighting::LightSpace& lightSpace, const lighting::DlmSettings& settings, double step_m, int steps,
+               int refine, volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear);
 
   /// Final light (central + peripheral) of texel (a, b) at depth s [m] from the ray entry
   /// (linear between sub-samples, constant beyond the ends) — what the DLM stores for that texel.
@@ -40,8 +40,8 @@ class DlmReference {
   double peripheralAt(double u_m, double v_m, double s_m) const;
   double centralAtLight(double u_m, double v_m, double s_m) const;
 
-  scene::LightSpace ls_;
-  scene::DlmSettings settings_;
+  lighting::LightSpace ls_;
+  lighting::DlmSettings settings_;
   double sub_m_ = 0.0;
   int samples_ = 0;              // per ray: steps·refine + 1
   std::vector<double> central_;  // [texel][sample]

@@ -13,7 +13,7 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
   const ExtinctionVolumes& v = field.volumes();
   // Per-voxel total β, validated; the interpolating spline's coefficients may be negative
   // (volume/spline_coefficients.h): their positive parts bound β_ice⁺ + β_water⁺ as the voxels do.
-  const bool coefficients = scene::readsSplineCoefficients(field.reconstruction());
+  const bool coefficients = volume::readsSplineCoefficients(field.reconstruction());
   std::vector<double> total(v.voxelCount(), 0.0);
   for (const std::vector<float>* a : {&v.ice_per_m, &v.water_per_m}) {
     if (a->empty()) continue;
@@ -31,7 +31,7 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
   // Separable max: first the max over each brick's (extended) x range, then y, then z. The range
   // grows by the filter's reach (volume/reconstruction.h): a point of the brick reads voxels
   // bB − R … (b+1)B − 1 + R.
-  const int reach = scene::reachVoxels(field.reconstruction());
+  const int reach = volume::reachVoxels(field.reconstruction());
   auto range = [&](int brick, int axis, int& lo, int& hi) {
     lo = std::max(0, brick * brick_ - reach);
     hi = std::min(n[axis] - 1, (brick + 1) * brick_ - 1 + reach);
@@ -77,7 +77,7 @@ MajorantGrid::MajorantGrid(const ExtinctionField& field, int brick_voxels) : fie
 double MajorantGrid::majorantAt(const glm::dvec3& world_m) const {
   const glm::dvec3 g = field_.frame().gridFromWorld(world_m);
   const glm::dvec3 n(field_.frame().voxels);
-  const double s = scene::supportVoxels(field_.reconstruction());
+  const double s = volume::supportVoxels(field_.reconstruction());
   if (!(g.x >= -s && g.y >= -s && g.z >= -s && g.x <= n.x + s && g.y <= n.y + s && g.z <= n.z + s)) {
     return 0.0;
   }

@@ -62,7 +62,7 @@ void MajorantGrid::traverse(const glm::dvec3& origin_m, const glm::dvec3& dir, d
                             Visit&& visit) const {
   double ta = 0.0, tb = 0.0;
   if (!field_.clipToBox(origin_m, dir, t0, t1, ta, tb)) return;
-  const scene::VolumeFrame& f = field_.frame();
+  const volume::VolumeFrame& f = field_.frame();
   const glm::dvec3 g0 = f.gridFromWorld(origin_m);
   const glm::dvec3 gd = dir / f.voxel_size_m;
   const double b = double(brick_);

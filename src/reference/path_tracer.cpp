@@ -184,7 +184,7 @@ class PathTracer::Path {
   PathTracerStats& stats_;
 };
 
-PathTracer::PathTracer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Sun& sun,
+PathTracer::PathTracer(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame, const scene::Sun& sun,
                        PathTracerSettings settings)
     : field_(volumes, frame, settings.reconstruction),
       majorants_(field_, settings.brick_voxels),

@@ -81,7 +81,7 @@ struct PathTracerSettings {
   int brick_voxels = kDefaultBrickVoxels;
   /// The extinction filter (volume/reconstruction.h), as in the GPU renderer; the majorants and
   /// the exact optical depth follow it.
-  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
+  volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;
   int threads = 0;        ///< 0 = TBB's default
   bool progress = false;  ///< progress lines on stderr (through core/log)
 };
@@ -118,7 +118,7 @@ struct PathTracedImage {
 class PathTracer {
  public:
   /// Keeps a reference to `volumes`. Throws InputError for NaN/Inf/negative voxels.
-  PathTracer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Sun& sun,
+  PathTracer(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame, const scene::Sun& sun,
              PathTracerSettings settings);
   // The majorant grid refers to the field member: not copyable or movable.
   PathTracer(const PathTracer&) = delete;

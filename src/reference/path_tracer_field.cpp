@@ -12,8 +12,8 @@
 
 namespace nph::reference {
 
-ExtinctionField::ExtinctionField(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-                                 scene::Reconstruction reconstruction)
+ExtinctionField::ExtinctionField(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
+                                 volume::Reconstruction reconstruction)
     : v_(volumes), frame_(frame), sampler_(volumes, frame, reconstruction) {
   const std::size_t n = volumes.voxelCount();
   if (n == 0 || frame.voxels != glm::ivec3(volumes.nx, volumes.ny, volumes.nz)) {
@@ -52,7 +52,7 @@ double ExtinctionField::opticalDepth(const glm::dvec3& origin_m, const glm::dvec
   // Break points: crossings of the voxel-centre planes g_a = i + ½, i = −R … n_a − 1 + R with R the
   // reach (1 trilinear, 2 cubic: the outer two bound the support), visited in order by a three-way
   // merge of the per-axis arithmetic sequences (a DDA over the dual grid).
-  const int reach = scene::reachVoxels(reconstruction());
+  const int reach = volume::reachVoxels(reconstruction());
   const glm::dvec3 g0 = frame_.gridFromWorld(origin_m);
   const glm::dvec3 gd = dir / frame_.voxel_size_m;
   glm::ivec3 plane{0}, step{0};
@@ -84,7 +84,7 @@ double ExtinctionField::opticalDepth(const glm::dvec3& origin_m, const glm::dvec
                                 {0.5 * b, 0.5 * wb}}};
   }();
   const std::span<const Node> nodes =
-      scene::cubicWeights(reconstruction()) ? std::span<const Node>(kGauss5) : std::span<const Node>(kGauss2);
+      volume::cubicWeights(reconstruction()) ? std::span<const Node>(kGauss5) : std::span<const Node>(kGauss2);
   double tau = 0.0;
   for (double t = t0;;) {
     int axis = -1;

@@ -24,22 +24,22 @@
 
 namespace nph::reference {
 
-using Extinction = scene::ExtinctionSample;
+using Extinction = volume::ExtinctionSample;
 
 class ExtinctionField {
  public:
   /// Keeps a reference to `volumes` (which must outlive the field).
-  ExtinctionField(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
-                  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
+  ExtinctionField(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
+                  volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear);
 
   Extinction at(const glm::dvec3& world_m) const { return sampler_.at(world_m); }
-  scene::Reconstruction reconstruction() const { return sampler_.reconstruction(); }
+  volume::Reconstruction reconstruction() const { return sampler_.reconstruction(); }
   /// The support of β: the volume box grown by supportVoxels(reconstruction) on every side [world m].
   glm::dvec3 supportMin() const {
-    return frame_.min_m() - scene::supportVoxels(reconstruction()) * frame_.voxel_size_m;
+    return frame_.min_m() - volume::supportVoxels(reconstruction()) * frame_.voxel_size_m;
   }
   glm::dvec3 supportMax() const {
-    return frame_.max_m() + scene::supportVoxels(reconstruction()) * frame_.voxel_size_m;
+    return frame_.max_m() + volume::supportVoxels(reconstruction()) * frame_.voxel_size_m;
   }
   /// The parameter range [t0, t1] (t0 ≥ t_min) where origin + t·dir lies in the support box;
   /// false when the ray misses it. `dir` need not be unit length (t is then in units of |dir|).
@@ -49,15 +49,15 @@ class ExtinctionField {
   /// VolumeFrame::opticalDepthScale(dir): the data's optical depth whatever the exaggeration.
   double opticalDepth(const glm::dvec3& origin_m, const glm::dvec3& dir, double t_min, double t_max) const;
 
-  const scene::VolumeFrame& frame() const { return frame_; }
+  const volume::VolumeFrame& frame() const { return frame_; }
   /// The voxels the filter reads (for CubicInterpolating the spline coefficients): the majorants'
   /// source.
   const ExtinctionVolumes& volumes() const { return sampler_.voxels(); }
 
  private:
   const ExtinctionVolumes& v_;
-  scene::VolumeFrame frame_;
-  scene::ExtinctionSampler sampler_;
+  volume::VolumeFrame frame_;
+  volume::ExtinctionSampler sampler_;
 };
 
 }  // namespace nph::reference

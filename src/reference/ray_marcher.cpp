@@ -11,13 +11,13 @@
 
 namespace nph::reference {
 
-void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
+void marchSamples(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit, const RayEndVisitor& end,
-                  scene::Reconstruction reconstruction, const scene::TerrainField* terrain, scene::Detail detail) {
-  const scene::ExtinctionSampler sampler(volumes, frame, reconstruction, detail);
+                  volume::Reconstruction reconstruction, const volume::TerrainField* terrain, volume::Detail detail) {
+  const volume::ExtinctionSampler sampler(volumes, frame, reconstruction, detail);
   const glm::dvec3 voxel = frame.voxel_size_m;
   const double step = step_voxels * std::min({voxel.x, voxel.y, voxel.z});
-  const double reach = scene::reachVoxels(reconstruction) + sampler.detail().reach_voxels;
+  const double reach = volume::reachVoxels(reconstruction) + sampler.detail().reach_voxels;
   const glm::dvec3 lo = frame.min_m() - reach * voxel, hi = frame.max_m() + reach * voxel;  // β is 0 beyond
   tbb::parallel_for(0, camera.height, [&](int y) {
     for (int x = 0; x < camera.width; ++x) {
@@ -43,7 +43,7 @@ void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& fr
       const double depthScale = frame.opticalDepthScale(dir);  // the data's τ (VolumeFrame)
       for (double t = t0 + 0.5 * step; t < t1 && T > min_transmittance; t += step) {
         const glm::dvec3 p = o + t * dir;
-        const scene::ExtinctionSample b = sampler.at(p);
+        const volume::ExtinctionSample b = sampler.at(p);
         const double bt = depthScale * b.total();
         if (bt <= 0.0) continue;
         const double Ts = std::exp(-bt * step);
@@ -55,7 +55,7 @@ void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& fr
   });
 }
 
-glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const scene::VolumeFrame& frame,
+glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const volume::VolumeFrame& frame,
                           const RaySample& sample, const RayMarchSettings& s) {
   const glm::dvec2 tau = columnDepthAt(depths, frame, sample.position_m);
   const double g = s.g_water + (s.g_ice - s.g_water) * sample.ice_weight;
@@ -64,7 +64,7 @@ glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& dep
   return lighting::skyDiffuse(tau.x, tau.y, g, diffusion, sky.above, sky.below);
 }
 
-scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
+scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
                                  const scene::Camera& camera, const scene::Sun& sun,
                                  const std::function<double(const glm::dvec3&)>& sunlightAt,
                                  const RayMarchSettings& s) {
@@ -78,7 +78,7 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::
   const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
   const ColumnDepths depths = columnDepths(volumes, s.reconstruction);
   const glm::dvec3 sunFrame = lighting::twoStreamSunFrame(sun.toSun().z, frame.height_exaggeration);
-  const scene::TerrainField terrain = scene::terrainOf(volumes, frame);
+  const volume::TerrainField terrain = volume::terrainOf(volumes, frame);
   const auto pixel = [&](int x, int y) { return std::size_t(y) * std::size_t(img.width) + std::size_t(x); };
   marchSamples(
       volumes, frame, camera, s.step_voxels, s.min_transmittance,

@@ -39,20 +39,20 @@ using RayEndVisitor = std::function<void(int x, int y, double transmittance)>;
 /// once per ray with its final transmittance. Rows run in parallel (TBB): the visitors must only touch their own
 /// pixel's data. With `terrain` (present) a ray ends where it meets the displaced ground, as the GPU's does
 /// (glsl/common/terrain.glsl, the same code compiled as C++).
-void marchSamples(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, const scene::Camera& camera,
+void marchSamples(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame, const scene::Camera& camera,
                   double step_voxels, double min_transmittance, const SampleVisitor& visit, const RayEndVisitor& end,
-                  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear,
-                  const scene::TerrainField* terrain = nullptr, scene::Detail detail = scene::Detail::None);
+                  volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear,
+                  const volume::TerrainField* terrain = nullptr, volume::Detail detail = volume::Detail::None);
 
 /// The sky light a sample scatters towards the eye (glsl/render/clouds.comp skyLightAt):
 /// the mean radiance of its Eddington column lit by L_above and L_below (lighting::skyDiffuse, with the
 /// exaggeration's vertical diffusion) with g the sample's β-weighted asymmetry.
-glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const scene::VolumeFrame& frame,
+glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& depths, const volume::VolumeFrame& frame,
                           const RaySample& sample, const RayMarchSettings& settings);
 
 /// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
 /// With settings.terrain, rays end at the volumes' terrain (the GPU's rule).
-scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame,
+scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
                                  const scene::Camera& camera, const scene::Sun& sun,
                                  const std::function<double(const glm::dvec3&)>& sunlightAt,
                                  const RayMarchSettings& settings);

@@ -53,7 +53,7 @@ glm::vec3 EquirectangularImage::sampleLonLat(double lon_deg, double lat_deg) con
   return glm::mix(top, bottom, fy);
 }
 
-WorldRect basemapRectangle(const VolumeFrame& frame, double margin_fraction) {
+WorldRect basemapRectangle(const volume::VolumeFrame& frame, double margin_fraction) {
   if (!(margin_fraction >= 0.0) || !std::isfinite(margin_fraction)) {
     throw UsageError(fmt::format("basemap margin {} must be a non-negative fraction", margin_fraction));
   }

@@ -139,7 +139,7 @@ struct WorldRect {
 
 /// The volume's footprint [0, size.x] × [0, size.y] grown by `margin_fraction` of its larger side
 /// on every side (0.25 = a quarter of the larger side each way).
-WorldRect basemapRectangle(const VolumeFrame& frame, double margin_fraction);
+WorldRect basemapRectangle(const volume::VolumeFrame& frame, double margin_fraction);
 
 /// Pixel (px, py) centre of a `width`×`height` image covering `rect` (row 0 = north edge).
 glm::dvec2 worldFromBasemapPixel(const WorldRect& rect, int width, int height, double px, double py);

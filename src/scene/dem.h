@@ -59,13 +59,13 @@ std::vector<float> warpDem(const DemRaster& dem, const SceneGeoreference& geo, c
 /// `refine` times per cell each way: DemHeights::refine) and, when `far_field` (the flat view; the
 /// globe's terrain ends with its table), the far square (farBasemapRectangle, kFarBasemapPixels
 /// per side).
-DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame,
-                         bool far_field = true, int refine = 1);
+volume::DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const volume::VolumeFrame& frame,
+                                 bool far_field = true, int refine = 1);
 
 /// How many times the model's cell (the smaller of dx, dy) holds the DEM's own pixel at the
 /// footprint's centre, rounded, in [1, kMaxTerrainRefine] and at most 4096 / max(nx, ny) (the
 /// texture's side): the lattice on which the DEM keeps the relief it has (docs/terrain.md "A DEM
 /// finer than the model"). 1 where the DEM does not cover the centre, or is as coarse as the model.
-int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame);
+int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const volume::VolumeFrame& frame);
 
 }  // namespace nph::scene

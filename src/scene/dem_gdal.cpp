@@ -197,7 +197,7 @@ std::vector<float> warpDem(const DemRaster& dem, const SceneGeoreference& geo, c
   return out;
 }
 
-int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame) {
+int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const volume::VolumeFrame& frame) {
   registerGdal();
   const DemRaster::Impl& src = dem.impl();
   const char* toLonLat[] = {"DST_SRS=+proj=longlat +datum=WGS84 +no_defs", nullptr};
@@ -221,7 +221,7 @@ int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const V
       const double cell_m = std::min(frame.voxel_size_m.x, frame.voxel_size_m.y);
       if (pixel_m > 0.0 && std::isfinite(pixel_m)) {
         const int side = std::max(frame.voxels.x, frame.voxels.y);
-        refine = int(std::clamp(std::lround(cell_m / pixel_m), 1L, long(kMaxTerrainRefine)));
+        refine = int(std::clamp(std::lround(cell_m / pixel_m), 1L, long(volume::kMaxTerrainRefine)));
         refine = std::max(1, std::min(refine, 4096 / side));
       }
     }
@@ -230,13 +230,13 @@ int demRefinementFor(const DemRaster& dem, const SceneGeoreference& geo, const V
   return refine;
 }
 
-DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const VolumeFrame& frame, bool far_field,
-                         int refine) {
-  DemHeights d;
+volume::DemHeights demHeightsFor(const DemRaster& dem, const SceneGeoreference& geo, const volume::VolumeFrame& frame,
+                                 bool far_field, int refine) {
+  volume::DemHeights d;
   d.source = dem.name();
-  if (refine < 1 || refine > kMaxTerrainRefine) {
+  if (refine < 1 || refine > volume::kMaxTerrainRefine) {
     throw UsageError(
-        fmt::format("{}: DEM lattice refined {} times, expected 1 to {}", d.source, refine, kMaxTerrainRefine));
+        fmt::format("{}: DEM lattice refined {} times, expected 1 to {}", d.source, refine, volume::kMaxTerrainRefine));
   }
   d.refine = refine;
   const glm::dvec3 size = frame.size_m();

@@ -25,13 +25,13 @@ std::string projectionFor(const geo::GridGeoreference& grid, const std::optional
                      "the lon/lat of its centre to place it on the Earth");
   }
   return fmt::format("+proj=aeqd +lat_0={} +lon_0={} +x_0=0 +y_0=0 +R={} +units=m +no_defs", centre->lat_deg,
-                     centre->lon_deg, kEarthRadius_m);
+                     centre->lon_deg, volume::kEarthRadius_m);
 }
 
 }  // namespace
 
-SceneGeoreference::SceneGeoreference(const geo::GridGeoreference& grid, const VolumeFrame& frame, LonLatOffset offset,
-                                     std::optional<LonLat> centre_if_cartesian)
+SceneGeoreference::SceneGeoreference(const geo::GridGeoreference& grid, const volume::VolumeFrame& frame,
+                                     LonLatOffset offset, std::optional<LonLat> centre_if_cartesian)
     : frame_(frame), offset_(offset), projection_(projectionFor(grid, centre_if_cartesian)) {
   if (!std::isfinite(offset.lon_deg) || !std::isfinite(offset.lat_deg)) {
     throw UsageError("SceneGeoreference: lon/lat offset must be finite");
@@ -43,7 +43,7 @@ SceneGeoreference::SceneGeoreference(const geo::GridGeoreference& grid, const Vo
   } else if (grid.geographic) {
     // Undo frameOf()'s local equirectangular scaling (same central latitude, same sphere).
     const double latCentre = grid.y0 + 0.5 * double(frame.voxels.y - 1) * grid.dy_m;
-    const double metresPerDegree = kEarthRadius_m * kDeg;
+    const double metresPerDegree = volume::kEarthRadius_m * kDeg;
     scale_ = {1.0 / (metresPerDegree * std::cos(latCentre * kDeg)), 1.0 / metresPerDegree};
     origin_ = {grid.x0 - 0.5 * grid.dx_m, grid.y0 - 0.5 * grid.dy_m};
   } else {
@@ -153,7 +153,7 @@ Camera globeCameraFrom(const Camera& flat, const SceneGeoreference& geo) {
   c.target_m = geo.ecefFromWorld(flat.target_m);
   c.up = glm::normalize(geo.ecefFromWorld(flat.target_m + kUpStep_m * glm::normalize(flat.up)) - c.target_m);
   // The whole Earth may be in view: the far plane must reach past the horizon.
-  c.far_m = std::max(flat.far_m, glm::length(c.position_m) + kEarthRadius_m);
+  c.far_m = std::max(flat.far_m, glm::length(c.position_m) + volume::kEarthRadius_m);
   return c;
 }
 

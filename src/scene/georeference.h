@@ -44,9 +44,9 @@ class SceneGeoreference {
   /// From the grid's georeference. Cartesian grids (empty proj_definition, idealised runs) have no
   /// place on Earth: pass `centre_if_cartesian` to put the footprint's centre at that lon/lat with
   /// an azimuthal equidistant projection on WRF's sphere; without it they throw InputError.
-  SceneGeoreference(const geo::GridGeoreference& grid, const VolumeFrame& frame, LonLatOffset offset = {},
+  SceneGeoreference(const geo::GridGeoreference& grid, const volume::VolumeFrame& frame, LonLatOffset offset = {},
                     std::optional<LonLat> centre_if_cartesian = std::nullopt);
-  SceneGeoreference(const ExtinctionVolumes& volumes, const VolumeFrame& frame, LonLatOffset offset = {},
+  SceneGeoreference(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame, LonLatOffset offset = {},
                     std::optional<LonLat> centre_if_cartesian = std::nullopt)
       : SceneGeoreference(volumes.georef, frame, offset, centre_if_cartesian) {}
 
@@ -74,7 +74,7 @@ class SceneGeoreference {
   /// sphere of radius kEarthRadius_m (volume_frame.h).
   glm::dvec3 ecefFromWorld(const glm::dvec3& world_m) const;
 
-  const VolumeFrame& frame() const { return frame_; }
+  const volume::VolumeFrame& frame() const { return frame_; }
   LonLatOffset offset() const { return offset_; }
   const MapProjection& projection() const { return projection_; }
 
@@ -82,7 +82,7 @@ class SceneGeoreference {
   glm::dvec2 projectedFromWorld(glm::dvec2 w) const;
   glm::dvec2 worldFromProjected(glm::dvec2 p) const;
 
-  VolumeFrame frame_;
+  volume::VolumeFrame frame_;
   LonLatOffset offset_;
   MapProjection projection_;
   glm::dvec2 origin_{0.0};  ///< projected coordinates of world (0, 0)
@@ -91,7 +91,7 @@ class SceneGeoreference {
 
 /// Globe: Earth-centred, Earth-fixed coordinates [m] of lon/lat at height h above a sphere of
 /// radius `radius_m` (x towards lon 0 on the equator, y towards lon 90°E, z towards the north pole).
-glm::dvec3 ecefFromLonLat(LonLat ll, double height_m = 0.0, double radius_m = kEarthRadius_m);
+glm::dvec3 ecefFromLonLat(LonLat ll, double height_m = 0.0, double radius_m = volume::kEarthRadius_m);
 LonLat lonLatFromEcef(const glm::dvec3& ecef_m);
 /// Local east, north, up unit vectors at lon/lat (columns of the ECEF-from-ENU rotation).
 glm::dmat3 ecefFromEnu(LonLat ll);

@@ -362,7 +362,7 @@ SceneDescription loadSceneFile(const std::string& path) {
   return parseSceneText(text.str(), path, p.has_parent_path() ? p.parent_path().string() : std::string("."));
 }
 
-Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, int height) {
+Camera cameraFor(const CameraSpec& spec, const volume::VolumeFrame& frame, int width, int height) {
   if (width <= 0 || height <= 0) throw UsageError("cameraFor: image size must be positive");
   if (std::uint64_t(width) * std::uint64_t(height) > limits::kMaxImagePixels) {
     throw UsageError(fmt::format("image of {} x {} pixels: more than the limit of {} pixels (limits::kMaxImagePixels; "

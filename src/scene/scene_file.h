@@ -124,7 +124,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
 /// view at `distance_scale` = 1. Overview: from the south, 55° above the horizon; oblique: from
 /// the south-south-west (azimuth 200°), 20° above the horizon, a little closer; top: straight down,
 /// north up. Flat-map world frame (the globe view transforms it).
-Camera cameraFor(const CameraSpec& spec, const VolumeFrame& frame, int width, int height);
+Camera cameraFor(const CameraSpec& spec, const volume::VolumeFrame& frame, int width, int height);
 
 /// The sun of `spec`: explicit values, or (from_time) the solar position at the footprint centre
 /// at `spec.time_utc` or else `data_time_utc`, turned into the world frame (grid north).

@@ -33,7 +33,7 @@ std::size_t timestepIndexFor(const DataSpec& data, const std::vector<geo::Option
                                times.size(), geo::isoOrEmpty(times.front()), geo::isoOrEmpty(times.back())));
 }
 
-WorldRect farBasemapRectangle(const VolumeFrame& frame) {
+WorldRect farBasemapRectangle(const volume::VolumeFrame& frame) {
   const glm::dvec3 size = frame.size_m();
   const double half = std::max(2.0e6, 3.0 * std::max(size.x, size.y));
   const glm::dvec2 centre{0.5 * size.x, 0.5 * size.y};
@@ -42,7 +42,7 @@ WorldRect farBasemapRectangle(const VolumeFrame& frame) {
 
 PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v) {
   PreparedScene p;
-  p.frame = frameOf(v, s.height_exaggeration);
+  p.frame = volume::frameOf(v, s.height_exaggeration);
   if (!v.georef.proj_definition.empty() || s.centre_if_cartesian) {
     p.geo.emplace(v, p.frame, s.lonlat_offset, s.centre_if_cartesian);
   }

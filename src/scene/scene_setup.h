@@ -25,7 +25,7 @@ std::size_t timestepIndexFor(const DataSpec& data, const std::vector<geo::Option
                              const std::string& file);
 
 struct PreparedScene {
-  VolumeFrame frame;
+  volume::VolumeFrame frame;
   std::optional<SceneGeoreference> geo;   ///< none for Cartesian grids without centre_lonlat_deg
   Camera flat_camera;                     ///< world frame (volume_frame.h)
   Camera camera;                          ///< = flat_camera, or carried onto the globe (ECEF)
@@ -45,13 +45,13 @@ struct PreparedScene {
   std::vector<float> basemap_lights, far_basemap_lights, basemap_equirect_lights;
   /// A user DEM (scene "terrain": {"dem": ...}; scene/dem.h) on the model's mass points and the far
   /// square, for render::VolumeTextures::upload; none without one.
-  std::optional<DemHeights> dem;
+  std::optional<volume::DemHeights> dem;
 };
 
 /// The far basemap's rectangle: the footprint's centre ± max(2000 km, 3 × its longer side). At
 /// 2000 km the sea-level air's transmittance is below e^{−10} even in the red (Rayleigh + aerosol,
 /// atmosphere/atmosphere.h), so ground further out is never seen through the atmosphere.
-WorldRect farBasemapRectangle(const VolumeFrame& frame);
+WorldRect farBasemapRectangle(const volume::VolumeFrame& frame);
 /// Pixels on each side of the far basemap: 1024 (≈ 4 km each at 2000 km; Blue Marble has 15 km).
 inline constexpr int kFarBasemapPixels = 1024;
 

@@ -68,9 +68,9 @@ std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& v) {
   return rg;
 }
 
-ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reconstruction) {
-  if (scene::readsSplineCoefficients(reconstruction)) {  // the sums of what the filter reads
-    ColumnDepths c = columnDepths(scene::splineCoefficientVolumes(v), scene::Reconstruction::Cubic);
+ColumnDepths columnDepths(const ExtinctionVolumes& v, volume::Reconstruction reconstruction) {
+  if (volume::readsSplineCoefficients(reconstruction)) {  // the sums of what the filter reads
+    ColumnDepths c = columnDepths(volume::splineCoefficientVolumes(v), volume::Reconstruction::Cubic);
     c.reconstruction = reconstruction;
     return c;
   }
@@ -89,11 +89,11 @@ ColumnDepths columnDepths(const ExtinctionVolumes& v, scene::Reconstruction reco
   return d;
 }
 
-glm::dvec2 columnDepthAt(const ColumnDepths& d, const scene::VolumeFrame& frame, const glm::dvec3& world_m) {
+glm::dvec2 columnDepthAt(const ColumnDepths& d, const volume::VolumeFrame& frame, const glm::dvec3& world_m) {
   if (d.nx <= 0 || d.ny <= 0 || d.nz <= 0) return glm::dvec2(0.0);
   // The extinction's own filter (volume/reconstruction.h), clamped to the edge (see the header).
   const glm::ivec3 last(d.nx - 1, d.ny - 1, d.nz - 1);
-  return scene::reconstructAt(d.reconstruction, frame.gridFromWorld(world_m) - 0.5, [&](int i, int j, int k) {
+  return volume::reconstructAt(d.reconstruction, frame.gridFromWorld(world_m) - 0.5, [&](int i, int j, int k) {
     const glm::ivec3 idx = glm::clamp(glm::ivec3(i, j, k), glm::ivec3(0), last);
     const std::size_t n =
         (std::size_t(idx.z) * std::size_t(d.ny) + std::size_t(idx.y)) * std::size_t(d.nx) + std::size_t(idx.x);

@@ -34,13 +34,13 @@ struct ColumnDepths {
   std::vector<float> up;    ///< τ_up per voxel, ExtinctionVolumes::index layout
   std::vector<float> down;  ///< τ_down per voxel
   /// The filter columnDepthAt applies: the extinction's (the eye pass's RECONSTRUCTION_CUBIC).
-  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
+  volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;
 };
 
 /// The vertical optical depths of `volumes` (O(voxels), one pass per column), to be sampled with
 /// `reconstruction`.
 ColumnDepths columnDepths(const ExtinctionVolumes& volumes,
-                          scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear);
+                          volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear);
 
 /// The column depths slice by slice from the top (k = nz − 1 down to 0), for an upload that never
 /// holds them for the whole grid (render/dlm/volume_textures.cpp, issue 19's memory): per column
@@ -80,6 +80,6 @@ std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& volumes);
 /// (τ_up, τ_down) at a world point: trilinear or cubic B-spline between voxel centres
 /// (depths.reconstruction), clamped to the edge (the GPU rule of the RG texture UNIT_COLUMN_DEPTH:
 /// GL_LINEAR, GL_CLAMP_TO_EDGE; clouds.comp columnDepthAt).
-glm::dvec2 columnDepthAt(const ColumnDepths& depths, const scene::VolumeFrame& frame, const glm::dvec3& world_m);
+glm::dvec2 columnDepthAt(const ColumnDepths& depths, const volume::VolumeFrame& frame, const glm::dvec3& world_m);
 
 }  // namespace nph

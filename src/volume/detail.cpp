@@ -5,7 +5,7 @@
 
 #include "core/glsl_cpp.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 namespace detail_f32 {
 using namespace nph::glsl;
@@ -237,4 +237,4 @@ double detailShape(double coverage, double m, double amplitude) {
 
 glm::dvec3 detailSecondFrame(const glm::dvec3& q) { return glm::dvec3(detail_f32::detailSecondFrame(glm::vec3(q))); }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -45,7 +45,7 @@
 #include "volume/noise.h"
 #include "volume/volume_frame.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 enum class Detail { None = 0, Subtle = 1, Full = 2 };
 
@@ -149,4 +149,4 @@ double detailShape(double coverage, double m, double amplitude);
 /// detail.glsl's kDetailShapeDisplacement: the shape's coverage is read at x + this × d.
 inline constexpr double kDetailShapeDisplacementScale = 3.0;
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -8,7 +8,7 @@
 
 #include "volume/spline_coefficients.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 double ExtinctionSampler::fetch(const std::vector<float>& a, int i, int j, int k) const {
   if (i < 0 || j < 0 || k < 0 || i >= v_->nx || j >= v_->ny || k >= v_->nz) return 0.0;
@@ -135,4 +135,4 @@ ExtinctionSample ExtinctionSampler::plainAt(const glm::dvec3& world_m) const {
   return s;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -16,7 +16,7 @@
 #include "volume/reconstruction.h"
 #include "volume/volume_frame.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 struct ExtinctionSample {
   double ice_per_m = 0.0;
@@ -59,4 +59,4 @@ class ExtinctionSampler {
   std::vector<float> correction_;                   ///< c per model column, when the detail is on
 };
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -8,7 +8,7 @@
 
 #include "core/glsl_cpp.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 namespace noise_f32 {
 using namespace nph::glsl;
@@ -97,4 +97,4 @@ const NoiseVolume& noiseVolume() {
   return v;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

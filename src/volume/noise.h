@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-namespace nph::scene {
+namespace nph::volume {
 
 /// Texels per side of the periodic noise tile (64³ RGBA8 = 1 MiB): 16 texels per lattice cell of
 /// the coarsest octave, 4 of the finest (noise.glsl).
@@ -46,4 +46,4 @@ std::uint8_t unormCode(float v);
 /// The noise volume, computed on first use (thread-safe, ~0.1–0.5 s) and kept for the process.
 const NoiseVolume& noiseVolume();
 
-}  // namespace nph::scene
+}  // namespace nph::volume

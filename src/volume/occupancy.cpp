@@ -4,7 +4,7 @@
 
 #include "volume/spline_coefficients.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 OccupancyGrid buildOccupancy(const ExtinctionVolumes& v, int brick, Reconstruction reconstruction,
                              int extra_reach_voxels, float max_scale) {
@@ -53,4 +53,4 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick, Reconstr
   return g;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

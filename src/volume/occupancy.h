@@ -14,7 +14,7 @@
 #include "volume/extinction_volumes.h"
 #include "volume/reconstruction.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 struct OccupancyGrid {
   int brick = 8;                                         ///< voxels per brick side
@@ -43,4 +43,4 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick = 8,
                              Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
                              float max_scale = 1.0f);
 
-}  // namespace nph::scene
+}  // namespace nph::volume

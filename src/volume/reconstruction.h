@@ -36,7 +36,7 @@
 
 #include <glm/glm.hpp>
 
-namespace nph::scene {
+namespace nph::volume {
 
 enum class Reconstruction { Trilinear = 0, Cubic = 1, CubicInterpolating = 2 };
 
@@ -89,4 +89,4 @@ auto reconstructAt(Reconstruction r, const glm::dvec3& c, Fetch&& fetch) -> decl
   return sum;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

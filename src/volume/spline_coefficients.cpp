@@ -2,7 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
-namespace nph::scene {
+namespace nph::volume {
 namespace {
 
 /// The Thomas algorithm's forward factors of the n × n system tridiag(1, 4, 1)/6 (the same for
@@ -65,4 +65,4 @@ ExtinctionVolumes splineCoefficientVolumes(const ExtinctionVolumes& volumes) {
   return c;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -24,7 +24,7 @@
 
 #include "volume/extinction_volumes.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 /// In place: `a` (nx × ny × nz, x fastest) replaced by its interpolating spline coefficients.
 void interpolatingSplineCoefficients(std::vector<float>& a, int nx, int ny, int nz);
@@ -33,4 +33,4 @@ void interpolatingSplineCoefficients(std::vector<float>& a, int nx, int ny, int 
 /// (maxima recomputed; terrain and the detail's fields unchanged).
 ExtinctionVolumes splineCoefficientVolumes(const ExtinctionVolumes& volumes);
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/glsl_cpp.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 namespace f64 {
 using namespace nph::glsl;
@@ -199,4 +199,4 @@ TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame, con
   return t;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

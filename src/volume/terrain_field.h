@@ -13,7 +13,7 @@
 #include "volume/extinction_volumes.h"
 #include "volume/volume_frame.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 /// A user DEM resampled for the terrain (scene/dem.h; issue 14 item 2): heights [m above MSL] on
 /// the model's mass points, which replace the model's own field where they are not NaN (the DEM
@@ -69,4 +69,4 @@ struct TerrainField {
 /// field of the wrong size or a non-finite height.
 TerrainField terrainOf(const ExtinctionVolumes& volumes, const VolumeFrame& frame, const DemHeights* dem = nullptr);
 
-}  // namespace nph::scene
+}  // namespace nph::volume

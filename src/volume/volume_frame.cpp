@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 VolumeFrame frameOf(const ExtinctionVolumes& v, double height_exaggeration) {
   if (v.nx <= 0 || v.ny <= 0 || v.nz <= 0) {
@@ -44,4 +44,4 @@ VolumeFrame frameOf(const ExtinctionVolumes& v, double height_exaggeration) {
   return f;
 }
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -11,7 +11,7 @@
 
 #include "volume/extinction_volumes.h"
 
-namespace nph::scene {
+namespace nph::volume {
 
 /// Sphere radius WRF and nephele's flat-map frame use [m] (WRF share/module_model_constants).
 inline constexpr double kEarthRadius_m = 6370000.0;
@@ -41,4 +41,4 @@ struct VolumeFrame {
 /// The frame of `volumes` with heights scaled by `height_exaggeration` (≥ 1 typical; 1 = true scale).
 VolumeFrame frameOf(const ExtinctionVolumes& volumes, double height_exaggeration = 1.0);
 
-}  // namespace nph::scene
+}  // namespace nph::volume

@@ -34,7 +34,7 @@ using bench::median;
 struct Fixture {
   std::unique_ptr<gl::Context> ctx;
   ExtinctionVolumes volumes;
-  scene::VolumeFrame frame;
+  volume::VolumeFrame frame;
   std::unique_ptr<render::VolumeTextures> textures;
   std::unique_ptr<render::DeepLightMap> dlm;
   scene::Camera camera;
@@ -46,11 +46,11 @@ Fixture& fixture() {
     auto fx = std::make_unique<Fixture>();
     fx->ctx = bench::hiddenContext();
     fx->volumes = bench::realisticHurricane("nephele-atmosphere-bench.nc");
-    fx->frame = scene::frameOf(fx->volumes, 8.0);
+    fx->frame = volume::frameOf(fx->volumes, 8.0);
     fx->textures =
         std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, fx->frame, "bench"));
     fx->dlm = std::make_unique<render::DeepLightMap>();
-    fx->dlm->build(*fx->textures, -fx->sun.toSun(), scene::DlmSettings{});
+    fx->dlm->build(*fx->textures, -fx->sun.toSun(), lighting::DlmSettings{});
     scene::CameraSpec cs;
     cs.preset = scene::CameraPreset::Oblique;
     cs.fov_deg = 40.0;

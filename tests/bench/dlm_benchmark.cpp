@@ -33,7 +33,7 @@ struct Fixture {
   glm::dvec3 light;
   std::vector<glm::dvec3> points;
   render::DeepLightMap::Readback bestMap;
-  scene::LightSpace bestSpace;
+  lighting::LightSpace bestSpace;
 };
 
 Fixture& fixture() {
@@ -53,7 +53,7 @@ Fixture& fixture() {
     fx->volumes =
         physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
     std::filesystem::remove(path);
-    const auto frame = scene::frameOf(fx->volumes);
+    const auto frame = volume::frameOf(fx->volumes);
     fx->textures =
         std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
     fx->light = -scene::Sun{135.0, 45.0}.toSun();
@@ -62,7 +62,7 @@ Fixture& fixture() {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int i = 0; i < 20000; ++i) fx->points.push_back(lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng)));
-    scene::DlmSettings best;
+    lighting::DlmSettings best;
     best.epsilon = 1e-4;
     best.step_voxels = 0.125;
     best.texel_voxels = 0.5;
@@ -84,7 +84,7 @@ enum Knob { Baseline, Epsilon, Texel, Step, NoSkip, NoScatter, ScatterCoarse, No
 void BM_DlmBuild(benchmark::State& state) {
   Fixture& fx = fixture();
   fx.ctx->makeCurrent();
-  scene::DlmSettings s;
+  lighting::DlmSettings s;
   const auto knob = static_cast<Knob>(state.range(0));
   const double value = double(state.range(1)) / 1000.0;
   switch (knob) {
@@ -156,7 +156,7 @@ BENCHMARK(BM_DlmBuild)
 void BM_Pass1VersusUncompressedLightVolume(benchmark::State& state) {
   Fixture& fx = fixture();
   fx.ctx->makeCurrent();
-  scene::DlmSettings s;
+  lighting::DlmSettings s;
   s.peripheral = false;
   render::DeepLightMap dlm;
   double pass1 = 0.0, plain = 0.0;

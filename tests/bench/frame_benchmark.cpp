@@ -106,8 +106,8 @@ double maxLightDifference(const render::DeepLightMap& a, const render::DeepLight
   for (std::size_t t = 0; t < ra.nodes.size() && t < rb.nodes.size(); ++t) {
     for (int n = 0; n <= a.stats().steps; ++n) {
       const double s = n * a.stats().step_m;
-      m = std::max(m, std::abs(scene::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), s) -
-                               scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s)));
+      m = std::max(m, std::abs(lighting::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), s) -
+                               lighting::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s)));
     }
   }
   return m;
@@ -122,7 +122,7 @@ ExtinctionVolumes benchVolumes(bool demo) {
 }
 
 // The demo's view: the oblique preset at 40°.
-scene::Camera demoCamera(const scene::VolumeFrame& frame, int width, int height) {
+scene::Camera demoCamera(const volume::VolumeFrame& frame, int width, int height) {
   scene::CameraSpec cs;
   cs.preset = scene::CameraPreset::Oblique;
   cs.fov_deg = 40.0;
@@ -134,12 +134,12 @@ void BM_FrameVariants(benchmark::State& state) {
   const int width = int(state.range(1)), height = width * 9 / 16;
   const auto ctx = bench::hiddenContext();
   const ExtinctionVolumes v = benchVolumes(demo);
-  const auto frame = scene::frameOf(v, 8.0);
+  const auto frame = volume::frameOf(v, 8.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "bench");
   const scene::Sun sun{140.0, 35.0};
   const scene::Camera camera = demoCamera(frame, width, height);
   const render::RenderSettings rs;
-  const scene::DlmSettings ds;
+  const lighting::DlmSettings ds;
 
   // The DLM variants: built once here for the images, rebuilt (fresh objects) in the timed rounds.
   render::DeepLightMap dlmNew, dlmOld;
@@ -297,11 +297,11 @@ void BM_MultipleScatteringCost(benchmark::State& state) {
   const int width = int(state.range(1)), height = width * 9 / 16;
   const auto ctx = bench::hiddenContext();
   const ExtinctionVolumes v = benchVolumes(demo);
-  const auto frame = scene::frameOf(v, 8.0);
+  const auto frame = volume::frameOf(v, 8.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "bench");
   const scene::Sun sun{140.0, 35.0};
   const scene::Camera camera = demoCamera(frame, width, height);
-  const scene::DlmSettings ds;
+  const lighting::DlmSettings ds;
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), ds);
   constexpr int kModels = 3;  // lighting::MultipleScattering: single, octaves, two_stream
@@ -369,12 +369,12 @@ void baselineCastCost(benchmark::State& state, const render::EyePassBaseline& ba
   const int width = int(state.range(1)), height = width * 9 / 16;
   const auto ctx = bench::hiddenContext();
   const ExtinctionVolumes v = benchVolumes(demo);
-  const auto frame = scene::frameOf(v, 8.0);
+  const auto frame = volume::frameOf(v, 8.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "bench");
   const scene::Sun sun{140.0, 35.0};
   const scene::Camera camera = demoCamera(frame, width, height);
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
   const render::RenderSettings rs;
   render::CloudRenderer renderer[2];  // 0: the baseline, 1: the default
   renderer[0].setBaseline(baseline);
@@ -482,7 +482,7 @@ struct DemoScene {
   int width, height;
   std::unique_ptr<gl::Context> ctx = bench::hiddenContext();
   ExtinctionVolumes v = benchVolumes(demo);
-  scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   // Both copies (VolumeStorage::Reference): the separate-textures variant reads its own R32F/RG16F
   // textures, and every map is built from float β as when these variants were chosen.
   render::VolumeTextures tex =
@@ -547,7 +547,7 @@ void BM_EyePassDefaults(benchmark::State& state) {
   auto mapFor = [&](double cell) -> const render::DeepLightMap& {
     for (std::size_t i = 0; i < cells.size(); ++i)
       if (cells[i] == cell) return *maps[i];
-    scene::DlmSettings ds;
+    lighting::DlmSettings ds;
     ds.light_cache_voxels = cell;
     maps.push_back(std::make_unique<render::DeepLightMap>());
     buildMs.push_back(timed([&] { maps.back()->build(sc.tex, -sc.sun.toSun(), ds); }).wall_ms);
@@ -632,12 +632,12 @@ void BM_CloudResolution(benchmark::State& state) {
   const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
   constexpr int kVariants = 3;
   const int divisors[kVariants] = {1, 2, 4};
-  scene::DlmSettings ds;
+  lighting::DlmSettings ds;
   ds.light_cache_voxels = lighting::QualitySettings{}.light_cache_voxels;  // the broadcast preset's
   render::DeepLightMap dlm;
   dlm.build(sc.tex, -sc.sun.toSun(), ds);
   render::DeepLightMap direct;  // the CPU reference evaluates the map itself, not its cache
-  direct.build(sc.tex, -sc.sun.toSun(), scene::DlmSettings{});
+  direct.build(sc.tex, -sc.sun.toSun(), lighting::DlmSettings{});
   const scene::RgbaImage cpu = sc.cpuReference(direct);
   render::CloudRenderer renderer;
   render::RenderSettings rs[kVariants];
@@ -701,12 +701,12 @@ void BM_DetailCost(benchmark::State& state) {
   const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
   struct Variant {
     const char* name;
-    scene::Reconstruction reconstruction;
-    scene::Detail detail;
+    volume::Reconstruction reconstruction;
+    volume::Detail detail;
   };
   constexpr int kVariants = 6;
-  using R = scene::Reconstruction;
-  using D = scene::Detail;
+  using R = volume::Reconstruction;
+  using D = volume::Detail;
   const Variant variants[kVariants] = {
       {"trilinear", R::Trilinear, D::None},      {"trilinear+subtle", R::Trilinear, D::Subtle},
       {"trilinear+full", R::Trilinear, D::Full}, {"cubic", R::Cubic, D::None},
@@ -724,7 +724,7 @@ void BM_DetailCost(benchmark::State& state) {
                   }).wall_ms;
     if (!noise && tex.back()->noise()) noise = tex.back()->noise();
     maps.push_back(std::make_unique<render::DeepLightMap>());
-    buildMs[k] = timed([&] { maps.back()->build(*tex.back(), -sc.sun.toSun(), scene::DlmSettings{}); }).wall_ms;
+    buildMs[k] = timed([&] { maps.back()->build(*tex.back(), -sc.sun.toSun(), lighting::DlmSettings{}); }).wall_ms;
   }
   render::CloudRenderer renderer;
   const render::RenderSettings rs;
@@ -784,44 +784,46 @@ void BM_DetailMass(benchmark::State& state) {
   const int width = 640, height = 360;
   const auto ctx = bench::hiddenContext();
   const ExtinctionVolumes v = benchVolumes(false);
-  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   const scene::Sun sun{140.0, 35.0};
   const scene::Camera camera = demoCamera(frame, width, height);
-  const scene::Reconstruction r = cubic ? scene::Reconstruction::Cubic : scene::Reconstruction::Trilinear;
+  const volume::Reconstruction r = cubic ? volume::Reconstruction::Cubic : volume::Reconstruction::Trilinear;
   struct Variant {
     const char* name;
-    scene::MassPattern pattern;
+    volume::MassPattern pattern;
   };
   constexpr int kVariants = 6;
-  const Variant variants[kVariants] = {
-      {"exhaustive", scene::kExhaustiveMassPattern}, {"occupied", {2, 0.25, true}},
-      {"occupied+step_half", {2, 0.5, true}},        {"occupied+step_1", {2, 1.0, true}},
-      {"occupied+step_2", {2, 2.0, true}},           {"occupied+1ray+step_1", {1, 1.0, true}}};
+  const Variant variants[kVariants] = {{"exhaustive", volume::kExhaustiveMassPattern},
+                                       {"occupied", {2, 0.25, true}},
+                                       {"occupied+step_half", {2, 0.5, true}},
+                                       {"occupied+step_1", {2, 1.0, true}},
+                                       {"occupied+step_2", {2, 2.0, true}},
+                                       {"occupied+1ray+step_1", {1, 1.0, true}}};
   std::shared_ptr<const render::NoiseTexture> noise;
   std::vector<std::unique_ptr<render::VolumeTextures>> tex;
   render::CloudRenderer renderer;
   const render::RenderSettings rs;
   render::RenderOutput out[kVariants];
   std::vector<float> c[kVariants];
-  scene::HalfColumnMasses exhaustive;
+  volume::HalfColumnMasses exhaustive;
   double samples[kVariants], uploadMs[kVariants];
   for (int k = 0; k < kVariants; ++k) {
-    const scene::MassPattern& p = variants[k].pattern;
+    const volume::MassPattern& p = variants[k].pattern;
     uploadMs[k] = timed([&] {
                     tex.push_back(std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(
                         v, frame, "bench-mass",
-                        {.reconstruction = r, .detail = scene::Detail::Full, .noise = noise, .mass = p})));
+                        {.reconstruction = r, .detail = volume::Detail::Full, .noise = noise, .mass = p})));
                   }).wall_ms;
     if (!noise) noise = tex.back()->noise();
     render::DeepLightMap dlm;
-    dlm.build(*tex.back(), -sun.toSun(), scene::DlmSettings{});
+    dlm.build(*tex.back(), -sun.toSun(), lighting::DlmSettings{});
     out[k] = renderer.render(*tex.back(), dlm, camera, sun, rs);
-    const scene::HalfColumnMasses m = tex.back()->measureHalfColumnMasses(v, p);
+    const volume::HalfColumnMasses m = tex.back()->measureHalfColumnMasses(v, p);
     if (k == 0) exhaustive = m;
-    c[k] = scene::solveDetailCorrection(m);
-    const int filterReach = scene::reachVoxels(r);
-    samples[k] = scene::massSampleCount(
-        scene::massStepRanges(v, filterReach, filterReach + tex.back()->detail().reach_voxels, p), p);
+    c[k] = volume::solveDetailCorrection(m);
+    const int filterReach = volume::reachVoxels(r);
+    samples[k] = volume::massSampleCount(
+        volume::massStepRanges(v, filterReach, filterReach + tex.back()->detail().reach_voxels, p), p);
   }
   // Footprints with plain mass and their optical depth (exhaustive pattern, data metres).
   const int nx = v.nx, ny = v.ny, hx = 2 * nx;
@@ -834,8 +836,8 @@ void BM_DetailMass(benchmark::State& state) {
         P += exhaustive.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
       maxPlain = std::max(maxPlain, P);
     }
-  const double tauPerSum = scene::kMassStepLayers * frame.voxel_size_m.z / frame.height_exaggeration /
-                           double(4 * scene::kMassRaysPerAxis * scene::kMassRaysPerAxis);
+  const double tauPerSum = volume::kMassStepLayers * frame.voxel_size_m.z / frame.height_exaggeration /
+                           double(4 * volume::kMassRaysPerAxis * volume::kMassRaysPerAxis);
   Series series[kVariants];
   const int rounds = interleavedCasts<kVariants>(
       state, series, [&](int k) { (void)tex[std::size_t(k)]->measureHalfColumnMasses(v, variants[k].pattern); });

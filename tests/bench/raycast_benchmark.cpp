@@ -45,11 +45,11 @@ Fixture& fixture() {
     auto fx = std::make_unique<Fixture>();
     fx->ctx = bench::hiddenContext();
     fx->volumes = bench::realisticHurricane("nephele-raycast-bench.nc");
-    const auto frame = scene::frameOf(fx->volumes, 8.0);
+    const auto frame = volume::frameOf(fx->volumes, 8.0);
     fx->textures =
         std::make_unique<render::VolumeTextures>(render::VolumeTextures::upload(fx->volumes, frame, "bench"));
     fx->dlm = std::make_unique<render::DeepLightMap>();
-    fx->dlm->build(*fx->textures, -fx->sun.toSun(), scene::DlmSettings{});
+    fx->dlm->build(*fx->textures, -fx->sun.toSun(), lighting::DlmSettings{});
     fx->renderer = std::make_unique<render::CloudRenderer>();
     scene::CameraSpec cs;
     cs.preset = scene::CameraPreset::Oblique;

@@ -40,15 +40,15 @@ void BM_ReconstructionCost(benchmark::State& state) {
   datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
   spec.ntimes = 1;
   const ExtinctionVolumes v = bench::generatedVolumes(spec, "nephele-reconstruction-bench.nc");
-  const auto frame = scene::frameOf(v, 8.0);
+  const auto frame = volume::frameOf(v, 8.0);
   const scene::Sun sun{140.0, 35.0};
   scene::CameraSpec cs;
   cs.preset = scene::CameraPreset::Oblique;
   cs.fov_deg = 40.0;
   const scene::Camera camera = scene::cameraFor(cs, frame, 1920, 1080);
   const render::VolumeTextures tex[2] = {
-      render::VolumeTextures::upload(v, frame, "bench", {.reconstruction = scene::Reconstruction::Trilinear}),
-      render::VolumeTextures::upload(v, frame, "bench", {.reconstruction = scene::Reconstruction::Cubic})};
+      render::VolumeTextures::upload(v, frame, "bench", {.reconstruction = volume::Reconstruction::Trilinear}),
+      render::VolumeTextures::upload(v, frame, "bench", {.reconstruction = volume::Reconstruction::Cubic})};
   render::CloudRenderer renderer;
   render::RenderSettings rs;
   std::vector<double> dlm_ms[2], ray_ms[2];
@@ -57,7 +57,7 @@ void BM_ReconstructionCost(benchmark::State& state) {
     for (int r = 0; r < 2; ++r) {
       render::DeepLightMap dlm;  // a fresh map each time: the cache key would skip the build
       const auto t0 = std::chrono::steady_clock::now();
-      dlm.build(tex[r], -sun.toSun(), scene::DlmSettings{});
+      dlm.build(tex[r], -sun.toSun(), lighting::DlmSettings{});
       glFinish();
       dlm_ms[r].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       ray_ms[r].push_back(renderer.render(tex[r], dlm, camera, sun, rs).milliseconds);

@@ -69,11 +69,11 @@ std::pair<double, double> interleavedMedians(benchmark::State& state, A a, B b) 
 void BM_TerrainFrame(benchmark::State& state) {
   auto ctx = bench::hiddenContext();
   const ExtinctionVolumes volumes = stormOverMountain("nephele-terrain-bench.nc");
-  const scene::VolumeFrame frame = scene::frameOf(volumes, 4.0);
+  const volume::VolumeFrame frame = volume::frameOf(volumes, 4.0);
   const auto textures = render::VolumeTextures::upload(volumes, frame, "bench");
   const scene::Sun sun{215.0, 6.0};
   render::DeepLightMap dlm;
-  dlm.build(textures, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(textures, -sun.toSun(), lighting::DlmSettings{});
   const scene::Camera camera = demoCamera();
   std::fprintf(stderr, "terrain benchmark: %dx%dx%d voxels, terrain max %.0f m (world) on %s\n", volumes.nx, volumes.ny,
                volumes.nz, textures.terrain().max_m, ctx->info().renderer.c_str());
@@ -98,8 +98,8 @@ BENCHMARK(BM_TerrainFrame)->Iterations(1)->Unit(benchmark::kMillisecond);
 void BM_DemFarFieldFrame(benchmark::State& state) {
   auto ctx = bench::hiddenContext();
   const ExtinctionVolumes volumes = stormOverMountain("nephele-dem-bench.nc");
-  const scene::VolumeFrame frame = scene::frameOf(volumes, 4.0);
-  scene::DemHeights dem;
+  const volume::VolumeFrame frame = volume::frameOf(volumes, 4.0);
+  volume::DemHeights dem;
   dem.source = "<generated ridge>";
   const scene::WorldRect far = scene::farBasemapRectangle(frame);
   dem.far_size = glm::ivec2(scene::kFarBasemapPixels);
@@ -119,7 +119,7 @@ void BM_DemFarFieldFrame(benchmark::State& state) {
   const auto with = render::VolumeTextures::upload(volumes, frame, "bench", {.dem = &dem});
   const scene::Sun sun{215.0, 6.0};
   render::DeepLightMap dlm;
-  dlm.build(without, -sun.toSun(), scene::DlmSettings{});  // the DLM does not read the terrain
+  dlm.build(without, -sun.toSun(), lighting::DlmSettings{});  // the DLM does not read the terrain
   const scene::Camera camera = demoCamera();
   render::CloudRenderer renderer;
   render::RenderSettings on;

@@ -119,8 +119,8 @@ TEST_F(SessionTest, AutoReconstructionIsTheFilterOfTheGrid) {
   spec.ntimes = 1;
   spec.dx_m = 3000.0;
   datagen::writeWrfHurricane(spec, fine);
-  for (const auto& [file, expected] :
-       {std::pair{tinyStormFile(), scene::Reconstruction::Cubic}, std::pair{fine, scene::Reconstruction::Trilinear}}) {
+  for (const auto& [file, expected] : {std::pair{tinyStormFile(), volume::Reconstruction::Cubic},
+                                       std::pair{fine, volume::Reconstruction::Trilinear}}) {
     SCOPED_TRACE(file);
     const auto ds = engine::Dataset::open(file);
     engine::Session automatic(ds, withFilter(file, "auto")), cubic(ds, withFilter(file, "cubic")),
@@ -130,7 +130,7 @@ TEST_F(SessionTest, AutoReconstructionIsTheFilterOfTheGrid) {
     EXPECT_GT(meanAlpha(a.cloud_layer), 0.01) << "the storm must be in view";
     const auto c = cubic.render(cubic.prepared().camera), t = trilinear.render(trilinear.prepared().camera);
     EXPECT_NE(c.frame.rgba, t.frame.rgba) << "the two filters must differ for the test to mean anything";
-    expectSameImage(a.frame, expected == scene::Reconstruction::Cubic ? c.frame : t.frame, "auto");
+    expectSameImage(a.frame, expected == volume::Reconstruction::Cubic ? c.frame : t.frame, "auto");
   }
 }
 

@@ -17,7 +17,7 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct SnyderLcc {
-  double n, F, rho0, R = kEarthRadius_m;
+  double n, F, rho0, R = volume::kEarthRadius_m;
   SnyderLcc() {
     const double p1 = test::kLccLat1 * kDeg, p2 = test::kLccLat2 * kDeg, p0 = test::kLccLat0 * kDeg;
     auto t = [](double p) { return std::tan(std::numbers::pi / 4.0 + p / 2.0); };
@@ -35,7 +35,7 @@ struct SnyderLcc {
 
 TEST(SceneGeoreference, LambertCornersMatchSnyder) {
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference geo(v, frame);
   const SnyderLcc snyder;
   const auto corners = geo.footprintCorners();
@@ -63,7 +63,7 @@ TEST(SceneGeoreference, LambertCornersMatchSnyder) {
 
 TEST(SceneGeoreference, RoundTripAndVoxelCentres) {
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v, 10.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 10.0);
   const SceneGeoreference geo(v, frame);
   for (glm::dvec2 w :
        {glm::dvec2{0, 0}, glm::dvec2{12345.6, 200000.0}, glm::dvec2{3e5, 2.4e5}, glm::dvec2{-50000.0, 400000.0}}) {
@@ -89,7 +89,7 @@ TEST(SceneGeoreference, RoundTripAndVoxelCentres) {
 
 TEST(SceneGeoreference, ManualOffsetShiftsLonLat) {
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference plain(v, frame);
   const SceneGeoreference shifted(v, frame, LonLatOffset{0.5, -0.25});
   const LonLat c = shifted.footprintCentre();
@@ -105,7 +105,7 @@ TEST(SceneGeoreference, ManualOffsetShiftsLonLat) {
 
 TEST(SceneGeoreference, MeridianConvergenceTurnsTheSun) {
   const auto v = test::lambertVolumes(400, 100, 4, 3000.0);  // 1200 km wide
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference geo(v, frame);
   const SnyderLcc snyder;
   // East of the central meridian, meridians lean west going north (they meet at the pole):
@@ -129,11 +129,11 @@ TEST(SceneGeoreference, MercatorHasGridNorthEqualTrueNorth) {
   v.georef.proj_definition = "+proj=merc +lat_ts=20 +lon_0=-60 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs";
   v.georef.x0 = 0.0;
   v.georef.y0 = 2.0e6;
-  const SceneGeoreference geo(v, frameOf(v));
+  const SceneGeoreference geo(v, volume::frameOf(v));
   EXPECT_NEAR(geo.trueNorthClockwiseFromGridNorth_deg({1e5, 1e5}), 0.0, 1e-6);
   // Mercator on the sphere: x = R·k0·(λ − λ0), k0 = cos(lat_ts).
   const LonLat sw = geo.footprintCorners()[0];
-  EXPECT_NEAR(sw.lon_deg, -60.0 + (-1500.0) / (kEarthRadius_m * std::cos(20.0 * kDeg)) / kDeg, 1e-9);
+  EXPECT_NEAR(sw.lon_deg, -60.0 + (-1500.0) / (volume::kEarthRadius_m * std::cos(20.0 * kDeg)) / kDeg, 1e-9);
 }
 
 TEST(SceneGeoreference, GeographicGridUsesFrameScaling) {
@@ -148,7 +148,7 @@ TEST(SceneGeoreference, GeographicGridUsesFrameScaling) {
   v.georef.dy_m = 0.02;
   v.georef.x0 = 5.0;
   v.georef.y0 = 45.0;
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference geo(v, frame);
   for (auto [i, j] : {std::pair{0, 0}, std::pair{49, 39}, std::pair{10, 30}}) {
     const glm::dvec3 w = frame.worldFromGrid({i + 0.5, j + 0.5, 0.5});
@@ -164,20 +164,20 @@ TEST(SceneGeoreference, CartesianGridNeedsACentre) {
   v.nz = 2;
   v.dz_m = 100.0;
   v.georef.dx_m = v.georef.dy_m = 1000.0;
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   EXPECT_THROW(SceneGeoreference(v, frame), InputError);
   const SceneGeoreference geo(v, frame, {}, LonLat{10.0, 50.0});
   EXPECT_NEAR(geo.footprintCentre().lon_deg, 10.0, 1e-9);
   EXPECT_NEAR(geo.footprintCentre().lat_deg, 50.0, 1e-9);
   // 10 km north of the centre is 10 km / (R·π/180) degrees of latitude (azimuthal equidistant).
-  EXPECT_NEAR(geo.lonLatFromWorld({10000.0, 20000.0}).lat_deg, 50.0 + 10000.0 / (kEarthRadius_m * kDeg), 1e-9);
+  EXPECT_NEAR(geo.lonLatFromWorld({10000.0, 20000.0}).lat_deg, 50.0 + 10000.0 / (volume::kEarthRadius_m * kDeg), 1e-9);
 }
 
 TEST(SceneGeoreference, BadProjectionIsAnInputError) {
   auto v = test::lambertVolumes();
   v.georef.proj_definition = "+proj=nonsense +R=6370000";
   try {
-    SceneGeoreference geo(v, frameOf(v));
+    SceneGeoreference geo(v, volume::frameOf(v));
     FAIL() << "accepted a bad projection";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("+proj=nonsense"), std::string::npos) << e.what();
@@ -185,7 +185,7 @@ TEST(SceneGeoreference, BadProjectionIsAnInputError) {
 }
 
 TEST(Globe, EcefMapping) {
-  const double R = kEarthRadius_m;
+  const double R = volume::kEarthRadius_m;
   auto near3 = [](glm::dvec3 a, glm::dvec3 b) { return glm::length(a - b) < 1e-6; };
   EXPECT_TRUE(near3(ecefFromLonLat({0, 0}), {R, 0, 0}));
   EXPECT_TRUE(near3(ecefFromLonLat({90, 0}), {0, R, 0}));
@@ -201,7 +201,7 @@ TEST(Globe, EcefMapping) {
   EXPECT_TRUE(near3(ecefFromEnu({0, 0})[1], {0, 0, 1}));
   // World point of a georeferenced volume lands on the sphere at its height.
   const auto v = test::lambertVolumes();
-  const SceneGeoreference geo(v, frameOf(v));
+  const SceneGeoreference geo(v, volume::frameOf(v));
   const glm::dvec3 p = geo.ecefFromWorld({0.5 * 300000.0, 0.5 * 240000.0, 5000.0});
   EXPECT_NEAR(glm::length(p), R + 5000.0, 1e-6);
   EXPECT_TRUE(glm::length(p - ecefFromLonLat({-80.0, 25.0}, 5000.0)) < 1e-3);
@@ -217,14 +217,14 @@ namespace {
 
 TEST(Globe, FlatCameraCarriedOntoTheSphere) {
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v, 10.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 10.0);
   const SceneGeoreference geo(v, frame);
   Camera flat;
   flat.target_m = {150000.0, 120000.0, 0.0};
   flat.position_m = {150000.0, -80000.0, 200000.0};
   const Camera g = globeCameraFrom(flat, geo);
-  EXPECT_NEAR(glm::length(g.target_m), kEarthRadius_m, 1e-3);
-  EXPECT_NEAR(glm::length(g.position_m), kEarthRadius_m + 200000.0, 1e-3);
+  EXPECT_NEAR(glm::length(g.target_m), volume::kEarthRadius_m, 1e-3);
+  EXPECT_NEAR(glm::length(g.position_m), volume::kEarthRadius_m + 200000.0, 1e-3);
   // Over 280 km the sphere bends the straight flat-map distance by well under 1 %.
   const double dFlat = glm::length(flat.position_m - flat.target_m), dGlobe = glm::length(g.position_m - g.target_m);
   EXPECT_NEAR(dGlobe / dFlat, 1.0, 0.01);
@@ -251,7 +251,7 @@ TEST(Globe, SunDirectionAgreesWithTheLocalSolarPosition) {
   }
   // A world-frame sun from sunInWorld maps back to the same ECEF direction (convergence undone).
   const auto v = test::lambertVolumes(400, 100, 4, 3000.0);
-  const SceneGeoreference geo(v, frameOf(v));
+  const SceneGeoreference geo(v, volume::frameOf(v));
   const glm::dvec2 east{1.1e6, 1.5e5};
   const LonLat ll = geo.lonLatFromWorld(east);
   const Sun worldSun = geo.sunInWorld(sunAt(t, ll.lon_deg, ll.lat_deg), east);

@@ -249,7 +249,7 @@ TEST(CloudLight, TwoStreamSunFrameKeepsTheSlantedOpticalDepthOfTheExaggeratedWor
   EXPECT_NEAR(one.z, 1.0, 1e-12);
   ExtinctionVolumes v = ExtinctionVolumes::zeros(2, 2, 2, 1000.0, 100.0, 0.0);
   for (double e : {2.0, 4.0, 8.0}) {
-    const scene::VolumeFrame f = scene::frameOf(v, e);
+    const volume::VolumeFrame f = volume::frameOf(v, e);
     for (double elevationDeg : {5.0, 30.0, 70.0}) {
       const double h = elevationDeg * std::numbers::pi / 180.0;
       const glm::dvec3 d(std::cos(h), 0.0, std::sin(h));
@@ -281,7 +281,7 @@ TEST(ColumnDepth, SumsTheColumnAboveAndBelowAtTheDataScale) {
   EXPECT_NEAR(d.down[0], 0.05, 1e-3);
   EXPECT_NEAR(d.down[3], 0.1 + 0.2 + 0.2, 1e-3);
   // Height exaggeration changes world heights, not the depths (the data's optical depth).
-  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   const glm::dvec3 centre1 = frame.worldFromGrid(glm::dvec3(0.5, 0.5, 1.5));
   EXPECT_NEAR(columnDepthAt(d, frame, centre1).x, 0.1 + 0.4, 1e-3);
   // Halfway between layer centres 1 and 2: the mean; above the top: clamped to the top centre.
@@ -301,8 +301,8 @@ TEST(ColumnDepth, CubicDepthsAreTheBSplineOfTheVoxelDepthsClampedToTheEdge) {
     v.water_per_m[v.index(0, 0, k)] = b;
     v.water_per_m[v.index(1, 0, k)] = 2.0f * b;
   }
-  const ColumnDepths d = columnDepths(v, scene::Reconstruction::Cubic);
-  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const ColumnDepths d = columnDepths(v, volume::Reconstruction::Cubic);
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   const double up0[4] = {0.65, 0.5, 0.4, 0.2};
   // Column x = 0 at the centre of layer 1: x-weights 1/6 (clamped: itself) + 2/3 + 1/6 (column 1).
   const double ownAt1 = (up0[0] + 4.0 * up0[1] + up0[2]) / 6.0;
@@ -318,7 +318,7 @@ TEST(ColumnDepth, CubicDepthsAreTheBSplineOfTheVoxelDepthsClampedToTheEdge) {
 
 TEST(VolumeFrame, OpticalDepthScaleKeepsTheDataDepthAlongEveryDirection) {
   ExtinctionVolumes v = ExtinctionVolumes::zeros(2, 2, 2, 1000.0, 100.0, 0.0);
-  const scene::VolumeFrame f = scene::frameOf(v, 8.0);
+  const volume::VolumeFrame f = volume::frameOf(v, 8.0);
   EXPECT_NEAR(f.opticalDepthScale({0.0, 0.0, 1.0}), 1.0 / 8.0, 1e-15);
   EXPECT_NEAR(f.opticalDepthScale({1.0, 0.0, 0.0}), 1.0, 1e-15);
   // A slanted world path between two grid points has the length of the unexaggerated path.

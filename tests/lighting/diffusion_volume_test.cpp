@@ -78,7 +78,7 @@ TEST(DiffusionVolume, SlabColumnMatchesTheDeltaEddingtonClosedForm) {
   v.updateMaxima();
   for (double e : {1.0, 4.0})
     for (DiffusionDrift drift : {DiffusionDrift::Physical, DiffusionDrift::TwoStream}) {
-      const scene::VolumeFrame frame = scene::frameOf(v, e);
+      const volume::VolumeFrame frame = volume::frameOf(v, e);
       const glm::dvec3 toSun(std::sqrt(1.0 - muWorld * muWorld), 0.0, muWorld);
       const glm::dvec3 sunFrame = twoStreamSunFrame(muWorld, e);
       const double top = nz * dz;  // data metres
@@ -128,7 +128,7 @@ TEST(DiffusionVolume, SideFacesLetATowerLoseLight) {
     for (int j = 4; j < 12; ++j)
       for (int i = 4; i < 12; ++i) v.water_per_m[v.index(i, j, k)] = 0.05f;
   v.updateMaxima();
-  const scene::VolumeFrame frame = scene::frameOf(v, 1.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
   DiffusionVolumeOptions o;
   o.coarsen_xy = 2;
   o.coarsen_z = 2;

@@ -71,19 +71,19 @@ TEST(Knobs, RenderSettingsDefaultsAreTheBroadcastPresetAndDefaultStyle) {
   EXPECT_EQ(r.ambient, d.ambient);
   EXPECT_EQ(r.ocean_albedo, d.ocean_albedo);
   EXPECT_EQ(r.limb_radiance, d.limb_radiance);
-  const scene::DlmSettings dlm = dlmSettingsFor(qualityPreset("reference"));
+  const lighting::DlmSettings dlm = dlmSettingsFor(qualityPreset("reference"));
   EXPECT_EQ(dlm.epsilon, 0.0025);
   EXPECT_EQ(dlm.step_voxels, 0.25);
   EXPECT_EQ(dlm.max_texels, 1024);
   EXPECT_EQ(dlm.max_nodes, 32);
-  EXPECT_EQ(dlm.forward_angle_deg, scene::DlmSettings{}.forward_angle_deg);  // the model is no knob
+  EXPECT_EQ(dlm.forward_angle_deg, lighting::DlmSettings{}.forward_angle_deg);  // the model is no knob
 }
 
 // The default extinction filter is "auto" in every preset (issue 13): cubic on grids of 4 km and
 // coarser (the larger horizontal spacing decides), trilinear on finer ones; an explicit choice
 // wins whatever the grid.
 TEST(Knobs, AutoReconstructionFollowsTheGridSpacing) {
-  using scene::Reconstruction;
+  using volume::Reconstruction;
   for (std::string_view preset : kPresetNames) EXPECT_EQ(qualityPreset(preset).reconstruction, kReconstructionAuto);
   const QualitySettings q;
   EXPECT_EQ(reconstructionOf(q, {3000.0, 3000.0}), Reconstruction::Trilinear);  // the demo hurricane

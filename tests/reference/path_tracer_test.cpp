@@ -121,7 +121,7 @@ TEST(PathTracer, DirectionsAroundAnAxisHaveTheRequestedAngleAndUniformAzimuth) {
 
 TEST(PathTracer, AlphaOfHomogeneousSlabIsBeerLambert) {
   const Slab slab(0.7);
-  const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), scene::Sun{}, sunOnly(1));
+  const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), scene::Sun{}, sunOnly(1));
   for (const glm::dvec3 d : {glm::dvec3(0, 0, -1), glm::dvec3(0.3, 0.5, -1), glm::dvec3(-2, 1, -0.4)}) {
     const glm::dvec3 dir = glm::normalize(d);
     const double expected = 1.0 - std::exp(-slab.sigma_per_m * Slab::kThickness_m / -dir.z);
@@ -147,7 +147,7 @@ TEST(PathTracer, AlphaOfHomogeneousSlabIsBeerLambert) {
   PathTracerSettings s = sunOnly(1);
   s.ground_enabled = true;
   s.ground_height_m = 1600.0;
-  const PathTracer withGround(slab.volumes, scene::frameOf(slab.volumes), scene::Sun{}, s);
+  const PathTracer withGround(slab.volumes, volume::frameOf(slab.volumes), scene::Sun{}, s);
   EXPECT_NEAR(withGround.alpha({50000.0, 50000.0, 3000.0}, {0.0, 0.0, -1.0}), 1.0 - std::exp(-slab.sigma_per_m * 400.0),
               1e-12);
 }
@@ -171,7 +171,7 @@ TEST(PathTracer, AlphaOfSphereIsBeerLambertWithinVoxelisation) {
         v.ice_per_m[v.index(i, j, k)] = float(sigma * inside / 64.0);
       }
   v.updateMaxima();
-  const PathTracer pt(v, scene::frameOf(v), scene::Sun{}, sunOnly(1));
+  const PathTracer pt(v, volume::frameOf(v), scene::Sun{}, sunOnly(1));
   for (double b : {0.0, 500.0, 1000.0, 1500.0, 1800.0}) {
     const glm::dvec3 o = centre + glm::dvec3(b, -5000.0, 0.0);
     const double tau = -std::log1p(-pt.alpha(o, {0.0, 1.0, 0.0}));
@@ -195,16 +195,16 @@ TEST(PathTracer, MajorantGridBoundsTheFieldAndTraversalCoversTheRay) {
     v.ice_per_m[i] = float(1e-3 * std::exp(4.0 * u(rng) - 2.0));
     v.water_per_m[i] = float(u(rng) < 0.5 ? 0.0 : 2e-3 * u(rng));
   }
-  const scene::VolumeFrame frame = scene::frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   // Both filters (volume/reconstruction.h): the cubic B-spline reads 2 voxels past a brick.
-  for (const auto& [brick, rec] : {std::pair{1, scene::Reconstruction::Trilinear},
-                                   {4, scene::Reconstruction::Trilinear},
-                                   {8, scene::Reconstruction::Trilinear},
-                                   {1, scene::Reconstruction::Cubic},
-                                   {4, scene::Reconstruction::Cubic},
-                                   {8, scene::Reconstruction::Cubic},
-                                   {4, scene::Reconstruction::CubicInterpolating}}) {
-    SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
+  for (const auto& [brick, rec] : {std::pair{1, volume::Reconstruction::Trilinear},
+                                   {4, volume::Reconstruction::Trilinear},
+                                   {8, volume::Reconstruction::Trilinear},
+                                   {1, volume::Reconstruction::Cubic},
+                                   {4, volume::Reconstruction::Cubic},
+                                   {8, volume::Reconstruction::Cubic},
+                                   {4, volume::Reconstruction::CubicInterpolating}}) {
+    SCOPED_TRACE(std::string(volume::kReconstructionNames[std::size_t(rec)]));
     const ExtinctionField field(v, frame, rec);
     const MajorantGrid grid(field, brick);
     const glm::dvec3 lo = field.supportMin(), size = field.supportMax() - field.supportMin();
@@ -246,9 +246,9 @@ TEST(PathTracer, OpticalDepthIsExactForTheTrilinearAndCubicFields) {
     v.ice_per_m[i] = float(1e-3 * u(rng));
     v.water_per_m[i] = float(u(rng) < 0.5 ? 0.0 : 3e-3 * u(rng));
   }
-  const scene::VolumeFrame frame = scene::frameOf(v);
-  for (const scene::Reconstruction rec : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
-    SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(rec)]));
+  const volume::VolumeFrame frame = volume::frameOf(v);
+  for (const volume::Reconstruction rec : {volume::Reconstruction::Trilinear, volume::Reconstruction::Cubic}) {
+    SCOPED_TRACE(std::string(volume::kReconstructionNames[std::size_t(rec)]));
     const ExtinctionField field(v, frame, rec);
     for (int r = 0; r < 40; ++r) {
       // Origins inside the box, in the half-voxel rim around it (β fading to the zero border) and
@@ -283,8 +283,8 @@ TEST(PathTracer, CubicBSplineReproducesLinearFieldsAndReachesOneAndAHalfVoxels) 
         v.water_per_m[v.index(i, j, k)] = float(1e-3 + 1e-4 * i + 2e-4 * j + 3e-4 * k);  // linear in the centres
         v.ice_per_m[v.index(i, j, k)] = 2e-3f;
       }
-  const scene::VolumeFrame frame = scene::frameOf(v);
-  const ExtinctionField cubic(v, frame, scene::Reconstruction::Cubic);
+  const volume::VolumeFrame frame = volume::frameOf(v);
+  const ExtinctionField cubic(v, frame, volume::Reconstruction::Cubic);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int n = 0; n < 2000; ++n) {
@@ -303,14 +303,14 @@ TEST(PathTracer, CubicBSplineReproducesLinearFieldsAndReachesOneAndAHalfVoxels) 
   // A single voxel: the B-spline's peak is (2/3)³ of the voxel at its centre, the trilinear's 1.
   ExtinctionVolumes one = emptyVolume(5, 5, 5, 1000.0, 1000.0, 0.0);
   one.water_per_m[one.index(2, 2, 2)] = 1e-3f;
-  const scene::VolumeFrame f1 = scene::frameOf(one);
+  const volume::VolumeFrame f1 = volume::frameOf(one);
   const glm::dvec3 centre = f1.worldFromGrid({2.5, 2.5, 2.5});
   const double stored = double(1e-3f);
-  EXPECT_NEAR(ExtinctionField(one, f1, scene::Reconstruction::Cubic).at(centre).total(), stored * 8.0 / 27.0, 1e-15);
+  EXPECT_NEAR(ExtinctionField(one, f1, volume::Reconstruction::Cubic).at(centre).total(), stored * 8.0 / 27.0, 1e-15);
   EXPECT_NEAR(ExtinctionField(one, f1).at(centre).total(), stored, 1e-15);
   // Its optical mass ∫β dV is the voxel's, as for trilinear: τ of vertical rays integrated over x, y
   // by the midpoint rule on a fine grid of rays (exact up to the rule's ~1e-5 relative error).
-  for (const scene::Reconstruction rec : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
+  for (const volume::Reconstruction rec : {volume::Reconstruction::Trilinear, volume::Reconstruction::Cubic}) {
     const ExtinctionField field(one, f1, rec);
     const int n = 120;
     const double lo = 0.0, hi = 5.0;  // grid units: the whole support (1.5 … 3.5 voxels for cubic)
@@ -321,7 +321,7 @@ TEST(PathTracer, CubicBSplineReproducesLinearFieldsAndReachesOneAndAHalfVoxels) 
         mass += field.opticalDepth(top, {0.0, 0.0, -1.0}, 0.0, 1e9);
       }
     mass *= std::pow((hi - lo) / n * 1000.0, 2.0);
-    EXPECT_NEAR(mass, stored * 1e9, 1e-4 * 1e6) << scene::kReconstructionNames[std::size_t(rec)];
+    EXPECT_NEAR(mass, stored * 1e9, 1e-4 * 1e6) << volume::kReconstructionNames[std::size_t(rec)];
   }
 }
 
@@ -331,7 +331,7 @@ TEST(PathTracer, SingleScatteringOfSlabMatchesClosedForm) {
   for (SunTransmittance tr : {SunTransmittance::RatioTracking, SunTransmittance::Exact}) {
     PathTracerSettings s = sunOnly(1);
     s.sun_transmittance = tr;
-    const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), view.sun, s);
+    const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), view.sun, s);
     const PixelEstimate e = pt.estimateRay(view.origin, view.dir, 200000, 11);
     const double exact = view.exact(slab, s.phase.water);
     for (int c = 0; c < 3; ++c) {
@@ -355,7 +355,7 @@ TEST(PathTracer, SingleScatteringOfMixedSlabUsesNesEq512) {
   PathTracerSettings s = sunOnly(1);
   s.phase.ice = physics::PhaseFunction::transportDefault();
   s.sun_transmittance = SunTransmittance::Exact;
-  const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), view.sun, s);
+  const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), view.sun, s);
   const PixelEstimate e = pt.estimateRay(view.origin, view.dir, 200000, 5);
   const double cosPsi = glm::dot(view.sun.toSun(), view.dir);
   const double mixed = s.phase.eval(cosPsi, 0.25, 0.75);
@@ -373,7 +373,7 @@ TEST(PathTracer, SunlitSlabConservesEnergy) {
   const Slab slab(2.0);
   const SlabView view;
   PathTracerSettings s = sunOnly(100000);
-  const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), view.sun, s);
+  const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), view.sun, s);
   const int n = 150000;
   auto flux = [&](double z, double sign, std::uint64_t stream0, double& se) {
     return diffuseFlux(pt, z, sign, n, stream0, se, nullptr);
@@ -410,7 +410,7 @@ TEST(PathTracer, ThickSlabTransmissionMatchesVanDeHulstUnderRoulette) {
   s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, 0.0};
   s.roulette_after_events = 128;
   s.sun_transmittance = SunTransmittance::Exact;  // low variance: no 0/1 ratio-tracking estimates
-  const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), sun, s);
+  const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), sun, s);
   const int n = 100000;
   PathTracerStats stats;
   auto flux = [&](double z, double sign, std::uint64_t stream0, double& se) {
@@ -444,7 +444,7 @@ TEST(PathTracer, OpticallyThinSlabApproachesSingleScattering) {
   const SlabView view;
   PathTracerSettings s = sunOnly(100000);
   s.sun_transmittance = SunTransmittance::Exact;
-  const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), view.sun, s);
+  const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), view.sun, s);
   const PixelEstimate e = pt.estimateRay(view.origin, view.dir, 2000000, 3);
   const double exact = view.exact(slab, s.phase.water);
   const double x = 0.01 * (1.0 / view.sun.toSun().z + 1.0 / -view.dir.z);
@@ -458,7 +458,7 @@ TEST(PathTracer, OpticallyThinSlabApproachesSingleScattering) {
 TEST(PathTracer, ErrorFallsAsInverseSquareRootOfSamples) {
   const Slab slab(0.5);
   const SlabView view;
-  const PathTracer pt(slab.volumes, scene::frameOf(slab.volumes), view.sun, sunOnly(1));
+  const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), view.sun, sunOnly(1));
   const double exact = view.exact(slab, pt.settings().phase.water);
   const int repeats = 32;
   std::vector<double> logN, logErr;
@@ -501,7 +501,7 @@ ExtinctionVolumes blobCloud() {
   return v;
 }
 
-scene::Camera smallCamera(const scene::VolumeFrame& frame) {
+scene::Camera smallCamera(const volume::VolumeFrame& frame) {
   scene::Camera cam;
   const glm::dvec3 centre = 0.5 * (frame.min_m() + frame.max_m());
   cam.position_m = centre + glm::dvec3(-9000.0, -11000.0, 7000.0);
@@ -516,7 +516,7 @@ TEST(PathTracer, WhiteFurnace) {
   // Albedo 1, no sun, no ground, uniform sky L: the radiance along every ray is L, so the
   // cloud's part (RGB without background) must be alpha·L and with background exactly L.
   const ExtinctionVolumes v = blobCloud();
-  const scene::VolumeFrame frame = scene::frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const scene::Camera cam = smallCamera(frame);
   PathTracerSettings s;
   s.sun_enabled = false;
@@ -572,7 +572,7 @@ TEST(PathTracer, GroundOnlySceneMatchesClosedForm) {
   // Empty volume, Lambertian ground of albedo ρ under sun E at elevation e and sky L:
   // L_out = ρ (E sin e / π + L) for every pixel that sees the ground (with background on).
   const ExtinctionVolumes v = emptyVolume(8, 8, 4, 1000.0, 500.0, 1000.0);
-  const scene::VolumeFrame frame = scene::frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   scene::Sun sun;
   sun.elevation_deg = 35.0;
   sun.intensity = 3.0;
@@ -597,7 +597,7 @@ TEST(PathTracer, GroundOnlySceneMatchesClosedForm) {
 
 TEST(PathTracer, DeterministicPerSeedAndThreadCount) {
   const ExtinctionVolumes v = blobCloud();
-  const scene::VolumeFrame frame = scene::frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const scene::Camera cam = smallCamera(frame);
   scene::Sun sun;
   sun.elevation_deg = 30.0;

@@ -64,7 +64,7 @@ TEST(HostileScene, OutputLargerThanTheImageLimitIsRefusedBeforeRendering) {
   expectSceneError(R"({"output": {"width": 16384, "height": 16384}})",
                    {"hostile.json", "output.width", "16384 x 16384 pixels", "limits::kMaxImagePixels"});
   const ExtinctionVolumes v = ExtinctionVolumes::zeros(4, 4, 4, 1000.0, 250.0, 0.0);
-  const scene::VolumeFrame frame = scene::frameOf(v, 1.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
   expectError<UsageError>([&] { (void)scene::cameraFor(scene::CameraSpec{}, frame, 16384, 16384); },
                           {"16384 x 16384 pixels", "limits::kMaxImagePixels"});
 }
@@ -75,7 +75,7 @@ TEST(HostileScene, AbsurdGridSpacingNamesTheFile) {
     ExtinctionVolumes v = ExtinctionVolumes::zeros(4, 4, 4, 1000.0, 250.0, 0.0);
     v.georef.dx_m = dx;
     v.source_file = "storm.nph";
-    expectError<InputError>([&] { (void)scene::frameOf(v, 1.0); },
+    expectError<InputError>([&] { (void)volume::frameOf(v, 1.0); },
                             {"storm.nph", "grid spacing", "expected spacings in"});
   }
 }

@@ -41,11 +41,11 @@ TEST_F(CloudResolutionEdgeTest, HostGeometryEdgeKeepsItsSide) {
     for (int j = 0; j < v.ny; ++j)
       for (int i = 0; i < v.nx; ++i) v.water_per_m[v.index(i, j, k)] = 0.5f;
   v.updateMaxima();
-  const scene::VolumeFrame frame = scene::frameOf(v, 1.0);
-  auto tex = render::VolumeTextures::upload(v, frame, "deck", {.reconstruction = scene::Reconstruction::Trilinear});
+  const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
+  auto tex = render::VolumeTextures::upload(v, frame, "deck", {.reconstruction = volume::Reconstruction::Trilinear});
   const scene::Sun sun{150.0, 60.0};
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
 
   scene::Camera camera;
   camera.position_m = {16000.0, 16000.0, 1.0e6};

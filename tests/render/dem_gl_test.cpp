@@ -100,7 +100,7 @@ void DemRender::summitLandsAtItsProjectedPixel(glm::dvec2 lonLat, const char* wh
   session->renderSettings().min_transmittance = 1.0;  // clouds off
   const auto& prep = session->prepared();
   ASSERT_TRUE(prep.dem);
-  const scene::TerrainField terrain = scene::terrainOf(session->dataset().load(0), prep.frame, &*prep.dem);
+  const volume::TerrainField terrain = volume::terrainOf(session->dataset().load(0), prep.frame, &*prep.dem);
   ASSERT_TRUE(terrain.present());
   const glm::dvec2 summitXy = prep.geo->worldFromLonLat({lonLat.x, lonLat.y});
   const double summitZ = terrain.heightAt(summitXy);
@@ -141,7 +141,7 @@ TEST_F(DemRender, SummitBeyondTheGridLandsAtItsProjectedPixel) {
   // Beyond the model's grid and its fade to the far field (a tenth of 720 km): the far field alone.
   auto session = open(dem_);
   const auto& prep = session->prepared();
-  const scene::TerrainField terrain = scene::terrainOf(session->dataset().load(0), prep.frame, &*prep.dem);
+  const volume::TerrainField terrain = volume::terrainOf(session->dataset().load(0), prep.frame, &*prep.dem);
   ASSERT_GT(kFarWestOfGrid_m - 3.0 * kSigma_m, terrain.fade_m);
   summitLandsAtItsProjectedPixel(far_, "far");
 }

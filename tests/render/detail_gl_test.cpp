@@ -27,7 +27,7 @@ namespace nph::test {
 namespace {
 
 using DetailTest = GlTest;
-using scene::Detail;
+using volume::Detail;
 
 /// The demo's view (examples/scenes/demo.json.in): oblique preset, 40° field of view, sun from
 /// azimuth 140° at 35°, heights × 8.
@@ -41,11 +41,11 @@ render::RenderOutput renderWith(const ExtinctionVolumes& v, const DemoView& d, D
 // value across a quantisation step, so texels may differ by one code of 255, and rarely.
 TEST_F(DetailTest, GpuNoiseTileMatchesTheCpuTwin) {
   const auto noise = render::NoiseTexture::generate();
-  const int n = scene::kNoiseTexels;
+  const int n = volume::kNoiseTexels;
   std::vector<std::uint8_t> gpu(std::size_t(4) * std::size_t(n) * std::size_t(n) * std::size_t(n));
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(noise->texture().id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(gpu.size()), gpu.data());
-  const std::vector<std::uint8_t>& cpu = scene::noiseVolume().rgba;
+  const std::vector<std::uint8_t>& cpu = volume::noiseVolume().rgba;
   ASSERT_EQ(gpu.size(), cpu.size());
   int maxDiff = 0;
   std::size_t differing = 0;
@@ -59,8 +59,8 @@ TEST_F(DetailTest, GpuNoiseTileMatchesTheCpuTwin) {
   EXPECT_LE(maxDiff, 1);
   EXPECT_LE(double(differing), 1e-3 * double(cpu.size()));
   // The channels are real noise (gradient fBm spans about 0.3 … 0.7, Worley fBm more).
-  const scene::NoiseStats& s = scene::noiseVolume().stats;
-  for (const scene::NoiseTermStats* t : {&s.r, &s.g, &s.a}) EXPECT_GT(t->half_range, 0.15);
+  const volume::NoiseStats& s = volume::noiseVolume().stats;
+  for (const volume::NoiseTermStats* t : {&s.r, &s.g, &s.a}) EXPECT_GT(t->half_range, 0.15);
 }
 
 // The detailed field in the eye pass and the DLM (glsl/dlm/volume.glsl extinctionAt) against the
@@ -73,7 +73,7 @@ TEST_F(DetailTest, GpuDetailMatchesTheCpuReferenceRayMarcher) {
   auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   EXPECT_EQ(tex.occupancy().dilation_voxels, 1 + tex.detail().reach_voxels);
   render::DeepLightMap dlm;
-  dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -d.sun.toSun(), lighting::DlmSettings{});
   render::RenderSettings rs;
   rs.jitter = false;
   rs.detail = Detail::Full;
@@ -106,14 +106,14 @@ TEST_F(DetailTest, GpuDetailMatchesTheCpuReferenceRayMarcher) {
 // a cheap 1-ray, 1-layer lattice, the skip does not depend on the lattice).
 TEST_F(DetailTest, GpuMassMeasurementMatchesTheCpuTwinAndSkipsOnlyZeros) {
   const ExtinctionVolumes v = coarseStorm();
-  const scene::VolumeFrame f = scene::frameOf(v, 8.0);
-  for (const scene::Reconstruction r : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
-    const char* name = r == scene::Reconstruction::Cubic ? "cubic" : "trilinear";
+  const volume::VolumeFrame f = volume::frameOf(v, 8.0);
+  for (const volume::Reconstruction r : {volume::Reconstruction::Trilinear, volume::Reconstruction::Cubic}) {
+    const char* name = r == volume::Reconstruction::Cubic ? "cubic" : "trilinear";
     const auto tex =
         render::VolumeTextures::upload(v, f, "coarse-storm", {.reconstruction = r, .detail = Detail::Full});
-    const scene::ExtinctionSampler s(v, f, r, Detail::Full);
-    const scene::HalfColumnMasses gpu = tex.measureHalfColumnMasses(v, scene::kMassPattern),
-                                  cpu = s.measureHalfColumnMasses(scene::kMassPattern);
+    const volume::ExtinctionSampler s(v, f, r, Detail::Full);
+    const volume::HalfColumnMasses gpu = tex.measureHalfColumnMasses(v, volume::kMassPattern),
+                                   cpu = s.measureHalfColumnMasses(volume::kMassPattern);
     ASSERT_EQ(gpu.plain.size(), cpu.plain.size());
     int zeros = 0;
     for (std::size_t h = 0; h < cpu.plain.size(); ++h) {
@@ -126,9 +126,9 @@ TEST_F(DetailTest, GpuMassMeasurementMatchesTheCpuTwinAndSkipsOnlyZeros) {
     }
     // c on the footprints of τ ≥ 1 (the visible cloud; thinner ones sit near the clamps, where a
     // float-rounded sliver flips c).
-    const std::vector<float> cg = scene::solveDetailCorrection(gpu), &cc = s.detailCorrection();
-    const double tauPerSum = scene::kMassPattern.step_layers * f.voxel_size_m.z / f.height_exaggeration /
-                             double(4 * scene::kMassPattern.rays_per_axis * scene::kMassPattern.rays_per_axis);
+    const std::vector<float> cg = volume::solveDetailCorrection(gpu), &cc = s.detailCorrection();
+    const double tauPerSum = volume::kMassPattern.step_layers * f.voxel_size_m.z / f.height_exaggeration /
+                             double(4 * volume::kMassPattern.rays_per_axis * volume::kMassPattern.rays_per_axis);
     double worst = 0.0;
     int thick = 0;
     for (std::size_t J = 0; J < cc.size(); ++J) {
@@ -145,9 +145,9 @@ TEST_F(DetailTest, GpuMassMeasurementMatchesTheCpuTwinAndSkipsOnlyZeros) {
     EXPECT_GT(thick, 100) << name;
     EXPECT_GT(zeros, 0) << name;
     EXPECT_LE(worst, 0.08) << name;
-    const scene::MassPattern cheap{1, 1.0, true}, everywhere{1, 1.0, false};
-    const scene::HalfColumnMasses a = tex.measureHalfColumnMasses(v, cheap),
-                                  b = tex.measureHalfColumnMasses(v, everywhere);
+    const volume::MassPattern cheap{1, 1.0, true}, everywhere{1, 1.0, false};
+    const volume::HalfColumnMasses a = tex.measureHalfColumnMasses(v, cheap),
+                                   b = tex.measureHalfColumnMasses(v, everywhere);
     EXPECT_EQ(a.plain, b.plain) << name;
     EXPECT_EQ(a.detailed, b.detailed) << name;
   }
@@ -168,7 +168,7 @@ TEST_F(DetailTest, EmptySpaceSkippingGivesTheSameImageWithDetail) {
   std::printf("[ detail   ] skipping on vs off: coverage %.2f, max |difference| %.2e\n", diff.coverage, diff.max);
   EXPECT_GT(diff.coverage, 0.05);
   // As for the cubic filter (reconstruction_gl_test): the DLMs agree within 2ε.
-  EXPECT_LE(diff.max, 2.0 * scene::DlmSettings{}.epsilon + 1e-5);
+  EXPECT_LE(diff.max, 2.0 * lighting::DlmSettings{}.epsilon + 1e-5);
 }
 
 // Temporal coherence, still scene: the noise is addressed in world metres and generated from
@@ -179,7 +179,7 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   render::RenderSettings rs;
   auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   render::DeepLightMap dlm;
-  dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -d.sun.toSun(), lighting::DlmSettings{});
   render::CloudRenderer renderer;
   const auto a = renderer.render(tex, dlm, d.camera, d.sun, rs);
   const auto b = renderer.render(tex, dlm, d.camera, d.sun, rs);
@@ -187,7 +187,7 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   // A second upload regenerating the tile gives the same frame too.
   auto tex2 = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   render::DeepLightMap dlm2;
-  dlm2.build(tex2, -d.sun.toSun(), scene::DlmSettings{});
+  dlm2.build(tex2, -d.sun.toSun(), lighting::DlmSettings{});
   const auto c = renderer.render(tex2, dlm2, d.camera, d.sun, rs);
   EXPECT_EQ(a.cloud_layer.rgba, c.cloud_layer.rgba);
 }
@@ -211,7 +211,7 @@ TEST_F(DetailTest, ShapeDoesNotRaiseTheGridArtefactsOfTheCoarseStorm) {
   double alpha[2] = {0.0, 0.0}, luminance[2] = {0.0, 0.0};
   for (int on = 0; on < 2; ++on) {
     rs.detail = on ? Detail::Full : Detail::None;
-    const auto out = renderDemoView(v, d, rs, scene::Reconstruction::Trilinear, rs.detail, 0.25);
+    const auto out = renderDemoView(v, d, rs, volume::Reconstruction::Trilinear, rs.detail, 0.25);
     luminance[on] = gridArtefactPower(out.cloud_layer, d.camera, d.frame, zMid_m);
     for (double p : gridPowerSpectrum(out.cloud_layer, d.camera, d.frame, zMid_m, band, 3, 0.0)) alpha[on] += p;
   }

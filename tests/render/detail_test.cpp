@@ -17,14 +17,14 @@
 namespace nph::test {
 namespace {
 
-using scene::Detail;
+using volume::Detail;
 
 /// Per model column (i, j): the mean vertical optical depth over the column's footprint, from
 /// `sub`² vertical rays at the centres of a sub-grid, each integrated with the midpoint rule at ¼ of
 /// a layer from below to above the grown box (in the data's metres: the frame's heights divided by
 /// its exaggeration).
-std::vector<double> columnOpticalDepths(const scene::ExtinctionSampler& s, int sub) {
-  const scene::VolumeFrame& f = s.frame();
+std::vector<double> columnOpticalDepths(const volume::ExtinctionSampler& s, int sub) {
+  const volume::VolumeFrame& f = s.frame();
   const glm::dvec3 voxel = f.voxel_size_m;
   const double reach = 2.0 + s.detail().reach_voxels;
   const double z0 = f.min_m().z - reach * voxel.z, z1 = f.max_m().z + reach * voxel.z;
@@ -53,8 +53,8 @@ std::vector<double> columnOpticalDepths(const scene::ExtinctionSampler& s, int s
 // its mass up to the noise's sampling error; the displacement moves extinction by ≤ ¼ column.
 TEST(Detail, KeepsTheOpticalDepthOfEveryModelColumn) {
   const ExtinctionVolumes v = coarseStorm();
-  const scene::VolumeFrame f = scene::frameOf(v, 8.0);
-  const scene::ExtinctionSampler plain(v, f), full(v, f, scene::Reconstruction::Trilinear, Detail::Full);
+  const volume::VolumeFrame f = volume::frameOf(v, 8.0);
+  const volume::ExtinctionSampler plain(v, f), full(v, f, volume::Reconstruction::Trilinear, Detail::Full);
   constexpr int kSub = 4;
   const std::vector<double> t0 = columnOpticalDepths(plain, kSub), t1 = columnOpticalDepths(full, kSub);
   double worst = 0.0, worstThin = 0.0, sum0 = 0.0, sum1 = 0.0;
@@ -88,7 +88,7 @@ TEST(Detail, KeepsTheOpticalDepthOfEveryModelColumn) {
 struct Footprints {
   std::vector<double> tau;  ///< per model column; 0 where c does not apply
 };
-Footprints footprints(const scene::HalfColumnMasses& m, const scene::VolumeFrame& f, const scene::MassPattern& p) {
+Footprints footprints(const volume::HalfColumnMasses& m, const volume::VolumeFrame& f, const volume::MassPattern& p) {
   Footprints out;
   const std::size_t hx = std::size_t(2 * m.nx);
   out.tau.assign(std::size_t(m.nx) * std::size_t(m.ny), 0.0);
@@ -119,21 +119,21 @@ Footprints footprints(const scene::HalfColumnMasses& m, const scene::VolumeFrame
 //    erodes to a sliver, c near its clamps) are reported, not bounded: they hold no visible mass.
 TEST(Detail, CheaperMassMeasurementMatchesTheExhaustiveOne) {
   const ExtinctionVolumes v = coarseStorm();
-  const scene::VolumeFrame f = scene::frameOf(v, 8.0);
-  for (const scene::Reconstruction r : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
-    const scene::ExtinctionSampler s(v, f, r, Detail::Full);
-    const scene::HalfColumnMasses exhaustive = s.measureHalfColumnMasses(scene::kExhaustiveMassPattern);
-    scene::MassPattern occupied = scene::kExhaustiveMassPattern;
+  const volume::VolumeFrame f = volume::frameOf(v, 8.0);
+  for (const volume::Reconstruction r : {volume::Reconstruction::Trilinear, volume::Reconstruction::Cubic}) {
+    const volume::ExtinctionSampler s(v, f, r, Detail::Full);
+    const volume::HalfColumnMasses exhaustive = s.measureHalfColumnMasses(volume::kExhaustiveMassPattern);
+    volume::MassPattern occupied = volume::kExhaustiveMassPattern;
     occupied.occupied_only = true;
-    const scene::HalfColumnMasses skipped = s.measureHalfColumnMasses(occupied);
-    const char* name = r == scene::Reconstruction::Cubic ? "cubic" : "trilinear";
+    const volume::HalfColumnMasses skipped = s.measureHalfColumnMasses(occupied);
+    const char* name = r == volume::Reconstruction::Cubic ? "cubic" : "trilinear";
     EXPECT_EQ(skipped.plain, exhaustive.plain) << name;
     EXPECT_EQ(skipped.detailed, exhaustive.detailed) << name;
-    const std::vector<float> c0 = scene::solveDetailCorrection(exhaustive);
-    EXPECT_EQ(scene::solveDetailCorrection(skipped), c0) << name;
+    const std::vector<float> c0 = volume::solveDetailCorrection(exhaustive);
+    EXPECT_EQ(volume::solveDetailCorrection(skipped), c0) << name;
     // The correction in use (the sampler's) against the exhaustive one.
     const std::vector<float>& c = s.detailCorrection();
-    const Footprints fp = footprints(exhaustive, f, scene::kExhaustiveMassPattern);
+    const Footprints fp = footprints(exhaustive, f, volume::kExhaustiveMassPattern);
     double maxThick = 0.0, sumThick = 0.0, maxThin = 0.0;
     int thick = 0, thin = 0, faint = 0, faintOver5 = 0;
     for (std::size_t J = 0; J < c0.size(); ++J) {
@@ -173,7 +173,7 @@ TEST(Detail, ControlsSeeBothRegimesOfTheCoarseStorm) {
   ASSERT_EQ(v.tke_m2_per_s2.size(), v.voxelCount()) << "the storm carries TKE_PBL to the volume";
   ASSERT_EQ(v.cloud_fraction.size(), v.voxelCount()) << "the storm carries CLDFRA to the volume";
   ASSERT_EQ(v.wind_w_m_per_s.size(), v.voxelCount()) << "the storm carries W to the volume";
-  const scene::DetailControls c = scene::buildDetailControls(v);
+  const volume::DetailControls c = volume::buildDetailControls(v);
   int convective = 0, stratiform = 0, partly = 0;
   for (std::size_t q = 0; q < v.voxelCount(); ++q) {
     if (v.ice_per_m[q] + v.water_per_m[q] < 1e-4f) continue;
@@ -192,7 +192,7 @@ TEST(Detail, ControlsSeeBothRegimesOfTheCoarseStorm) {
   bare.tke_m2_per_s2.clear();
   bare.cloud_fraction.clear();
   bare.wind_w_m_per_s.clear();
-  const scene::DetailControls p = scene::buildDetailControls(bare);
+  const volume::DetailControls p = volume::buildDetailControls(bare);
   int proxyConvective = 0, proxyStratiform = 0, agree = 0, cloudy = 0;
   for (std::size_t q = 0; q < v.voxelCount(); ++q) {
     if (v.ice_per_m[q] + v.water_per_m[q] < 1e-4f) continue;
@@ -213,12 +213,12 @@ TEST(Detail, ControlsSeeBothRegimesOfTheCoarseStorm) {
 // (ρ ≤ 2, c the mass correction; render::VolumeTextures::upload builds the same grid).
 TEST(Detail, OccupancyBoundsTheDetailedField) {
   const ExtinctionVolumes v = coarseStorm();
-  const scene::VolumeFrame f = scene::frameOf(v, 8.0);
-  const scene::ExtinctionSampler s(v, f, scene::Reconstruction::Trilinear, Detail::Full);
+  const volume::VolumeFrame f = volume::frameOf(v, 8.0);
+  const volume::ExtinctionSampler s(v, f, volume::Reconstruction::Trilinear, Detail::Full);
   const std::vector<float>& c = s.detailCorrection();
-  const float scale = float(scene::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
-  const scene::OccupancyGrid g =
-      scene::buildOccupancy(v, 8, scene::Reconstruction::Trilinear, s.detail().reach_voxels, scale);
+  const float scale = float(volume::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
+  const volume::OccupancyGrid g =
+      volume::buildOccupancy(v, 8, volume::Reconstruction::Trilinear, s.detail().reach_voxels, scale);
   int violations = 0, samples = 0;
   for (int k = 0; k < v.nz; ++k)
     for (int j = 0; j < v.ny; ++j)

@@ -27,19 +27,19 @@ using DlmTest = GlTest;
 // exp/multiply adds ~1 ulp (6e-8) of relative error, plus trilinear weights; N ≤ 1000 here.
 constexpr double kFloatSlack = 2e-4;
 
-scene::DlmSettings centralOnly() {
-  scene::DlmSettings s;
+lighting::DlmSettings centralOnly() {
+  lighting::DlmSettings s;
   s.peripheral = false;
   return s;
 }
 
 TEST_F(DlmTest, EmptyVolumeIsFullSunWithOneNodePerTexel) {
   const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 0.0f);
-  const auto frame = scene::frameOf(v);
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, "empty");
   render::DeepLightMap dlm;
   scene::Sun sun{30.0, 40.0};
-  ASSERT_TRUE(dlm.build(tex, -sun.toSun(), scene::DlmSettings{}));
+  ASSERT_TRUE(dlm.build(tex, -sun.toSun(), lighting::DlmSettings{}));
   const auto rb = dlm.readBack();
   for (const auto& nodes : rb.nodes) {
     ASSERT_EQ(nodes.size(), 1u);
@@ -58,13 +58,13 @@ TEST_F(DlmTest, HomogeneousSlabMatchesTheDiscreteClosedFormWithinEpsilon) {
   const double beta = 2e-3, dz = 250.0;  // 1/m; slab 8 × 250 m = 2 km thick → optical depth 4
   const int nz = 8;
   const ExtinctionVolumes v = homogeneousSlab(8, 8, nz, float(beta));
-  const auto frame = scene::frameOf(v);
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, "slab");
   render::DeepLightMap dlm;
-  scene::DlmSettings s = centralOnly();
+  lighting::DlmSettings s = centralOnly();
   s.epsilon = 0.005;
   ASSERT_TRUE(dlm.build(tex, {0, 0, -1}, s));
-  const auto cp = scene::forwardFractions(s);
+  const auto cp = lighting::forwardFractions(s);
   const double step = dlm.stats().step_m;
   const auto& ls = dlm.lightSpace();
   auto profile = [&](double z) {
@@ -83,14 +83,14 @@ TEST_F(DlmTest, HomogeneousSlabMatchesTheDiscreteClosedFormWithinEpsilon) {
     if (n > 0) {
       const double zMid = ls.origin_m.z - (n - 0.5) * step;
       const double T = std::exp(-profile(zMid) * step);
-      expected *= scene::centralStepFactor(T, cp.central);
+      expected *= lighting::centralStepFactor(T, cp.central);
     }
-    const double got = scene::evaluateLightFunction(nodes.data(), int(nodes.size()), n * step);
+    const double got = lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), n * step);
     maxErr = std::max(maxErr, std::abs(got - expected));
   }
   EXPECT_LE(maxErr, s.epsilon + kFloatSlack);
   const double continuum = std::exp(-beta * nz * dz * (1 - cp.central));
-  const double below = scene::evaluateLightFunction(nodes.data(), int(nodes.size()), ls.depth_m);
+  const double below = lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), ls.depth_m);
   EXPECT_NEAR(below, continuum, 0.01) << "discrete solution at the bottom " << expected;
   std::printf("[ slab     ] nodes %zu for %d samples, light below the slab %.5f (continuum %.5f), max err %.2e\n",
               nodes.size(), dlm.stats().steps + 1, below, continuum, maxErr);
@@ -101,10 +101,10 @@ TEST_F(DlmTest, OpaqueWallLeavesNoLightBehindIt) {
   for (int k = 0; k < v.nz; ++k)
     for (int j = 0; j < v.ny; ++j) v.water_per_m[v.index(4, j, k)] = 1.0f;  // 3 km at 1/m: τ ≈ 3000
   v.updateMaxima();
-  const auto frame = scene::frameOf(v);
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, "wall");
   render::DeepLightMap dlm;
-  scene::DlmSettings s = centralOnly();
+  lighting::DlmSettings s = centralOnly();
   ASSERT_TRUE(dlm.build(tex, {1, 0, 0}, s));  // sun low in the west, light travelling east
   reference::DlmReference ref(v, frame, dlm.lightSpace(), s, dlm.stats().step_m, dlm.stats().steps, 1);
   // A point well behind the wall (x at voxel 6) and one in front of it (voxel 1).
@@ -117,15 +117,15 @@ TEST_F(DlmTest, OpaqueWallLeavesNoLightBehindIt) {
   const auto l = dlm.lightSpace().lightFromWorld(behind);
   const glm::ivec2 t(glm::dvec2(l.x, l.y) / dlm.lightSpace().texelSize_m());
   const auto& nodes = rb.nodes[std::size_t(t.y * dlm.lightSpace().texels.x + t.x)];
-  EXPECT_LT(scene::evaluateLightFunction(nodes.data(), int(nodes.size()), l.z), 1e-3);
+  EXPECT_LT(lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), l.z), 1e-3);
 }
 
 TEST_F(DlmTest, UnchangedKeyIsNotRebuilt) {
   const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 1e-3f);
-  const auto frame = scene::frameOf(v);
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, "slab-key");
   render::DeepLightMap dlm;
-  scene::DlmSettings s;
+  lighting::DlmSettings s;
   EXPECT_TRUE(dlm.build(tex, {0.3, 0.1, -1}, s));
   EXPECT_FALSE(dlm.build(tex, {0.3, 0.1, -1}, s));
   EXPECT_EQ(dlm.stats().reuses, 1u);
@@ -137,10 +137,10 @@ TEST_F(DlmTest, UnchangedKeyIsNotRebuilt) {
 
 TEST_F(DlmTest, NodeBudgetOverflowIsCountedAndTheBoundKeptByDoublingEpsilon) {
   const ExtinctionVolumes v = noisyVolume(12, 12, 12, 7);
-  const auto frame = scene::frameOf(v);
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, "noise");
   render::DeepLightMap dlm;
-  scene::DlmSettings s = centralOnly();
+  lighting::DlmSettings s = centralOnly();
   s.epsilon = 1e-4;
   s.max_nodes = 6;
   s.max_epsilon_doublings = 12;
@@ -157,9 +157,9 @@ TEST_F(DlmTest, NodeBudgetOverflowIsCountedAndTheBoundKeptByDoublingEpsilon) {
       double maxErr = 0.0;
       for (int n = 0; n <= st.steps; ++n) {
         const double s_m = n * st.step_m;
-        maxErr =
-            std::max(maxErr, std::abs(scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s_m) -
-                                      ref.texelIntensity(a, b, s_m)));
+        maxErr = std::max(maxErr,
+                          std::abs(lighting::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), s_m) -
+                                   ref.texelIntensity(a, b, s_m)));
       }
       if (maxErr > double(rb.texel_epsilon[t]) + kFloatSlack) {
         std::string dump;
@@ -183,11 +183,11 @@ TEST_F(DlmTest, NodeBudgetOverflowIsCountedAndTheBoundKeptByDoublingEpsilon) {
 // Hence the two maps agree within 2ε; in pass 1 the light on skipped runs is constant and exact.
 TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
   const ExtinctionVolumes v = generatedHurricane();
-  const auto frame = scene::frameOf(v);
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, "hurricane");
   const glm::dvec3 light = -scene::Sun{110.0, 40.0}.toSun();
   for (bool peripheral : {false, true}) {
-    scene::DlmSettings s;
+    lighting::DlmSettings s;
     s.peripheral = peripheral;
     render::DeepLightMap a, b;
     ASSERT_TRUE(a.build(tex, light, s));
@@ -199,9 +199,9 @@ TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
     for (std::size_t t = 0; t < ra.nodes.size(); ++t) {
       for (int n = 0; n <= a.stats().steps; ++n) {
         const double sm = n * a.stats().step_m;
-        maxDiff =
-            std::max(maxDiff, std::abs(scene::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), sm) -
-                                       scene::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), sm)));
+        maxDiff = std::max(maxDiff,
+                           std::abs(lighting::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), sm) -
+                                    lighting::evaluateLightFunction(rb.nodes[t].data(), int(rb.nodes[t].size()), sm)));
       }
     }
     EXPECT_LE(maxDiff, 2 * s.epsilon + 1e-6);
@@ -214,14 +214,14 @@ TEST_F(DlmTest, EmptySpaceSkippingChangesNothing) {
 // The generated hurricane's map with the default settings, sun at azimuth 200°, elevation 35°.
 struct HurricaneMap {
   ExtinctionVolumes volumes = generatedHurricane();
-  scene::VolumeFrame frame = scene::frameOf(volumes);
+  volume::VolumeFrame frame = volume::frameOf(volumes);
   render::VolumeTextures textures = render::VolumeTextures::upload(volumes, frame, "hurricane");
   std::unique_ptr<render::DeepLightMap> dlm = built(textures);
   render::DeepLightMap::Readback map = dlm->readBack();
 
   static std::unique_ptr<render::DeepLightMap> built(const render::VolumeTextures& t) {
     auto d = std::make_unique<render::DeepLightMap>();
-    d->build(t, -scene::Sun{200.0, 35.0}.toSun(), scene::DlmSettings{});
+    d->build(t, -scene::Sun{200.0, 35.0}.toSun(), lighting::DlmSettings{});
     return d;
   }
 };
@@ -279,11 +279,11 @@ TEST_F(DlmTest, GlslLookupMatchesCpuLookup) {
 // before the first node and past the last.
 TEST_F(DlmTest, DlmLookupLinearScanIsBitIdenticalToTheBinarySearch) {
   const HurricaneMap h;
-  const scene::VolumeFrame& frame = h.frame;
+  const volume::VolumeFrame& frame = h.frame;
   const render::DeepLightMap& dlm = *h.dlm;
   const auto& map = h.map;
   ASSERT_TRUE(dlm.stats().rebuilt);
-  const scene::LightSpace& ls = dlm.lightSpace();
+  const lighting::LightSpace& ls = dlm.lightSpace();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.1, 1.1);
   std::vector<glm::vec4> points;

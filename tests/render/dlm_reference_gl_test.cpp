@@ -41,8 +41,8 @@ struct Errors {
   long samples = 0;
 };
 
-Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene::DlmSettings& s, const char* what) {
-  const auto frame = scene::frameOf(v);
+Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const lighting::DlmSettings& s, const char* what) {
+  const auto frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, frame, what);
   render::DeepLightMap dlm;
   EXPECT_TRUE(dlm.build(tex, light, s));
@@ -52,7 +52,7 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene:
   // The GPU marches the float-rounded light-space vectors; over a ~700 km grazing ray a 6e-8
   // relative direction error moves the ray by centimetres, which at a cloud top with β ≈ 0.2 /m
   // (mean free path 5 m) is visible. The reference uses the same rounded geometry.
-  scene::LightSpace lsf = dlm.lightSpace();
+  lighting::LightSpace lsf = dlm.lightSpace();
   for (glm::dvec3* vec : {&lsf.u, &lsf.v, &lsf.w, &lsf.origin_m}) *vec = glm::dvec3(glm::vec3(*vec));
   reference::DlmReference ref1(v, frame, lsf, dlm.settings(), double(float(st.step_m)), st.steps, 1);
   reference::DlmReference ref8(v, frame, lsf, dlm.settings(), double(float(st.step_m)), st.steps, 8);
@@ -66,7 +66,7 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene:
       double texelErr = 0.0;
       for (int n = 0; n <= st.steps; ++n) {
         const double s_m = n * st.step_m;
-        const double g = scene::evaluateLightFunction(nodes.data(), int(nodes.size()), s_m);
+        const double g = lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), s_m);
         const double r1 = ref1.texelIntensity(a, b, s_m), r8 = ref8.texelIntensity(a, b, s_m);
         texelErr = std::max(texelErr, std::abs(g - r1));
         minLight = std::min(minLight, r1);
@@ -80,7 +80,7 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const scene:
         std::string dump;
         for (int n = 0; n <= st.steps; ++n) {
           const double s_m = n * st.step_m;
-          const double g = scene::evaluateLightFunction(nodes.data(), int(nodes.size()), s_m);
+          const double g = lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), s_m);
           const double r1 = ref1.texelIntensity(a, b, s_m);
           if (std::abs(g - r1) > 0.005)
             dump += " n" + std::to_string(n) + ":" + std::to_string(g) + "/" + std::to_string(r1);
@@ -105,20 +105,20 @@ class DlmReferenceTest : public GlTest, public ::testing::WithParamInterface<Sun
 
 TEST_P(DlmReferenceTest, HurricaneCentralOnly) {
   static const ExtinctionVolumes v = generatedHurricane();
-  scene::DlmSettings s;
+  lighting::DlmSettings s;
   s.peripheral = false;
   compare(v, GetParam().lightDirection, s, (std::string("hurricane/central/") + GetParam().name).c_str());
 }
 
 TEST_P(DlmReferenceTest, HurricaneWithScatterMap) {
   static const ExtinctionVolumes v = generatedHurricane();
-  scene::DlmSettings s;
+  lighting::DlmSettings s;
   compare(v, GetParam().lightDirection, s, (std::string("hurricane/full/") + GetParam().name).c_str());
 }
 
 TEST_P(DlmReferenceTest, IconWithScatterMap) {
   static const ExtinctionVolumes v = generatedIconScene();
-  scene::DlmSettings s;
+  lighting::DlmSettings s;
   compare(v, GetParam().lightDirection, s, (std::string("icon/full/") + GetParam().name).c_str());
 }
 

@@ -25,8 +25,8 @@ namespace {
 using LightCacheTest = GlTest;
 using AdaptiveStepsTest = GlTest;
 
-scene::DlmSettings withCache(double cell_voxels) {
-  scene::DlmSettings s;
+lighting::DlmSettings withCache(double cell_voxels) {
+  lighting::DlmSettings s;
   s.light_cache_voxels = cell_voxels;
   return s;
 }
@@ -36,13 +36,13 @@ scene::DlmSettings withCache(double cell_voxels) {
 // ray marcher shares: no jitter, no atmosphere (the reference has none).
 struct ObliqueHurricane {
   ExtinctionVolumes volumes = generatedHurricane();
-  scene::VolumeFrame frame = scene::frameOf(volumes, 8.0);
+  volume::VolumeFrame frame = volume::frameOf(volumes, 8.0);
   render::VolumeTextures textures = render::VolumeTextures::upload(volumes, frame, "hurricane-x8");
   scene::Sun sun{140.0, 35.0};
   scene::Camera camera = obliqueCamera(frame);
   render::RenderSettings settings = referenceSettings();
 
-  static scene::Camera obliqueCamera(const scene::VolumeFrame& f) {
+  static scene::Camera obliqueCamera(const volume::VolumeFrame& f) {
     scene::Camera cam;
     const glm::dvec3 size = f.size_m();
     cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};
@@ -66,7 +66,7 @@ struct ObliqueHurricane {
 // light-space transform's 1e-4 (DlmTest.GlslLookupMatchesCpuLookup).
 TEST_F(LightCacheTest, HoldsTheMapsLightAtItsCellCentres) {
   const ExtinctionVolumes v = generatedHurricane();
-  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "hurricane-x8");
   render::DeepLightMap dlm;
   dlm.build(tex, -scene::Sun{140.0, 35.0}.toSun(), withCache(2.0));
@@ -101,7 +101,7 @@ TEST_F(LightCacheTest, HoldsTheMapsLightAtItsCellCentres) {
 // the same settings again reuse the map and its cache.
 TEST_F(LightCacheTest, TheCellSizeIsPartOfTheBuildAndZeroMeansNone) {
   const ExtinctionVolumes v = noisyVolume(12, 10, 8, 3);
-  const auto tex = render::VolumeTextures::upload(v, scene::frameOf(v), "noisy");
+  const auto tex = render::VolumeTextures::upload(v, volume::frameOf(v), "noisy");
   const glm::dvec3 light = -scene::Sun{200.0, 40.0}.toSun();
   render::DeepLightMap dlm;
   EXPECT_TRUE(dlm.build(tex, light, withCache(0.0)));
@@ -177,7 +177,7 @@ TEST_F(AdaptiveStepsTest, FewerSamplesWithinMeasuredLevels) {
   const auto& [v, frame, tex, sun, cam, reference] = h;
   render::RenderSettings rs = reference;
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
   const auto map = dlm.readBack();
   const scene::RgbaImage cpu = reference::marchCloudLayer(
       v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, dlm.lightSpace(), p); },
@@ -224,11 +224,11 @@ TEST_F(AdaptiveStepsTest, AGrownStepDoesNotJumpAThinCloudBeyondClearAir) {
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j) v.water_per_m[(std::size_t(k) * ny + std::size_t(j)) * nx + sheetX] = sheetBeta_per_m;
   v.updateMaxima();
-  const scene::VolumeFrame frame = scene::frameOf(v, 12.0);  // voxels of 3 km on every axis
+  const volume::VolumeFrame frame = volume::frameOf(v, 12.0);  // voxels of 3 km on every axis
   const auto tex = render::VolumeTextures::upload(v, frame, "sheet");
   const scene::Sun sun{200.0, 40.0};
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
   scene::Camera cam;
   const glm::dvec3 size = frame.size_m();
   cam.target_m = frame.min_m() + glm::dvec3((sheetX + 0.5) / nx * size.x, 0.5 * size.y, 0.5 * size.z);
@@ -290,7 +290,7 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
   };
   for (const Scene& sc :
        {Scene{"hurricane", generatedHurricane()}, Scene{"slab", homogeneousSlab(24, 20, 12, 4e-4f)}}) {
-    const scene::VolumeFrame frame = scene::frameOf(sc.volumes, 8.0);
+    const volume::VolumeFrame frame = volume::frameOf(sc.volumes, 8.0);
     // Reference storage: both copies, the DLM from the float textures as when this was measured
     // (the Compact upload's own test: CompactUploadHoldsOnlyThePackedTexture…).
     const auto tex =
@@ -299,7 +299,7 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
     ASSERT_TRUE(tex.hasSeparateTextures());
     const scene::Camera cam = ObliqueHurricane::obliqueCamera(frame);
     render::DeepLightMap dlm;
-    dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
+    dlm.build(tex, -h.sun.toSun(), lighting::DlmSettings{});
     const auto map = dlm.readBack();
     const scene::RgbaImage cpu = reference::marchCloudLayer(
         sc.volumes, frame, cam, h.sun,
@@ -322,12 +322,12 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
     EXPECT_LE(packedVsCpu.max, std::max(separateVsCpu.max, 3)) << sc.name;
   }
   const ExtinctionVolumes v = generatedHurricane();
-  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   const auto cubic =
-      render::VolumeTextures::upload(v, frame, "hurricane", {.reconstruction = scene::Reconstruction::Cubic});
+      render::VolumeTextures::upload(v, frame, "hurricane", {.reconstruction = volume::Reconstruction::Cubic});
   EXPECT_FALSE(cubic.hasPacked()) << "the cubic B-spline keeps the separate textures";
   render::DeepLightMap dlm;
-  dlm.build(cubic, -h.sun.toSun(), scene::DlmSettings{});
+  dlm.build(cubic, -h.sun.toSun(), lighting::DlmSettings{});
   render::CloudRenderer renderer, separate;
   separate.setBaseline({.separate_textures = true});
   EXPECT_EQ(renderer.render(cubic, dlm, h.camera, h.sun, h.settings).cloud_layer.rgba,
@@ -368,8 +368,8 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
               double(compact.bytes()) / double(voxels), double(reference.bytes()) / double(voxels));
 
   render::DeepLightMap dlmCompact, dlmReference;
-  dlmCompact.build(compact, -sun.toSun(), scene::DlmSettings{});
-  dlmReference.build(reference, -sun.toSun(), scene::DlmSettings{});
+  dlmCompact.build(compact, -sun.toSun(), lighting::DlmSettings{});
+  dlmReference.build(reference, -sun.toSun(), lighting::DlmSettings{});
   render::CloudRenderer renderer;
   const scene::RgbaImage a = renderer.render(compact, dlmCompact, cam, sun, rs).cloud_layer;
   const scene::RgbaImage b = renderer.render(reference, dlmReference, cam, sun, rs).cloud_layer;
@@ -389,7 +389,7 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   EXPECT_LE(compactVsCpu.max, referenceVsCpu.max + 1);
 
   const auto cubic =
-      render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = scene::Reconstruction::Cubic});
+      render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = volume::Reconstruction::Cubic});
   EXPECT_FALSE(cubic.hasPacked());
   EXPECT_TRUE(cubic.hasSeparateTextures());
   EXPECT_EQ(cubic.bytes(), 12 * voxels + 4 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
@@ -397,7 +397,7 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   // The DLM after its build holds the nodes (RG32F × node budget), the counts (R32UI), the texel ε
   // (R32F) and the light cache (R16F): the scatter map and its flat runs (passes 2 and 3 only) are
   // freed at the end of the build.
-  const scene::DlmSettings dlmSettings{};
+  const lighting::DlmSettings dlmSettings{};
   const glm::ivec2 texels = dlmCompact.lightSpace().texels;
   const glm::ivec3 cache = dlmCompact.stats().light_cache_texels;
   const std::size_t mapTexels = std::size_t(texels.x) * std::size_t(texels.y);
@@ -465,8 +465,8 @@ class CopiedLayers final : public ExtinctionSlices {
 
 TEST_F(LightCacheTest, LayeredUploadIsTheFloatUploadBitForBit) {
   const ExtinctionVolumes v = generatedHurricane();
-  const scene::VolumeFrame frame = scene::frameOf(v, 8.0);
-  for (const scene::Reconstruction r : {scene::Reconstruction::Trilinear, scene::Reconstruction::Cubic}) {
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
+  for (const volume::Reconstruction r : {volume::Reconstruction::Trilinear, volume::Reconstruction::Cubic}) {
     const CopiedLayers layers(v);
     const auto floats = render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = r});
     const auto layered = render::VolumeTextures::upload(layers, frame, "hurricane-x8", {.reconstruction = r});
@@ -475,13 +475,13 @@ TEST_F(LightCacheTest, LayeredUploadIsTheFloatUploadBitForBit) {
     EXPECT_EQ(layered.bytes(), floats.bytes());
     EXPECT_EQ(layered.hasIce(), floats.hasIce());
     EXPECT_EQ(layered.hasWater(), floats.hasWater());
-    EXPECT_EQ(layered.hasPacked(), r == scene::Reconstruction::Trilinear);
+    EXPECT_EQ(layered.hasPacked(), r == volume::Reconstruction::Trilinear);
     EXPECT_EQ(layered.occupancy().max_per_m, floats.occupancy().max_per_m);
     EXPECT_EQ(layered.occupancy().nonEmptyMinVoxel, floats.occupancy().nonEmptyMinVoxel);
     EXPECT_EQ(layered.occupancy().nonEmptyMaxVoxel, floats.occupancy().nonEmptyMaxVoxel);
     EXPECT_EQ(layered.packedBetaUnit_per_m(), floats.packedBetaUnit_per_m());
     const std::vector<std::uint16_t> a = layered.readBackPacked(), b = floats.readBackPacked();
-    EXPECT_EQ(a.size(), r == scene::Reconstruction::Trilinear ? 4 * v.voxelCount() : 0u);
+    EXPECT_EQ(a.size(), r == volume::Reconstruction::Trilinear ? 4 * v.voxelCount() : 0u);
     EXPECT_TRUE(a == b) << "the packed texels differ";
   }
 }

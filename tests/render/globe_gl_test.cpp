@@ -253,7 +253,7 @@ TEST_F(GlobeTest, ImageryIsFilteredOverThePixelFootprint) {
   const scene::EquirectangularImage lookup = scene::EquirectangularImage::load(checker);
   ASSERT_EQ(lookup.image().width, 2048) << "the checker must reach the globe at its own size";
 
-  const double R = scene::kEarthRadius_m;
+  const double R = volume::kEarthRadius_m;
   const glm::dvec3 o = r.camera().position_m;
   auto groundLonLat = [&](const glm::dvec3& d) -> std::optional<scene::LonLat> {
     const double bq = glm::dot(o, d), c = glm::dot(o, o) - R * R, disc = bq * bq - c;

@@ -34,7 +34,7 @@ namespace nph::test {
 /// cloud). A run is a stretch of ≥ `min_run` pixels of a row with alpha ≥ `min_alpha` whose plane
 /// hits lie over the grid; each run gets its own mean and Hann window.
 inline std::vector<double> gridPowerSpectrum(const scene::RgbaImage& layer, const scene::Camera& camera,
-                                             const scene::VolumeFrame& frame, double z_plane_m,
+                                             const volume::VolumeFrame& frame, double z_plane_m,
                                              const std::vector<double>& freqs, int channel = 0, double min_alpha = 0.98,
                                              std::size_t min_run = 24) {
   const int w = layer.width, h = layer.height;
@@ -101,7 +101,7 @@ inline scene::RgbaImage layerMinus(const scene::RgbaImage& a, const scene::RgbaI
 /// The metric: the power of gridPowerSpectrum summed over `f_lo` … `f_hi` cycles per column in
 /// steps of 0.05 (default: the band 0.75 … 1.25 around the column spacing).
 inline double gridArtefactPower(const scene::RgbaImage& layer, const scene::Camera& camera,
-                                const scene::VolumeFrame& frame, double z_plane_m, double f_lo = 0.75,
+                                const volume::VolumeFrame& frame, double z_plane_m, double f_lo = 0.75,
                                 double f_hi = 1.25) {
   std::vector<double> f;
   for (int k = 0; f_lo + 0.05 * k <= f_hi + 1e-9; ++k) f.push_back(f_lo + 0.05 * k);

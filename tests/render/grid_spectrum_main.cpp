@@ -109,11 +109,11 @@ int run(lighting::MultipleScattering ms, const char* png_dir, bool analytic) {
   rs.step_voxels = 0.25;
   rs.multiple_scattering = ms;
   rs.terrain = false;
-  using scene::Reconstruction;
-  const auto tri = renderDemoView(v, d, rs, Reconstruction::Trilinear, scene::Detail::None, 0.25).cloud_layer;
-  const auto cub = renderDemoView(v, d, rs, Reconstruction::Cubic, scene::Detail::None, 0.25).cloud_layer;
-  const auto ref = renderDemoView(fine, df, rs, Reconstruction::Trilinear, scene::Detail::None, 1.0).cloud_layer;
-  const auto itp = renderDemoView(v, d, rs, Reconstruction::CubicInterpolating, scene::Detail::None, 0.25).cloud_layer;
+  using volume::Reconstruction;
+  const auto tri = renderDemoView(v, d, rs, Reconstruction::Trilinear, volume::Detail::None, 0.25).cloud_layer;
+  const auto cub = renderDemoView(v, d, rs, Reconstruction::Cubic, volume::Detail::None, 0.25).cloud_layer;
+  const auto ref = renderDemoView(fine, df, rs, Reconstruction::Trilinear, volume::Detail::None, 1.0).cloud_layer;
+  const auto itp = renderDemoView(v, d, rs, Reconstruction::CubicInterpolating, volume::Detail::None, 0.25).cloud_layer;
   if (png_dir != nullptr) {  // the three cloud layers, for looking at (default exposure)
     scene::ImageOutputOptions o;
     o.exposure_ev = scene::kDefaultExposureEv;

@@ -10,10 +10,11 @@
 namespace nph::scene {
 namespace {
 
-double maxDeviation(const std::vector<LightNode>& nodes, const std::vector<double>& s, const std::vector<double>& I) {
+double maxDeviation(const std::vector<lighting::LightNode>& nodes, const std::vector<double>& s,
+                    const std::vector<double>& I) {
   double m = 0.0;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    m = std::max(m, std::abs(evaluateLightFunction(nodes.data(), int(nodes.size()), s[i]) - I[i]));
+    m = std::max(m, std::abs(lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), s[i]) - I[i]));
   }
   return m;
 }
@@ -30,7 +31,7 @@ TEST(LightFunction, CompressionKeepsEpsilonOnRandomFunctions) {
         v = std::clamp(v * (0.97 + 0.04 * u(rng)) + (u(rng) < 0.05 ? 0.05 : 0.0), 0.0, 1.0);
         I.push_back(v);
       }
-      const auto nodes = compressLightFunction(s, I, eps);
+      const auto nodes = lighting::compressLightFunction(s, I, eps);
       // float storage of depth/intensity: 1e-6 absolute
       EXPECT_LE(maxDeviation(nodes, s, I), eps + 1e-6) << "eps " << eps;
       EXPECT_LE(nodes.size(), s.size());
@@ -44,7 +45,7 @@ TEST(LightFunction, LinearPiecesNeedOnlyTheirEnds) {
     s.push_back(n);
     I.push_back(n <= 40 ? 1.0 : 1.0 - 0.01 * (n - 40));  // flat, then a straight ramp
   }
-  const auto nodes = compressLightFunction(s, I, 1e-6);
+  const auto nodes = lighting::compressLightFunction(s, I, 1e-6);
   ASSERT_EQ(nodes.size(), 3u);
   EXPECT_FLOAT_EQ(nodes[1].depth_m, 40.0f);
   EXPECT_FLOAT_EQ(nodes[2].intensity, 0.4f);
@@ -52,23 +53,23 @@ TEST(LightFunction, LinearPiecesNeedOnlyTheirEnds) {
 
 TEST(LightFunction, ConstantRayIsOneNode) {
   const std::vector<double> s = {0, 1, 2, 3}, I = {1, 1, 1, 1};
-  EXPECT_EQ(compressLightFunction(s, I, 0.0).size(), 1u);
+  EXPECT_EQ(lighting::compressLightFunction(s, I, 0.0).size(), 1u);
 }
 
 TEST(LightFunction, EvaluationClampsAndInterpolates) {
-  const std::vector<LightNode> n = {{10, 1.0f}, {20, 0.5f}, {40, 0.25f}};
-  EXPECT_DOUBLE_EQ(evaluateLightFunction(n.data(), 3, 0.0), 1.0);
-  EXPECT_DOUBLE_EQ(evaluateLightFunction(n.data(), 3, 15.0), 0.75);
-  EXPECT_DOUBLE_EQ(evaluateLightFunction(n.data(), 3, 30.0), 0.375);
-  EXPECT_DOUBLE_EQ(evaluateLightFunction(n.data(), 3, 99.0), 0.25);
-  EXPECT_DOUBLE_EQ(evaluateLightFunction(n.data(), 0, 5.0), 1.0);
+  const std::vector<lighting::LightNode> n = {{10, 1.0f}, {20, 0.5f}, {40, 0.25f}};
+  EXPECT_DOUBLE_EQ(lighting::evaluateLightFunction(n.data(), 3, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(lighting::evaluateLightFunction(n.data(), 3, 15.0), 0.75);
+  EXPECT_DOUBLE_EQ(lighting::evaluateLightFunction(n.data(), 3, 30.0), 0.375);
+  EXPECT_DOUBLE_EQ(lighting::evaluateLightFunction(n.data(), 3, 99.0), 0.25);
+  EXPECT_DOUBLE_EQ(lighting::evaluateLightFunction(n.data(), 0, 5.0), 1.0);
 }
 
 TEST(LightSpace, FitsTheBoxForZenithAxisAndGrazingSuns) {
   const glm::dvec3 lo(0, 0, 0), hi(30000, 20000, 5000);
   for (glm::dvec3 d : {glm::dvec3(0, 0, -1), glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0),
                        glm::dvec3(std::cos(0.01745), 0, -std::sin(0.01745)), glm::dvec3(0.3, -0.2, -0.9)}) {
-    const LightSpace ls = fitLightSpace(d, lo, hi, {500.0, 500.0}, 4096);
+    const lighting::LightSpace ls = lighting::fitLightSpace(d, lo, hi, {500.0, 500.0}, 4096);
     EXPECT_NEAR(glm::length(ls.w), 1.0, 1e-12);
     EXPECT_NEAR(glm::dot(ls.u, ls.v), 0.0, 1e-12);
     EXPECT_NEAR(glm::dot(ls.u, ls.w), 0.0, 1e-12);
@@ -86,15 +87,15 @@ TEST(LightSpace, FitsTheBoxForZenithAxisAndGrazingSuns) {
     }
   }
   // Zenith sun: depth is the box height, texels are 500 m.
-  const LightSpace z = fitLightSpace({0, 0, -1}, lo, hi, {500.0, 500.0}, 4096);
+  const lighting::LightSpace z = lighting::fitLightSpace({0, 0, -1}, lo, hi, {500.0, 500.0}, 4096);
   EXPECT_NEAR(z.depth_m, 5000.0, 1e-9);
   EXPECT_EQ(z.texels.x * z.texels.y, 60 * 40);
 }
 
 TEST(LightSpace, GrazingSunGetsVerticalResolution) {
-  LightSpace basis;
-  lightBasis({std::cos(0.01745), 0, -std::sin(0.01745)}, basis.u, basis.v, basis.w);
-  const glm::dvec2 t = lightTexelSize(basis, {3000, 3000, 250}, 1.0);
+  lighting::LightSpace basis;
+  lighting::lightBasis({std::cos(0.01745), 0, -std::sin(0.01745)}, basis.u, basis.v, basis.w);
+  const glm::dvec2 t = lighting::lightTexelSize(basis, {3000, 3000, 250}, 1.0);
   EXPECT_LT(std::min(t.x, t.y), 400.0) << "one light-space axis is nearly vertical: ~dz";
 }
 
@@ -103,7 +104,7 @@ TEST(Occupancy, BricksAreDilatedByOneVoxel) {
   v.nx = v.ny = v.nz = 16;
   v.water_per_m.assign(v.voxelCount(), 0.0f);
   v.water_per_m[v.index(8, 3, 3)] = 2.0f;  // first voxel of brick (1, 0, 0)
-  const OccupancyGrid g = buildOccupancy(v, 8);
+  const volume::OccupancyGrid g = volume::buildOccupancy(v, 8);
   EXPECT_EQ(g.at(1, 0, 0), 2.0f);
   EXPECT_EQ(g.at(0, 0, 0), 2.0f) << "voxel 7 of brick 0 interpolates with voxel 8";
   EXPECT_EQ(g.at(0, 1, 0), 0.0f);

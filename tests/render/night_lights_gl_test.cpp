@@ -178,7 +178,7 @@ TEST_F(NightLights, ChangeNoBitOnTheDaySide) {
   for (int y = 0; y < cam.height; ++y) {
     for (int x = 0; x < cam.width; ++x) {
       const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5), o = cam.position_m;
-      const double b = glm::dot(o, d), c = glm::dot(o, o) - scene::kEarthRadius_m * scene::kEarthRadius_m;
+      const double b = glm::dot(o, d), c = glm::dot(o, o) - volume::kEarthRadius_m * volume::kEarthRadius_m;
       if (b * b - c < 0.0) continue;
       const glm::dvec3 g = o + (-b - std::sqrt(b * b - c)) * d;  // the sphere R (terrain off)
       const double sinSun = glm::dot(glm::normalize(g), toSun);

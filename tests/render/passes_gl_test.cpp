@@ -27,11 +27,11 @@ using PassesTest = GlTest;
 
 struct LookingDown {
   render::RenderOutput out;
-  scene::VolumeFrame frame;
+  volume::VolumeFrame frame;
   scene::Camera camera;
   render::DeepLightMap::Readback dlm;
-  scene::LightSpace light_space;
-  scene::DlmSettings dlm_settings;
+  lighting::LightSpace light_space;
+  lighting::DlmSettings dlm_settings;
   render::DlmStats dlm_stats;
 };
 
@@ -39,10 +39,10 @@ struct LookingDown {
 // (a 58 km footprint on the ground, wider than the 24 km slab: the margins see no cloud).
 LookingDown renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, const render::RenderSettings& rs) {
   LookingDown r;
-  r.frame = scene::frameOf(v);
+  r.frame = volume::frameOf(v);
   auto tex = render::VolumeTextures::upload(v, r.frame, "passes-test");
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
   const glm::dvec3 c = 0.5 * (r.frame.min_m() + r.frame.max_m());
   r.camera.position_m = {c.x, c.y, 50000.0};
   r.camera.target_m = {c.x, c.y, 0.0};
@@ -66,7 +66,7 @@ glm::dvec3 groundPoint(const scene::Camera& cam, int x, int y) {
   return cam.position_m + (-cam.position_m.z / d.z) * d;
 }
 
-bool insideSlab(const scene::VolumeFrame& f, const glm::dvec3& g, double margin_m) {
+bool insideSlab(const volume::VolumeFrame& f, const glm::dvec3& g, double margin_m) {
   return g.x > f.min_m().x + margin_m && g.x < f.max_m().x - margin_m && g.y > f.min_m().y + margin_m &&
          g.y < f.max_m().y - margin_m;
 }
@@ -132,7 +132,7 @@ TEST_F(PassesTest, ShadowMatteIsTheDeepLightMapGroundTransmittance) {
   const scene::Sun sun{30.0, 60.0};
   const auto r = renderLookingDown(v, sun, rs);
   ASSERT_TRUE(r.out.passes);
-  scene::LightSpace lsf = r.light_space;  // the GPU's float geometry, as dlm_reference_gl_test
+  lighting::LightSpace lsf = r.light_space;  // the GPU's float geometry, as dlm_reference_gl_test
   for (glm::dvec3* vec : {&lsf.u, &lsf.v, &lsf.w, &lsf.origin_m}) *vec = glm::dvec3(glm::vec3(*vec));
   const reference::DlmReference ref(v, r.frame, lsf, r.dlm_settings, double(float(r.dlm_stats.step_m)),
                                     r.dlm_stats.steps, 1);

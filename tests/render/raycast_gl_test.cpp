@@ -23,7 +23,7 @@ using RaycastTest = GlTest;
 
 struct Rendered {
   render::RenderOutput out;
-  scene::VolumeFrame frame;
+  volume::VolumeFrame frame;
   scene::Camera camera;
 };
 
@@ -38,10 +38,10 @@ struct LookingDown {
 Rendered renderLookingDown(const ExtinctionVolumes& v, const scene::Sun& sun, const render::RenderSettings& rs,
                            const scene::LinearRgbImage* basemap = nullptr, const LookingDown& view = {}) {
   Rendered r;
-  r.frame = scene::frameOf(v, view.height_exaggeration);
+  r.frame = volume::frameOf(v, view.height_exaggeration);
   auto tex = render::VolumeTextures::upload(v, r.frame, "raycast-test");
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
   scene::Camera cam;
   const glm::dvec3 c = 0.5 * (r.frame.min_m() + r.frame.max_m());
   cam.position_m = {c.x, c.y, view.camera_world_z_m};
@@ -138,10 +138,10 @@ HorizonColumn renderHorizonColumn(double eye_m, double pitch_deg, double fov_deg
   const scene::LinearRgbImage map = uniformBasemap();
   render::RenderSettings rs;
   EXPECT_TRUE(rs.atmosphere);
-  const scene::VolumeFrame frame = scene::frameOf(v, 4.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 4.0);
   auto tex = render::VolumeTextures::upload(v, frame, id);
   render::DeepLightMap dlm;
-  dlm.build(tex, -h.sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -h.sun.toSun(), lighting::DlmSettings{});
   const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
   h.cam.position_m = {c.x, c.y, eye_m};
   h.cam.target_m =
@@ -344,11 +344,11 @@ namespace {
 // general but mean 1e-5 is not.
 TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   const ExtinctionVolumes v = generatedHurricane();
-  const auto frame = scene::frameOf(v, 8.0);
+  const auto frame = volume::frameOf(v, 8.0);
   auto tex = render::VolumeTextures::upload(v, frame, "hurricane-x8");
   const scene::Sun sun{140.0, 35.0};
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
   scene::Camera cam;
   const glm::dvec3 size = frame.size_m();
   cam.target_m = {0.5 * size.x, 0.5 * size.y, 0.3 * size.z};

@@ -24,13 +24,13 @@ namespace nph::test {
 namespace {
 
 using ReconstructionTest = GlTest;
-using scene::Reconstruction;
+using volume::Reconstruction;
 
 /// The demo's view (examples/scenes/demo.json.in): oblique preset, 40° field of view, sun from
 /// azimuth 140° at 35°, heights × 8.
 render::RenderOutput renderWith(const ExtinctionVolumes& v, const DemoView& d, Reconstruction r,
                                 const render::RenderSettings& rs, double dlm_texel_voxels = 1.0) {
-  return renderDemoView(v, d, rs, r, scene::Detail::None, dlm_texel_voxels);
+  return renderDemoView(v, d, rs, r, volume::Detail::None, dlm_texel_voxels);
 }
 
 // The GPU's tricubic B-spline from 8 trilinear fetches against the CPU reference ray marcher with
@@ -43,11 +43,11 @@ TEST_F(ReconstructionTest, GpuCubicMatchesTheCpuReferenceRayMarcher) {
   // Both cubic filters: the B-spline of the voxels and of their interpolating spline coefficients
   // (volume/spline_coefficients.h: the upload and the CPU sampler each solve for them).
   for (const Reconstruction r : {Reconstruction::Cubic, Reconstruction::CubicInterpolating}) {
-    SCOPED_TRACE(std::string(scene::kReconstructionNames[std::size_t(r)]));
+    SCOPED_TRACE(std::string(volume::kReconstructionNames[std::size_t(r)]));
     auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.reconstruction = r});
     EXPECT_EQ(tex.occupancy().dilation_voxels, 2);
     render::DeepLightMap dlm;
-    dlm.build(tex, -d.sun.toSun(), scene::DlmSettings{});
+    dlm.build(tex, -d.sun.toSun(), lighting::DlmSettings{});
     render::RenderSettings rs;
     rs.jitter = false;
     rs.empty_space_skipping = true;
@@ -67,7 +67,7 @@ TEST_F(ReconstructionTest, GpuCubicMatchesTheCpuReferenceRayMarcher) {
         v, d.frame, d.camera, d.sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, rs);
     const LayerDifference diff = layerDifference(gpu.cloud_layer, cpu);
     std::printf("[ cubic    ] 96x54 coarse storm, %s: coverage %.2f, max |GPU-CPU| %.2e, mean %.2e\n",
-                std::string(scene::kReconstructionNames[std::size_t(r)]).c_str(), diff.coverage, diff.max, diff.mean);
+                std::string(volume::kReconstructionNames[std::size_t(r)]).c_str(), diff.coverage, diff.max, diff.mean);
     EXPECT_GT(diff.coverage, 0.05) << "the camera must see the storm";
     EXPECT_LE(diff.mean, 1e-4);
     EXPECT_LE(diff.max, 0.02);
@@ -85,10 +85,10 @@ TEST(SplineCoefficients, TheInterpolatingSplinePassesThroughTheVoxels) {
         v.water_per_m[v.index(i, j, k)] =
             float(1e-3 * (2.0 + std::sin(0.9 * i + 0.3) * std::cos(0.7 * j) + 0.5 * std::sin(1.1 * k)));
   v.updateMaxima();
-  ExtinctionVolumes c = scene::splineCoefficientVolumes(v);
+  ExtinctionVolumes c = volume::splineCoefficientVolumes(v);
   ASSERT_EQ(c.water_per_m.size(), v.water_per_m.size());
-  const scene::VolumeFrame f = scene::frameOf(v);
-  const scene::ExtinctionSampler itp(v, f, Reconstruction::CubicInterpolating), cub(v, f, Reconstruction::Cubic);
+  const volume::VolumeFrame f = volume::frameOf(v);
+  const volume::ExtinctionSampler itp(v, f, Reconstruction::CubicInterpolating), cub(v, f, Reconstruction::Cubic);
   double errItp = 0.0, errCub = 0.0;
   for (int k = 0; k < v.nz; ++k)
     for (int j = 0; j < v.ny; ++j)
@@ -107,8 +107,8 @@ TEST(SplineCoefficients, TheInterpolatingSplinePassesThroughTheVoxels) {
   ExtinctionVolumes one = ExtinctionVolumes::zeros(5, 5, 5, 1000.0, 1000.0, 0.0);
   one.water_per_m[one.index(2, 2, 2)] = 1e-3f;
   one.updateMaxima();
-  const scene::VolumeFrame f1 = scene::frameOf(one);
-  const scene::ExtinctionSampler lone(one, f1, Reconstruction::CubicInterpolating);
+  const volume::VolumeFrame f1 = volume::frameOf(one);
+  const volume::ExtinctionSampler lone(one, f1, Reconstruction::CubicInterpolating);
   const float cmax = lone.voxels().max_water_per_m;
   for (int a = 0; a <= 40; ++a) {
     const double b = lone.plainAt(f1.worldFromGrid({2.5 + 0.05 * (a - 20), 2.5, 2.5})).water_per_m;
@@ -135,7 +135,7 @@ TEST_F(ReconstructionTest, EmptySpaceSkippingGivesTheSameImageWithCubic) {
   EXPECT_GT(diff.coverage, 0.05);
   // The DLMs with and without skipping agree within 2ε (dlm_gl_test EmptySpaceSkippingChangesNothing);
   // the eye pass reads them at the same points, so the layer differs by at most ~2ε·L.
-  EXPECT_LE(maxErr, 2.0 * scene::DlmSettings{}.epsilon + 1e-5);
+  EXPECT_LE(maxErr, 2.0 * lighting::DlmSettings{}.epsilon + 1e-5);
 }
 
 // Issue 13's "Done means" asks for ≥ 10× less power at the model's column spacing with the cubic
@@ -200,13 +200,15 @@ TEST_F(ReconstructionTest, CubicLowersTheGridArtefactsOfTheCoarseStorm) {
 // the reference is then the filter's error alone; its power is measured in three bands (cycles
 // per column). Measured on llvmpipe (two_stream, 640 × 360, reference-preset steps, no jitter):
 //   | band | trilinear | cubic B-spline | cubic_interpolating |
-//   | 0.3 … 0.7 | 1.25e-2 | 4.53e-2 | 7.5e-4 |
-//   | 0.8 … 1.2 | 2.31e-3 | 5.79e-3 | 3.5e-4 |
-//   | 1.8 … 2.2 | 5.4e-4 | 1.23e-4 | 1.7e-5 |
+//   | 0.3 … 0.7 | 2.20e-2 | 8.02e-2 | 1.24e-3 |
+//   | 0.8 … 1.2 | 4.15e-3 | 1.03e-2 | 6.39e-4 |
+//   | 1.8 … 2.2 | 9.7e-4 | 2.16e-4 | 3.36e-5 |
+// (default light settings here; nephele_grid_spectrum --analytic's two_stream table in docs/
+// rendering.md has the same ratios within 10 %).
 // The B-spline removes trilinear's kinks (4× less at twice the column frequency) but blurs the
 // cells, which costs more than the kinks below 1.2 cycles per column; the interpolating spline
-// keeps the cells and loses the kinks: 7× less than trilinear at the column spacing, 31× at its
-// harmonic, 17× below it. Bounds with a ~25 % margin.
+// keeps the cells and loses the kinks: 6.5× less than trilinear at the column spacing, 29× at its
+// harmonic, 18× below it. Bounds with a ~25 % margin.
 TEST_F(ReconstructionTest, CubicInterpolatingTracksAGridFreeStorm) {
   const ExtinctionVolumes storm = coarseStorm();
   const ExtinctionVolumes v = analyticStorm(storm), fine = analyticStorm(storm, 4);
@@ -216,12 +218,12 @@ TEST_F(ReconstructionTest, CubicInterpolatingTracksAGridFreeStorm) {
   rs.jitter = false;
   rs.step_voxels = 0.25;
   rs.terrain = false;
-  const auto ref = renderDemoView(fine, df, rs, Reconstruction::Trilinear, scene::Detail::None, 1.0).cloud_layer;
+  const auto ref = renderDemoView(fine, df, rs, Reconstruction::Trilinear, volume::Detail::None, 1.0).cloud_layer;
   struct Bands {
     double low, column, harmonic;
   };
   auto error = [&](Reconstruction r) {
-    const auto out = renderDemoView(v, d, rs, r, scene::Detail::None, 0.25).cloud_layer;
+    const auto out = renderDemoView(v, d, rs, r, volume::Detail::None, 0.25).cloud_layer;
     const scene::RgbaImage e = layerMinus(out, ref);
     return Bands{gridArtefactPower(e, d.camera, d.frame, zMid_m, 0.3, 0.7),
                  gridArtefactPower(e, d.camera, d.frame, zMid_m, 0.8, 1.2),

@@ -97,7 +97,7 @@ std::unique_ptr<engine::Session> openSession(const std::string& scene_json, cons
 
 DemoView demoView(const ExtinctionVolumes& v, int width, int height, double distance_scale) {
   DemoView d;
-  d.frame = scene::frameOf(v, 8.0);
+  d.frame = volume::frameOf(v, 8.0);
   scene::CameraSpec spec;
   spec.preset = scene::CameraPreset::Oblique;
   spec.fov_deg = 40.0;
@@ -107,12 +107,12 @@ DemoView demoView(const ExtinctionVolumes& v, int width, int height, double dist
 }
 
 render::RenderOutput renderDemoView(const ExtinctionVolumes& v, const DemoView& d, const render::RenderSettings& rs,
-                                    scene::Reconstruction reconstruction, scene::Detail detail,
+                                    volume::Reconstruction reconstruction, volume::Detail detail,
                                     double dlm_texel_voxels) {
   auto tex =
       render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.reconstruction = reconstruction, .detail = detail});
   render::DeepLightMap dlm;
-  scene::DlmSettings ds;
+  lighting::DlmSettings ds;
   ds.empty_space_skipping = rs.empty_space_skipping;
   ds.texel_voxels = dlm_texel_voxels;
   dlm.build(tex, -d.sun.toSun(), ds);

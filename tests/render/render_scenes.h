@@ -43,7 +43,7 @@ std::unique_ptr<engine::Session> openSession(const std::string& scene_json, cons
 /// The demo's oblique view of a volume (issue 13's coarse storm): height exaggeration 8, 40°
 /// field of view, the sun of the demo (azimuth 140°, elevation 35°).
 struct DemoView {
-  scene::VolumeFrame frame;
+  volume::VolumeFrame frame;
   scene::Camera camera;
   scene::Sun sun{140.0, 35.0};
 };
@@ -52,7 +52,7 @@ DemoView demoView(const ExtinctionVolumes& v, int width, int height, double dist
 /// Uploads `v` with the filter and sub-grid detail given, builds the DLM (empty-space skipping as
 /// `rs`, texels of `dlm_texel_voxels`) and ray casts the demo view with `rs`.
 render::RenderOutput renderDemoView(const ExtinctionVolumes& v, const DemoView& d, const render::RenderSettings& rs,
-                                    scene::Reconstruction reconstruction, scene::Detail detail = scene::Detail::None,
+                                    volume::Reconstruction reconstruction, volume::Detail detail = volume::Detail::None,
                                     double dlm_texel_voxels = 1.0);
 
 }  // namespace nph::test

@@ -52,11 +52,11 @@ TEST_F(SamplesPerPixelTest, EdgePixelsTakeTheirCoverage) {
     for (int j = 0; j < v.ny; ++j)
       for (int i = 10; i <= 21; ++i) v.water_per_m[v.index(i, j, k)] = 0.5f;
   v.updateMaxima();
-  const scene::VolumeFrame frame = scene::frameOf(v, 1.0);
-  auto tex = render::VolumeTextures::upload(v, frame, "slab", {.reconstruction = scene::Reconstruction::Trilinear});
+  const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
+  auto tex = render::VolumeTextures::upload(v, frame, "slab", {.reconstruction = volume::Reconstruction::Trilinear});
   const scene::Sun sun{150.0, 60.0};
   render::DeepLightMap dlm;
-  dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
 
   scene::Camera camera;
   camera.position_m = {16200.0, 16000.0, 1.0e6};

@@ -83,7 +83,7 @@ void TerrainRender::summitLandsAtItsProjectedPixel(const std::string& view) {
   session->setStyle(style);
   session->renderSettings().min_transmittance = 1.0;  // clouds off: no ray marches
   const auto& prep = session->prepared();
-  const scene::TerrainField terrain = scene::terrainOf(session->dataset().load(0), prep.frame);
+  const volume::TerrainField terrain = volume::terrainOf(session->dataset().load(0), prep.frame);
   ASSERT_TRUE(terrain.present());
   const glm::dvec2 summitXy = prep.geo->worldFromLonLat({kMountainLon_deg, kMountainLat_deg});
   const double summitZ = terrain.heightAt(summitXy);
@@ -134,7 +134,7 @@ TEST_F(TerrainRender, MountainHidesTheCloudBehindIt) {
   auto session = open(240, 160);
   const auto& prep = session->prepared();
   const ExtinctionVolumes volumes = session->dataset().load(0);
-  const scene::TerrainField terrain = scene::terrainOf(volumes, prep.frame);
+  const volume::TerrainField terrain = volume::terrainOf(volumes, prep.frame);
   const glm::dvec2 summitXy = prep.geo->worldFromLonLat({kMountainLon_deg, kMountainLat_deg});
   const glm::dvec3 summit(summitXy, terrain.heightAt(summitXy));
   // Low, from the south-west (away from the storm's centre), looking at the mountain's upper
@@ -195,7 +195,7 @@ TEST_F(TerrainRender, GroundTintPutsSnowAboveTheSnowLineAndNothingElsewhere) {
   session->renderSettings().min_transmittance = 1.0;  // clouds off
   session->renderSettings().jitter = false;
   const auto& prep = session->prepared();
-  const scene::TerrainField terrain = scene::terrainOf(session->dataset().load(0), prep.frame);
+  const volume::TerrainField terrain = volume::terrainOf(session->dataset().load(0), prep.frame);
   const glm::dvec2 summitXy = prep.geo->worldFromLonLat({kMountainLon_deg, kMountainLat_deg});
   const glm::dvec3 summit(summitXy, terrain.heightAt(summitXy));
   scene::Camera cam = prep.flat_camera;
@@ -250,7 +250,7 @@ TEST_F(TerrainRender, OnTheGlobeTheMountainHidesTheCloudBehindIt) {
   auto session = open(240, 160, "globe");
   const auto& prep = session->prepared();
   const ExtinctionVolumes volumes = session->dataset().load(0);
-  const scene::TerrainField terrain = scene::terrainOf(volumes, prep.frame);
+  const volume::TerrainField terrain = volume::terrainOf(volumes, prep.frame);
   const glm::dvec2 summitXy = prep.geo->worldFromLonLat({kMountainLon_deg, kMountainLat_deg});
   const glm::dvec3 summit(summitXy, terrain.heightAt(summitXy));
   const glm::dvec3 centre(0.5 * prep.frame.size_m().x, 0.55 * prep.frame.size_m().y, 0.0);
@@ -269,7 +269,7 @@ TEST_F(TerrainRender, OnTheGlobeTheMountainHidesTheCloudBehindIt) {
   const reference::ExtinctionField field(volumes, session->volumeTextures().frame(),
                                          session->volumeTextures().reconstruction());
   const render::GlobeMapping m = render::buildGlobeMapping(*prep.geo);
-  const double R = scene::kEarthRadius_m, e = prep.frame.height_exaggeration;
+  const double R = volume::kEarthRadius_m, e = prep.frame.height_exaggeration;
   constexpr double kStep_m = 250.0, kReach_m = 400000.0;
   int hidden = 0;
   double worst = 0.0, weakest = 1.0;

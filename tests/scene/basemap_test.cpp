@@ -53,7 +53,7 @@ LonLat snyderLccInverse(double x, double y) {
   const double p1 = test::kLccLat1 * kDeg, p2 = test::kLccLat2 * kDeg, p0 = test::kLccLat0 * kDeg;
   auto t = [](double p) { return std::tan(std::numbers::pi / 4.0 + p / 2.0); };
   const double n = std::log(std::cos(p1) / std::cos(p2)) / std::log(t(p2) / t(p1));
-  const double F = std::cos(p1) * std::pow(t(p1), n) / n, R = kEarthRadius_m;
+  const double F = std::cos(p1) * std::pow(t(p1), n) / n, R = volume::kEarthRadius_m;
   const double rho0 = R * F / std::pow(t(p0), n);
   const double rho = std::hypot(x, rho0 - y), theta = std::atan2(x, rho0 - y);
   return {test::kLccLon0 + theta / n / kDeg,
@@ -68,7 +68,7 @@ TEST(Basemap, LonLatImageReprojectedIntoLambertDecodesBack) {
   ASSERT_EQ(src.image().width, 1440);
 
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference geo(v, frame);
   const WorldRect rect = basemapRectangle(frame, 0.25);
   EXPECT_DOUBLE_EQ(rect.min_m.x, -0.25 * 300000.0);
@@ -120,7 +120,7 @@ TEST(Basemap, InterpolatedLonLatMatchesExactProjectionAtThePoleAndAntimeridian) 
         "+proj=merc +lat_ts=0 +lon_0=179 +x_0=0 +y_0=0 +R=6370000 +units=m +no_defs"}) {
     auto v = test::lambertVolumes(100, 100, 2, 20000.0);  // 2000 km square centred on (0, 0)
     v.georef.proj_definition = proj;
-    const VolumeFrame frame = frameOf(v);
+    const volume::VolumeFrame frame = volume::frameOf(v);
     const SceneGeoreference geo(v, frame);
     const WorldRect rect = basemapRectangle(frame, 0.1);
     const int W = 303, H = 249;
@@ -145,7 +145,7 @@ TEST(Basemap, OffsetMovesTheMapUnderTheVolume) {
   writeLonLatImage(path, 720);
   const EquirectangularImage src = EquirectangularImage::load(path);
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference plain(v, frame), shifted(v, frame, LonLatOffset{1.5, -0.5});
   const WorldRect rect = basemapRectangle(frame, 0.0);
   const LinearRgbImage a = reprojectBasemap(src, plain, rect, 16, 16);
@@ -203,7 +203,7 @@ TEST(Basemap, MissingOrBadFilesAreInputErrorsNamingThem) {
     try {
       const BasemapRaster r = BasemapRaster::open(path);
       auto v = test::lambertVolumes(8, 8, 2);
-      const VolumeFrame frame = frameOf(v);
+      const volume::VolumeFrame frame = volume::frameOf(v);
       (void)reprojectBasemap(r, SceneGeoreference(v, frame), basemapRectangle(frame, 0.0), 16, 16);
       ADD_FAILURE() << "accepted " << path;
     } catch (const InputError& e) {
@@ -262,7 +262,7 @@ TEST(Basemap, GeoreferencedWholeEarthTiffEqualsTheTwoToOneRule) {
   EXPECT_TRUE(a.wholeEarth());
   EXPECT_TRUE(b.wholeEarth());
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference geo(v, frame);
   const WorldRect rect = basemapRectangle(frame, 0.5);
   const LinearRgbImage ia = reprojectBasemap(a, geo, rect, 64, 48), ib = reprojectBasemap(b, geo, rect, 64, 48);
@@ -345,7 +345,7 @@ TEST(Basemap, OverviewMatchingTheOutputIsReadNotTheFullResolution) {
   // Into the data's projection too (reprojectBasemap): the test footprint with its margin
   // (≈ 600 km) at 2 × 2 pixels, ≈ 2.7° each against the source's 0.18°: the coarsest level.
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const SceneGeoreference geo(v, frame);
   const LinearRgbImage flat = reprojectBasemap(raster, geo, basemapRectangle(frame, 0.5), 2, 2);
   const glm::vec3 c = flat.at(1, 1);

@@ -48,7 +48,7 @@ glm::dvec2 utmFromLonLat(double lon, double lat) {
 
 struct DemCase {
   ExtinctionVolumes volumes = test::lambertVolumes();  // 100 × 80 columns of 3 km
-  VolumeFrame frame = frameOf(volumes, 4.0);
+  volume::VolumeFrame frame = volume::frameOf(volumes, 4.0);
   SceneGeoreference geo{volumes, frame, {}, std::nullopt};
   glm::dvec2 peak_xy, far_peak_xy, hole_xy;
 };
@@ -105,7 +105,7 @@ TEST(Dem, UtmMountainLandsOnItsMassPointsAndBeyondTheGrid) {
   const std::string path = writeUtmDem(dir, c);
   const DemRaster dem = DemRaster::open(path);
   EXPECT_TRUE(dem.hasNoData());
-  const DemHeights d = demHeightsFor(dem, c.geo, c.frame);
+  const volume::DemHeights d = demHeightsFor(dem, c.geo, c.frame);
   ASSERT_EQ(d.model_m.size(), std::size_t(100 * 80));
   // Mass point (i, j) is world ((i + ½)·dx, (j + ½)·dy): the parabola's vertex in world metres.
   const glm::dvec2 cell(c.frame.voxel_size_m);
@@ -131,7 +131,7 @@ TEST(Dem, UtmMountainLandsOnItsMassPointsAndBeyondTheGrid) {
 
   // The terrain: the DEM's heights inside the grid, the far mountain beyond it (× exaggeration 4),
   // sea level outside the DEM.
-  const TerrainField t = terrainOf(c.volumes, c.frame, &d);
+  const volume::TerrainField t = volume::terrainOf(c.volumes, c.frame, &d);
   ASSERT_TRUE(t.present());
   ASSERT_TRUE(t.hasFar());
   // Bilinear on 3 km cells under a σ = 15 km top: h·dx²/8·|h''|/h per axis ≈ 0.5 %, twice, plus
@@ -145,15 +145,15 @@ TEST(Dem, UtmMountainLandsOnItsMassPointsAndBeyondTheGrid) {
   const glm::dvec3 above(c.far_peak_xy, 20000.0);
   EXPECT_NEAR(t.hitDistance(above, {0.0, 0.0, -1.0}, 0.0, 1e9), 20000.0 - t.heightAt(c.far_peak_xy), 1.0);
   // Without the DEM the lattice is sea level and nothing stands there.
-  EXPECT_FALSE(terrainOf(c.volumes, c.frame).present());
+  EXPECT_FALSE(volume::terrainOf(c.volumes, c.frame).present());
 }
 
 TEST(Dem, TheDemWinsWhereItHasDataTheModelFieldElsewhere) {
   nph::test::ScratchDir dir("dem");
   DemCase c;
   c.volumes.terrain_height_m.assign(std::size_t(100 * 80), 100.0f);  // the model's own field: 100 m
-  const DemHeights d = demHeightsFor(DemRaster::open(writeUtmDem(dir, c)), c.geo, c.frame);
-  const TerrainField t = terrainOf(c.volumes, c.frame, &d);
+  const volume::DemHeights d = demHeightsFor(DemRaster::open(writeUtmDem(dir, c)), c.geo, c.frame);
+  const volume::TerrainField t = volume::terrainOf(c.volumes, c.frame, &d);
   int fromDem = 0, fromModel = 0;
   for (std::size_t k = 0; k < d.model_m.size(); ++k) {
     if (std::isnan(d.model_m[k])) {
@@ -187,9 +187,9 @@ TEST(Dem, AFinerDemRefinesTheLatticeAndKeepsTheModelFieldInItsHoles) {
   const DemRaster dem = DemRaster::open(writeUtmDem(dir, c));
   const int r = demRefinementFor(dem, c.geo, c.frame);
   EXPECT_EQ(r, 3) << "1 km pixels in 3 km cells";
-  const DemHeights d = demHeightsFor(dem, c.geo, c.frame, true, r);
+  const volume::DemHeights d = demHeightsFor(dem, c.geo, c.frame, true, r);
   ASSERT_EQ(d.model_m.size(), std::size_t(300 * 240));
-  const TerrainField t = terrainOf(c.volumes, c.frame, &d);
+  const volume::TerrainField t = volume::terrainOf(c.volumes, c.frame, &d);
   ASSERT_EQ(t.size, glm::ivec2(300, 240));
   EXPECT_NEAR(t.cell_m.x, c.frame.voxel_size_m.x / 3.0, 1e-9);
   int holes = 0;
@@ -214,7 +214,7 @@ TEST(Dem, AFinerDemRefinesTheLatticeAndKeepsTheModelFieldInItsHoles) {
   EXPECT_NEAR(t.hitDistance(above, {0.0, 0.0, -1.0}, 0.0, 1e9), 20000.0 - t.heightAt(c.peak_xy), 1.0);
   // A DEM as coarse as the model does not refine; the default is the mass points.
   EXPECT_EQ(demHeightsFor(dem, c.geo, c.frame, false).model_m.size(), std::size_t(100 * 80));
-  EXPECT_THROW(demHeightsFor(dem, c.geo, c.frame, false, kMaxTerrainRefine + 1), UsageError);
+  EXPECT_THROW(demHeightsFor(dem, c.geo, c.frame, false, volume::kMaxTerrainRefine + 1), UsageError);
 }
 
 // The march on a refined lattice joined to the far field within two far pixels ("The join with
@@ -245,8 +245,8 @@ TEST(Dem, TheMarchFindsTheFirstGroundPointAcrossTheRefinedLatticeAndTheJoin) {
                        z, std::nullopt);
   }
   const DemRaster dem = DemRaster::open(path);
-  const DemHeights d = demHeightsFor(dem, c.geo, c.frame, true, demRefinementFor(dem, c.geo, c.frame));
-  const TerrainField t = terrainOf(c.volumes, c.frame, &d);
+  const volume::DemHeights d = demHeightsFor(dem, c.geo, c.frame, true, demRefinementFor(dem, c.geo, c.frame));
+  const volume::TerrainField t = volume::terrainOf(c.volumes, c.frame, &d);
   ASSERT_TRUE(t.hasFar());
   ASSERT_GT(t.max_m, 4.0 * 2000.0);
   const glm::dvec2 size(c.frame.size_m());

@@ -34,7 +34,7 @@ struct GeneratedStorm {
   datagen::WrfHurricaneSpec spec;
   datagen::WrfTruth truth;
   ExtinctionVolumes v;
-  VolumeFrame frame;
+  volume::VolumeFrame frame;
   GeneratedStorm(const std::string& path, datagen::WrfProjection projection) {
     spec.nx = 80;
     spec.ny = 72;
@@ -45,7 +45,7 @@ struct GeneratedStorm {
     truth = datagen::writeWrfHurricane(spec, path);
     v = physics::buildExtinctionVolumes(io::openModelFile(path).load(0), physics::defaultOptics(),
                                         physics::VerticalGridOptions{});
-    frame = frameOf(v, 10.0);
+    frame = volume::frameOf(v, 10.0);
   }
 };
 

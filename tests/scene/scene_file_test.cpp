@@ -209,7 +209,7 @@ glm::dvec3 ndcOf(const Camera& cam, const glm::dvec3& p) {
 
 TEST(SceneFile, CameraPresetsFrameTheVolume) {
   const auto v = test::lambertVolumes();
-  const VolumeFrame frame = frameOf(v, 10.0);
+  const volume::VolumeFrame frame = volume::frameOf(v, 10.0);
   const glm::dvec3 lo = frame.min_m(), hi = frame.max_m();
   for (CameraPreset preset : {CameraPreset::Overview, CameraPreset::Oblique, CameraPreset::Top}) {
     CameraSpec spec;
@@ -273,7 +273,7 @@ TEST(SceneFile, CameraPresetsFrameTheVolume) {
 
 TEST(SceneFile, SunFromTheDataTime) {
   const auto v = test::lambertVolumes(400, 100, 4, 3000.0);
-  const VolumeFrame frame = frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   SunSpec spec;
   spec.from_time = true;
   spec.colour = {1.0, 0.9, 0.8};

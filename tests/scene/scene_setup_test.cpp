@@ -75,7 +75,7 @@ TEST(SceneSetup, GlobeView) {
   const SceneDescription s = parseSceneText(R"({"view": "globe", "sun": {"from_time": true}})", "g.json");
   const auto v = test::lambertVolumes();
   const PreparedScene p = prepareScene(s, v);
-  EXPECT_NEAR(glm::length(p.camera.target_m), kEarthRadius_m + p.flat_camera.target_m.z, 1e-3);
+  EXPECT_NEAR(glm::length(p.camera.target_m), volume::kEarthRadius_m + p.flat_camera.target_m.z, 1e-3);
   ASSERT_TRUE(p.to_sun_ecef);
   EXPECT_NEAR(glm::length(*p.to_sun_ecef - sunDirectionEcef(*v.time_utc)), 0.0, 1e-6);
 }

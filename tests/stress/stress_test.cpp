@@ -91,12 +91,12 @@ struct StressCase {
   std::function<ExtinctionVolumes()> volume;
   double sun_azimuth_deg;
   double sun_elevation_deg;
-  std::function<void(scene::DlmSettings&, render::RenderSettings&)> settings;
+  std::function<void(lighting::DlmSettings&, render::RenderSettings&)> settings;
   std::function<void(const render::RenderOutput&, const render::DlmStats&, const render::DeepLightMap::Readback&)>
       expect;
 };
 
-void defaults(scene::DlmSettings&, render::RenderSettings&) {}
+void defaults(lighting::DlmSettings&, render::RenderSettings&) {}
 void nothing(const render::RenderOutput&, const render::DlmStats&, const render::DeepLightMap::Readback&) {}
 
 constexpr int kSize = 24;  // pixels per side
@@ -127,19 +127,19 @@ const StressCase kCases[] = {
     {"domain_1km", [] { return noisy(16, 62.5, 62.5, 0.2f); }, 135.0, 40.0, defaults, nothing},
     {"domain_10000km", [] { return uniform(64, 64, 4, 156250.0, 250.0, 2e-3f); }, 135.0, 40.0, defaults, nothing},
     {"step_huge", [] { return noisy(12, 3000.0, 250.0); }, 135.0, 45.0,
-     [](scene::DlmSettings& d, render::RenderSettings& r) {
+     [](lighting::DlmSettings& d, render::RenderSettings& r) {
        d.step_voxels = 20.0;
        r.step_voxels = 20.0;
      },
      nothing},
     {"step_tiny", [] { return noisy(12, 3000.0, 250.0); }, 135.0, 45.0,
-     [](scene::DlmSettings& d, render::RenderSettings& r) {
+     [](lighting::DlmSettings& d, render::RenderSettings& r) {
        d.step_voxels = 0.05;
        r.step_voxels = 0.02;
      },
      nothing},
     {"node_budget_overflow", [] { return noisy(12, 3000.0, 250.0); }, 200.0, 30.0,
-     [](scene::DlmSettings& d, render::RenderSettings&) {
+     [](lighting::DlmSettings& d, render::RenderSettings&) {
        d.max_nodes = 2;
        d.epsilon = 1e-4;
        d.max_epsilon_doublings = 0;
@@ -151,10 +151,10 @@ const StressCase kCases[] = {
        for (const auto& texel : map.nodes) EXPECT_LE(texel.size(), 2u);
      }},
     {"epsilon_0", [] { return noisy(12, 3000.0, 250.0); }, 200.0, 30.0,
-     [](scene::DlmSettings& d, render::RenderSettings&) { d.epsilon = 0.0; }, nothing},
+     [](lighting::DlmSettings& d, render::RenderSettings&) { d.epsilon = 0.0; }, nothing},
 };
 
-scene::Camera cameraFor(const scene::VolumeFrame& f) {
+scene::Camera cameraFor(const volume::VolumeFrame& f) {
   scene::Camera c;
   const glm::dvec3 size = f.size_m();
   c.target_m = f.min_m() + 0.5 * size;
@@ -178,7 +178,7 @@ struct Rendered {
 };
 
 Rendered renderOnce(const render::VolumeTextures& tex, const scene::Camera& cam, const scene::Sun& sun,
-                    const scene::DlmSettings& d, const render::RenderSettings& r) {
+                    const lighting::DlmSettings& d, const render::RenderSettings& r) {
   Rendered x;
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), d);
@@ -194,12 +194,12 @@ class StressTest : public GlTest, public ::testing::WithParamInterface<StressCas
 TEST_P(StressTest, InvariantsHold) {
   const StressCase& c = GetParam();
   const ExtinctionVolumes v = c.volume();
-  const scene::VolumeFrame frame = scene::frameOf(v);
+  const volume::VolumeFrame frame = volume::frameOf(v);
   const auto tex = render::VolumeTextures::upload(v, frame, std::string("stress-") + c.name);
   scene::Sun sun;
   sun.azimuth_deg = c.sun_azimuth_deg;
   sun.elevation_deg = c.sun_elevation_deg;
-  scene::DlmSettings d;
+  lighting::DlmSettings d;
   render::RenderSettings r;
   r.jitter = false;
   c.settings(d, r);
@@ -243,7 +243,7 @@ TEST_P(StressTest, InvariantsHold) {
       ASSERT_LE(n.intensity, 1.0);
     }
   // monotone without added scattering (pass 1 only)
-  scene::DlmSettings central = d;
+  lighting::DlmSettings central = d;
   central.peripheral = false;
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), central);
@@ -276,7 +276,7 @@ TEST_F(StressBadVoxels, AreRejectedBeforeTheGpu) {
     for (int phase = 0; phase < 2; ++phase) {
       ExtinctionVolumes v = uniform(4, 4, 4, 3000.0, 250.0, 1e-3f);
       (phase ? v.ice_per_m : v.water_per_m)[21] = badValue;
-      const scene::VolumeFrame frame = scene::frameOf(v);
+      const volume::VolumeFrame frame = volume::frameOf(v);
       EXPECT_THROW(render::VolumeTextures::upload(v, frame, "bad"), InputError) << badValue;
       if (badValue <= 1e6f || std::isnan(badValue)) {
         EXPECT_THROW(reference::PathTracer(v, frame, scene::Sun{}, reference::PathTracerSettings{}), InputError);
@@ -299,7 +299,7 @@ TEST_F(StressConvergence, GpuAlphaMatchesPathTracerAndConvergesAtSecondOrder) {
   };
   Scene scenes[] = {{"cirrus", accuracy::cirrusLayer(24, 4), 4.0}, {"cumulus", accuracy::cumulusField(24, 5), 1.0}};
   for (Scene& s : scenes) {
-    const scene::VolumeFrame frame = scene::frameOf(s.v, s.exaggeration);
+    const volume::VolumeFrame frame = volume::frameOf(s.v, s.exaggeration);
     const auto tex = render::VolumeTextures::upload(s.v, frame, std::string("conv-") + s.name);
     const scene::Sun sun{200.0, 40.0};
     scene::Camera cam = cameraFor(frame);
@@ -308,7 +308,7 @@ TEST_F(StressConvergence, GpuAlphaMatchesPathTracerAndConvergesAtSecondOrder) {
     const reference::PathTracer pt(s.v, frame, sun, reference::PathTracerSettings{});
     const std::vector<float> exact = pt.renderAlpha(cam);
     render::DeepLightMap dlm;
-    dlm.build(tex, -sun.toSun(), scene::DlmSettings{});
+    dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
     render::CloudRenderer renderer;
     std::vector<double> rmse;
     double coverage = 0.0;

@@ -15,7 +15,7 @@ namespace nph::render {
 namespace {
 
 // The light space as glsl/dlm/light_space.glsl reads it (float, like the GPU).
-gl::LightSpaceBlock lightSpaceBlock(const scene::LightSpace& ls) {
+gl::LightSpaceBlock lightSpaceBlock(const lighting::LightSpace& ls) {
   gl::LightSpaceBlock b;
   b.origin_m = glm::vec3(ls.origin_m);
   b.depth_m = float(ls.depth_m);
@@ -145,10 +145,10 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
 }
 
 bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDirection,
-                         const scene::DlmSettings& settings) {
+                         const lighting::DlmSettings& settings) {
   const glm::dvec3 dir = glm::normalize(lightDirection);
   // Height exaggeration keeps the data's optical depth: β along the light is scaled by f(light)
-  // (scene::VolumeFrame::opticalDepthScale; docs/rendering.md "Conventions" 3).
+  // (volume::VolumeFrame::opticalDepthScale; docs/rendering.md "Conventions" 3).
   const double depthScale = volume.frame().opticalDepthScale(dir);
   const std::string key = fmt::format("{}|{:.12f},{:.12f},{:.12f}|{:.12f}|{}", volume.identity(), dir.x, dir.y, dir.z,
                                       depthScale, settings.key());
@@ -168,16 +168,16 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   if (!(settings.epsilon >= 0.0)) throw UsageError("DLM settings: epsilon must be >= 0");
   gl::DebugGroup group("deep light map");
   settings_ = settings;
-  fractions_ = scene::forwardFractions(settings);
+  fractions_ = lighting::forwardFractions(settings);
 
   // Light space fitted to the non-empty part of the volume.
   glm::dvec3 lo, hi;
   volume.nonEmptyBox(lo, hi);
-  scene::LightSpace basis;
-  scene::lightBasis(dir, basis.u, basis.v, basis.w);
+  lighting::LightSpace basis;
+  lighting::lightBasis(dir, basis.u, basis.v, basis.w);
   const glm::dvec3 voxel = volume.frame().voxel_size_m;
-  light_space_ = scene::fitLightSpace(dir, lo, hi, scene::lightTexelSize(basis, voxel, settings.texel_voxels),
-                                      settings.max_texels);
+  light_space_ = lighting::fitLightSpace(dir, lo, hi, lighting::lightTexelSize(basis, voxel, settings.texel_voxels),
+                                         settings.max_texels);
   light_space_block_.update(lightSpaceBlock(light_space_));
   step_m_ = settings.step_voxels * std::min({voxel.x, voxel.y, voxel.z});
   if (!(step_m_ > 0.0)) throw UsageError("DLM settings: step_voxels must be positive");
@@ -368,10 +368,10 @@ DeepLightMap::Readback DeepLightMap::readBack() const {
   return r;
 }
 
-double DeepLightMap::lookup(const Readback& map, const scene::LightSpace& ls, const glm::dvec3& world_m) {
-  return scene::blendTexels(ls, ls.lightFromWorld(world_m), [&](int a, int b, double z) {
+double DeepLightMap::lookup(const Readback& map, const lighting::LightSpace& ls, const glm::dvec3& world_m) {
+  return lighting::blendTexels(ls, ls.lightFromWorld(world_m), [&](int a, int b, double z) {
     const auto& nodes = map.nodes[std::size_t(b) * std::size_t(ls.texels.x) + std::size_t(a)];
-    return scene::evaluateLightFunction(nodes.data(), int(nodes.size()), z);
+    return lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), z);
   });
 }
 

@@ -64,13 +64,13 @@ class DeepLightMap {
 
   /// Builds the map for `volume` lit along `lightDirection` (the direction sunlight travels,
   /// i.e. −Sun::toSun()). Returns false when the cache key is unchanged and nothing was done.
-  bool build(const VolumeTextures& volume, const glm::dvec3& lightDirection, const scene::DlmSettings& settings);
+  bool build(const VolumeTextures& volume, const glm::dvec3& lightDirection, const lighting::DlmSettings& settings);
 
-  const scene::LightSpace& lightSpace() const { return light_space_; }
+  const lighting::LightSpace& lightSpace() const { return light_space_; }
   const DlmStats& stats() const { return stats_; }
   /// The settings of the last build as applied (scatter_slice_steps may have been lengthened to
   /// fit GL_MAX_3D_TEXTURE_SIZE) — pass these to the CPU reference.
-  const scene::DlmSettings& settings() const { return settings_; }
+  const lighting::DlmSettings& settings() const { return settings_; }
   const std::string& cacheKey() const { return key_; }
 
   /// Binds the node and count textures (UNIT_DLM_NODES, UNIT_DLM_COUNTS), the LightSpaceBlock
@@ -97,14 +97,14 @@ class DeepLightMap {
 
   /// Reads the whole map back (tests, CPU comparisons): node lists per texel (a + b·nu).
   struct Readback {
-    std::vector<std::vector<scene::LightNode>> nodes;
+    std::vector<std::vector<lighting::LightNode>> nodes;
     std::vector<float> texel_epsilon;
     std::vector<bool> unbounded;
   };
   Readback readBack() const;
   /// The GPU look-up (glsl/dlm/lookup.glsl) on the CPU, on a read-back map: bilinear across
   /// texels, 1 outside the footprint, constant past the ends of each node list.
-  static double lookup(const Readback& map, const scene::LightSpace& lightSpace, const glm::dvec3& world_m);
+  static double lookup(const Readback& map, const lighting::LightSpace& lightSpace, const glm::dvec3& world_m);
 
  private:
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
@@ -114,10 +114,10 @@ class DeepLightMap {
   gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_, light_cache_bake_;
   gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_, light_cache_;
   DlmBaseline baseline_;
-  scene::LightSpace light_space_;
+  lighting::LightSpace light_space_;
   gl::UniformBuffer<gl::LightSpaceBlock> light_space_block_;  // light_space_ for the GLSL passes
-  scene::DlmSettings settings_;
-  scene::ForwardFractions fractions_;
+  lighting::DlmSettings settings_;
+  lighting::ForwardFractions fractions_;
   double step_m_ = 0.0;
   double depth_scale_ = 1.0;  ///< β scale along the light (VolumeFrame::opticalDepthScale)
   int steps_ = 0;

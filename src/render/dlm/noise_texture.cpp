@@ -8,7 +8,7 @@ namespace nph::render {
 
 std::shared_ptr<const NoiseTexture> NoiseTexture::generate() {
   auto n = std::make_shared<NoiseTexture>();
-  const int size = scene::kNoiseTexels;
+  const int size = volume::kNoiseTexels;
   n->texture_ = gl::Texture::create3D(GL_RGBA8, size, size, size).label("detail noise tile");
   n->texture_.sampling(GL_LINEAR, GL_REPEAT);
   const gl::Program program = gl::Program::compute("render/noise.comp");

@@ -44,27 +44,27 @@ bool anyPositive(const float* a, std::size_t n) {
 }
 }  // namespace
 
-VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const scene::VolumeFrame& frame, std::string identity,
-                                      const UploadOptions& o) {
+VolumeTextures VolumeTextures::upload(const ExtinctionVolumes& v, const volume::VolumeFrame& frame,
+                                      std::string identity, const UploadOptions& o) {
   return upload(VolumeSlices(v), frame, std::move(identity), o);
 }
 
-VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene::VolumeFrame& frame,
+VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume::VolumeFrame& frame,
                                       std::string identity, const UploadOptions& o) {
   const ExtinctionVolumes& header = data.volumes();
   if (header.voxelCount() == 0) throw UsageError("VolumeTextures::upload: empty volume");
-  const scene::Reconstruction reconstruction = o.reconstruction;
-  const scene::Detail detail = o.detail;
+  const volume::Reconstruction reconstruction = o.reconstruction;
+  const volume::Detail detail = o.detail;
   VolumeTextures t;
   t.frame_ = frame;
   t.identity_ = std::move(identity);
-  if (reconstruction != scene::Reconstruction::Trilinear)
-    t.identity_ += fmt::format("|{}", scene::kReconstructionNames[std::size_t(reconstruction)]);
+  if (reconstruction != volume::Reconstruction::Trilinear)
+    t.identity_ += fmt::format("|{}", volume::kReconstructionNames[std::size_t(reconstruction)]);
   t.reconstruction_ = reconstruction;
-  t.detail_ = scene::detailParameters(detail, frame);
+  t.detail_ = volume::detailParameters(detail, frame);
   if (t.detail_.on()) {
-    t.identity_ += fmt::format("|detail={}", scene::kDetailNames[std::size_t(detail)]);
-    const scene::MassPattern& d = scene::kMassPattern;
+    t.identity_ += fmt::format("|detail={}", volume::kDetailNames[std::size_t(detail)]);
+    const volume::MassPattern& d = volume::kMassPattern;
     if (o.mass.rays_per_axis != d.rays_per_axis || o.mass.step_layers != d.step_layers ||
         o.mass.occupied_only != d.occupied_only)
       t.identity_ += fmt::format("|mass={},{},{}", o.mass.rays_per_axis, o.mass.step_layers, int(o.mass.occupied_only));
@@ -90,9 +90,9 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
   std::optional<ExtinctionVolumes> decodedData;
   std::optional<VolumeSlices> coefficients;
   const ExtinctionVolumes* dataWhole = data.whole();
-  if (scene::readsSplineCoefficients(reconstruction)) {
+  if (volume::readsSplineCoefficients(reconstruction)) {
     if (!dataWhole) dataWhole = &decodedData.emplace(data.materialise());
-    coefficients.emplace(std::make_shared<const ExtinctionVolumes>(scene::splineCoefficientVolumes(*dataWhole)));
+    coefficients.emplace(std::make_shared<const ExtinctionVolumes>(volume::splineCoefficientVolumes(*dataWhole)));
   }
   const ExtinctionSlices& src = coefficients ? *coefficients : data;
   // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
@@ -100,7 +100,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
   // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
   // (12 bytes per voxel more) are made only for the cubic filter and the detail, whose fetches need
   // the zero border or displaced positions, and for VolumeStorage::Reference (the float baseline).
-  const bool packed = reconstruction == scene::Reconstruction::Trilinear && !t.detail_.on();
+  const bool packed = reconstruction == volume::Reconstruction::Trilinear && !t.detail_.on();
   const bool separate = !packed || o.storage == VolumeStorage::Reference;
   if (packed && separate) t.identity_ += "|reference";  // its DLM reads β in float: another map
   // The float volume whole, where a path reads the grid at once (the separate textures, the
@@ -159,7 +159,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
   }
   // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
   // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
-  t.terrain_ = scene::terrainOf(header, frame, o.dem);
+  t.terrain_ = volume::terrainOf(header, frame, o.dem);
   {
     const bool present = t.terrain_.present();
     const int w = present ? t.terrain_.size.x : 1, h = present ? t.terrain_.size.y : 1;
@@ -186,7 +186,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
   }
   if (t.detail_.on()) {
     // Sub-grid detail (volume/detail.h): the controls at data resolution and the noise tile.
-    const scene::DetailControls controls = scene::buildDetailControls(coefficients ? *dataWhole : *whole);
+    const volume::DetailControls controls = volume::buildDetailControls(coefficients ? *dataWhole : *whole);
     t.controls_ = gl::Texture::create3D(GL_RGBA8, n.x, n.y, n.z).label("detail controls");
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(t.controls_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RGBA, GL_UNSIGNED_BYTE, controls.rgba.data());
@@ -201,12 +201,12 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
   block.brick_voxels = t.occupancy_.brick;
   block.has_ice = t.hasIce() ? 1u : 0u;
   block.has_water = t.hasWater() ? 1u : 0u;
-  block.reconstruction = scene::cubicWeights(reconstruction) ? 1 : 0;  // the shaders' RECONSTRUCTION_CUBIC
-  block.reach_voxels = float(scene::reachVoxels(reconstruction) + t.detail_.reach_voxels);
+  block.reconstruction = volume::cubicWeights(reconstruction) ? 1 : 0;  // the shaders' RECONSTRUCTION_CUBIC
+  block.reach_voxels = float(volume::reachVoxels(reconstruction) + t.detail_.reach_voxels);
   block.packed_beta_unit_per_m = t.packed_beta_unit_per_m_;
   block.packed_only = packed && !separate ? 1u : 0u;
   if (t.detail_.on()) {
-    const scene::NoiseStats& st = scene::noiseVolume().stats;
+    const volume::NoiseStats& st = volume::noiseVolume().stats;
     block.detail = static_cast<std::int32_t>(detail);
     block.detail_amplitude = float(t.detail_.amplitude);
     block.noise_period_m = glm::vec3(t.detail_.period_m);
@@ -226,32 +226,32 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const scene:
     t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   if (t.detail_.on()) {
-    const scene::HalfColumnMasses masses = t.measureHalfColumnMasses(*whole, o.mass);
-    const std::vector<float> c = scene::solveDetailCorrection(masses);
-    maxScale = float(scene::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
+    const volume::HalfColumnMasses masses = t.measureHalfColumnMasses(*whole, o.mass);
+    const std::vector<float> c = volume::solveDetailCorrection(masses);
+    maxScale = float(volume::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
     t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
     glTextureSubImage2D(t.correction_.id(), 0, 0, 0, n.x, n.y, GL_RED, GL_FLOAT, c.data());
     t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // constant per column (volume/detail.h)
   }
   t.occupancy_ = t.detail_.on()
-                     ? scene::buildOccupancy(src, o.brick_voxels, reconstruction, t.detail_.reach_voxels, maxScale)
-                     : scene::buildOccupancy(src, o.brick_voxels, reconstruction);
+                     ? volume::buildOccupancy(src, o.brick_voxels, reconstruction, t.detail_.reach_voxels, maxScale)
+                     : volume::buildOccupancy(src, o.brick_voxels, reconstruction);
   t.occupancy_tex_ = upload3D(t.occupancy_.max_per_m, t.occupancy_.bricks, "occupancy max [1/m]");
   t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   return t;
 }
 
-scene::HalfColumnMasses VolumeTextures::measureHalfColumnMasses(const ExtinctionVolumes& v,
-                                                                const scene::MassPattern& pattern) const {
-  scene::HalfColumnMasses m;
+volume::HalfColumnMasses VolumeTextures::measureHalfColumnMasses(const ExtinctionVolumes& v,
+                                                                 const volume::MassPattern& pattern) const {
+  volume::HalfColumnMasses m;
   m.nx = frame_.voxels.x;
   m.ny = frame_.voxels.y;
   const glm::ivec2 h(2 * m.nx, 2 * m.ny);
   auto image = gl::Texture::create2D(GL_RG32F, h.x, h.y).label("detail half-column masses");
   // The step range per model column (volume/detail.h massStepRanges), as the CPU twin marches it.
-  const int filterReach = scene::reachVoxels(reconstruction_);
+  const int filterReach = volume::reachVoxels(reconstruction_);
   const std::vector<glm::ivec2> ranges =
-      scene::massStepRanges(v, filterReach, filterReach + detail_.reach_voxels, pattern);
+      volume::massStepRanges(v, filterReach, filterReach + detail_.reach_voxels, pattern);
   auto rangeImage = gl::Texture::create2D(GL_RG32I, m.nx, m.ny).label("detail mass step ranges");
   glTextureSubImage2D(rangeImage.id(), 0, 0, 0, m.nx, m.ny, GL_RG_INTEGER, GL_INT, ranges.data());
   const gl::Program program = gl::Program::compute("render/detail_mass.comp");

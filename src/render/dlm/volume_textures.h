@@ -35,21 +35,21 @@ struct UploadOptions {
   /// The filter every pass applies (volume/reconstruction.h): the occupancy is dilated by its
   /// reach, and a cubic upload's identity gets "|cubic" appended (a DLM built with one filter is
   /// never reused for the other).
-  scene::Reconstruction reconstruction = scene::Reconstruction::Trilinear;
+  volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;
   int brick_voxels = 8;  ///< the occupancy's brick edge
   /// Other than None (volume/detail.h): the per-voxel controls are built and uploaded, the noise
   /// tile is `noise` or generated now (NoiseTexture::generate), the occupancy is dilated by the
   /// displacement's reach too and its maxima × 2·max c, the per-column mass correction c is
   /// measured on the GPU with `mass` and solved, and the identity gets "|detail=<name>" (and
   /// "|mass=<rays>,<step>,<occupied>" for a pattern other than kMassPattern: benchmarks, tests).
-  scene::Detail detail = scene::Detail::None;
+  volume::Detail detail = volume::Detail::None;
   std::shared_ptr<const NoiseTexture> noise = nullptr;
   VolumeStorage storage = VolumeStorage::Compact;
-  /// A user DEM (scene/dem.h) resampled for the terrain (scene::terrainOf's rule: it wins where
+  /// A user DEM (scene/dem.h) resampled for the terrain (volume::terrainOf's rule: it wins where
   /// it has data) and its far field beyond the domain; null for none. The DLM does not read the
   /// terrain, so the identity does not change with it. Must outlive the upload call only.
-  const scene::DemHeights* dem = nullptr;
-  scene::MassPattern mass = scene::kMassPattern;
+  const volume::DemHeights* dem = nullptr;
+  volume::MassPattern mass = volume::kMassPattern;
 };
 
 class VolumeTextures {
@@ -57,21 +57,21 @@ class VolumeTextures {
   /// Uploads `volumes` placed by `frame` as `options` say; `identity` names this content (file +
   /// timestep) for the DLM cache key — two uploads with the same identity must hold the same data.
   /// Throws InputError for a NaN, infinite, negative or absurd (> 1e6 /m) voxel.
-  static VolumeTextures upload(const ExtinctionVolumes& volumes, const scene::VolumeFrame& frame, std::string identity,
+  static VolumeTextures upload(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame, std::string identity,
                                const UploadOptions& options = {});
   /// The same from a source read layer by layer (volume/extinction_slices.h; issue 19, memory):
   /// where the packed texture is the only copy (trilinear, no detail, Compact) the checks, the
   /// occupancy, the column depths and the packed texture are built a layer at a time, so a
   /// cache::NphReader::readSlices source never holds its float volume whole; the other paths
   /// materialise it. The same textures, bit for bit, as upload(slices.materialise(), …).
-  static VolumeTextures upload(const ExtinctionSlices& slices, const scene::VolumeFrame& frame, std::string identity,
+  static VolumeTextures upload(const ExtinctionSlices& slices, const volume::VolumeFrame& frame, std::string identity,
                                const UploadOptions& options = {});
 
-  const scene::VolumeFrame& frame() const { return frame_; }
-  const scene::OccupancyGrid& occupancy() const { return occupancy_; }
+  const volume::VolumeFrame& frame() const { return frame_; }
+  const volume::OccupancyGrid& occupancy() const { return occupancy_; }
   const std::string& identity() const { return identity_; }
-  scene::Reconstruction reconstruction() const { return reconstruction_; }
-  const scene::DetailParameters& detail() const { return detail_; }
+  volume::Reconstruction reconstruction() const { return reconstruction_; }
+  const volume::DetailParameters& detail() const { return detail_; }
   /// The noise tile in use (null without detail): pass it to the next upload to reuse it.
   const std::shared_ptr<const NoiseTexture>& noise() const { return noise_; }
   bool hasIce() const { return has_ice_; }
@@ -95,7 +95,7 @@ class VolumeTextures {
   void nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const;
   /// The ground's height field of this timestep (issue 14), placed by frame(); not present()
   /// when the volumes carry no terrain or only sea level.
-  const scene::TerrainField& terrain() const { return terrain_; }
+  const volume::TerrainField& terrain() const { return terrain_; }
 
   /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
   /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h),
@@ -110,8 +110,8 @@ class VolumeTextures {
   /// The plain and the uncorrected detailed half-column masses of a detailed upload, measured on the
   /// GPU with `pattern` (glsl/render/detail_mass.comp; volume/detail.h); `volumes` are the ones
   /// uploaded (for the pattern's step ranges). Binds the textures.
-  scene::HalfColumnMasses measureHalfColumnMasses(const ExtinctionVolumes& volumes,
-                                                  const scene::MassPattern& pattern) const;
+  volume::HalfColumnMasses measureHalfColumnMasses(const ExtinctionVolumes& volumes,
+                                                   const volume::MassPattern& pattern) const;
 
  private:
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, far_terrain_tex_, controls_, zero_rgba_,
@@ -119,14 +119,14 @@ class VolumeTextures {
   gl::Texture packed_;
   float packed_beta_unit_per_m_ = 0.0f;
   bool has_ice_ = false, has_water_ = false;
-  scene::TerrainField terrain_;
+  volume::TerrainField terrain_;
   std::shared_ptr<const NoiseTexture> noise_;
-  scene::DetailParameters detail_;
+  volume::DetailParameters detail_;
   gl::UniformBuffer<gl::VolumeBlock> block_;
-  scene::VolumeFrame frame_;
-  scene::OccupancyGrid occupancy_;
+  volume::VolumeFrame frame_;
+  volume::OccupancyGrid occupancy_;
   std::string identity_;
-  scene::Reconstruction reconstruction_ = scene::Reconstruction::Trilinear;
+  volume::Reconstruction reconstruction_ = volume::Reconstruction::Trilinear;
 };
 
 }  // namespace nph::render

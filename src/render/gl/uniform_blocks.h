@@ -71,9 +71,9 @@ struct VolumeBlock {
   std::uint32_t has_ice = 0;        ///< u_has_ice (bool): absent phases are never fetched
   glm::ivec3 voxels{0};             ///< u_voxels
   std::uint32_t has_water = 0;      ///< u_has_water (bool)
-  std::int32_t reconstruction = 0;  ///< u_reconstruction: scene::Reconstruction (0 trilinear, 1 cubic)
+  std::int32_t reconstruction = 0;  ///< u_reconstruction: volume::Reconstruction (0 trilinear, 1 cubic)
   float reach_voxels = 1.0f;        ///< u_reach_voxels: reachVoxels(reconstruction) + the detail's reach
-  std::int32_t detail = 0;          ///< u_detail: scene::Detail (0 none, 1 subtle, 2 full)
+  std::int32_t detail = 0;          ///< u_detail: volume::Detail (0 none, 1 subtle, 2 full)
   float detail_amplitude = 0.0f;    ///< u_detail_amplitude (volume/detail.h)
   glm::vec3 noise_period_m{1.0f};   ///< u_noise_period_m: world metres per noise tile
   /// u_packed_beta_unit_per_m: β's unit in the packed RGBA16F texture (VolumeTextures::hasPacked)

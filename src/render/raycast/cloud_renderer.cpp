@@ -156,7 +156,7 @@ void CloudRenderer::updateGlobeBlock(const ViewRays& view, const VolumeTextures&
   if (!globe_) return;  // clouds.comp reads GlobeBlock only when RaycastBlock::globe is set
   const GlobeMapping& m = *globe_;
   const double o2 = glm::dot(view.position_m, view.position_m);  // double: |o|² − r² cancels
-  const double R = scene::kEarthRadius_m;
+  const double R = volume::kEarthRadius_m;
   gl::GlobeBlock b;
   b.local_from_ecef = gl::Std140Mat3(glm::mat3(m.local_from_ecef));
   b.ab_min_rad = glm::vec2(m.ab_min_rad);
@@ -174,7 +174,7 @@ void CloudRenderer::updateGlobeBlock(const ViewRays& view, const VolumeTextures&
   // (the radius changes at most 1 m per metre; the world point moves at most L_h world metres per
   // ECEF metre and the surface rises at most L per world metre; the margin's ramp at most
   // H_max/edge per metre), +1 %.
-  const scene::TerrainField& t = volume.terrain();
+  const volume::TerrainField& t = volume.terrain();
   const double top = R + std::max(t.max_m, 0.0), bottom = R + std::min(t.min_m, 0.0) - 1.0;
   b.terrain_c_m2 = glm::vec2(float(o2 - top * top), float(o2 - bottom * bottom));
   const double edge_m = std::max(m.margin_rad * R, 1.0);
@@ -190,7 +190,7 @@ void CloudRenderer::updateGlobeBlock(const ViewRays& view, const VolumeTextures&
 
 void CloudRenderer::updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& s) {
   glBindTextureUnit(gl::binding::UNIT_FAR_BASEMAP, far_basemap_ ? far_basemap_.id() : blank_.id());
-  const scene::TerrainField& t = volume.terrain();
+  const volume::TerrainField& t = volume.terrain();
   gl::TerrainBlock b;
   b.size = t.size;
   b.cell_m = glm::vec2(t.cell_m);
@@ -240,7 +240,7 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Deep
   f.atmosphere = s.atmosphere;
   f.passes = passes_;
   f.detail = volume.detail().on();
-  f.cubic = scene::cubicWeights(volume.reconstruction());
+  f.cubic = volume::cubicWeights(volume.reconstruction());
   f.light_cache = dlm.hasLightCache();
   f.packed = volume.hasPacked() && !baseline_.separate_textures;
   return f;

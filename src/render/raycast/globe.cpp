@@ -12,7 +12,7 @@
 namespace nph::render {
 namespace {
 
-constexpr double kR = scene::kEarthRadius_m;
+constexpr double kR = volume::kEarthRadius_m;
 
 glm::dvec3 ecefFromRotated(const GlobeMapping& m, glm::dvec2 ab) {
   const glm::dvec3 local{std::cos(ab.y) * std::sin(ab.x), std::sin(ab.y), std::cos(ab.y) * std::cos(ab.x)};
@@ -34,7 +34,7 @@ glm::dvec2 rotatedLonLat(const GlobeMapping& m, const glm::dvec3& p) {
 
 GlobeMapping buildGlobeMapping(const scene::SceneGeoreference& geo, int long_side) {
   if (long_side < 2) throw UsageError(fmt::format("globe: look-up table of {} texels", long_side));
-  const scene::VolumeFrame& f = geo.frame();
+  const volume::VolumeFrame& f = geo.frame();
   const glm::dvec3 pad = f.voxel_size_m;  // β fades to 0 over one voxel outside the box
   const glm::dvec3 lo = f.min_m() - pad, hi = f.max_m() + pad;
   GlobeMapping m;

@@ -1,7 +1,7 @@
 #pragma once
 // Globe view (Nes 2008 §7.2 future work: "the clouds ... on a spherical Earth"): the eye rays are
 // straight lines in Earth-centred coordinates (ECEF, metres, sphere of radius
-// scene::kEarthRadius_m), while the extinction volumes, their occupancy bricks and the deep light
+// volume::kEarthRadius_m), while the extinction volumes, their occupancy bricks and the deep light
 // map stay in the flat world frame of volume/volume_frame.h. Each ray sample p (ECEF) is carried
 // into the world frame and looked up there:
 //   world z  = |p| − R                      (world z already carries the height exaggeration, as
