@@ -272,7 +272,7 @@ XML
     done
     NEPHELE_LOG=info run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/dem.png" --width 64 --height 36 --dem "$out/dem-m.asc"
     expect_rc 0
-    grep -E -q 'DEM .*dem-m.asc: heights on [1-9][0-9]* of [0-9]+ model columns' "$out/stderr" ||
+    grep -E -q 'DEM .*dem-m.asc: heights on [1-9][0-9]* of [0-9]+ (model columns|lattice points)' "$out/stderr" ||
       fail "the DEM did not reach the model's columns; stderr: $stderr"
     run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/dem-cm.png" --width 32 --height 18 --dem "$out/dem-cm.asc"
     expect_rc 1; expect_err "dem-cm.asc"; expect_err "expected metres above sea level"
@@ -397,7 +397,7 @@ PY
   "data": { "path": "$src" },
   "camera": { "position_m": [-150000, -250000, 250000], "target_m": [300000, 270000, 5000], "fov_deg": 45 },
   "sun": { "azimuth_deg": 140, "elevation_deg": 35 },
-  "quality": "draft",
+  "quality": { "preset": "draft", "overrides": { "cloud_resolution": 1 } },
   "output": { "width": 96, "height": 54 },
   "height_exaggeration": 8,
   "animation": { "from": 0, "to": 2, "fps": 4, "duration_s": 1.0 }
