@@ -6,10 +6,10 @@
 // ½ voxel trilinear, 1½ voxels cubic) instead of jumping at the face, so a ray skimming a face
 // cannot flip between "cloud" and "clear" on float rounding.
 //
-// Sub-grid detail (issue 13; volume/detail.h, glsl/common/detail.glsl): with u_detail ≠ 0,
-// extinctionAt returns the detailed field β(x + d)·ρ(x + d), d and ρ from the noise tile (generated
-// once by glsl/render/noise.comp) addressed in world metres and the RGBA8 controls at data
-// resolution, times the per-column mass correction (bilinear between column centres). u_reach_voxels
+// Sub-grid detail (issue 13; volume/detail.h, glsl/common/detail.glsl, detail_field.glsl): with
+// u_detail ≠ 0, extinctionAt returns the detailed field β(x + d)·ρ(x + d)·s, d and ρ from the noise
+// tile (generated once by glsl/render/noise.comp) addressed in world metres and the RGBA8 controls at
+// data resolution, times the per-column mass correction (constant per column). u_reach_voxels
 // then includes the displacement's reach and the occupancy maxima are × 2·max c (ρ ≤ 2), so
 // empty-space skipping stays conservative.
 #include "common/math.glsl"
@@ -137,48 +137,22 @@ vec2 plainExtinctionAt(vec3 world_m) {
              vec2(0.0));
 }
 
-// The shape's coverage at a world position (glsl/common/detail.glsl detailShape): the largest
-// C_n of the 3×3 columns around the nearest column centre, each column's β read at its centre
-// (GL_LINEAR in height only; the zero border outside the grid). Columns farther than 1½ columns on
-// an axis add at most exp(−1.5²/2σ²) = 0.10, below any edge (coverage ≥ θ − w − A = 0.15), so the
-// switch of the 3×3 set at a column face leaves the shape continuous. CPU twin:
-// ExtinctionSampler::coverageAt.
-float detailCoverageAt(vec3 world_m) {
-  vec3 uvw = volumeUvw(world_m);
-  vec2 n = vec2(u_voxels.xy);
-  vec2 g = uvw.xy * n - 0.5;  // continuous column index, centres at integers
-  vec2 nearest = floor(g + 0.5);
-  float column_m = max(u_box_size_m.x / n.x, u_box_size_m.y / n.y);
-  float coverage = 0.0;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      vec2 col = nearest + vec2(dx, dy);
-      vec3 t = vec3((col + 0.5) / n, uvw.z);
-      float b = (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
-      coverage = max(coverage, detailColumnCoverage(b, g - col, column_m));
-    }
-  }
-  return coverage;
+// The primitives glsl/common/detail_field.glsl reads the volume through (its CPU twin defines the
+// same on the voxels: volume/extinction_sampler.cpp).
+vec4 detailControlsAt(vec3 uvw) { return texture(u_detail_controls, uvw); }
+vec4 detailNoiseAt(vec3 q) { return texture(u_detail_noise, q); }
+float columnExtinctionAt(vec2 column_uv, float w) {
+  vec3 t = vec3(column_uv, w);
+  return (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
 }
+float detailCorrectionAt(vec2 uv) { return texture(u_detail_correction, uv).r; }
+#include "common/detail_field.glsl"
 
-// (β_ice, β_water) at a world position: the field every pass integrates. The CPU twin is
-// ExtinctionSampler::at (same order of operations, same detail.glsl).
+// (β_ice, β_water) at a world position: the field every pass integrates (the detailed field of
+// glsl/common/detail_field.glsl when the detail is on). The CPU twin is ExtinctionSampler::at.
 vec2 extinctionAt(vec3 world_m) {
   if (!DETAIL_ON) return plainExtinctionAt(world_m);
-  vec3 uvw = volumeUvw(world_m);
-  if (!insideGrownVolume(uvw)) return vec2(0.0);
-  vec4 c = texture(u_detail_controls, uvw);
-  vec4 nd = texture(u_detail_noise, world_m / (2.0 * u_noise_period_m));
-  vec3 d = detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, u_noise_stats_gs.xy);
-  vec3 q = world_m + d;
-  vec2 beta = plainExtinctionAt(q);
-  if (!(beta.x + beta.y > 0.0)) return beta;
-  vec3 qn = q / u_noise_period_m;
-  vec4 n1 = texture(u_detail_noise, qn), n2 = texture(u_detail_noise, detailSecondFrame(qn));
-  float rho = detailDensity(n1, n2, c, u_detail_amplitude, u_noise_stats_gs.zw, u_noise_stats_c.xy);
-  float m = detailModulation(n1, n2, c.y, u_noise_stats_gs.zw, u_noise_stats_c.xy);
-  float shape = detailShape(detailCoverageAt(world_m + kDetailShapeDisplacement * d), m, u_detail_amplitude);
-  return beta * (rho * shape * texture(u_detail_correction, uvw.xy).r);
+  return detailedExtinctionAt(world_m);
 }
 
 // Max β of the occupancy brick containing `world_m`; in the shell around the box (the filter's

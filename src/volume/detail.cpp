@@ -15,6 +15,12 @@ static_assert(double(kDetailShapeDisplacement) == kDetailShapeDisplacementScale,
               "volume/detail.h and detail.glsl must agree on the shape's displacement");
 }  // namespace detail_f32
 
+void packNoiseStats(const NoiseStats& s, glm::vec4& ra, glm::vec4& gs, glm::vec4& c) {
+  ra = glm::vec4(s.r.mean, s.r.half_range, s.a.mean, s.a.half_range);
+  gs = glm::vec4(s.g.mean, s.g.half_range, s.stratiform.mean, s.stratiform.half_range);
+  c = glm::vec4(s.convective.mean, s.convective.half_range, 0.0f, 0.0f);
+}
+
 DetailParameters detailParameters(Detail detail, const VolumeFrame& frame) {
   DetailParameters p;
   p.detail = detail;

@@ -146,6 +146,10 @@ glm::dvec3 detailSecondFrame(const glm::dvec3& q);
 double detailModulation(const glm::dvec4& n1, const glm::dvec4& n2, double convective, const NoiseStats& s);
 double detailColumnCoverage(double beta_per_m, const glm::dvec2& d_columns, double column_m);
 double detailShape(double coverage, double m, double amplitude);
+/// The noise statistics as the shaders' VolumeBlock carries them (u_noise_stats_ra, _gs, _c):
+/// (r.mean, r.half, a.mean, a.half), (g.mean, g.half, stratiform.mean, stratiform.half),
+/// (convective.mean, convective.half, 0, 0).
+void packNoiseStats(const NoiseStats& s, glm::vec4& ra, glm::vec4& gs, glm::vec4& c);
 /// detail.glsl's kDetailShapeDisplacement: the shape's coverage is read at x + this × d.
 inline constexpr double kDetailShapeDisplacementScale = 3.0;
 

@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/glsl_cpp.h"
+#include "volume/noise.h"
 #include "volume/spline_coefficients.h"
 
 namespace nph::volume {
@@ -33,55 +35,89 @@ ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
   return detail_.on() ? detailedAt(world_m, true) : plainAt(world_m);
 }
 
-// The order of glsl/dlm/volume.glsl extinctionAt: controls at x, displacement from the noise at
-// x / 2P, β at the displaced point, density factor from the noise there (glsl/common/detail.glsl),
-// the column's mass correction at x (bilinear between column centres, clamped at the edges).
-ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool corrected) const {
-  const NoiseVolume& noise = noiseVolume();
-  const glm::dvec3 g = f_.gridFromWorld(world_m);
-  const glm::dvec4 c = controls_->at(g);
-  const glm::dvec3 d =
-      detailDisplacement(noise.sample(world_m / (2.0 * detail_.period_m)), c.x, detail_.reach_m, noise.stats);
-  const glm::dvec3 q = world_m + d;
-  ExtinctionSample s = plainAt(q);
-  if (!(s.total() > 0.0)) return s;
-  const glm::dvec3 qn = q / detail_.period_m;
-  const glm::dvec4 n1 = noise.sample(qn), n2 = noise.sample(detailSecondFrame(qn));
-  double rho = detailDensity(n1, n2, c, detail_.amplitude, noise.stats);
-  rho *= detailShape(coverageAt(world_m + kDetailShapeDisplacementScale * d),
-                     detailModulation(n1, n2, c.y, noise.stats), detail_.amplitude);
-  if (corrected) {  // constant per column (volume/detail.h), GL_NEAREST with GL_CLAMP_TO_EDGE
-    const int i = std::clamp(int(std::floor(g.x)), 0, f_.voxels.x - 1),
-              j = std::clamp(int(std::floor(g.y)), 0, f_.voxels.y - 1);
-    rho *= double(correction_[std::size_t(j) * std::size_t(f_.voxels.x) + std::size_t(i)]);
+namespace {
+namespace f32 {
+using namespace nph::glsl;
+using Number = float;
+#include "../glsl/common/detail.glsl"
+
+// glsl/common/detail_field.glsl compiled as members: its primitives read the sampler's voxels,
+// controls, noise and correction with the GPU's texture rules, and its uniforms are members of the
+// same names (filled as render/dlm/volume_textures.cpp fills the VolumeBlock).
+struct DetailField {
+  const ExtinctionSampler& s;
+  const DetailControls& controls;
+  const NoiseVolume& noise;
+  const std::vector<float>* correction;  ///< nullptr: uncorrected (the mass measurement)
+  ivec3 u_voxels;
+  vec3 u_box_size_m, u_displacement_m, u_noise_period_m;
+  Number u_detail_amplitude;
+  vec4 u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c;
+  Number reach_voxels;
+
+  DetailField(const ExtinctionSampler& sampler, const DetailControls& c, const std::vector<float>* corr)
+      : s(sampler), controls(c), noise(noiseVolume()), correction(corr) {
+    const VolumeFrame& f = s.frame();
+    const DetailParameters& p = s.detail();
+    u_voxels = f.voxels;
+    u_box_size_m = vec3(f.size_m());
+    u_displacement_m = vec3(p.reach_m);
+    u_noise_period_m = vec3(p.period_m);
+    u_detail_amplitude = Number(p.amplitude);
+    packNoiseStats(noise.stats, u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c);
+    reach_voxels = Number(reachVoxels(s.reconstruction()) + p.reach_voxels);
   }
-  s.ice_per_m *= rho;
-  s.water_per_m *= rho;
-  return s;
+  vec3 volumeUvw(vec3 world_m) const {
+    return vec3(s.frame().gridFromWorld(glm::dvec3(world_m)) / glm::dvec3(u_voxels));
+  }
+  bool insideGrownVolume(vec3 uvw) const {
+    const vec3 pad = reach_voxels / vec3(u_voxels);
+    return glm::all(glm::greaterThanEqual(uvw, -pad)) && glm::all(glm::lessThanEqual(uvw, Number(1.0) + pad));
+  }
+  vec2 plainExtinctionAt(vec3 world_m) const {
+    const ExtinctionSample b = s.plainAt(glm::dvec3(world_m));
+    return vec2(b.ice_per_m, b.water_per_m);
+  }
+  vec4 detailControlsAt(vec3 uvw) const { return vec4(controls.at(glm::dvec3(uvw) * glm::dvec3(u_voxels))); }
+  vec4 detailNoiseAt(vec3 q) const { return vec4(noise.sample(glm::dvec3(q))); }
+  Number columnExtinctionAt(vec2 column_uv, Number w) const {
+    const int i = int(std::floor(column_uv.x * Number(u_voxels.x))),
+              j = int(std::floor(column_uv.y * Number(u_voxels.y)));
+    return Number(s.columnAt(i, j, double(w) * double(u_voxels.z) - 0.5));
+  }
+  Number detailCorrectionAt(vec2 uv) const {
+    if (!correction) return Number(1.0);
+    const int i = std::clamp(int(std::floor(uv.x * Number(u_voxels.x))), 0, u_voxels.x - 1),
+              j = std::clamp(int(std::floor(uv.y * Number(u_voxels.y))), 0, u_voxels.y - 1);
+    return (*correction)[std::size_t(j) * std::size_t(u_voxels.x) + std::size_t(i)];
+  }
+#include "../glsl/common/detail_field.glsl"
+};
+}  // namespace f32
+}  // namespace
+
+ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool corrected) const {
+  f32::DetailField field(*this, *controls_, corrected ? &correction_ : nullptr);
+  const glm::vec2 b = field.detailedExtinctionAt(glm::vec3(world_m));
+  return {double(b.x), double(b.y)};
 }
 
-// glsl/dlm/volume.glsl detailCoverageAt: the largest C_n of the 3×3 columns around the nearest
-// column centre, each column's β at its centre, linear in height (zero outside the grid).
 double ExtinctionSampler::coverageAt(const glm::dvec3& world_m) const {
-  const glm::dvec3 g = f_.gridFromWorld(world_m);
-  const double gz = g.z - 0.5;
+  f32::DetailField field(*this, *controls_, nullptr);
+  return double(field.detailCoverageAt(glm::vec3(world_m)));
+}
+
+// β_ice + β_water of column (i, j) at the continuous level index gz (voxel centres at integers),
+// linear in height, 0 outside the grid: GL_LINEAR at a column's centre with the zero border.
+double ExtinctionSampler::columnAt(int i, int j, double gz) const {
   const int k0 = int(std::floor(gz));
   const double tz = gz - double(k0);
-  const double column_m = std::max(f_.voxel_size_m.x, f_.voxel_size_m.y);
-  const glm::dvec2 c(g.x - 0.5, g.y - 0.5);
-  const glm::ivec2 nearest(glm::floor(c + 0.5));
-  double coverage = 0.0;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      const int i = nearest.x + dx, j = nearest.y + dy;
-      double b = 0.0;
-      for (const std::vector<float>* a : {&v_->ice_per_m, &v_->water_per_m}) {
-        if (a->empty()) continue;
-        b += (1.0 - tz) * fetch(*a, i, j, k0) + tz * fetch(*a, i, j, k0 + 1);
-      }
-      coverage = std::max(coverage, detailColumnCoverage(b, c - glm::dvec2(i, j), column_m));
-    }
-  return coverage;
+  double b = 0.0;
+  for (const std::vector<float>* a : {&v_->ice_per_m, &v_->water_per_m}) {
+    if (a->empty()) continue;
+    b += (1.0 - tz) * fetch(*a, i, j, k0) + tz * fetch(*a, i, j, k0 + 1);
+  }
+  return b;
 }
 
 // The measurement of glsl/render/detail_mass.comp: per half-column, rays_per_axis² vertical rays at

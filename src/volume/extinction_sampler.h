@@ -44,8 +44,11 @@ class ExtinctionSampler {
   /// The plain and the uncorrected detailed masses on half-columns, measured with `pattern`
   /// (volume/detail.h; the correction in use is solved from kMassPattern's).
   HalfColumnMasses measureHalfColumnMasses(const MassPattern& pattern = kMassPattern) const;
-  /// The detail's shape coverage at a world position (glsl/dlm/volume.glsl detailCoverageAt).
+  /// The detail's shape coverage at a world position (glsl/common/detail_field.glsl detailCoverageAt).
   double coverageAt(const glm::dvec3& world_m) const;
+  /// β_ice + β_water of column (i, j) at the continuous level index gz (voxel centres at integers),
+  /// linear in height, 0 outside the grid (of the voxels the filter reads).
+  double columnAt(int i, int j, double gz) const;
 
  private:
   double fetch(const std::vector<float>& a, int i, int j, int k) const;

@@ -211,9 +211,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     block.detail_amplitude = float(t.detail_.amplitude);
     block.noise_period_m = glm::vec3(t.detail_.period_m);
     block.displacement_m = glm::vec3(t.detail_.reach_m);
-    block.noise_stats_ra = glm::vec4(st.r.mean, st.r.half_range, st.a.mean, st.a.half_range);
-    block.noise_stats_gs = glm::vec4(st.g.mean, st.g.half_range, st.stratiform.mean, st.stratiform.half_range);
-    block.noise_stats_c = glm::vec4(st.convective.mean, st.convective.half_range, 0.0f, 0.0f);
+    volume::packNoiseStats(st, block.noise_stats_ra, block.noise_stats_gs, block.noise_stats_c);
   }
   t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
   // The per-column mass correction of the detail (volume/detail.h): measured with the correction

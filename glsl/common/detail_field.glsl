@@ -1,0 +1,64 @@
+// The detailed extinction field (issue 13) read through the volume: one source for the shaders
+// (glsl/dlm/volume.glsl: the DLM passes and the eye pass) and their CPU twin
+// (volume/extinction_sampler.cpp, which compiles this file as C++ members of a struct whose
+// primitives read the voxels on the CPU; core/glsl_cpp.h, issue 17 item 4). The arithmetic on the
+// controls and the noise is glsl/common/detail.glsl's; this file is the order in which they are
+// read, so the GPU and the CPU cannot drift apart in it.
+//
+// The including code defines, before the #include:
+//   the volume's parameters under the VolumeBlock's names: u_voxels, u_box_size_m, u_displacement_m,
+//     u_detail_amplitude, u_noise_period_m, u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c;
+//   vec3 volumeUvw(vec3 world_m) and bool insideGrownVolume(vec3 uvw);
+//   vec2 plainExtinctionAt(vec3 world_m): (β_ice, β_water) of the reconstruction alone [1/m];
+//   vec4 detailControlsAt(vec3 uvw): the RGBA8 controls in [0, 1] (GL_LINEAR, clamp to edge);
+//   vec4 detailNoiseAt(vec3 q): the noise tile at q tiles (GL_LINEAR, GL_REPEAT);
+//   Number columnExtinctionAt(vec2 column_uv, Number w): β_ice + β_water at a column's centre
+//     (column_uv, a voxel centre horizontally) and height w (uvw units), linear in height, 0 outside
+//     the grid (GL_LINEAR with the zero border);
+//   Number detailCorrectionAt(vec2 uv): the per-column mass correction (GL_NEAREST, clamp to edge).
+//
+// Written in the GLSL subset that also compiles as C++ (core/glsl_cpp.h).
+
+// The shape's coverage at a world position (detail.glsl detailShape): the largest C_n of the 3×3
+// columns around the nearest column centre, each column's β read at its centre (linear in height
+// only; the zero border outside the grid). Columns farther than 1½ columns on an axis add at most
+// exp(−1.5²/2σ²) = 0.10, below any edge (coverage ≥ θ − w − A = 0.15), so the switch of the 3×3 set
+// at a column face leaves the shape continuous.
+Number detailCoverageAt(vec3 world_m) {
+  vec3 uvw = volumeUvw(world_m);
+  vec2 n = vec2(u_voxels.x, u_voxels.y);
+  vec2 g = vec2(uvw.x, uvw.y) * n - Number(0.5);  // continuous column index, centres at integers
+  vec2 nearest = floor(g + Number(0.5));
+  Number column_m = max(u_box_size_m.x / n.x, u_box_size_m.y / n.y);
+  Number coverage = Number(0.0);
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      vec2 col = nearest + vec2(Number(dx), Number(dy));
+      Number b = columnExtinctionAt((col + Number(0.5)) / n, uvw.z);
+      coverage = max(coverage, detailColumnCoverage(b, g - col, column_m));
+    }
+  }
+  return coverage;
+}
+
+// (β_ice, β_water) of the detailed field β(x + d)·ρ(x + d)·s·c at a world position (detail.glsl):
+// the controls at x, the displacement d from the noise at x / 2P, β at the displaced point, the
+// density factor and the shape's noise term from the noise there, the shape's coverage at x + 3d,
+// the column's mass correction at x.
+vec2 detailedExtinctionAt(vec3 world_m) {
+  vec3 uvw = volumeUvw(world_m);
+  if (!insideGrownVolume(uvw)) return vec2(Number(0.0));
+  vec4 c = detailControlsAt(uvw);
+  vec4 nd = detailNoiseAt(world_m / (Number(2.0) * u_noise_period_m));
+  vec3 d = detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, vec2(u_noise_stats_gs.x, u_noise_stats_gs.y));
+  vec3 q = world_m + d;
+  vec2 beta = plainExtinctionAt(q);
+  if (!(beta.x + beta.y > Number(0.0))) return beta;
+  vec3 qn = q / u_noise_period_m;
+  vec4 n1 = detailNoiseAt(qn), n2 = detailNoiseAt(detailSecondFrame(qn));
+  vec2 statsS = vec2(u_noise_stats_gs.z, u_noise_stats_gs.w), statsC = vec2(u_noise_stats_c.x, u_noise_stats_c.y);
+  Number rho = detailDensity(n1, n2, c, u_detail_amplitude, statsS, statsC);
+  Number m = detailModulation(n1, n2, c.y, statsS, statsC);
+  Number shape = detailShape(detailCoverageAt(world_m + kDetailShapeDisplacement * d), m, u_detail_amplitude);
+  return beta * (rho * shape * detailCorrectionAt(vec2(uvw.x, uvw.y)));
+}
