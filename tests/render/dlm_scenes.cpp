@@ -64,16 +64,21 @@ ExtinctionVolumes coarseStorm() {
   return convert(path);
 }
 
+geo::GridGeoreference refinedGeoreference(const geo::GridGeoreference& g, int factor) {
+  geo::GridGeoreference r = g;
+  r.dx_m = g.dx_m / factor;
+  r.dy_m = g.dy_m / factor;
+  r.x0 = g.x0 - 0.5 * g.dx_m + 0.5 * r.dx_m;  // the same outer faces: the first fine centre ½ fine cell in
+  r.y0 = g.y0 - 0.5 * g.dy_m + 0.5 * r.dy_m;
+  r.lat_deg.clear();  // per-point lon/lat belong to the coarse grid
+  r.lon_deg.clear();
+  return r;
+}
+
 ExtinctionVolumes analyticStorm(const ExtinctionVolumes& like, int factor) {
   ExtinctionVolumes v = ExtinctionVolumes::zeros(like.nx * factor, like.ny * factor, like.nz, like.georef.dx_m / factor,
                                                  like.dz_m, like.z_bottom_m);
-  v.georef = like.georef;
-  v.georef.dx_m = like.georef.dx_m / factor;
-  v.georef.dy_m = like.georef.dy_m / factor;
-  v.georef.x0 = like.georef.x0 - 0.5 * like.georef.dx_m + 0.5 * v.georef.dx_m;
-  v.georef.y0 = like.georef.y0 - 0.5 * like.georef.dy_m + 0.5 * v.georef.dy_m;
-  v.georef.lat_deg.clear();
-  v.georef.lon_deg.clear();
+  v.georef = refinedGeoreference(like.georef, factor);
   // Cells in coarse-column units from the domain's corner: centre, σ_h, height of the core, β at
   // the core. Drawn once from a fixed seed, so every run and both resolutions see the same storm.
   struct Cell {

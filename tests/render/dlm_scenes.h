@@ -26,6 +26,9 @@ ExtinctionVolumes coarseStorm();
 /// e^{−2π²σ²} < 1e-27 of its amplitude at 1 cycle per column), so a rendition's power there is the
 /// filter's (issue 13's artefact metric, tests/render/grid_artefacts.h).
 ExtinctionVolumes analyticStorm(const ExtinctionVolumes& like, int factor = 1);
+/// `g` refined `factor`× horizontally with the same outer faces (the grid of analyticStorm and of
+/// nephele_grid_spectrum's band-limited rendition); the per-point lon/lat are dropped.
+geo::GridGeoreference refinedGeoreference(const geo::GridGeoreference& g, int factor);
 
 /// Per-component |a − b| of two cloud layers of the same size (max and mean over every RGBA
 /// value) and b's mean alpha (how much of the frame is cloud).

@@ -74,12 +74,7 @@ ExtinctionVolumes bandLimited(const ExtinctionVolumes& v, int f) {
   ExtinctionVolumes o = v;
   o.nx = v.nx * f;
   o.ny = v.ny * f;
-  o.georef.dx_m = v.georef.dx_m / f;
-  o.georef.dy_m = v.georef.dy_m / f;
-  o.georef.x0 = v.georef.x0 - 0.5 * v.georef.dx_m + 0.5 * o.georef.dx_m;
-  o.georef.y0 = v.georef.y0 - 0.5 * v.georef.dy_m + 0.5 * o.georef.dy_m;
-  o.georef.lat_deg.clear();
-  o.georef.lon_deg.clear();
+  o.georef = refinedGeoreference(v.georef, f);
   auto up = [&](const std::vector<float>& a, int nz) {
     return a.empty() ? a : upsampleAxis(upsampleAxis(a, v.nx, v.ny, nz, f, true), v.nx * f, v.ny, nz, f, false);
   };
