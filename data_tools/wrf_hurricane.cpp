@@ -377,7 +377,7 @@ Writer::CellularColumns Writer::cellularColumns(double hours, double cx_m, doubl
           static_cast<float>(5.5 + 4.0 * n_large + 1.5 * (n_mid - 0.5) - 1.5 * smoothstep(120.0, 260.0, r));
       // Outflow canopy.
       const double edge = r / (kCellsCanopyRadius_km * (0.7 + 0.6 * n_edge));
-      const double cover = 1.0 - smoothstep(0.55, 1.0, edge);
+      const double cover = 1.0 - smoothstep(0.4, 1.0, edge);
       const double hole = smoothstep(eye_top_km - 4.0, eye_top_km + 10.0, r);
       const double chi = phi + std::log(std::max(r, 1.0) / 60.0) / std::tan(kCellsOutflowPitch_rad) - 0.5 * spin;
       const double radial = 0.5 + 0.5 * std::cos(22.0 * chi + 4.0 * n_mid);
@@ -385,12 +385,12 @@ Writer::CellularColumns Writer::cellularColumns(double hours, double cx_m, doubl
       double tex = (1.0 - smoothstep(100.0, 220.0, r) * (1.0 - radial * radial)) *
                    (1.0 - 0.6 * smoothstep(0.45, 0.85, edge) * (1.0 - transverse)) * (0.6 + 0.8 * n_mid);
       const double canopy = cover * hole * tex;
-      // A domed top that sinks by 4.5 km and a layer that thins from 3 km to 0.3 km towards the edge.
+      // A domed top that sinks by 4.5 km and a layer that thins from 3 km to 0.2 km towards the edge.
       const double thin = smoothstep(0.2, 1.0, edge);
       const double canopy_top = 16.0 - 4.5 * thin + 1.5 * (n_mid - 0.5);
       col.canopy_top_km[c] = static_cast<float>(canopy_top);
-      col.canopy_base_km[c] = static_cast<float>(canopy_top - 0.3 - 2.7 * std::pow(1.0 - thin, 1.5));
-      col.canopy[c] = static_cast<float>(canopy * smoothstep(0.12, 0.3, canopy) * (1.0 - 0.5 * thin));
+      col.canopy_base_km[c] = static_cast<float>(canopy_top - 0.2 - 2.8 * (1.0 - thin) * (1.0 - thin));
+      col.canopy[c] = static_cast<float>(canopy * smoothstep(0.12, 0.3, canopy) * (1.0 - 0.7 * thin));
     }
   });
   // Convective cells, rasterised serially (the dominant cell of a column sets its top).
@@ -437,7 +437,7 @@ Writer::CellularColumns Writer::cellularColumns(double hours, double cx_m, doubl
       // A few in the moat; fields of them outside the subsiding ring around the storm, to ~650 km.
       const double field = smoothstep(0.35, 0.65, noise_.fbm(x / 200.0 + 80.0, y / 200.0 + 80.0, 3.0, 2));
       const double moat = 0.3 * smoothstep(50.0, 60.0, r) * (1.0 - smoothstep(75.0, 90.0, r));
-      const double outside = (0.01 + 0.15 * field) * smoothstep(150.0, 300.0, r) * (1.0 - smoothstep(500.0, 650.0, r));
+      const double outside = (0.005 + 0.12 * field) * smoothstep(150.0, 300.0, r) * (1.0 - smoothstep(500.0, 650.0, r));
       if (noise_.hash(p, q, 33) > moat + outside) continue;
       const double h = noise_.hash(p, q, 34);
       const bool congestus = noise_.hash(p, q, 35) < 0.05;
@@ -493,9 +493,9 @@ Writer::CellularPoint Writer::cellularPoint(const CellularColumns& col, std::siz
   const bool warm = temperature_k > kFreezingPoint_k;
   const double freezing_mix = smoothstep(kFreezingPoint_k - 25.0, kFreezingPoint_k - 2.0, temperature_k);
   const double deep = std::max(ew, cell * depth);
-  // Shallow cumulus are sub-grid at 2–4 km: a grid-mean cloud water of 0.01–0.02 g/kg (and a cloud
+  // Shallow cumulus are sub-grid at 2–4 km: a grid-mean cloud water of a few mg/kg (and a cloud
   // fraction below 1, from the same ramp as everywhere) instead of a deep core's 1.5 g/kg.
-  const double liquid = ew_core >= cell_core ? 1.0 : 0.012 + 0.988 * depth;
+  const double liquid = ew_core >= cell_core ? 1.0 : 0.005 + 0.995 * depth;
   p.q_cloud = (1.5e-3 * core * liquid + 1.0e-4 * shield_amount * layer(zk, 3.0, 4.6, 0.2)) * freezing_mix;
   p.q_rain = (2.8e-3 * deep + 2.0e-4 * shield_amount) * layer(zk, -1.0, 4.6, 0.6) * (warm ? 1.0 : 0.2);
   p.q_graupel = 1.2e-3 * std::max(ew * layer(zk, 4.5, std::min(ew_top, 10.0), 0.8),

@@ -296,7 +296,7 @@ std::vector<double> rainbandTowers(const CellularStorm& st, const std::vector<do
   return tops;
 }
 
-/// Shallow cumulus beyond 150 km from the centre: columns whose cloud (over 5 mg/kg of condensate:
+/// Shallow cumulus beyond 150 km from the centre: columns whose cloud (over 1 mg/kg of condensate:
 /// sub-grid cumulus at 2–4 km are a small grid mean) tops out 0.8–3 km high and that stand apart (at
 /// least 12 of the 16 columns two steps away are clear).
 std::size_t shallowCumulus(const CellularStorm& st) {
@@ -306,7 +306,7 @@ std::size_t shallowCumulus(const CellularStorm& st) {
   for (std::size_t k = 0; k < st.nz; ++k)
     for (std::size_t c = 0; c < n2; ++c) {
       const std::size_t m = k * n2 + c;
-      if (st.qc[m] + st.qi[m] + st.qs[m] > 5e-6f) top[c] = st.z_m[m] / 1000.0;
+      if (st.qc[m] + st.qi[m] + st.qs[m] > 1e-6f) top[c] = st.z_m[m] / 1000.0;
     }
   std::size_t n = 0;
   for (int j = 2; j < ny - 2; ++j)
