@@ -220,15 +220,16 @@ CellularStorm generateCellular(datagen::WrfCase weather, const std::string& path
   return st;
 }
 
-/// Per column: the height [km] of the highest mass point holding cloud water, snow or graupel (the
-/// top of the convection and the shield; the canopy's ice crystals are left out), −1 if clear.
-std::vector<double> cloudTops(const CellularStorm& st) {
+/// Per column: the height [km] of the highest mass point where cloud water + snow + graupel (+ ice
+/// crystals with `with_ice`) exceed `threshold`, −1 if none. Without ice: the top of the convection
+/// and the shield, the canopy's ice crystals left out.
+std::vector<double> cloudTops(const CellularStorm& st, bool with_ice = false, float threshold = 1e-5f) {
   const std::size_t n2 = st.nx * st.ny;
   std::vector<double> top(n2, -1.0);
   for (std::size_t k = 0; k < st.nz; ++k)
     for (std::size_t c = 0; c < n2; ++c) {
       const std::size_t m = k * n2 + c;
-      if (st.qc[m] + st.qs[m] + st.qg[m] > 1e-5f) top[c] = st.z_m[m] / 1000.0;
+      if (st.qc[m] + st.qs[m] + st.qg[m] + (with_ice ? st.qi[m] : 0.0f) > threshold) top[c] = st.z_m[m] / 1000.0;
     }
   return top;
 }
@@ -307,13 +308,7 @@ std::vector<double> rainbandTowers(const CellularStorm& st, const std::vector<do
 /// least 12 of the 16 columns two steps away are clear).
 std::size_t shallowCumulus(const CellularStorm& st) {
   const int nx = int(st.nx), ny = int(st.ny);
-  const std::size_t n2 = st.nx * st.ny;
-  std::vector<double> top(n2, -1.0);
-  for (std::size_t k = 0; k < st.nz; ++k)
-    for (std::size_t c = 0; c < n2; ++c) {
-      const std::size_t m = k * n2 + c;
-      if (st.qc[m] + st.qi[m] + st.qs[m] > 1e-6f) top[c] = st.z_m[m] / 1000.0;
-    }
+  const std::vector<double> top = cloudTops(st, true, 1e-6f);
   std::size_t n = 0;
   for (int j = 2; j < ny - 2; ++j)
     for (int i = 2; i < nx - 2; ++i) {
