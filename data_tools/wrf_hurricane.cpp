@@ -367,7 +367,7 @@ Writer::CellularColumns Writer::cellularColumns(double hours, double cx_m, doubl
       double arm = psi * kSpiralArms / (2.0 * kPi);
       arm -= std::round(arm);
       const double rw = r * (0.8 + 0.4 * n_large);  // a ragged outer edge
-      const double inner = smoothstep(45.0, 75.0, r) * (1.0 - smoothstep(160.0, 260.0, rw)) *
+      const double inner = smoothstep(45.0, 75.0, r) * (1.0 - smoothstep(100.0, 180.0, rw)) *
                            (0.65 + 0.35 * std::cos(phi - kCellsShear_rad - 0.8));
       const double trailing =
           0.6 * gaussian(arm, 0.0, 0.2) * smoothstep(70.0, 110.0, r) * (1.0 - smoothstep(300.0, 420.0, rw));
