@@ -61,8 +61,11 @@ int main(int argc, char** argv) {
   add_common(wrf);
   wrf->add_option("--case", case_name,
                   "hurricane (the sample storm, --size applies) | storm (issue 13's coarse storm: 72x64x30 at 10 km, "
-                  "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored)")
-      ->check(CLI::IsMember({"hurricane", "storm"}));
+                  "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored) | "
+                  "hurricane-cells (the sample storm as 2-4 km model output shows it, make demo's: eyewall towers "
+                  "with overshooting tops, rainbands of discrete cells, stratiform shield, banded outflow canopy, "
+                  "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies)")
+      ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
   wrf->add_option("--proj", proj_name,
                   "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | "
@@ -150,6 +153,7 @@ int main(int argc, char** argv) {
     auto write_wrf = [&](const std::string& path, nph::datagen::WrfProjection p, nph::datagen::WrfScheme s) {
       const bool storm = case_name == "storm";
       auto spec = storm ? nph::datagen::coarseStormSpec() : nph::datagen::wrfPreset(size);
+      if (case_name == "hurricane-cells") spec.weather = nph::datagen::WrfCase::HurricaneCells;
       spec.projection = p;
       spec.scheme = s;
       spec.seed = seed;

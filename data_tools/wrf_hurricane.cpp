@@ -35,6 +35,18 @@ constexpr double kBandRotation_rad_per_h = 0.35;
 constexpr double kSpiralPitch_rad = 18.0 * kPi / 180.0;
 constexpr int kSpiralArms = 2;
 
+// ---- the cellular hurricane (WrfCase::HurricaneCells; kilometres) ---------------------------
+// What a 2–4 km convection-permitting run of a mature hurricane shows (Muth 2026 §3.2: the regimes
+// a renderer must tell apart are convective towers and stratiform layers; both are here, in data).
+constexpr double kCellsEyewallRadius_km = 36.0;      ///< eyewall centre at the surface
+constexpr double kCellsEyewallTilt_km_per_km = 1.2;  ///< outward slope with height (the stadium)
+constexpr double kCellsEyeRadius_km = 22.0;          ///< clear eye at the surface, widening with the tilt
+constexpr double kCellsBandPitch_rad = 16.0 * kPi / 180.0;
+constexpr double kCellsOutflowPitch_rad = 55.0 * kPi / 180.0;  ///< outflow cirrus: nearly radial
+constexpr double kCellsCanopyRadius_km = 320.0;
+constexpr double kCellsShear_rad = 0.6;  ///< convection is favoured on this side (downshear-left)
+constexpr double kCellsCumulusSpacing_km = 9.0;
+
 // ---- particle sizes for the two-moment variant: N = q / (4/3 pi r^3 rho_p) ------------------
 struct ParticleClass {
   const char* q_name;
@@ -162,6 +174,22 @@ class Writer {
     double q_cloud = 0, q_rain = 0, q_ice = 0, q_snow = 0, q_graupel = 0, w_m_per_s = 0, tke_m2_per_s2 = 0;
   };
   std::vector<StormCell> stormCells(double hours) const;
+
+  // ---- the cellular hurricane (WrfCase::HurricaneCells) ----
+  /// Per-column (nx*ny) structure of one timestep; every point's hydrometeors follow from it and
+  /// the height, so the 3-D loop stays as cheap as the smooth hurricane's.
+  struct CellularColumns {
+    std::vector<float> eyewall, eyewall_top_km;                ///< tower strength at the column's azimuth, domed top
+    std::vector<float> cell, cell_top_km, cell_depth;          ///< dominant band/moat/cumulus cell; deep weight
+    std::vector<float> shield, shield_top_km;                  ///< stratiform shield
+    std::vector<float> canopy, canopy_top_km, canopy_base_km;  ///< outflow cirrus
+  };
+  CellularColumns cellularColumns(double hours, double cx_m, double cy_m) const;
+  struct CellularPoint {
+    double q_cloud = 0, q_rain = 0, q_ice = 0, q_snow = 0, q_graupel = 0, q_hail = 0, w_m_per_s = 0, tke_m2_per_s2 = 0;
+  };
+  static CellularPoint cellularPoint(const CellularColumns& col, std::size_t c, double r_km, double z_m,
+                                     double terrain_m, double temperature_k);
   StormPoint stormPoint(const std::vector<StormCell>& cells, int i, int j, double x_km, double y_km, double z_m,
                         double terrain_m, double temperature_k, double hours) const;
 
@@ -274,6 +302,230 @@ Writer::StormPoint Writer::stormPoint(const std::vector<StormCell>& cells, int i
   return p;
 }
 
+// The cellular hurricane, column by column (kilometres relative to the storm centre):
+// - eyewall: a ring that is stronger downshear-left, with 14 convective towers on it whose domed
+//   tops reach 13–15 km, a third of them overshooting to 16–17.5 km (the tops rise and fall hour to
+//   hour); its radius grows with height (kCellsEyewallTilt_km_per_km) so the eye widens upwards;
+// - spiral rainbands (two principal arms and an outer band) made of discrete cells 3.5–9 km in
+//   radius every 12–24 km along the arm, with gaps (22 % of the places stay empty), tops mostly
+//   8–11 km and a few towers to 16 km, lower outwards, some with a shallower feeder cell beside them;
+// - a stratiform shield of varied depth (tops 6–10 km) inside the bands and trailing along them,
+//   broken where its noise is low;
+// - an outflow cirrus canopy (12–15 km) with a hole over the eye, radial filaments along the
+//   anticyclonically curving outflow and transverse bands near its edge, thinning and breaking
+//   into filaments there;
+// - shallow cumulus (tops 1.5–3 km, a few congestus) in the moat and outside, clustered in fields.
+Writer::CellularColumns Writer::cellularColumns(double hours, double cx_m, double cy_m) const {
+  const int nx = g_.nx, ny = g_.ny;
+  const std::size_t n2 = g_.n2();
+  const double dx_km = spec_.dx_m / 1000.0, cx = cx_m / 1000.0, cy = cy_m / 1000.0;
+  const auto hour = static_cast<std::int64_t>(std::floor(hours));
+  const double spin = kBandRotation_rad_per_h * hours;
+  CellularColumns col;
+  for (std::vector<float>* v :
+       {&col.eyewall, &col.eyewall_top_km, &col.cell, &col.cell_top_km, &col.cell_depth, &col.shield,
+        &col.shield_top_km, &col.canopy, &col.canopy_top_km, &col.canopy_base_km}) {
+    v->assign(n2, 0.0f);
+  }
+  struct Tower {
+    double phi, strength, top_km, width_km;
+  };
+  constexpr int kTowers = 14;
+  constexpr double kRingTop_km = 12.0;
+  std::vector<Tower> towers;
+  for (int k = 0; k < kTowers; ++k) {
+    const bool overshooting = noise_.hash(k, 13, 0) < 0.35;
+    const double b = noise_.hash(k, 12, hour);
+    towers.push_back({2.0 * kPi * (k + 0.6 * (noise_.hash(k, 14, 0) - 0.5)) / kTowers + 1.5 * spin,
+                      0.6 + 0.4 * noise_.hash(k, 11, hour), overshooting ? 16.5 + 1.5 * b : 13.0 + 2.0 * b,
+                      7.0 + 6.0 * noise_.hash(k, 15, 0)});
+  }
+  const double eye_top_km = kCellsEyeRadius_km + kCellsEyewallTilt_km_per_km * 14.0;
+  tbb::parallel_for(0, ny, [&](int j) {
+    for (int i = 0; i < nx; ++i) {
+      const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+      const double x = i * dx_km - cx, y = j * dx_km - cy;
+      const double r = std::hypot(x, y), phi = std::atan2(y, x);
+      // Eyewall: the ring's strength and top at this azimuth, the towers' where they dominate.
+      double ew = 0.45 + 0.2 * std::cos(phi - kCellsShear_rad);
+      double ew_top = kRingTop_km + std::cos(phi - kCellsShear_rad);
+      for (const Tower& t : towers) {
+        const double arc = std::remainder(phi - t.phi, 2.0 * kPi) * (kCellsEyewallRadius_km + 8.0);
+        const double g = gaussian(arc, 0.0, t.width_km);
+        ew = std::max(ew, t.strength * g);
+        ew_top = std::max(ew_top, kRingTop_km + (t.top_km - kRingTop_km) * std::pow(g, 0.4));
+      }
+      col.eyewall[c] = static_cast<float>(ew);
+      col.eyewall_top_km[c] = static_cast<float>(ew_top);
+      // Noise moves with the storm (storm-relative coordinates) and changes hour to hour.
+      const double n_large = noise_.fbm(x / 80.0 + 50.0, y / 80.0 + 50.0, 0.1 * hours + 5.0, 3);
+      const double n_mid = noise_.fbm(x / 25.0 + 50.0, y / 25.0 + 50.0, 0.3 * hours + 9.0, 2);
+      const double n_edge = noise_.fbm(x / 120.0 + 50.0, y / 120.0 + 50.0, 0.05 * hours + 13.0, 2);
+      // Stratiform shield: inside the bands (stronger downshear-left) and trailing along them.
+      const double psi =
+          phi - spin + std::log(std::max(r, 1.0) / kCellsEyewallRadius_km) / std::tan(kCellsBandPitch_rad);
+      double arm = psi * kSpiralArms / (2.0 * kPi);
+      arm -= std::round(arm);
+      const double rw = r * (0.8 + 0.4 * n_large);  // a ragged outer edge
+      const double inner = smoothstep(45.0, 75.0, r) * (1.0 - smoothstep(100.0, 180.0, rw)) *
+                           (0.65 + 0.35 * std::cos(phi - kCellsShear_rad - 0.8));
+      const double trailing =
+          0.6 * gaussian(arm, 0.0, 0.2) * smoothstep(70.0, 110.0, r) * (1.0 - smoothstep(300.0, 420.0, rw));
+      const double shield = std::max(inner, trailing) * (0.4 + 1.2 * n_mid);
+      col.shield[c] = static_cast<float>(std::min(shield * smoothstep(0.25, 0.5, shield), 1.2));
+      col.shield_top_km[c] =
+          static_cast<float>(5.5 + 4.0 * n_large + 1.5 * (n_mid - 0.5) - 1.5 * smoothstep(120.0, 260.0, r));
+      // Outflow canopy.
+      const double edge = r / (kCellsCanopyRadius_km * (0.7 + 0.6 * n_edge));
+      const double cover = 1.0 - smoothstep(0.4, 1.0, edge);
+      const double hole = smoothstep(eye_top_km - 4.0, eye_top_km + 10.0, r);
+      const double chi = phi + std::log(std::max(r, 1.0) / 60.0) / std::tan(kCellsOutflowPitch_rad) - 0.5 * spin;
+      const double radial = 0.5 + 0.5 * std::cos(22.0 * chi + 4.0 * n_mid);
+      const double transverse = 0.5 + 0.5 * std::cos(2.0 * kPi * r / 14.0 + 3.0 * std::sin(3.0 * phi) + 6.0 * n_large);
+      double tex = (1.0 - smoothstep(100.0, 220.0, r) * (1.0 - radial * radial)) *
+                   (1.0 - 0.6 * smoothstep(0.45, 0.85, edge) * (1.0 - transverse)) * (0.6 + 0.8 * n_mid);
+      const double canopy = cover * hole * tex;
+      // A domed top that sinks by 4.5 km and a layer that thins from 3 km to 0.2 km towards the edge.
+      const double thin = smoothstep(0.2, 1.0, edge);
+      const double canopy_top = 16.0 - 4.5 * thin + 1.5 * (n_mid - 0.5);
+      col.canopy_top_km[c] = static_cast<float>(canopy_top);
+      col.canopy_base_km[c] = static_cast<float>(canopy_top - 0.2 - 2.8 * (1.0 - thin) * (1.0 - thin));
+      col.canopy[c] = static_cast<float>(canopy * smoothstep(0.12, 0.3, canopy) * (1.0 - 0.7 * thin));
+    }
+  });
+  // Convective cells, rasterised serially (the dominant cell of a column sets its top).
+  struct Cell {
+    double x_km, y_km, radius_km, top_km, strength;
+  };
+  std::vector<Cell> cells;
+  for (int a = 0; a < 3; ++a) {
+    const double r0 = a < 2 ? 65.0 : 160.0, r1 = a < 2 ? 400.0 : 500.0;
+    const double phi0 = a < 2 ? kPi * a : 0.5 * kPi;
+    const double fade = a < 2 ? 1.0 : 0.75;
+    double r = r0;
+    for (int n = 0; r < r1; ++n) {
+      const double h1 = noise_.hash(a, n, 21), h2 = noise_.hash(a, n, 22), h3 = noise_.hash(a, n, 23);
+      const double h4 = noise_.hash(a, n, 24), h5 = noise_.hash(a, n, 25), h6 = noise_.hash(a, n, 26);
+      r += (12.0 + 12.0 * h1) * std::sin(kCellsBandPitch_rad);
+      if (h2 < 0.22) continue;  // a gap in the band
+      const double phi =
+          phi0 + spin - std::log(r / kCellsEyewallRadius_km) / std::tan(kCellsBandPitch_rad) + 10.0 * (h3 - 0.5) / r;
+      const double outer = smoothstep(0.55 * r1, r1, r);
+      const double life = 0.55 + 0.45 * std::sin(kPi * std::fmod(hours / 2.0 + h5, 1.0));
+      const double top = 8.0 + 8.0 * std::pow(h6, 1.6) - 2.5 * outer;
+      const double strength = (0.6 + 0.4 * h4) * life * fade * (1.0 - 0.4 * outer);
+      cells.push_back({r * std::cos(phi), r * std::sin(phi), 3.5 + 5.5 * h4, top, strength});
+      if (h3 < 0.5) {  // a feeder cell on the band's outer side
+        const double rf = r + 8.0 + 5.0 * h5;
+        cells.push_back(
+            {rf * std::cos(phi - 0.05), rf * std::sin(phi - 0.05), 3.0 + 2.0 * h1, 4.0 + 3.0 * h2, 0.6 * strength});
+      }
+    }
+  }
+  // Shallow cumulus on a jittered lattice over the domain, clustered by a large-scale field.
+  const double lx = (nx - 1) * dx_km, ly = (ny - 1) * dx_km;
+  const auto p0 = static_cast<std::int64_t>(std::floor(-cx / kCellsCumulusSpacing_km)) - 1;
+  const auto p1 = static_cast<std::int64_t>(std::ceil((lx - cx) / kCellsCumulusSpacing_km)) + 1;
+  const auto q0 = static_cast<std::int64_t>(std::floor(-cy / kCellsCumulusSpacing_km)) - 1;
+  const auto q1 = static_cast<std::int64_t>(std::ceil((ly - cy) / kCellsCumulusSpacing_km)) + 1;
+  for (std::int64_t q = q0; q <= q1; ++q) {
+    for (std::int64_t p = p0; p <= p1; ++p) {
+      const double x = (double(p) + noise_.hash(p, q, 31)) * kCellsCumulusSpacing_km;
+      const double y = (double(q) + noise_.hash(p, q, 32)) * kCellsCumulusSpacing_km;
+      const double r = std::hypot(x, y);
+      if (r < kCellsEyeRadius_km + 8.0) continue;  // the eye stays clear
+      // A few in the moat; fields of them outside the subsiding ring around the storm, to ~650 km.
+      const double field = smoothstep(0.35, 0.65, noise_.fbm(x / 200.0 + 80.0, y / 200.0 + 80.0, 3.0, 2));
+      const double moat = 0.3 * smoothstep(50.0, 60.0, r) * (1.0 - smoothstep(75.0, 90.0, r));
+      const double outside = (0.005 + 0.12 * field) * smoothstep(150.0, 300.0, r) * (1.0 - smoothstep(500.0, 650.0, r));
+      if (noise_.hash(p, q, 33) > moat + outside) continue;
+      const double h = noise_.hash(p, q, 34);
+      const bool congestus = noise_.hash(p, q, 35) < 0.05;
+      cells.push_back({x, y, 2.0 + 2.0 * h, congestus ? 3.5 + 1.5 * h : 1.1 + 1.0 * noise_.hash(p, q, 36),
+                       0.35 + 0.25 * noise_.hash(p, q, 37)});
+    }
+  }
+  for (const Cell& s : cells) {
+    const double gi = (s.x_km + cx) / dx_km, gj = (s.y_km + cy) / dx_km, reach = 2.2 * s.radius_km / dx_km;
+    const int i0 = std::max(0, static_cast<int>(std::ceil(gi - reach)));
+    const int i1 = std::min(nx - 1, static_cast<int>(std::floor(gi + reach)));
+    const int j0 = std::max(0, static_cast<int>(std::ceil(gj - reach)));
+    const int j1 = std::min(ny - 1, static_cast<int>(std::floor(gj + reach)));
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+        const double g = gaussian(std::hypot(i * dx_km - cx - s.x_km, j * dx_km - cy - s.y_km), 0.0, s.radius_km);
+        if (s.strength * g <= double(col.cell[c])) continue;
+        col.cell[c] = static_cast<float>(s.strength * g);
+        // A domed top: 0.78 of the summit's height above the base at half the peak (as the coarse storm's).
+        col.cell_top_km[c] = static_cast<float>(0.6 + (s.top_km - 0.6) * std::pow(g, 0.35));
+        col.cell_depth[c] = static_cast<float>(smoothstep(4.0, 8.0, s.top_km));
+      }
+    }
+  }
+  for (std::size_t c = 0; c < n2; ++c) {
+    if (col.cell[c] < 0.05f) col.cell[c] = 0.0f;
+  }
+  return col;
+}
+
+// One point of the cellular hurricane from its column's structure (before the storm's intensity
+// and the lateral boundary fade). The microphysics follow the coarse storm's: cloud water in the
+// cores down to −25 °C, rain below the melting level under the deep cells and the shield, graupel
+// in the deep cores, glaciated tops (ice and snow) above 6 km, the canopy ice only.
+Writer::CellularPoint Writer::cellularPoint(const CellularColumns& col, std::size_t c, double r_km, double z_m,
+                                            double terrain_m, double temperature_k) {
+  CellularPoint p;
+  const double zk = z_m / 1000.0;
+  const double eye_r = kCellsEyeRadius_km + kCellsEyewallTilt_km_per_km * zk;
+  const double clear_eye = smoothstep(eye_r - 3.0, eye_r + 3.0, r_km);
+  const double x = r_km - (kCellsEyewallRadius_km + kCellsEyewallTilt_km_per_km * zk);
+  // A sharp inner wall (the eye's edge), a wider outer flank.
+  const double ew = double(col.eyewall[c]) * gaussian(x, 0.0, x < 0.0 ? 6.0 : 13.0);
+  const double ew_top = col.eyewall_top_km[c], cell_top = col.cell_top_km[c];
+  const double ew_core = ew * layer(zk, 0.5, ew_top, 0.4);
+  const double cell = col.cell[c], depth = col.cell_depth[c];
+  const double cell_core = cell * layer(zk, 0.6, cell_top, 0.3);
+  const double core = std::max(ew_core, cell_core);
+  const double shield_amount = col.shield[c];
+  const double shield = shield_amount * layer(zk, 4.6, double(col.shield_top_km[c]), 0.3);
+  const double canopy = double(col.canopy[c]) * layer(zk, col.canopy_base_km[c], col.canopy_top_km[c], 0.3);
+  const bool warm = temperature_k > kFreezingPoint_k;
+  const double freezing_mix = smoothstep(kFreezingPoint_k - 25.0, kFreezingPoint_k - 2.0, temperature_k);
+  const double deep = std::max(ew, cell * depth);
+  // Shallow cumulus are sub-grid at 2–4 km: a grid-mean cloud water of a few mg/kg (and a cloud
+  // fraction below 1, from the same ramp as everywhere) instead of a deep core's 1.5 g/kg.
+  const double liquid = ew_core >= cell_core ? 1.0 : 0.005 + 0.995 * depth;
+  p.q_cloud = (1.5e-3 * core * liquid + 1.0e-4 * shield_amount * layer(zk, 3.0, 4.6, 0.2)) * freezing_mix;
+  p.q_rain = (2.8e-3 * deep + 2.0e-4 * shield_amount) * layer(zk, -1.0, 4.6, 0.6) * (warm ? 1.0 : 0.2);
+  p.q_graupel = 1.2e-3 * std::max(ew * layer(zk, 4.5, std::min(ew_top, 10.0), 0.8),
+                                  cell * depth * layer(zk, 4.5, std::min(cell_top, 9.5), 0.8));
+  p.q_hail = 3.0e-4 * ew * ew * layer(zk, 3.0, 7.5, 1.0);
+  if (!warm) {
+    p.q_ice = 4.0e-4 * core * smoothstep(6.0, 9.0, zk) + 5.0e-5 * shield * smoothstep(6.0, 8.0, zk) + 1.1e-4 * canopy;
+    p.q_snow = 6.0e-4 * core * smoothstep(5.0, 7.0, zk) + 2.5e-4 * shield;  // the canopy is ice crystals only
+  }
+  // Updrafts in the eyewall (12 m/s) and the deep cells (8 m/s), weak ones in shallow cumulus,
+  // mesoscale ascent in the shield above the melting level and descent below, subsidence in the eye.
+  auto updraft = [&](double top) {
+    return std::sin(kPi * std::clamp((zk - 0.5) / std::max(top - 0.5, 0.5), 0.0, 1.0));
+  };
+  p.w_m_per_s = 12.0 * ew * updraft(ew_top) + cell * (8.0 * depth + 1.5 * (1.0 - depth)) * updraft(cell_top) +
+                0.3 * shield - 0.3 * shield_amount * layer(zk, 0.0, 4.4, 0.5) + 0.2 * canopy -
+                0.8 * (1.0 - clear_eye) * layer(zk, 2.0, 14.0, 1.0);
+  // TKE: the boundary layer (stronger under the eyewall's winds), the cores, the canopy and the shield.
+  p.tke_m2_per_s2 =
+      (0.4 + 1.2 * gaussian(r_km, kCellsEyewallRadius_km, 40.0)) * (1.0 - smoothstep(800.0, 1800.0, z_m - terrain_m)) +
+      4.0 * core + 0.6 * canopy + 0.5 * shield;
+  p.q_cloud *= clear_eye;
+  p.q_rain *= clear_eye;
+  p.q_ice *= clear_eye;
+  p.q_snow *= clear_eye;
+  p.q_graupel *= clear_eye;
+  p.q_hail *= clear_eye;
+  return p;
+}
+
 int Writer::defField(const std::string& name, const std::vector<int>& dims, const std::string& memory_order,
                      const std::string& description, const std::string& units, const std::string& stagger) {
   const int id = nc_.defVar(name, NC_FLOAT, dims);
@@ -338,7 +590,7 @@ void Writer::defineFile() {
     }
   }
   defField("HGT", {d_time, d_sn, d_we}, "XY ", "Terrain Height", "m", "");
-  if (spec_.weather == WrfCase::CoarseStorm) {
+  if (spec_.weather != WrfCase::Hurricane) {
     // As WRF ARW v4 writes them (Registry.EM_COMMON; TKE_PBL with a TKE-carrying PBL scheme).
     defField("W", {d_time, d_bts, d_sn, d_we}, "XYZ", "z-wind component", "m s-1", "Z");
     defField("TKE_PBL", {d_time, d_bt, d_sn, d_we}, "XYZ", "TKE from PBL", "m2 s-2", "");
@@ -350,7 +602,9 @@ void Writer::defineFile() {
   nc_.attText(G, "TITLE", " OUTPUT FROM WRF V4.5.2 MODEL");
   nc_.attText(G, "NEPHELE_SYNTHETIC",
               fmt::format("{} written by nephele-gen, seed {}",
-                          spec_.weather == WrfCase::CoarseStorm ? "coarse convective storm" : "idealized hurricane",
+                          spec_.weather == WrfCase::CoarseStorm      ? "coarse convective storm"
+                          : spec_.weather == WrfCase::HurricaneCells ? "cellular hurricane"
+                                                                     : "idealized hurricane",
                           spec_.seed));
   const std::string start = start_.wrfTimeString();
   nc_.attText(G, "START_DATE", start);
@@ -371,7 +625,7 @@ void Writer::defineFile() {
   nc_.attInt(G, "RA_SW_PHYSICS", 4);
   nc_.attInt(G, "SF_SFCLAY_PHYSICS", 1);
   nc_.attInt(G, "SF_SURFACE_PHYSICS", 2);
-  nc_.attInt(G, "BL_PBL_PHYSICS", spec_.weather == WrfCase::CoarseStorm ? 5 : 1);  // 5 = MYNN (carries TKE)
+  nc_.attInt(G, "BL_PBL_PHYSICS", spec_.weather != WrfCase::Hurricane ? 5 : 1);  // 5 = MYNN (carries TKE)
   nc_.attInt(G, "CU_PHYSICS", 0);
   nc_.attInt(G, "HYBRID_OPT", 0);
   nc_.attFloat(G, "ETAC", 0.0f);
@@ -590,10 +844,13 @@ void Writer::writeTimestep(int t) {
   const double lx_km = (nx - 1) * dx / 1000.0, ly_km = (ny - 1) * dx / 1000.0;
   const double boundary_km = std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
   const bool storm = spec_.weather == WrfCase::CoarseStorm;
+  const bool cellular = spec_.weather == WrfCase::HurricaneCells;
   std::vector<float> w_stag, tke, cldfra;
   std::vector<StormCell> cells;
-  if (storm) {
-    cells = stormCells(hours);
+  CellularColumns columns;
+  if (cellular) columns = cellularColumns(hours, cx, cy);
+  if (storm || cellular) {
+    if (storm) cells = stormCells(hours);
     w_stag.assign(n2 * std::size_t(nz + 1), 0.0f);
     tke.assign(n3, 0.0f);
     cldfra.assign(n3, 0.0f);
@@ -619,6 +876,22 @@ void Writer::writeTimestep(int t) {
           cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
           // W on the staggered level below this mass point (and the model top above the last).
           w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * sp.w_m_per_s);
+          continue;
+        }
+        if (cellular) {
+          const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
+          const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
+          const CellularPoint cp = cellularPoint(columns, c, r_km[c], z_mass[m], terrain_m_[c], t_mass[m]);
+          const double scale = intensity * inside;
+          qc[m] = static_cast<float>(scale * cp.q_cloud);
+          qr[m] = static_cast<float>(scale * cp.q_rain);
+          qi[m] = static_cast<float>(scale * cp.q_ice);
+          qs[m] = static_cast<float>(scale * cp.q_snow);
+          qg[m] = static_cast<float>(scale * cp.q_graupel);
+          qh[m] = static_cast<float>(spec_.include_hail ? scale * cp.q_hail : 0.0);
+          tke[m] = static_cast<float>(cp.tke_m2_per_s2);
+          cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
+          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * cp.w_m_per_s);
           continue;
         }
         const double r = r_km[c], phi = phi_rad[c];
@@ -672,7 +945,7 @@ void Writer::writeTimestep(int t) {
       }
     }
   });
-  if (storm) {
+  if (storm || cellular) {
     put3d("W", t, w_stag, nz + 1, ny, nx);
     put3d("TKE_PBL", t, tke, nz, ny, nx);
     put3d("CLDFRA", t, cldfra, nz, ny, nx);

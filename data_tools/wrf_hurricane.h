@@ -24,8 +24,13 @@ enum class WrfProjection {
 
 /// What the hydrometeor fields show (the grid, thermodynamics and winds are shared).
 enum class WrfCase {
-  Hurricane,   ///< the idealized hurricane (smooth, for the demo and the goldens)
-  CoarseStorm  ///< issue 13: convective cells + stratiform shield on a coarse grid, with W, TKE_PBL, CLDFRA
+  Hurricane,    ///< the idealized hurricane (smooth, for the demo and the goldens)
+  CoarseStorm,  ///< issue 13: convective cells + stratiform shield on a coarse grid, with W, TKE_PBL, CLDFRA
+  /// issues 13/14: the hurricane as 2–4 km model output shows it (make demo): a clear eye in a tilted
+  /// eyewall of convective towers with overshooting tops, spiral rainbands of discrete cells with
+  /// gaps, a stratiform shield of varied depth, a banded outflow cirrus canopy thinning at its edge,
+  /// shallow cumulus in the moat and outside; with W, TKE_PBL and CLDFRA
+  HurricaneCells
 };
 
 enum class WrfScheme {

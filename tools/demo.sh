@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# make demo: generates the built-in sample hurricane (data_tools, NetCDF-C), converts it to a
-# .nph extinction cache and renders it over NASA Blue Marble (Debian marble-qt-data) to out/.
+# make demo: generates the built-in sample hurricane (data_tools, NetCDF-C; `--case hurricane-cells`:
+# eyewall towers, rainbands of convective cells, a banded outflow canopy, docs/rendering.md "The
+# demo hurricane"), converts it to a .nph extinction cache and renders it over NASA Blue Marble
+# (Debian marble-qt-data) to out/.
 # Usage: tools/demo.sh [build-dir]. NEPHELE_DEMO_SIZE=tiny|realistic (default realistic, one
 # timestep: ~1 min to generate and convert, then the render on llvmpipe).
 set -euo pipefail
@@ -11,12 +13,16 @@ size=${NEPHELE_DEMO_SIZE:-realistic}
 mkdir -p "$out"
 gen="$build/data_tools/nephele-gen"
 nephele="$build/src/cli/nephele"
-if [ ! -f "$out/hurricane-$size.nph" ]; then
-  echo "demo: generating the $size sample hurricane (wrfout, Lambert conformal)"
-  "$gen" wrf --size "$size" --times 1 -o "$out/wrfout-hurricane-$size.nc"
+# The cache keeps its name (examples/scenes/hurricane*.json read out/hurricane-realistic.nph); a
+# stamp names the case it holds, so an out/ with the smooth storm's cache from before regenerates.
+storm="$out/hurricane-$size.nph"
+if [ ! -f "$storm" ] || [ "$(cat "$storm.case" 2>/dev/null)" != hurricane-cells ]; then
+  echo "demo: generating the $size sample hurricane (wrfout, Lambert conformal, convective cells)"
+  "$gen" wrf --case hurricane-cells --size "$size" --times 1 -o "$out/wrfout-hurricane-$size.nc"
   echo "demo: converting to ice/water extinction volumes"
-  "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$out/hurricane-$size.nph" --progress
+  "$nephele" convert "$out/wrfout-hurricane-$size.nc" -o "$storm" --progress
   rm -f "$out/wrfout-hurricane-$size.nc"
+  echo hurricane-cells > "$storm.case"
 fi
 # The terrain demo (issue 14): issue 13's coarse storm over a generated Gaussian mountain, the
 # domain centred over the Alps so that Blue Marble drapes land on it: the mountain stands on the
@@ -36,7 +42,7 @@ if [ ! -f "$out/alps-dem.tif" ]; then
 fi
 sed "s|@DATA@|$out/storm-alps.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
 for view in demo demo-globe demo-golden-hour demo-dawn; do
-  sed "s|@DATA@|$out/hurricane-$size.nph|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
+  sed "s|@DATA@|$storm|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
 done
 echo "demo: rendering the flat map view"
 "$nephele" render "$out/demo.json" --layer "$out/hurricane-cloud-layer.exr"

@@ -230,6 +230,24 @@ case $case in
     expect_rc 2
     expect_err "already a scene file"
     ;;
+  hurricane-cells)  # make demo's storm (nephele-gen wrf --case hurricane-cells): generates, converts, renders
+    run "$gen" wrf --case hurricane-cells --times 1 -o "$out/cells.nc"
+    expect_rc 0
+    run "$nephele" convert "$out/cells.nc" -o "$out/cells.nph" --no-progress
+    expect_rc 0
+    run "$nephele" info --verify "$out/cells.nph"
+    expect_rc 0; expect_out "verified      all 1 chunks"
+    run "$nephele" render "$out/cells.nph" -o "$out/cells.png" --width 160 --height 90 --layer "$out/layer.exr"
+    expect_rc 0
+    [ -s "$out/cells.png" ] || fail "no image of the cellular hurricane"
+    # The storm is in the frame: opaque cloud somewhere, clear sky or sea elsewhere.
+    oiiotool "$out/layer.exr" --ch A --printstats -o "$out/alpha.exr" >"$out/alpha.stats" ||
+      fail "oiiotool --printstats of the cloud layer failed"
+    lo=$(grep 'Stats Min' "$out/alpha.stats" | sed 's/.*Min: //' | awk '{print $1}')
+    hi=$(grep 'Stats Max' "$out/alpha.stats" | sed 's/.*Max: //' | awk '{print $1}')
+    awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
+      fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
+    ;;
   basemap)  # --basemap FILE: a user raster through GDAL under the storm; an ungeoreferenced one is refused
     # A uniform red world in EPSG:4326 as a PNG with a world file and GDAL's .aux.xml (CRS): the
     # ground of the frame must turn red where Blue Marble's sea is blue.

@@ -3,12 +3,16 @@
 #include <netcdf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iterator>
+#include <numeric>
 #include <vector>
 
 #include "icon_scene.h"
+#include "io/model_file.h"
 #include "io_test_support.h"
+#include "physics/volume_builder.h"
 #include "wrf_hurricane.h"
 
 namespace nph::io {
@@ -21,17 +25,23 @@ std::string slurp(const std::string& path) {
 
 TEST(Datagen, SameSeedSameBytesOtherSeedOtherBytes) {
   nph::test::ScratchDir dir("io");
-  datagen::WrfHurricaneSpec s;
-  s.nx = 20;
-  s.ny = 16;
-  s.nz = 8;
-  s.ntimes = 2;
-  datagen::writeWrfHurricane(s, dir.file("a.nc"));
-  datagen::writeWrfHurricane(s, dir.file("b.nc"));
-  s.seed = 2;
-  datagen::writeWrfHurricane(s, dir.file("c.nc"));
-  EXPECT_EQ(slurp(dir.file("a.nc")), slurp(dir.file("b.nc")));
-  EXPECT_NE(slurp(dir.file("a.nc")), slurp(dir.file("c.nc")));
+  // The smooth hurricane, and make demo's cellular one on a grid fine enough for its cells.
+  for (const datagen::WrfCase weather : {datagen::WrfCase::Hurricane, datagen::WrfCase::HurricaneCells}) {
+    const bool cells = weather == datagen::WrfCase::HurricaneCells;
+    datagen::WrfHurricaneSpec s;
+    s.nx = cells ? 60 : 20;
+    s.ny = cells ? 50 : 16;
+    s.nz = cells ? 12 : 8;
+    s.dx_m = cells ? 8000.0 : s.dx_m;
+    s.ntimes = 2;
+    s.weather = weather;
+    datagen::writeWrfHurricane(s, dir.file("a.nc"));
+    datagen::writeWrfHurricane(s, dir.file("b.nc"));
+    s.seed = 2;
+    datagen::writeWrfHurricane(s, dir.file("c.nc"));
+    EXPECT_EQ(slurp(dir.file("a.nc")), slurp(dir.file("b.nc"))) << (cells ? "cellular" : "smooth");
+    EXPECT_NE(slurp(dir.file("a.nc")), slurp(dir.file("c.nc"))) << (cells ? "cellular" : "smooth");
+  }
   datagen::IconSceneSpec i;
   i.ntimes = 1;
   datagen::writeIconScene(i, dir.file("i1.nc"));
@@ -155,6 +165,255 @@ TEST(Datagen, CoarseStormHasCellsShieldAndTurbulenceFields) {
   EXPECT_GT(cloudy, int(n2 / 10)) << "a storm, not a few cells";
   EXPECT_LT(cloudy, int(n2 / 2)) << "clear air around it";
   EXPECT_GT(steps, cloudy / 5) << "the cloud top steps by whole levels between neighbouring columns";
+}
+
+// make demo's hurricane (issues 13/14, `nephele-gen wrf --case hurricane-cells`): the structure a
+// broadcaster expects of a hurricane in 2–4 km model output must be in the data and survive the
+// conversion to extinction — a clear eye in an optically thick eyewall of towers, some overshooting;
+// spiral rainbands of discrete deep cells with gaps; an outflow canopy with a hole over the eye;
+// shallow cumulus outside. Each assertion fails on the smooth sample hurricane (checked below).
+struct CellularStorm {
+  std::size_t nx = 0, ny = 0, nz = 0;
+  double dx_km = 0, cx_km = 0, cy_km = 0;  // storm centre from mass point (0, 0)
+  std::vector<float> w, qc, qr, qi, qs, qg, cldfra, tke;
+  std::vector<double> z_m;  // mass-point heights
+  ExtinctionVolumes volumes;
+  double r_km(std::size_t i, std::size_t j) const {
+    return std::hypot(double(i) * dx_km - cx_km, double(j) * dx_km - cy_km);
+  }
+};
+
+CellularStorm generateCellular(datagen::WrfCase weather, const std::string& path) {
+  datagen::WrfHurricaneSpec s;
+  s.nx = 160;
+  s.ny = 160;
+  s.nz = 60;  // as make demo's: overshooting tops need its levels near the tropopause
+  s.dx_m = 5000.0;
+  s.ntimes = 1;
+  s.weather = weather;
+  s.keep_truth = true;
+  const datagen::WrfTruth truth = datagen::writeWrfHurricane(s, path);
+  CellularStorm st;
+  st.nx = 160;
+  st.ny = 160;
+  st.nz = 60;
+  st.dx_km = 5.0;
+  st.cx_km = truth.storm_centre_x_m / 1000.0;
+  st.cy_km = truth.storm_centre_y_m / 1000.0;
+  st.z_m = truth.height_m.at(0);
+  const std::size_t n3 = st.nx * st.ny * st.nz;
+  int nc = -1;
+  test::ncCheck(nc_open(path.c_str(), NC_NOWRITE, &nc), "open");
+  st.qc = readFloats(nc, "QCLOUD", n3);
+  st.qr = readFloats(nc, "QRAIN", n3);
+  st.qi = readFloats(nc, "QICE", n3);
+  st.qs = readFloats(nc, "QSNOW", n3);
+  st.qg = readFloats(nc, "QGRAUP", n3);
+  if (weather == datagen::WrfCase::HurricaneCells) {
+    st.w = readFloats(nc, "W", st.nx * st.ny * (st.nz + 1));
+    st.cldfra = readFloats(nc, "CLDFRA", n3);
+    st.tke = readFloats(nc, "TKE_PBL", n3);
+  }
+  nc_close(nc);
+  const auto file = openModelFile(path);
+  st.volumes = physics::buildExtinctionVolumes(file.load(0), physics::defaultOptics(), physics::VerticalGridOptions{});
+  return st;
+}
+
+/// Per column: the height [km] of the highest mass point where cloud water + snow + graupel (+ ice
+/// crystals with `with_ice`) exceed `threshold`, −1 if none. Without ice: the top of the convection
+/// and the shield, the canopy's ice crystals left out.
+std::vector<double> cloudTops(const CellularStorm& st, bool with_ice = false, float threshold = 1e-5f) {
+  const std::size_t n2 = st.nx * st.ny;
+  std::vector<double> top(n2, -1.0);
+  for (std::size_t k = 0; k < st.nz; ++k)
+    for (std::size_t c = 0; c < n2; ++c) {
+      const std::size_t m = k * n2 + c;
+      if (st.qc[m] + st.qs[m] + st.qg[m] + (with_ice ? st.qi[m] : 0.0f) > threshold) top[c] = st.z_m[m] / 1000.0;
+    }
+  return top;
+}
+
+/// Vertical optical depth of the converted column (i, j).
+double columnDepth(const ExtinctionVolumes& v, std::size_t i, std::size_t j) {
+  double tau = 0.0;
+  for (int k = 0; k < v.nz; ++k) {
+    const std::size_t n = v.index(int(i), int(j), k);
+    tau += (double(v.ice_per_m[n]) + double(v.water_per_m[n])) * v.dz_m;
+  }
+  return tau;
+}
+
+double standardDeviation(const std::vector<double>& x) {
+  const double mean = std::accumulate(x.begin(), x.end(), 0.0) / double(x.size());
+  double s = 0.0;
+  for (double v : x) s += (v - mean) * (v - mean);
+  return std::sqrt(s / double(x.size()));
+}
+
+/// Deep convective cells between 80 and 320 km from the centre: 4-connected groups of columns whose
+/// cloud top is at least 7.5 km and 2 km above the mean of the ring of columns 3 to 4 columns away
+/// (a tower standing out of its surroundings); the highest top of each group.
+std::vector<double> rainbandTowers(const CellularStorm& st, const std::vector<double>& top, std::size_t& annulus,
+                                   std::size_t& towering) {
+  const int nx = int(st.nx), ny = int(st.ny);
+  std::vector<char> mask(st.nx * st.ny, 0);
+  annulus = towering = 0;
+  for (int j = 4; j < ny - 4; ++j)
+    for (int i = 4; i < nx - 4; ++i) {
+      const double r = st.r_km(std::size_t(i), std::size_t(j));
+      if (r < 80.0 || r > 320.0) continue;
+      ++annulus;
+      const double t = top[std::size_t(j * nx + i)];
+      if (t < 7.5) continue;
+      double around = 0.0;
+      int n = 0;
+      for (int dj = -4; dj <= 4; ++dj)
+        for (int di = -4; di <= 4; ++di) {
+          if (std::max(std::abs(di), std::abs(dj)) < 3) continue;
+          around += std::max(0.0, top[std::size_t((j + dj) * nx + i + di)]);
+          ++n;
+        }
+      if (t > around / n + 2.0) {
+        mask[std::size_t(j * nx + i)] = 1;
+        ++towering;
+      }
+    }
+  std::vector<double> tops;
+  std::vector<int> stack;
+  for (int start = 0; start < nx * ny; ++start) {
+    if (!mask[std::size_t(start)]) continue;
+    double highest = 0.0;
+    stack.push_back(start);
+    mask[std::size_t(start)] = 0;
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      highest = std::max(highest, top[std::size_t(c)]);
+      const int i = c % nx, j = c / nx;
+      for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+        const int ii = i + di, jj = j + dj;
+        if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || !mask[std::size_t(jj * nx + ii)]) continue;
+        mask[std::size_t(jj * nx + ii)] = 0;
+        stack.push_back(jj * nx + ii);
+      }
+    }
+    tops.push_back(highest);
+  }
+  return tops;
+}
+
+/// Shallow cumulus beyond 150 km from the centre: columns whose cloud (over 1 mg/kg of condensate:
+/// sub-grid cumulus at 2–4 km are a small grid mean) tops out 0.8–3 km high and that stand apart (at
+/// least 12 of the 16 columns two steps away are clear).
+std::size_t shallowCumulus(const CellularStorm& st) {
+  const int nx = int(st.nx), ny = int(st.ny);
+  const std::vector<double> top = cloudTops(st, true, 1e-6f);
+  std::size_t n = 0;
+  for (int j = 2; j < ny - 2; ++j)
+    for (int i = 2; i < nx - 2; ++i) {
+      const double t = top[std::size_t(j * nx + i)];
+      if (st.r_km(std::size_t(i), std::size_t(j)) < 150.0 || t < 0.8 || t > 3.0) continue;
+      int clear = 0;
+      for (int dj = -2; dj <= 2; ++dj)
+        for (int di = -2; di <= 2; ++di) {
+          if (std::max(std::abs(di), std::abs(dj)) == 2 && top[std::size_t((j + dj) * nx + i + di)] < 0.0) ++clear;
+        }
+      n += clear >= 12 ? 1 : 0;
+    }
+  return n;
+}
+
+TEST(Datagen, CellularHurricaneHasEyeEyewallTowersRainbandCellsCanopyAndCumulus) {
+  nph::test::ScratchDir dir("io");
+  const CellularStorm st = generateCellular(datagen::WrfCase::HurricaneCells, dir.file("cells.nc"));
+  const std::vector<double> top = cloudTops(st);
+  const std::size_t n2 = st.nx * st.ny;
+  ASSERT_EQ(std::size_t(st.volumes.nx), st.nx);
+  ASSERT_EQ(std::size_t(st.volumes.ny), st.ny);
+
+  // Eye and eyewall, in the data and in the converted extinction.
+  double eye_tau = 0.0, ring_tau_min = 1e30;
+  std::vector<double> ring_tops;
+  float ring_w = 0.0f;
+  for (std::size_t j = 0; j < st.ny; ++j)
+    for (std::size_t i = 0; i < st.nx; ++i) {
+      const double r = st.r_km(i, j);
+      if (r < 12.0) {
+        EXPECT_LT(top[j * st.nx + i], 0.0) << "condensate in the eye at r = " << r << " km";
+        eye_tau = std::max(eye_tau, columnDepth(st.volumes, i, j));
+      }
+      if (r > 40.0 && r < 60.0) ring_tops.push_back(top[j * st.nx + i]);  // the wall tilts outwards
+      if (r > 40.0 && r < 50.0) {
+        ring_tau_min = std::min(ring_tau_min, columnDepth(st.volumes, i, j));
+        for (std::size_t k = 0; k <= st.nz; ++k) ring_w = std::max(ring_w, st.w[k * n2 + j * st.nx + i]);
+      }
+    }
+  EXPECT_LT(eye_tau, 0.1) << "the eye's columns are clear";
+  EXPECT_GT(ring_tau_min, 50.0) << "the eyewall is optically thick all around";
+  ASSERT_GT(ring_tops.size(), 50u);
+  EXPECT_GT(*std::max_element(ring_tops.begin(), ring_tops.end()), 15.8) << "overshooting tops in the eyewall";
+  EXPECT_GT(*std::min_element(ring_tops.begin(), ring_tops.end()), 11.0) << "a deep eyewall all around";
+  EXPECT_GT(standardDeviation(ring_tops), 0.6) << "towers on the eyewall, not a smooth ring";
+  EXPECT_GT(ring_w, 8.0f) << "eyewall updrafts";
+
+  // Rainbands: many discrete towers with gaps between them, of varied height.
+  std::size_t annulus = 0, towering = 0;
+  const std::vector<double> towers = rainbandTowers(st, top, annulus, towering);
+  EXPECT_GE(towers.size(), 40u) << "rainbands made of discrete convective cells";  // 91; smooth: 15
+  EXPECT_LT(towering, annulus / 8) << "gaps between the cells";
+  EXPECT_GT(standardDeviation(towers), 1.3) << "cell-to-cell variance of the tops";  // 1.6 km; smooth: 1.0
+  EXPECT_GT(*std::max_element(towers.begin(), towers.end()), 12.0) << "some band cells reach 12–16 km";
+
+  // Outflow canopy (ice above 12 km) over the inner storm with a hole over the eye; shallow
+  // cumulus (tops 0.8–3 km) outside.
+  std::size_t inner = 0, canopy = 0;
+  for (std::size_t j = 0; j < st.ny; ++j)
+    for (std::size_t i = 0; i < st.nx; ++i) {
+      const double r = st.r_km(i, j);
+      const std::size_t c = j * st.nx + i;
+      bool ice_aloft = false;
+      for (std::size_t k = 0; k < st.nz; ++k)
+        ice_aloft = ice_aloft || (st.z_m[k * n2 + c] > 12000.0 && st.qi[k * n2 + c] > 1e-6f);
+      if (r > 60.0 && r < 150.0) {
+        ++inner;
+        canopy += ice_aloft ? 1 : 0;
+      }
+      if (r < 20.0) {
+        EXPECT_FALSE(ice_aloft) << "the canopy has a hole over the eye";
+      }
+    }
+  EXPECT_GT(canopy, inner * 7 / 10) << "an outflow canopy over the inner storm";
+  EXPECT_GT(shallowCumulus(st), 40u) << "shallow cumulus outside the storm";  // 72; smooth: 0
+
+  // The fields agree: cloud fraction 1 in cloud, turbulence in the cores.
+  for (std::size_t m = 0; m < st.cldfra.size(); ++m) {
+    ASSERT_TRUE(st.cldfra[m] >= 0.0f && st.cldfra[m] <= 1.0f) << st.cldfra[m];
+    if (st.qc[m] + st.qi[m] + st.qs[m] > 1e-4f) {
+      ASSERT_GT(st.cldfra[m], 0.99f);
+    }
+    if (st.qc[m] + st.qi[m] + st.qs[m] + st.qr[m] + st.qg[m] == 0.0f) {
+      ASSERT_EQ(st.cldfra[m], 0.0f);
+    }
+  }
+  EXPECT_GT(*std::max_element(st.tke.begin(), st.tke.end()), 2.0f) << "TKE in the cores";
+}
+
+// The structure assertions above are not met by the smooth sample hurricane (they would pass for
+// any storm otherwise): no overshooting, no discrete cells, no cumulus.
+TEST(Datagen, SmoothHurricaneLacksTheCellularStructure) {
+  nph::test::ScratchDir dir("io");
+  const CellularStorm st = generateCellular(datagen::WrfCase::Hurricane, dir.file("smooth.nc"));
+  const std::vector<double> top = cloudTops(st);
+  std::size_t annulus = 0, towering = 0;
+  EXPECT_LT(rainbandTowers(st, top, annulus, towering).size(), 40u);
+  double highest = 0.0;
+  for (std::size_t j = 0; j < st.ny; ++j)
+    for (std::size_t i = 0; i < st.nx; ++i) {
+      if (st.r_km(i, j) < 70.0) highest = std::max(highest, top[j * st.nx + i]);
+    }
+  EXPECT_LT(highest, 15.8);
+  EXPECT_LT(shallowCumulus(st), 10u);
 }
 
 }  // namespace
