@@ -22,7 +22,9 @@
 // relMSE of image_error.h (luminance only). The three models of the knob `multiple_scattering`
 // are then rendered exactly by the CPU reference of the eye pass and measured with compareImages
 // (relMSE, luminance bias, share of pixels off by > 2/255).
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "accuracy/accuracy_sweep.h"
@@ -55,6 +57,9 @@ struct MsComparison {
   std::vector<MsModelResult> models;      ///< the fits (luminance only)
   std::vector<MsRenderedScene> rendered;  ///< single, octaves and two_stream rendered exactly
   double objective_noise_floor = 0.0;     ///< the truth's own noise in the objective
+  /// The Monte Carlo radiance volume's trace per scene [s] and its photons per scene.
+  std::vector<std::pair<std::string, double>> mc_seconds;
+  std::uint64_t mc_photons = 0;
 };
 
 /// Needs a current GL context (the DLM light space comes from the GPU builder's layout).

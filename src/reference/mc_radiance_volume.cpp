@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -21,7 +22,7 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 /// Photons are summed in this many chunks, in order (determinism for any thread count).
-constexpr int kChunks = 16;
+constexpr int kChunks = 8;
 
 // One tally's grid while tracing (world frame, origin the volume box's min corner).
 struct Grid {
@@ -40,8 +41,8 @@ Grid gridOf(const volume::VolumeFrame& frame, const McTallySpec& s) {
 
 // Adds weight·ℓ_cell·Y(d) to every cell the segment o + t·d, t ∈ [0, len], crosses (Amanatides &
 // Woo 1987), the part outside the grid's box dropped.
-void tallySegment(const Grid& g, std::vector<McMoments>& into, const glm::dvec3& o, const glm::dvec3& d, double len,
-                  const McMoments& y, double weight) {
+void tallySegment(const Grid& g, int harmonics, std::vector<double>& into, const glm::dvec3& o, const glm::dvec3& d,
+                  double len, const McMoments& y, double weight) {
   const glm::dvec3 lo = g.origin, hi = g.origin + glm::dvec3(g.cells) * g.cell_m;
   double t0 = 0.0, t1 = len;
   for (int a = 0; a < 3; ++a) {
@@ -82,10 +83,11 @@ void tallySegment(const Grid& g, std::vector<McMoments>& into, const glm::dvec3&
     const int axis = tNext.x <= tNext.y ? (tNext.x <= tNext.z ? 0 : 2) : (tNext.y <= tNext.z ? 1 : 2);
     const double tExit = std::min(tNext[axis], t1);
     if (tExit > t) {
-      McMoments& c = into[(std::size_t(idx.z) * std::size_t(g.cells.y) + std::size_t(idx.y)) * std::size_t(g.cells.x) +
-                          std::size_t(idx.x)];
+      double* c = &into[((std::size_t(idx.z) * std::size_t(g.cells.y) + std::size_t(idx.y)) * std::size_t(g.cells.x) +
+                         std::size_t(idx.x)) *
+                        std::size_t(harmonics)];
       const double w = weight * (tExit - t);
-      for (int k = 0; k < kMcHarmonics; ++k) c[std::size_t(k)] += w * y[std::size_t(k)];
+      for (int k = 0; k < harmonics; ++k) c[k] += w * y[std::size_t(k)];
       t = tExit;
     }
     if (tExit >= t1) return;
@@ -97,7 +99,7 @@ void tallySegment(const Grid& g, std::vector<McMoments>& into, const glm::dvec3&
 
 // The photons of one chunk with their own tallies.
 struct Chunk {
-  std::vector<std::vector<McMoments>> tallies;
+  std::vector<std::vector<double>> tallies;
   McStats stats;
 };
 
@@ -112,6 +114,7 @@ class PhotonTracer {
     const glm::dvec3 faceArea(size.y * size.z, size.x * size.z, size.x * size.y);
     for (int a = 0; a < 3; ++a) projected_[a] = faceArea[a] * std::abs(to_sun[a]);
     area_ = projected_.x + projected_.y + projected_.z;
+    for (const McTallySpec& sp : specs) maxL_ = std::max(maxL_, sp.max_l);
     for (const McTallySpec& sp : specs)
       maxOrder_ = sp.max_order < 0 || maxOrder_ < 0 ? -1 : std::max(maxOrder_, sp.max_order);
   }
@@ -146,12 +149,12 @@ class PhotonTracer {
       Extinction e;
       const bool hit = deltaTrack(rng, o, d, tOut, tHit, e);
       const double len = hit ? tHit : tOut;
-      const McMoments y = sphericalHarmonics(d);
+      const McMoments y = sphericalHarmonics(d, maxL_);
       for (std::size_t k = 0; k < specs_.size(); ++k) {
         const McTallySpec& sp = specs_[k];
         if (order < sp.min_order || (sp.max_order >= 0 && order > sp.max_order)) continue;
         if (sp.photon_stride > 1 && i % std::uint64_t(sp.photon_stride) != 0) continue;
-        tallySegment(grids_[k], out.tallies[k], o, d, len, y, weight * power[k]);
+        tallySegment(grids_[k], harmonicsUpTo(sp.max_l), out.tallies[k], o, d, len, y, weight * power[k]);
       }
       if (!hit) {
         if (order > 0 && d.z > 0.0 && std::abs(o.z + tOut * d.z - hi_.z) < 1e-6 * (hi_.z - lo_.z + 1.0))
@@ -213,6 +216,7 @@ class PhotonTracer {
   glm::dvec3 lo_{0.0}, hi_{0.0}, projected_{0.0};
   double area_ = 0.0;
   int maxOrder_ = 0;  ///< the highest order any tally keeps (−1: no limit)
+  int maxL_ = 0;      ///< the highest harmonic degree any tally keeps
 };
 
 void add(McStats& into, const McStats& s) {
@@ -226,28 +230,55 @@ void add(McStats& into, const McStats& s) {
 
 }  // namespace
 
-McMoments sphericalHarmonics(const glm::dvec3& d) {
-  // Real spherical harmonics (Sloan 2008, "Stupid spherical harmonics tricks", appendix A1).
-  const double x = d.x, y = d.y, z = d.z;
-  return {0.28209479177387814,
-          0.4886025119029199 * y,
-          0.4886025119029199 * z,
-          0.4886025119029199 * x,
-          1.0925484305920792 * x * y,
-          1.0925484305920792 * y * z,
-          0.31539156525252005 * (3.0 * z * z - 1.0),
-          1.0925484305920792 * x * z,
-          0.5462742152960396 * (x * x - y * y)};
+McMoments sphericalHarmonics(const glm::dvec3& d, int max_l) {
+  // Y_l0 = K_l0·P_l(z), Y_l±m = √2·K_lm·P̃_lm(z)·{Re, Im}(x + iy)^m with P̃_lm = P_lm/sin^m θ (a
+  // polynomial in z: P̃_mm = (2m − 1)!!, P̃_{m+1,m} = (2m + 1)·z·P̃_mm, then the three-term recurrence)
+  // and K_lm = √((2l + 1)/(4π)·(l − m)!/(l + m)!) (Green 2003, "Spherical harmonic lighting", §2).
+  McMoments y{};
+  const int L = std::clamp(max_l, 0, kMcMaxL);
+  const double z = d.z;
+  double re = 1.0, im = 0.0;  // (x + iy)^m
+  double pmm = 1.0;           // P̃_mm
+  for (int m = 0; m <= L; ++m) {
+    if (m > 0) {
+      const double r = re * d.x - im * d.y;
+      im = re * d.y + im * d.x;
+      re = r;
+      pmm *= double(2 * m - 1);
+    }
+    double pPrev = 0.0, p = pmm;
+    for (int l = m; l <= L; ++l) {
+      if (l == m + 1) {
+        pPrev = p;
+        p = double(2 * m + 1) * z * pmm;
+      } else if (l > m + 1) {
+        const double next = (double(2 * l - 1) * z * p - double(l + m - 1) * pPrev) / double(l - m);
+        pPrev = p;
+        p = next;
+      }
+      double ratio = 1.0;  // (l − m)!/(l + m)!
+      for (int k = l - m + 1; k <= l + m; ++k) ratio /= double(k);
+      const double K = std::sqrt(double(2 * l + 1) / (4.0 * std::numbers::pi) * ratio);
+      const std::size_t c = std::size_t(l * l + l);
+      if (m == 0) {
+        y[c] = K * p;
+      } else {
+        y[c + std::size_t(m)] = std::sqrt(2.0) * K * p * re;
+        y[c - std::size_t(m)] = std::sqrt(2.0) * K * p * im;
+      }
+    }
+  }
+  return y;
 }
 
-double harmonicSourceFunction(const McMoments& c, const glm::dvec3& omega, double g1, double g2, int max_l) {
+double harmonicSourceFunction(const McMoments& c, const glm::dvec3& omega, const std::array<double, kMcMaxL + 1>& G,
+                              int max_l) {
   const McMoments y = sphericalHarmonics(omega);
-  double j = c[0] * y[0];
-  if (max_l >= 1) j += g1 * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
-  if (max_l >= 2) {
+  double j = 0.0;
+  for (int l = 0; l <= std::min(max_l, kMcMaxL); ++l) {
     double s = 0.0;
-    for (int k = 4; k < kMcHarmonics; ++k) s += c[std::size_t(k)] * y[std::size_t(k)];
-    j += g2 * s;
+    for (int k = l * l; k < (l + 1) * (l + 1); ++k) s += c[std::size_t(k)] * y[std::size_t(k)];
+    j += (l == 0 ? 1.0 : G[std::size_t(l)]) * s;
   }
   return j;
 }
@@ -261,8 +292,8 @@ McMoments McRadianceVolume::momentsAt(const glm::dvec3& world_m) const {
       for (int dx = 0; dx < 2; ++dx) {
         const glm::ivec3 c = glm::clamp(glm::ivec3(fl) + glm::ivec3(dx, dy, dz), glm::ivec3(0), cells - 1);
         const double w = (dx ? t.x : 1.0 - t.x) * (dy ? t.y : 1.0 - t.y) * (dz ? t.z : 1.0 - t.z);
-        const McMoments& m = moments[index(c.x, c.y, c.z)];
-        for (int k = 0; k < kMcHarmonics; ++k) sum[std::size_t(k)] += w * m[std::size_t(k)];
+        const std::size_t h = std::size_t(harmonics()), base = index(c.x, c.y, c.z) * h;
+        for (std::size_t k = 0; k < h; ++k) sum[k] += w * moments[base + k];
       }
   return sum;
 }
@@ -273,9 +304,24 @@ double McRadianceVolume::fluenceAt(const glm::dvec3& world_m) const {
 
 double McRadianceVolume::radianceAt(const glm::dvec3& world_m, const glm::dvec3& to_eye_world, double ice_weight,
                                     double g_ice, double g_water, int max_l) const {
-  const double g1 = ice_weight * g_ice + (1.0 - ice_weight) * g_water;
-  const double g2 = ice_weight * g_ice * g_ice + (1.0 - ice_weight) * g_water * g_water;
-  return std::max(harmonicSourceFunction(momentsAt(world_m), to_eye_world, g1, g2, max_l), 0.0);
+  return radianceByOrder(world_m, to_eye_world, ice_weight, g_ice, g_water)[std::size_t(std::clamp(max_l, 0, kMcMaxL))];
+}
+
+std::array<double, kMcMaxL + 1> McRadianceVolume::radianceByOrder(const glm::dvec3& world_m,
+                                                                  const glm::dvec3& to_eye_world, double ice_weight,
+                                                                  double g_ice, double g_water) const {
+  const McMoments c = momentsAt(world_m), y = sphericalHarmonics(to_eye_world, spec.max_l);
+  std::array<double, kMcMaxL + 1> out{};
+  double j = 0.0, gi = 1.0, gw = 1.0;
+  for (int l = 0; l <= kMcMaxL; ++l) {  // past the tally's max_l the moments are 0: the sum stays
+    double s = 0.0;
+    for (int k = l * l; k < (l + 1) * (l + 1); ++k) s += c[std::size_t(k)] * y[std::size_t(k)];
+    j += (ice_weight * gi + (1.0 - ice_weight) * gw) * s;  // G_l = w·g_ice^l + (1 − w)·g_water^l
+    out[std::size_t(l)] = std::max(j, 0.0);
+    gi *= g_ice;
+    gw *= g_water;
+  }
+  return out;
 }
 
 std::vector<McRadianceVolume> traceMcRadianceVolumes(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
@@ -286,6 +332,9 @@ std::vector<McRadianceVolume> traceMcRadianceVolumes(const ExtinctionVolumes& vo
   if (settings.roulette_after_events < 0 || settings.roulette_after_events == 1)
     throw UsageError("traceMcRadianceVolumes: roulette_after_events must be 0 (off) or at least 2");
   if (!(glm::length(to_sun) > 0.0)) throw UsageError("traceMcRadianceVolumes: the sun direction is zero");
+  for (const McTallySpec& s : specs)
+    if (s.max_l < 0 || s.max_l > kMcMaxL)
+      throw UsageError("traceMcRadianceVolumes: a tally's max_l must lie in 0 … " + std::to_string(kMcMaxL));
   const auto start = std::chrono::steady_clock::now();
   const ExtinctionField field(volumes, frame, settings.reconstruction);
   const MajorantGrid majorants(field);
@@ -306,7 +355,9 @@ std::vector<McRadianceVolume> traceMcRadianceVolumes(const ExtinctionVolumes& vo
       for (int c = r.begin(); c < r.end(); ++c) {
         Chunk& ch = chunks[std::size_t(c)];
         for (const Grid& g : grids)
-          ch.tallies.emplace_back(std::size_t(g.cells.x * g.cells.y * g.cells.z), McMoments{});
+          ch.tallies.emplace_back(std::size_t(g.cells.x * g.cells.y * g.cells.z) *
+                                      std::size_t(harmonicsUpTo(specs[ch.tallies.size()].max_l)),
+                                  0.0);
         const std::uint64_t b = n * std::uint64_t(c) / kChunks, e = n * std::uint64_t(c + 1) / kChunks;
         for (std::uint64_t i = b; i < e; ++i) tracer.trace(i, power, ch);
       }
@@ -320,13 +371,11 @@ std::vector<McRadianceVolume> traceMcRadianceVolumes(const ExtinctionVolumes& vo
     v.frame = frame;
     v.cells = grids[k].cells;
     v.cell_m = grids[k].cell_m;
-    v.moments.assign(std::size_t(v.cells.x * v.cells.y * v.cells.z), McMoments{});
+    v.moments.assign(std::size_t(v.cells.x * v.cells.y * v.cells.z) * std::size_t(v.harmonics()), 0.0);
     const double inv = 1.0 / (v.cell_m.x * v.cell_m.y * v.cell_m.z);
     for (const Chunk& ch : chunks)
-      for (std::size_t c = 0; c < v.moments.size(); ++c)
-        for (int h = 0; h < kMcHarmonics; ++h) v.moments[c][std::size_t(h)] += ch.tallies[k][c][std::size_t(h)];
-    for (McMoments& m : v.moments)
-      for (double& x : m) x *= inv;
+      for (std::size_t c = 0; c < v.moments.size(); ++c) v.moments[c] += ch.tallies[k][c];
+    for (double& x : v.moments) x *= inv;
   }
   for (const Chunk& ch : chunks) add(total, ch.stats);
   total.escaped_up /= double(std::max<std::uint64_t>(total.photons, 1));

@@ -62,7 +62,7 @@ TEST(McRadianceVolume, DirectBeamFluenceIsTheExactTransmittance) {
           const glm::dvec3 x = frame.min_m() + (glm::dvec3(i, j, k) + f) * mc.cell_m;
           expected += std::exp(-field.opticalDepth(x, toSun, 0.0, 1e30)) / double(m * m * m);
         }
-        const double got = mc.moments[mc.index(i, j, k)][0] * 2.0 * std::sqrt(std::numbers::pi);
+        const double got = mc.moment(mc.index(i, j, k), 0) * 2.0 * std::sqrt(std::numbers::pi);
         if (expected < 0.1) continue;
         ++checked;
         worst = std::max(worst, std::abs(got / expected - 1.0));
@@ -74,9 +74,10 @@ TEST(McRadianceVolume, DirectBeamFluenceIsTheExactTransmittance) {
   EXPECT_LT(worst, 0.08) << "worst relative error of the beam's cell fluence";
   EXPECT_LT(std::abs(mean / checked), 0.015) << "mean relative error of the beam's cell fluence";
   // The beam's flux points away from the sun with |F| = φ (a delta in direction).
-  const McMoments c = mc.moments[mc.index(3, 3, 4)];
-  const glm::dvec3 flux = glm::dvec3(c[3], c[1], c[2]) * std::sqrt(4.0 * std::numbers::pi / 3.0);
-  const double phi = c[0] * 2.0 * std::sqrt(std::numbers::pi);
+  const std::size_t c = mc.index(3, 3, 4);
+  const glm::dvec3 flux =
+      glm::dvec3(mc.moment(c, 3), mc.moment(c, 1), mc.moment(c, 2)) * std::sqrt(4.0 * std::numbers::pi / 3.0);
+  const double phi = mc.moment(c, 0) * 2.0 * std::sqrt(std::numbers::pi);
   EXPECT_NEAR(glm::dot(flux, -toSun) / phi, 1.0, 1e-9);
 }
 
@@ -117,7 +118,7 @@ TEST(McRadianceVolume, ConservativeSlabCarriesTheSameNetFluxAtEveryDepth) {
   for (int k = 0; k < mc.cells.z; ++k) {
     double fz = 0.0;  // the central 2 × 2 columns
     for (int j = 1; j <= 2; ++j)
-      for (int i = 1; i <= 2; ++i) fz += 0.25 * mc.moments[mc.index(i, j, k)][2] * norm;
+      for (int i = 1; i <= 2; ++i) fz += 0.25 * mc.moment(mc.index(i, j, k), 2) * norm;
     EXPECT_NEAR(fz, -(1.0 - r), 0.02) << "layer " << k;
     lo = std::min(lo, fz);
     hi = std::max(hi, fz);
@@ -146,24 +147,47 @@ TEST(McRadianceVolume, SameSeedSameVolumeBitForBit) {
     EXPECT_NE(a[t].moments, c[t].moments);
   }
   double sum = 0.0;
-  for (const McMoments& m : a[0].moments) sum += m[0];
+  for (std::size_t cell = 0; cell < a[0].moments.size() / std::size_t(a[0].harmonics()); ++cell)
+    sum += a[0].moment(cell, 0);
   EXPECT_GT(sum, 0.0);
 }
 
 // The source function's series: an isotropic field scatters φ/(4π) whatever g; a beam (a delta in
-// direction d) scatters Σ_l (2l + 1)/(4π)·g^l·P_l(d·ω), the HG phase function's first three terms.
+// direction d) scatters Σ_{l ≤ L} (2l + 1)/(4π)·g^l·P_l(d·ω), the HG phase function's Legendre
+// series — which checks the harmonics by the addition theorem, order by order.
 TEST(McRadianceVolume, SourceFunctionIsTheTruncatedPhaseSeries) {
   McMoments iso{};
   iso[0] = 2.0 * std::sqrt(std::numbers::pi);  // L = 1 everywhere: c00 = ∫ Y00 dω = √(4π)
   const glm::dvec3 w = glm::normalize(glm::dvec3(0.3, -0.4, 0.8));
-  EXPECT_NEAR(harmonicSourceFunction(iso, w, 0.85, 0.85 * 0.85, 2), 1.0, 1e-12);  // J = L = 1
-  const glm::dvec3 d = glm::normalize(glm::dvec3(-0.5, 0.2, -0.7));
-  const McMoments beam = sphericalHarmonics(d);  // c_lm = Y_lm(d) for a unit delta
-  const double mu = glm::dot(d, w), g = 0.75;
-  const double p2 = 0.5 * (3.0 * mu * mu - 1.0);
-  const double expected = (1.0 + 3.0 * g * mu + 5.0 * g * g * p2) / (4.0 * std::numbers::pi);
-  EXPECT_NEAR(harmonicSourceFunction(beam, w, g, g * g, 2), expected, 1e-12);
-  EXPECT_NEAR(harmonicSourceFunction(beam, w, g, g * g, 0), 1.0 / (4.0 * std::numbers::pi), 1e-12);
+  const double g = 0.75;
+  std::array<double, kMcMaxL + 1> G{};
+  for (int l = 0; l <= kMcMaxL; ++l) G[std::size_t(l)] = std::pow(g, l);
+  EXPECT_NEAR(harmonicSourceFunction(iso, w, G, kMcMaxL), 1.0, 1e-12);  // J = L = 1
+  for (const glm::dvec3& dd : {glm::dvec3(-0.5, 0.2, -0.7), glm::dvec3(0.1, 0.9, 0.3), glm::dvec3(0.3, -0.4, 0.8),
+                               glm::dvec3(0.0, 0.0, -1.0), glm::dvec3(-0.6, -0.8, 0.0)}) {
+    const glm::dvec3 d = glm::normalize(dd);
+    const McMoments beam = sphericalHarmonics(d);  // c_lm = Y_lm(d) for a unit delta
+    const double mu = glm::dot(d, w);
+    double pPrev = 1.0, p = mu;  // Legendre P_l(μ) by Bonnet's recurrence
+    double expected = 0.0;
+    for (int l = 0; l <= kMcMaxL; ++l) {
+      const double pl = l == 0 ? 1.0 : p;
+      expected += (2.0 * l + 1.0) / (4.0 * std::numbers::pi) * G[std::size_t(l)] * pl;
+      EXPECT_NEAR(harmonicSourceFunction(beam, w, G, l), expected, 1e-11) << "l " << l;
+      if (l >= 1) {
+        const double next = ((2.0 * l + 1.0) * mu * p - double(l) * pPrev) / double(l + 1);
+        pPrev = p;
+        p = next;
+      }
+    }
+  }
+  // The first harmonics are the closed forms (Sloan 2008, without the Condon–Shortley sign).
+  const glm::dvec3 d = glm::normalize(glm::dvec3(0.2, -0.5, 0.6));
+  const McMoments y = sphericalHarmonics(d);
+  EXPECT_NEAR(y[0], 0.28209479177387814, 1e-15);
+  EXPECT_NEAR(y[2], 0.4886025119029199 * d.z, 1e-15);
+  EXPECT_NEAR(y[6], 0.31539156525252005 * (3.0 * d.z * d.z - 1.0), 1e-15);
+  EXPECT_NEAR(y[8], 0.5462742152960396 * (d.x * d.x - d.y * d.y), 1e-15);
 }
 
 TEST(McRadianceVolume, BadInputIsAClearError) {
