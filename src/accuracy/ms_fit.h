@@ -16,6 +16,11 @@
 //               issue 12's second approach), in 3-D and as the same grid's independent columns,
 //               and two_stream × φ_3D/φ_1D; source the DLM's I or the column's beam, drift physical
 //               or two_stream's (four configurations, docs/accuracy.md "Tenth session")
+//   MC volume   Σ w·J of the Monte Carlo radiance volume (reference/mc_radiance_volume.h, fifteenth
+//               session): photons traced like the path tracer's, orders ≥ 1 (with single scattering
+//               from the exact beam, the DLM without its cone) or ≥ 2 (beside the DLM's single
+//               scattering and forward lobe) tallied as spherical-harmonic moments on coarse cells,
+//               the series truncated after l = 0 … 8 (docs/accuracy.md "Fifteenth session")
 // A model's luminance is then Y = Y_sky + Y_sun·(single + Σ_j θ_j·term_j), linear in its free
 // weights θ, which are fitted by least squares on the objective of octave_fit.h (mean over scenes of
 // Σ ΔY² / Σ (Y_ref² + 0.01)). Per scene it reports the luminance bias Σ Y / Σ Y_ref − 1 and the

@@ -142,6 +142,14 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
                   "--compare-ms: photons per scene of the Monte Carlo radiance volume (quick: 4096)")
       ->capture_default_str()
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30));
+  cmd->add_option("--ms-mc-coarsen", o->sweep.mc_coarsen_xy,
+                  "--compare-ms: fine voxels per cell of the Monte Carlo volume's first tally, horizontally")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--ms-mc-coarsen-z", o->sweep.mc_coarsen_z,
+                  "--compare-ms: fine voxels per cell of the Monte Carlo volume's first tally, vertically")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });

@@ -234,6 +234,18 @@ McMoments sphericalHarmonics(const glm::dvec3& d, int max_l) {
   // Y_l0 = K_l0·P_l(z), Y_l±m = √2·K_lm·P̃_lm(z)·{Re, Im}(x + iy)^m with P̃_lm = P_lm/sin^m θ (a
   // polynomial in z: P̃_mm = (2m − 1)!!, P̃_{m+1,m} = (2m + 1)·z·P̃_mm, then the three-term recurrence)
   // and K_lm = √((2l + 1)/(4π)·(l − m)!/(l + m)!) (Green 2003, "Spherical harmonic lighting", §2).
+  // K_lm (× √2 for m > 0) at index l² + l + m, computed once.
+  static const McMoments kNorm = [] {
+    McMoments k{};
+    for (int l = 0; l <= kMcMaxL; ++l)
+      for (int m = 0; m <= l; ++m) {
+        double ratio = 1.0;  // (l − m)!/(l + m)!
+        for (int f = l - m + 1; f <= l + m; ++f) ratio /= double(f);
+        k[std::size_t(l * l + l + m)] =
+            (m > 0 ? std::sqrt(2.0) : 1.0) * std::sqrt(double(2 * l + 1) / (4.0 * std::numbers::pi) * ratio);
+      }
+    return k;
+  }();
   McMoments y{};
   const int L = std::clamp(max_l, 0, kMcMaxL);
   const double z = d.z;
@@ -256,15 +268,13 @@ McMoments sphericalHarmonics(const glm::dvec3& d, int max_l) {
         pPrev = p;
         p = next;
       }
-      double ratio = 1.0;  // (l − m)!/(l + m)!
-      for (int k = l - m + 1; k <= l + m; ++k) ratio /= double(k);
-      const double K = std::sqrt(double(2 * l + 1) / (4.0 * std::numbers::pi) * ratio);
       const std::size_t c = std::size_t(l * l + l);
+      const double K = kNorm[c + std::size_t(m)];
       if (m == 0) {
         y[c] = K * p;
       } else {
-        y[c + std::size_t(m)] = std::sqrt(2.0) * K * p * re;
-        y[c - std::size_t(m)] = std::sqrt(2.0) * K * p * im;
+        y[c + std::size_t(m)] = K * p * re;
+        y[c - std::size_t(m)] = K * p * im;
       }
     }
   }
