@@ -350,13 +350,14 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
               sc.name, mcStats.photons, mcStats.collided,
               double(mcStats.collisions) / double(std::max<std::uint64_t>(1, mcStats.photons)), mcStats.rouletted,
               mcStats.truncated, mcStats.seconds, mc.size());
-    {  // the cost of one tally alone (cells 4x4x2, orders >= 1, l <= 8), as a GPU port would build it
+    {  // the cost of the first tally alone (orders >= 1, l <= 8), as a GPU port would build it
       reference::McStats one;
       reference::traceMcRadianceVolumes(*sc.volumes, sc.frame, toSun, {mcSpecs.front()}, mcs, &one);
       log::info("{}: one tally alone: {:.2f} s", sc.name, one.seconds);
       out.mc_seconds.push_back({sc.name, one.seconds});
     }
     out.mc_photons = mcStats.photons;
+    out.mc_cost_tally = fmt::format("cells {}x{}x{}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_xy, o.mc_coarsen_z);
     const double exag = sc.frame.height_exaggeration;
     const int w = sc.camera.width;
     // Thirteenth session's candidates: the column's transport constants in the data frame.
@@ -597,9 +598,9 @@ std::string msComparisonMarkdown(const MsComparison& c) {
       c.objective_noise_floor);
   if (!c.mc_seconds.empty()) {
     md += fmt::format(
-        "Monte Carlo radiance volume: {} photons per scene; the trace with one tally (cells 4x4x2, orders >= 1, "
-        "l <= 8; TBB on this machine) in s:",
-        c.mc_photons);
+        "Monte Carlo radiance volume: {} photons per scene; the trace with one tally ({}, l <= 8; TBB on this "
+        "machine) in s:",
+        c.mc_photons, c.mc_cost_tally);
     for (const auto& [scene, seconds] : c.mc_seconds) md += fmt::format(" {} {:.1f};", scene, seconds);
     md += "\n\n";
   }

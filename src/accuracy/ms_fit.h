@@ -65,6 +65,7 @@ struct MsComparison {
   /// The Monte Carlo radiance volume's trace per scene [s] and its photons per scene.
   std::vector<std::pair<std::string, double>> mc_seconds;
   std::uint64_t mc_photons = 0;
+  std::string mc_cost_tally;  ///< the tally whose trace is timed (the first: --ms-mc-coarsen)
 };
 
 /// Needs a current GL context (the DLM light space comes from the GPU builder's layout).
