@@ -67,7 +67,7 @@ struct SweepOptions {
   /// --compare-ms: photons per scene of the Monte Carlo radiance volume (reference/mc_radiance_volume.h).
   std::uint64_t mc_photons = 1 << 16;
   /// --compare-ms: the cells of the Monte Carlo volume's first tally (orders >= 1, l <= 8).
-  int mc_coarsen_xy = 4, mc_coarsen_z = 2;
+  int mc_coarsen_xy = 4, mc_coarsen_z = 2, mc_subdivide_z = 1;
   /// --decompose: texel size of the converged CPU deep light maps, in voxels (default map: 1).
   double reference_dlm_texel_voxels = 1.0;
 };

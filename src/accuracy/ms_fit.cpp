@@ -342,6 +342,7 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
     for (const McVariant& v : kMcVariants) mcSpecs.push_back(v.spec);
     mcSpecs.front().coarsen_xy = o.mc_coarsen_xy;  // --ms-mc-coarsen (default 4 x 4 x 2)
     mcSpecs.front().coarsen_z = o.mc_coarsen_z;
+    mcSpecs.front().subdivide_z = o.mc_subdivide_z;
     reference::McStats mcStats;
     const std::vector<reference::McRadianceVolume> mc =
         reference::traceMcRadianceVolumes(*sc.volumes, sc.frame, toSun, mcSpecs, mcs, &mcStats);
@@ -357,7 +358,8 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       out.mc_seconds.push_back({sc.name, one.seconds});
     }
     out.mc_photons = mcStats.photons;
-    out.mc_cost_tally = fmt::format("cells {}x{}x{}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_xy, o.mc_coarsen_z);
+    out.mc_cost_tally = fmt::format("cells {}x{}x{}{}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_xy, o.mc_coarsen_z,
+                                    o.mc_subdivide_z > 1 ? fmt::format("/{}", o.mc_subdivide_z) : std::string());
     const double exag = sc.frame.height_exaggeration;
     const int w = sc.camera.width;
     // Thirteenth session's candidates: the column's transport constants in the data frame.
@@ -480,6 +482,15 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
         log::info("{}: diffusion ({}): 3-D {:.0f}, columns {:.0f}, two-stream x 3-D/1-D {:.0f}", sc.name,
                   kDiffusionConfigNames[std::size_t(c)], d.y_sun * sum[std::size_t(diffusionTerm(c, 0))],
                   d.y_sun * sum[std::size_t(diffusionTerm(c, 1))], d.y_sun * sum[std::size_t(diffusionTerm(c, 2))]);
+      // The Monte Carlo volume's parts as mean luminance per pixel (--decompose's units): the exact
+      // beam's single scattering, orders >= 1 and >= 2 of the first two tallies (P8), their
+      // difference being the image's order 2.
+      const double px = double(d.y_truth.size());
+      log::info("{}: Monte Carlo parts, mean Y: truth {:.4f}, sky {:.4f}, single (DLM) {:.4f}, single (exact beam) "
+                "{:.4f}, orders >= 2 (volume, orders >= 1 P8) {:.4f}, orders >= 3 (orders >= 2 P8) {:.4f}",
+                sc.name, yt / px, ys / px, d.y_sun * sum[kSingle] / px, d.y_sun * (sum[kSingle] + sum[kMcBeam]) / px,
+                d.y_sun * sum[std::size_t(mcTerm(0, kMcOrders - 1))] / px,
+                d.y_sun * sum[std::size_t(mcTerm(1, kMcOrders - 1))] / px);
     }
     data.push_back(std::move(d));
     // The models of the knob, rendered exactly (the CPU twin of the eye pass, no early termination).
@@ -551,8 +562,10 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
     for (int l = 0; l < kMcOrders; ++l) {
       if (l > kMcVariants[std::size_t(k)].spec.max_l) continue;
       if (k > 0 && l % 2 == 1) continue;  // the other tallies at even l
-      const std::string cells = k == 0 ? fmt::format("cells {0}x{0}x{1}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_z)
-                                       : std::string(kMcVariants[std::size_t(k)].name);
+      const std::string cells =
+          k == 0 ? fmt::format("cells {0}x{0}x{1}{2}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_z,
+                               o.mc_subdivide_z > 1 ? fmt::format("/{}", o.mc_subdivide_z) : std::string())
+                 : std::string(kMcVariants[std::size_t(k)].name);
       const std::string n = fmt::format("MC radiance volume ({}), P{}", cells, l);
       if (kMcVariants[std::size_t(k)].spec.min_order >= 2)
         models.push_back({n + " + DLM single + forwardLobe", {kForwardLobe, mcTerm(k, l)}, {}});

@@ -150,6 +150,10 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
                   "--compare-ms: fine voxels per cell of the Monte Carlo volume's first tally, vertically")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  cmd->add_option("--ms-mc-subdivide-z", o->sweep.mc_subdivide_z,
+                  "--compare-ms: cells per coarse layer of the Monte Carlo volume's first tally (finer than a voxel)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });

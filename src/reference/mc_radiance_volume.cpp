@@ -35,6 +35,9 @@ Grid gridOf(const volume::VolumeFrame& frame, const McTallySpec& s) {
   const glm::ivec3 c(std::max(s.coarsen_xy, 1), std::max(s.coarsen_xy, 1), std::max(s.coarsen_z, 1));
   g.cells = (frame.voxels + c - 1) / c;
   g.cell_m = glm::dvec3(c) * frame.voxel_size_m;
+  const int split = std::max(s.subdivide_z, 1);
+  g.cells.z *= split;
+  g.cell_m.z /= double(split);
   g.origin = frame.min_m();
   return g;
 }

@@ -59,6 +59,8 @@ struct McTallySpec {
   int max_order = -1;     ///< and at most this many (−1: no limit)
   int photon_stride = 1;  ///< only photons whose index is a multiple of this (fewer photons, same trace)
   int max_l = 4;          ///< highest harmonic degree tallied (0 … kMcMaxL)
+  /// Cells per coarse layer vertically (> 1: finer than the voxels, for a skin thinner than a voxel).
+  int subdivide_z = 1;
 };
 
 struct McSettings {
