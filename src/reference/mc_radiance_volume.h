@@ -79,7 +79,9 @@ struct McStats {
   std::uint64_t collisions = 0;
   std::uint64_t rouletted = 0;
   std::uint64_t truncated = 0;  ///< cut by max_events (biased)
-  double escaped_up = 0.0;      ///< energy leaving through the support box's top face / energy in
+  /// Energy of scattered light leaving through the support box's top face / energy in (photons
+  /// past every tally's max_order are dropped, so only meaningful when one tally has none).
+  double escaped_up = 0.0;
   double seconds = 0.0;
 };
 
