@@ -10,6 +10,7 @@
 //       so (b) is the discretisation, compression and early-termination error of the setting.
 // The GPU renders without jitter (pixel-centre rays, like both references), so every number is
 // deterministic up to timing.
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,6 +64,10 @@ struct SweepOptions {
   int diffusion_coarsen_xy = 4, diffusion_coarsen_z = 2;
   double diffusion_min_resistance = 1e-3;
   int diffusion_flux_limited_passes = 0;  ///< flux-limited diffusion passes (0: plain P1)
+  /// --compare-ms: photons per scene of the Monte Carlo radiance volume (reference/mc_radiance_volume.h).
+  std::uint64_t mc_photons = 1 << 16;
+  /// --compare-ms: the cells of the Monte Carlo volume's first tally (orders >= 1, l <= 8).
+  int mc_coarsen_xy = 4, mc_coarsen_z = 2, mc_subdivide_z = 1;
   /// --decompose: texel size of the converged CPU deep light maps, in voxels (default map: 1).
   double reference_dlm_texel_voxels = 1.0;
 };

@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "lighting/cloud_light.h"
 #include "lighting/diffusion_volume.h"
+#include "reference/mc_radiance_volume.h"
 #include "reference/ray_marcher.h"
 
 namespace nph::accuracy {
@@ -54,7 +55,28 @@ constexpr std::array<const char*, kDiffusionConfigs> kDiffusionConfigNames{
     "DLM source, physical drift", "DLM source, two_stream drift", "column beam, physical drift",
     "column beam, two_stream drift"};
 int diffusionTerm(int config, int kind) { return kColumnEnd + 3 * config + kind; }  // kind 0 3-D, 1 1-D, 2 ratio
-constexpr int kTerms = kColumnEnd + 3 * kDiffusionConfigs;
+constexpr int kDiffusionEnd = kColumnEnd + 3 * kDiffusionConfigs;
+// The Monte Carlo radiance volume (reference/mc_radiance_volume.h; fifteenth session): one photon
+// trace per scene fills these tallies; each is read with its series truncated after l = 0 … 8 (the 2x2x1 tally: 4).
+// kMcBeam is p_v(ψ)·(e^{−τ} − I_DLM): single scattering from the exact beam (the DLM without its
+// forward cone, θ = 0, as --decompose's order 1) in place of the DLM's, so a tally of light
+// scattered ≥ 1 times is not counted twice with the cone.
+struct McVariant {
+  const char* name;
+  reference::McTallySpec spec;
+};
+const std::array<McVariant, 5> kMcVariants{{
+    {"cells 4x4x2, orders >= 1", {4, 2, 1, -1, 1, 8}},
+    {"cells 4x4x2, orders >= 2", {4, 2, 2, -1, 1, 8}},
+    {"cells 8x8x4, orders >= 1", {8, 4, 1, -1, 1, 8}},
+    {"cells 2x2x1, orders >= 1", {2, 1, 1, -1, 1, 4}},
+    {"cells 4x4x2, orders >= 1, a quarter of the photons", {4, 2, 1, -1, 4, 8}},
+}};
+constexpr int kMcTallies = int(kMcVariants.size());
+constexpr int kMcBeam = kDiffusionEnd;
+constexpr int kMcOrders = reference::kMcMaxL + 1;  // the series truncated after l = 0 … 8
+int mcTerm(int tally, int max_l) { return kMcBeam + 1 + kMcOrders * tally + max_l; }
+constexpr int kTerms = kMcBeam + 1 + kMcOrders * kMcTallies;
 
 int columnBin(double tau) {
   int b = 0;
@@ -73,13 +95,16 @@ struct SceneTerms {
 
 // A candidate's picture from the per-pixel sums (the sky light's colour and the sun's colour ×
 // single scattering + the term): what marchCloudLayer would render with the term in the eye pass.
-scene::RgbaImage termImage(const SceneTerms& d, int width, int height, const glm::dvec3& sun, int term) {
+scene::RgbaImage termImage(const SceneTerms& d, int width, int height, const glm::dvec3& sun,
+                           const std::vector<int>& terms) {
   scene::RgbaImage img;
   img.width = width;
   img.height = height;
   img.rgba.assign(std::size_t(width) * std::size_t(height) * 4, 0.0f);
   for (std::size_t px = 0; px < d.terms.size(); ++px) {
-    const glm::dvec3 c = d.sky_rgb[px] + sun * (d.terms[px][kSingle] + d.terms[px][std::size_t(term)]);
+    double f = d.terms[px][kSingle];
+    for (int term : terms) f += d.terms[px][std::size_t(term)];
+    const glm::dvec3 c = d.sky_rgb[px] + sun * f;
     for (int ch = 0; ch < 3; ++ch) img.rgba[4 * px + std::size_t(ch)] = float(c[ch]);
     img.rgba[4 * px + 3] = float(d.alpha[px]);
   }
@@ -304,6 +329,37 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
                 vol.solution.relative_residual,
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
+    // The Monte Carlo radiance volume (fifteenth session) and the exact beam it goes with.
+    lighting::DlmSettings beamOnly = base.dlm;
+    beamOnly.forward_angle_deg = 0.0;
+    beamOnly.peripheral = false;
+    const auto beam = convergedLight(beamOnly, tex, sc);
+    reference::McSettings mcs;
+    mcs.photons = o.mc_photons;
+    mcs.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, march.g_ice};
+    mcs.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, march.g_water};
+    std::vector<reference::McTallySpec> mcSpecs;
+    for (const McVariant& v : kMcVariants) mcSpecs.push_back(v.spec);
+    mcSpecs.front().coarsen_xy = o.mc_coarsen_xy;  // --ms-mc-coarsen (default 4 x 4 x 2)
+    mcSpecs.front().coarsen_z = o.mc_coarsen_z;
+    mcSpecs.front().subdivide_z = o.mc_subdivide_z;
+    reference::McStats mcStats;
+    const std::vector<reference::McRadianceVolume> mc =
+        reference::traceMcRadianceVolumes(*sc.volumes, sc.frame, toSun, mcSpecs, mcs, &mcStats);
+    log::info("{}: Monte Carlo radiance volume: {} photons, {} collided, {:.1f} collisions per photon, {} rouletted, "
+              "{} cut; {:.2f} s CPU wall ({} tallies)",
+              sc.name, mcStats.photons, mcStats.collided,
+              double(mcStats.collisions) / double(std::max<std::uint64_t>(1, mcStats.photons)), mcStats.rouletted,
+              mcStats.truncated, mcStats.seconds, mc.size());
+    {  // the cost of the first tally alone (orders >= 1, l <= 8), as a GPU port would build it
+      reference::McStats one;
+      reference::traceMcRadianceVolumes(*sc.volumes, sc.frame, toSun, {mcSpecs.front()}, mcs, &one);
+      log::info("{}: one tally alone: {:.2f} s", sc.name, one.seconds);
+      out.mc_seconds.push_back({sc.name, one.seconds});
+    }
+    out.mc_photons = mcStats.photons;
+    out.mc_cost_tally = fmt::format("cells {}x{}x{}{}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_xy, o.mc_coarsen_z,
+                                    o.mc_subdivide_z > 1 ? fmt::format("/{}", o.mc_subdivide_z) : std::string());
     const double exag = sc.frame.height_exaggeration;
     const int w = sc.camera.width;
     // Thirteenth session's candidates: the column's transport constants in the data frame.
@@ -372,6 +428,15 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
               t[std::size_t(diffusionTerm(c, 2))] += s.weight * ratio * ts;
             }
           }
+          {
+            const double p = lighting::mixedPhase(cosPsi, s.ice_weight, march.g_ice, march.g_water);
+            t[kMcBeam] += s.weight * p * (beam->intensityAt(s.position_m) - I);
+            for (int k = 0; k < kMcTallies; ++k) {
+              const auto j =
+                  mc[std::size_t(k)].radianceByOrder(s.position_m, -dir, s.ice_weight, march.g_ice, march.g_water);
+              for (int l = 0; l < kMcOrders; ++l) t[std::size_t(mcTerm(k, l))] += s.weight * j[std::size_t(l)];
+            }
+          }
           const double total = tau.x + tau.y;
           t[kAlpha] += s.weight;
           t[kTauColumn] += s.weight * total;
@@ -387,12 +452,15 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
         [&](int x, int y, double T) { d.alpha[std::size_t(y) * std::size_t(w) + std::size_t(x)] = 1.0 - T; });
     if (o.write_images) {
       const std::filesystem::path dir(o.out_dir);
-      scene::writePng(termImage(d, w, sc.camera.height, e, kTwoStream),
+      scene::writePng(termImage(d, w, sc.camera.height, e, {kTwoStream}),
                       (dir / (sc.name + "-terms-two_stream.png")).string());
+      for (int l : {0, 2, 4, 8})
+        scene::writePng(termImage(d, w, sc.camera.height, e, {kMcBeam, mcTerm(0, l)}),
+                        (dir / fmt::format("{}-terms-mc-p{}.png", sc.name, l)).string());
       for (int c = 0; c < kDiffusionConfigs; ++c)
         for (int kind : {0, 2})
           scene::writePng(
-              termImage(d, w, sc.camera.height, e, diffusionTerm(c, kind)),
+              termImage(d, w, sc.camera.height, e, {diffusionTerm(c, kind)}),
               (dir / fmt::format("{}-terms-diffusion{}-{}.png", sc.name, c, kind == 0 ? "3d" : "ratio")).string());
     }
     {  // what each term contributes (luminance sums over the image), for the log
@@ -414,6 +482,15 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
         log::info("{}: diffusion ({}): 3-D {:.0f}, columns {:.0f}, two-stream x 3-D/1-D {:.0f}", sc.name,
                   kDiffusionConfigNames[std::size_t(c)], d.y_sun * sum[std::size_t(diffusionTerm(c, 0))],
                   d.y_sun * sum[std::size_t(diffusionTerm(c, 1))], d.y_sun * sum[std::size_t(diffusionTerm(c, 2))]);
+      // The Monte Carlo volume's parts as mean luminance per pixel (--decompose's units): the exact
+      // beam's single scattering, orders >= 1 and >= 2 of the first two tallies (P8), their
+      // difference being the image's order 2.
+      const double px = double(d.y_truth.size());
+      log::info("{}: Monte Carlo parts, mean Y: truth {:.4f}, sky {:.4f}, single (DLM) {:.4f}, single (exact beam) "
+                "{:.4f}, orders >= 2 (volume, orders >= 1 P8) {:.4f}, orders >= 3 (orders >= 2 P8) {:.4f}",
+                sc.name, yt / px, ys / px, d.y_sun * sum[kSingle] / px, d.y_sun * (sum[kSingle] + sum[kMcBeam]) / px,
+                d.y_sun * sum[std::size_t(mcTerm(0, kMcOrders - 1))] / px,
+                d.y_sun * sum[std::size_t(mcTerm(1, kMcOrders - 1))] / px);
     }
     data.push_back(std::move(d));
     // The models of the knob, rendered exactly (the CPU twin of the eye pass, no early termination).
@@ -479,6 +556,24 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
     models.push_back({"two_stream x 3-D/1-D ratio (" + n + ")", {diffusionTerm(c, 2)}, {}});
     models.push_back({"two_stream x ratio, scale fitted (" + n + ")", {}, {diffusionTerm(c, 2)}});
   }
+  // The Monte Carlo radiance volume: with the exact beam (orders >= 1), or beside the DLM's single
+  // scattering and forward lobe (orders >= 2), series truncated after l = 0 … 8 (the 2x2x1 tally: 4).
+  for (int k = 0; k < kMcTallies; ++k)
+    for (int l = 0; l < kMcOrders; ++l) {
+      if (l > kMcVariants[std::size_t(k)].spec.max_l) continue;
+      if (k > 0 && l % 2 == 1) continue;  // the other tallies at even l
+      const std::string cells =
+          k == 0 ? fmt::format("cells {0}x{0}x{1}{2}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_z,
+                               o.mc_subdivide_z > 1 ? fmt::format("/{}", o.mc_subdivide_z) : std::string())
+                 : std::string(kMcVariants[std::size_t(k)].name);
+      const std::string n = fmt::format("MC radiance volume ({}), P{}", cells, l);
+      if (kMcVariants[std::size_t(k)].spec.min_order >= 2)
+        models.push_back({n + " + DLM single + forwardLobe", {kForwardLobe, mcTerm(k, l)}, {}});
+      else models.push_back({n + " + exact beam", {kMcBeam, mcTerm(k, l)}, {}});
+    }
+  models.push_back(
+      {"MC radiance volume (cells 4x4x2, orders >= 1), P2 + DLM single (the cone counted twice)", {mcTerm(0, 2)}, {}});
+  models.push_back({"exact beam alone (single scattering, no cone)", {kMcBeam}, {}});
   for (const Model& m : models) {
     out.models.push_back(evaluate(data, m));
     const MsModelResult& r = out.models.back();
@@ -514,6 +609,14 @@ std::string msComparisonMarkdown(const MsComparison& c) {
   md += fmt::format(
       "\nObjective = mean over scenes of Σ ΔY² / Σ (Y_ref² + 0.01); the truth's own noise is {:.4f} of it.\n\n",
       c.objective_noise_floor);
+  if (!c.mc_seconds.empty()) {
+    md += fmt::format(
+        "Monte Carlo radiance volume: {} photons per scene; the trace with one tally ({}, l <= 8; TBB on this "
+        "machine) in s:",
+        c.mc_photons, c.mc_cost_tally);
+    for (const auto& [scene, seconds] : c.mc_seconds) md += fmt::format(" {} {:.1f};", scene, seconds);
+    md += "\n\n";
+  }
   md += "| scene | model | relMSE | luminance bias | > 2/255 | truth noise RMSE | CPU march ms |\n"
         "| --- | --- | ---: | ---: | ---: | ---: | ---: |\n";
   std::vector<std::pair<std::string, double>> means;

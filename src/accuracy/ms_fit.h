@@ -16,13 +16,20 @@
 //               issue 12's second approach), in 3-D and as the same grid's independent columns,
 //               and two_stream × φ_3D/φ_1D; source the DLM's I or the column's beam, drift physical
 //               or two_stream's (four configurations, docs/accuracy.md "Tenth session")
+//   MC volume   Σ w·J of the Monte Carlo radiance volume (reference/mc_radiance_volume.h, fifteenth
+//               session): photons traced like the path tracer's, orders ≥ 1 (with single scattering
+//               from the exact beam, the DLM without its cone) or ≥ 2 (beside the DLM's single
+//               scattering and forward lobe) tallied as spherical-harmonic moments on coarse cells,
+//               the series truncated after l = 0 … 8 (docs/accuracy.md "Fifteenth session")
 // A model's luminance is then Y = Y_sky + Y_sun·(single + Σ_j θ_j·term_j), linear in its free
 // weights θ, which are fitted by least squares on the objective of octave_fit.h (mean over scenes of
 // Σ ΔY² / Σ (Y_ref² + 0.01)). Per scene it reports the luminance bias Σ Y / Σ Y_ref − 1 and the
 // relMSE of image_error.h (luminance only). The three models of the knob `multiple_scattering`
 // are then rendered exactly by the CPU reference of the eye pass and measured with compareImages
 // (relMSE, luminance bias, share of pixels off by > 2/255).
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "accuracy/accuracy_sweep.h"
@@ -55,6 +62,10 @@ struct MsComparison {
   std::vector<MsModelResult> models;      ///< the fits (luminance only)
   std::vector<MsRenderedScene> rendered;  ///< single, octaves and two_stream rendered exactly
   double objective_noise_floor = 0.0;     ///< the truth's own noise in the objective
+  /// The Monte Carlo radiance volume's trace per scene [s] and its photons per scene.
+  std::vector<std::pair<std::string, double>> mc_seconds;
+  std::uint64_t mc_photons = 0;
+  std::string mc_cost_tally;  ///< the tally whose trace is timed (the first: --ms-mc-coarsen)
 };
 
 /// Needs a current GL context (the DLM light space comes from the GPU builder's layout).

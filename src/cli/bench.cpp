@@ -37,6 +37,7 @@ int runBenchAccuracy(BenchAccuracyOptions o) {
     s.ground_truth.samples_per_pixel = 8;
     s.ground_truth.max_events = 2000;
     s.ground_truth.roulette_after_events = 100;
+    s.mc_photons = std::min<std::uint64_t>(s.mc_photons, 4096);
   }
   if (o.spp > 0) s.ground_truth.samples_per_pixel = o.spp;
   std::filesystem::create_directories(s.out_dir);
@@ -137,6 +138,22 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
                   "--compare-ms: passes of flux-limited diffusion (Levermore-Pomraning) after the linear solve")
       ->capture_default_str()
       ->check(CLI::Range(0, 50));
+  cmd->add_option("--ms-mc-photons", o->sweep.mc_photons,
+                  "--compare-ms: photons per scene of the Monte Carlo radiance volume (quick: 4096)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30));
+  cmd->add_option("--ms-mc-coarsen", o->sweep.mc_coarsen_xy,
+                  "--compare-ms: fine voxels per cell of the Monte Carlo volume's first tally, horizontally")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--ms-mc-coarsen-z", o->sweep.mc_coarsen_z,
+                  "--compare-ms: fine voxels per cell of the Monte Carlo volume's first tally, vertically")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--ms-mc-subdivide-z", o->sweep.mc_subdivide_z,
+                  "--compare-ms: cells per coarse layer of the Monte Carlo volume's first tally (finer than a voxel)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   cmd->add_flag("--images", o->sweep.write_images, "also write PNGs of the ground truth and every variant");
   cmd->add_option("--gl", o->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();
   cmd->callback([o, &run] { run = [o] { return runBenchAccuracy(*o); }; });
