@@ -84,6 +84,13 @@ struct Series {
   }
 };
 
+// A DLM build's three pass times (wall ms, DlmStats) appended to per-pass series.
+void addPassTimes(std::vector<double> (&pass)[3], const render::DlmStats& stats) {
+  pass[0].push_back(stats.pass1_ms);
+  pass[1].push_back(stats.pass2_ms);
+  pass[2].push_back(stats.pass3_ms);
+}
+
 long differingFloats(const std::vector<float>& a, const std::vector<float>& b) {
   if (a.size() != b.size()) return long(std::max(a.size(), b.size()));
   long n = 0;
@@ -212,9 +219,7 @@ void BM_FrameVariants(benchmark::State& state) {
         if (d == 0) map.setBaseline({.binary_search = true, .slice_breaks = true, .no_pruning = true});
         t = timed([&] { map.build(tex, -sun.toSun(), ds); });
         dlm[d].add(t);
-        pass[d][0].push_back(map.stats().pass1_ms);
-        pass[d][1].push_back(map.stats().pass2_ms);
-        pass[d][2].push_back(map.stats().pass3_ms);
+        addPassTimes(pass[d], map.stats());
       } else {
         t = timed([&] { kernel.dispatch(volume, step); });
         fetch.add(t);
@@ -338,9 +343,7 @@ void BM_DlmPruning(benchmark::State& state) {
       map.setBaseline(baseline[k]);
       const Timing t = timed([&] { map.build(tex, -sun.toSun(), ds); });
       build[k].add(t);
-      pass[k][0].push_back(map.stats().pass1_ms);
-      pass[k][1].push_back(map.stats().pass2_ms);
-      pass[k][2].push_back(map.stats().pass3_ms);
+      addPassTimes(pass[k], map.stats());
       total += t.wall_ms;
     }
     ++round;
