@@ -65,6 +65,34 @@ int flatUntilSlice(ivec4 columns, int n) {
 #endif
 #endif
 
+#if !defined(PERIPHERAL) && !defined(UNCOMPRESSED)
+// Pass 1 marches only the texels pass 2 reads (issue 19, "nothing computed that a scene does not
+// need"). With the scatter map on, pass 1's map has one reader: pass 2 (scatter.comp), which looks
+// the central light up at its cell centres, t_c = (c + ½)·n/cells − ½ in texel units along each
+// axis, by the bilinear blend of glsl/common/light_blend.glsl — texels floor(t_c) and floor(t_c) + 1.
+// Pass 3 clears the counts and re-marches every texel with P added, so no other texel of pass 1 is
+// ever read: at 4 × 4 texels per cell, 2 of every 4 texel rows and columns, ¼ of the texels.
+// The invocations are compacted — u_pass1_slots per cell and axis, slot k marching texel
+// floor(t_c − m) + k — so that the 8 lanes llvmpipe runs in lock-step are 8 needed texels rather
+// than a row of the map with every other pair idle. The margin m = kReadMargin [texels] covers the
+// float rounding of t_c here and in pass 2: a centre within m of an integer may floor either way
+// there, so it takes a third slot (DeepLightMap::build sets u_pass1_slots = 3 on such an axis).
+// u_pass1_cells = (0, 0): every texel, one invocation each (no scatter map; DlmBaseline::no_pruning).
+uniform ivec2 u_pass1_cells;
+uniform ivec2 u_pass1_slots;
+const float kReadMargin = 0.01;  // render/dlm/deep_light_map.cpp kPassOneReadMargin
+// The texel (of n along one axis) that compacted invocation i marches, −1 for none.
+int passOneTexel(int i, int n, int cells, int slots) {
+  int c = i / slots, slot = i - c * slots;
+  if (c >= cells) return -1;
+  float t = (float(c) + 0.5) * (float(n) / float(cells)) - 0.5;
+  int lo = int(floor(t - kReadMargin));
+  if (slot == 2 && int(floor(t + kReadMargin)) == lo) return -1;
+  int a = lo + slot;
+  return a >= 0 && a < n ? a : -1;
+}
+#endif
+
 #ifdef UNCOMPRESSED
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
@@ -83,6 +111,13 @@ void main() {
 #else
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+#ifndef PERIPHERAL
+  if (u_pass1_cells.x > 0) {  // the texels pass 2 reads; the others keep count 0 (cleared)
+    texel = ivec2(passOneTexel(texel.x, u_ls_texels.x, u_pass1_cells.x, u_pass1_slots.x),
+                  passOneTexel(texel.y, u_ls_texels.y, u_pass1_cells.y, u_pass1_slots.y));
+    if (any(lessThan(texel, ivec2(0)))) return;
+  }
+#endif
   if (any(greaterThanEqual(texel, u_ls_texels))) return;
   if (u_only_overflowed && (imageLoad(u_counts, texel).r & DLM_COUNT_UNBOUNDED) == 0u) return;
 
@@ -101,7 +136,16 @@ void main() {
   while (n < u_steps) {
     float s = float(n) * u_step_m;
     vec3 p = start + s * u_ls_w;
-    if (u_skip_empty && brickMaxAt(p + 0.5 * u_step_m * u_ls_w) == 0.0) {
+    bool empty = u_skip_empty && brickMaxAt(p + 0.5 * u_step_m * u_ls_w) == 0.0;
+#ifdef DLM_BASELINE_NO_PRUNING
+    if (empty) {
+#else
+    // The skip as a loop of at most one pass (issue 19), not an if: llvmpipe runs 8 texels in
+    // lock-step and evaluates both sides of a branch under a lane mask, so inside the cloud every
+    // step paid for the skip's brick exit, slice breaks and extra sample; a loop is left when no
+    // lane is in it. Same arithmetic, same map bit for bit (DlmBaseline::no_pruning).
+    for (int skip = empty ? 0 : 1; skip < 1; ++skip) {
+#endif
       // Jump to the first lattice sample at or past the brick exit: every step in between has
       // β = 0 (the brick max is dilated by the filter's reach), so Ic is unchanged.
       float exit = s + 0.5 * u_step_m + emptySkipDistance(p + 0.5 * u_step_m * u_ls_w, u_ls_w);

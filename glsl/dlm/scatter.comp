@@ -34,8 +34,22 @@ void main() {
   vec2 beta = extinctionAt(mid);
   float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_slice_m);
   float Pprev = imageLoad(u_scatter_img, ivec3(cell, k - 1)).r;
-  float around = 0.25 * (lightAt(cell + ivec2(1, 0), k - 1) + lightAt(cell - ivec2(1, 0), k - 1) +
-                         lightAt(cell + ivec2(0, 1), k - 1) + lightAt(cell - ivec2(0, 1), k - 1));
-  float P = Pprev * (T + (1.0 - T) * u_central_fraction) + around * (1.0 - T) * u_peripheral_fraction;
+  float P = Pprev;
+#ifdef DLM_BASELINE_NO_PRUNING
+  int clear = 0;
+#else
+  // A clear cell (T = 1: β = 0 at its centre, most cells of a slice, whose plane crosses the
+  // cloud layer in a strip) keeps P_k = P_{k−1} exactly — Pprev·(1 + 0·CP) + avg4·0 — so its four
+  // look-ups of the neighbours' light (16 node-list scans) are not needed (issue 19). The update is
+  // a loop of at most one pass rather than an if: llvmpipe runs 8 cells in lock-step and executes
+  // both sides of a branch under a lane mask, but leaves a loop when no lane is left in it, so a
+  // row of clear cells skips the look-ups (on a GPU, the same for a warp of clear cells).
+  int clear = T < 1.0 ? 0 : 1;
+#endif
+  for (int update = clear; update < 1; ++update) {
+    float around = 0.25 * (lightAt(cell + ivec2(1, 0), k - 1) + lightAt(cell - ivec2(1, 0), k - 1) +
+                           lightAt(cell + ivec2(0, 1), k - 1) + lightAt(cell - ivec2(0, 1), k - 1));
+    P = Pprev * (T + (1.0 - T) * u_central_fraction) + around * (1.0 - T) * u_peripheral_fraction;
+  }
   imageStore(u_scatter_img, ivec3(cell, k), vec4(P));
 }

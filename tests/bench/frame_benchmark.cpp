@@ -6,8 +6,10 @@
 //             spec      + programs specialised per view at compile time (EyePassFeatures)
 //             new       both (the default), with the packed texture (one fetch per step)
 //             preset    new + the light cache of the broadcast preset (light_cache_voxels 2)
-//   DLM build old       binary search in pass 2, pass 3 stopping at every scatter-slice centre
-//             new       linear scan, pass 3 skipping across the scatter map's flat runs (default)
+//   DLM build old       binary search in pass 2, pass 3 stopping at every scatter-slice centre,
+//                       no pruning (DlmBaseline::no_pruning)
+//             new       linear scan, pass 3 skipping across the scatter map's flat runs, pruned
+//                       passes (the default)
 //   fetch     the foundation's fetch kernel (fetch_kernel.h) on a volume of the scene's size and
 //             format, the rate of a ray caster that does nothing but sample.
 // Reported (medians over the rounds; ratio = old / new, > 1 is faster): wall ms and process CPU ms
@@ -19,6 +21,7 @@
 // Scenes: `demo` = the realistic generated hurricane (500 × 500 × 60 at 3 km, the `make demo`
 // storm), `coarse` = datagen::coarseStormSpec (72 × 64 × 30). Image width is the second argument
 // (16:9); this 2-core VM renders the demo at 960 × 540.
+// BM_DlmPruning (issue 19, session 15): the DLM build of the broadcast preset, pruned or not.
 // BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
 // BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
 // BM_CloudResolution (issue 19 item 4): the clouds marched at 1/1, 1/2, 1/4 of the resolution.
@@ -80,6 +83,13 @@ struct Series {
     cpu.push_back(t.cpu_ms);
   }
 };
+
+// A DLM build's three pass times (wall ms, DlmStats) appended to per-pass series.
+void addPassTimes(std::vector<double> (&pass)[3], const render::DlmStats& stats) {
+  pass[0].push_back(stats.pass1_ms);
+  pass[1].push_back(stats.pass2_ms);
+  pass[2].push_back(stats.pass3_ms);
+}
 
 long differingFloats(const std::vector<float>& a, const std::vector<float>& b) {
   if (a.size() != b.size()) return long(std::max(a.size(), b.size()));
@@ -143,7 +153,7 @@ void BM_FrameVariants(benchmark::State& state) {
 
   // The DLM variants: built once here for the images, rebuilt (fresh objects) in the timed rounds.
   render::DeepLightMap dlmNew, dlmOld;
-  dlmOld.setBaseline({.binary_search = true, .slice_breaks = true});
+  dlmOld.setBaseline({.binary_search = true, .slice_breaks = true, .no_pruning = true});
   dlmNew.build(tex, -sun.toSun(), ds);
   dlmOld.build(tex, -sun.toSun(), ds);
   // The defaults of the broadcast preset (issue 19 item 1): the new eye pass reading the light
@@ -206,12 +216,10 @@ void BM_FrameVariants(benchmark::State& state) {
       } else if (job < 7) {
         const int d = job - 5;  // 0 old, 1 new
         render::DeepLightMap map;
-        if (d == 0) map.setBaseline({.binary_search = true, .slice_breaks = true});
+        if (d == 0) map.setBaseline({.binary_search = true, .slice_breaks = true, .no_pruning = true});
         t = timed([&] { map.build(tex, -sun.toSun(), ds); });
         dlm[d].add(t);
-        pass[d][0].push_back(map.stats().pass1_ms);
-        pass[d][1].push_back(map.stats().pass2_ms);
-        pass[d][2].push_back(map.stats().pass3_ms);
+        addPassTimes(pass[d], map.stats());
       } else {
         t = timed([&] { kernel.dispatch(volume, step); });
         fetch.add(t);
@@ -284,6 +292,97 @@ BENCHMARK(BM_FrameVariants)
     ->ArgNames({"scene", "width"})
     ->Args({1, 1920})  // coarse storm, 1920 × 1080
     ->Args({0, 960})   // demo storm, 960 × 540
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Issue 19, session 15 ("nothing computed that a scene does not need"): the deep light map build of
+// the broadcast preset (dlmSettingsFor(broadcast): 512 texels per side at most, 16 nodes, ε 0.01,
+// the light cache ½) in three variants, interleaved in rotating order, fresh objects per build:
+//   old     before issue 19 (binary search in pass 2, slice breaks in pass 3, no pruning)
+//   s14     session 14's default: linear scan, flat runs, no pruning (DlmBaseline::no_pruning)
+//   new     + pass 1 only at the texels pass 2 reads, pass 2 without the look-ups of clear cells,
+//           the empty-space skip of passes 1 and 3 as a loop (the default)
+// Reported: medians of wall and process CPU ms and of each pass, ratios s14/new and old/new, the
+// texels pass 1 marched, texels whose node lists differ between s14 and new (must be 0: the pruning
+// computes the same map) and max |ΔI| of new against old over every step of every texel.
+void BM_DlmPruning(benchmark::State& state) {
+  const bool demo = state.range(0) == 0;
+  const auto ctx = bench::hiddenContext();
+  const ExtinctionVolumes v = benchVolumes(demo);
+  const auto frame = volume::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  const lighting::DlmSettings ds = lighting::dlmSettingsFor(lighting::qualityPreset(lighting::Preset::Broadcast));
+  const render::DlmBaseline baseline[3] = {
+      {.binary_search = true, .slice_breaks = true, .no_pruning = true}, {.no_pruning = true}, {}};
+  const char* name[3] = {"old", "s14", "new"};
+  render::DeepLightMap maps[3];
+  for (int k = 0; k < 3; ++k) {  // compiles, warms up; the maps compared below
+    maps[k].setBaseline(baseline[k]);
+    maps[k].build(tex, -sun.toSun(), ds);
+  }
+  const auto rs14 = maps[1].readBack(), rnew = maps[2].readBack();
+  long differing = 0;
+  for (std::size_t t = 0; t < rs14.nodes.size(); ++t) {
+    bool same = rs14.nodes[t].size() == rnew.nodes[t].size();
+    for (std::size_t k = 0; same && k < rs14.nodes[t].size(); ++k)
+      same = rs14.nodes[t][k].depth_m == rnew.nodes[t][k].depth_m &&
+             rs14.nodes[t][k].intensity == rnew.nodes[t][k].intensity;
+    differing += same ? 0 : 1;
+  }
+  const double light = maxLightDifference(maps[0], maps[2]);
+  Series build[3];
+  std::vector<double> pass[3][3];
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      const int k = (j + round) % 3;
+      render::DeepLightMap map;
+      map.setBaseline(baseline[k]);
+      const Timing t = timed([&] { map.build(tex, -sun.toSun(), ds); });
+      build[k].add(t);
+      addPassTimes(pass[k], map.stats());
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  auto& c = state.counters;
+  for (int k = 0; k < 3; ++k) {
+    c[std::string("dlm_ms_") + name[k]] = median(build[k].wall);
+    c[std::string("dlm_cpu_ms_") + name[k]] = median(build[k].cpu);
+    for (int p = 0; p < 3; ++p) c["pass" + std::to_string(p + 1) + "_ms_" + name[k]] = median(pass[k][p]);
+  }
+  c["ratio_s14_new"] = median(build[1].wall) / median(build[2].wall);
+  c["cpu_ratio_s14_new"] = median(build[1].cpu) / median(build[2].cpu);
+  c["ratio_old_new"] = median(build[0].wall) / median(build[2].wall);
+  c["cpu_ratio_old_new"] = median(build[0].cpu) / median(build[2].cpu);
+  c["differing_texels_s14_new"] = double(differing);
+  c["max_abs_light_old_new"] = light;
+  const render::DlmStats& st = maps[2].stats();
+  std::fprintf(stderr,
+               "DLM pruning, %s storm %dx%dx%d voxels, broadcast preset, %d rounds on %s\n"
+               "  map %dx%d texels (pass 1: %lld), %d steps of %.0f m, scatter map %dx%dx%d, %.2f nodes per texel\n",
+               demo ? "demo" : "coarse", v.nx, v.ny, v.nz, round, ctx->info().renderer.c_str(), st.texels.x,
+               st.texels.y, static_cast<long long>(st.pass1_texels), st.steps, st.step_m, st.scatter_cells.x,
+               st.scatter_cells.y, st.scatter_cells.z, st.mean_nodes);
+  for (int k = 0; k < 3; ++k) {
+    std::fprintf(stderr, "  %-4s wall %7.0f ms (passes %6.0f + %6.0f + %6.0f)  CPU %7.0f ms\n", name[k],
+                 median(build[k].wall), median(pass[k][0]), median(pass[k][1]), median(pass[k][2]),
+                 median(build[k].cpu));
+  }
+  std::fprintf(stderr,
+               "  s14/new wall %.2f, CPU %.2f; old/new wall %.2f, CPU %.2f; texels differing s14/new %ld; "
+               "max |dI| old/new %.4f\n",
+               double(c["ratio_s14_new"]), double(c["cpu_ratio_s14_new"]), double(c["ratio_old_new"]),
+               double(c["cpu_ratio_old_new"]), differing, light);
+}
+BENCHMARK(BM_DlmPruning)
+    ->ArgNames({"scene"})
+    ->Arg(1)  // coarse storm
+    ->Arg(0)  // demo storm
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

@@ -318,6 +318,61 @@ TEST_F(DlmTest, DlmLookupLinearScanIsBitIdenticalToTheBinarySearch) {
               scan.size(), shadowed, withManyNodes, dlm.stats().mean_nodes);
 }
 
+// Issue 19, "nothing computed that a scene does not need": pass 1 marches only the texels pass 2
+// reads at its cell centres, pass 2 leaves the look-ups out of clear cells (T = 1, where the update
+// is P_k = P_{k−1} exactly), and passes 1 and 3 take the empty-space skip as a loop of at most one
+// pass instead of a masked branch. None changes a bit of the map against the unpruned passes
+// (DlmBaseline::no_pruning): same node lists, same ε per texel. Cell sizes of 4 (the default:
+// centres between texels) and 3 and 6 texels (with the map's texel counts not multiples of them,
+// centres at fractions near 0 where float rounding picks either corner: the read margin), sun at
+// two elevations (different texel counts, scatter maps) on the generated hurricane.
+TEST_F(DlmTest, PrunedPassesBuildTheSameMapBitForBit) {
+  const ExtinctionVolumes v = generatedHurricane();
+  const auto frame = volume::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "hurricane");
+  for (const auto& [sun, ds] : {std::pair{scene::Sun{200.0, 35.0}, 4}, std::pair{scene::Sun{110.0, 60.0}, 3},
+                                std::pair{scene::Sun{110.0, 60.0}, 6}}) {
+    lighting::DlmSettings s;
+    s.scatter_downsample = ds;
+    render::DeepLightMap lean, full;
+    full.setBaseline({.no_pruning = true});
+    ASSERT_TRUE(lean.build(tex, -sun.toSun(), s));
+    ASSERT_TRUE(full.build(tex, -sun.toSun(), s));
+    const glm::ivec2 n = lean.lightSpace().texels;
+    ASSERT_EQ(n, full.lightSpace().texels);
+    const std::int64_t all = std::int64_t(n.x) * n.y;
+    EXPECT_EQ(full.stats().pass1_texels, all);
+    if (ds % 2 == 0) {
+      EXPECT_LT(lean.stats().pass1_texels, all * 3 / 5) << "cell centres between texels: ≤ ½ per axis";
+    }
+    EXPECT_LE(lean.stats().pass1_texels, all);
+    const auto a = lean.readBack(), b = full.readBack();
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    long differing = 0, nodes = 0, shadowed = 0;
+    for (std::size_t t = 0; t < a.nodes.size(); ++t) {
+      nodes += long(a.nodes[t].size());
+      if (!a.nodes[t].empty() && a.nodes[t].back().intensity < 0.99f) ++shadowed;
+      bool same = a.nodes[t].size() == b.nodes[t].size() && a.texel_epsilon[t] == b.texel_epsilon[t] &&
+                  a.unbounded[t] == b.unbounded[t];
+      for (std::size_t k = 0; same && k < a.nodes[t].size(); ++k) {
+        same = std::bit_cast<std::uint32_t>(a.nodes[t][k].depth_m) ==
+                   std::bit_cast<std::uint32_t>(b.nodes[t][k].depth_m) &&
+               std::bit_cast<std::uint32_t>(a.nodes[t][k].intensity) ==
+                   std::bit_cast<std::uint32_t>(b.nodes[t][k].intensity);
+      }
+      differing += same ? 0 : 1;
+    }
+    EXPECT_EQ(differing, 0) << "texels whose node lists differ from the full passes'";
+    EXPECT_GT(shadowed, long(a.nodes.size()) / 20) << "the map must be shadowed somewhere to compare";
+    std::printf("[ lean     ] %dx%d texels, cells of %d: pass 1 marched %lld (%.0f %%), %ld nodes, %ld shadowed "
+                "texels; passes %.0f+%.0f+%.0f ms (full %.0f+%.0f+%.0f)\n",
+                n.x, n.y, ds, static_cast<long long>(lean.stats().pass1_texels),
+                100.0 * double(lean.stats().pass1_texels) / double(all), nodes, shadowed, lean.stats().pass1_ms,
+                lean.stats().pass2_ms, lean.stats().pass3_ms, full.stats().pass1_ms, full.stats().pass2_ms,
+                full.stats().pass3_ms);
+  }
+}
+
 }  // namespace
 }  // namespace nph::test
 namespace nph::test {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include <fmt/format.h>
 
@@ -31,6 +32,35 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Process CPU ms since `c0` (std::clock: every thread, so llvmpipe's workers count) — the log's
+// per-pass CPU time, readable on a machine whose wall times other jobs inflate.
+double cpuMsSince(std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; }
+
+// Pass 1's compaction along one axis (glsl/dlm/march.comp passOneTexel): pass 2 reads the blend
+// corners floor(t_c) and floor(t_c) + 1 of each cell centre t_c = (c + ½)·n/cells − ½; a centre
+// within the margin of an integer may floor either way in float, so its axis takes a third slot.
+// Compaction needs cells at least 2 texels apart (scale ≥ 2; else every texel is read anyway).
+constexpr double kPassOneReadMargin = 0.01;  // texels; glsl/dlm/march.comp kReadMargin
+struct PassOneAxis {
+  int cells = 0;   ///< 0: no compaction, every texel
+  int slots = 1;   ///< invocations per cell
+  int texels = 0;  ///< distinct texels marched
+};
+PassOneAxis passOneAxis(int n, int cells) {
+  const double scale = double(n) / double(cells);
+  if (scale < 2.0) return {0, 1, n};
+  PassOneAxis a{cells, 2, 0};
+  std::vector<char> marched(std::size_t(n), 0);
+  for (int c = 0; c < cells; ++c) {
+    const double t = (c + 0.5) * scale - 0.5;
+    const int lo = int(std::floor(t - kPassOneReadMargin)), hi = int(std::floor(t + kPassOneReadMargin)) + 1;
+    if (hi - lo == 2) a.slots = 3;
+    for (int k = std::max(lo, 0); k <= std::min(hi, n - 1); ++k) marched[std::size_t(k)] = 1;
+  }
+  a.texels = int(std::count(marched.begin(), marched.end(), char(1)));
+  return a;
+}
+
 std::vector<std::uint32_t> readCounts(const gl::Texture& counts, glm::ivec2 n) {
   std::vector<std::uint32_t> c(std::size_t(n.x) * std::size_t(n.y));
   glGetTextureImage(counts.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(c.size() * 4), c.data());
@@ -51,9 +81,13 @@ DeepLightMap::DeepLightMap()
 
 void DeepLightMap::setBaseline(const DlmBaseline& baseline) {
   baseline_ = baseline;
-  gl::Defines scatter, peripheral = {{"PERIPHERAL", "1"}};
+  gl::Defines central, scatter, peripheral = {{"PERIPHERAL", "1"}};
   if (baseline.binary_search) scatter.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
   if (baseline.slice_breaks) peripheral.emplace_back("DLM_BASELINE_SLICE_BREAKS", "1");
+  if (baseline.no_pruning) {
+    for (gl::Defines* d : {&central, &scatter, &peripheral}) d->emplace_back("DLM_BASELINE_NO_PRUNING", "1");
+  }
+  march_ = gl::Program::compute("dlm/march.comp", central);
   scatter_ = gl::Program::compute("dlm/scatter.comp", scatter);
   march_peripheral_ = gl::Program::compute("dlm/march.comp", peripheral);
   key_.clear();
@@ -125,7 +159,8 @@ std::size_t DeepLightMap::textureBytes() const {
   return b;
 }
 
-void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed) {
+void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed,
+                         glm::ivec2 invocations) {
   p.use();
   volume.bind();
   light_space_block_.bind();
@@ -140,7 +175,7 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
   glBindImageTexture(gl::binding::IMAGE_DLM_NODES, nodes_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
   glBindImageTexture(gl::binding::IMAGE_DLM_COUNTS, counts_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(gl::binding::IMAGE_DLM_TEXEL_EPSILON, texel_eps_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-  p.dispatchCovering({light_space_.texels.x, light_space_.texels.y, 1});
+  p.dispatchCovering({invocations.x, invocations.y, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
@@ -202,28 +237,49 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   const std::uint32_t zero = 0;
   glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 
-  auto runWithOverflowRule = [&](const gl::Program& program) {
-    march(volume, program, settings.epsilon, false);
+  auto runWithOverflowRule = [&](const gl::Program& program, glm::ivec2 invocations) {
+    march(volume, program, settings.epsilon, false, invocations);
     for (int d = 1; d <= settings.max_epsilon_doublings; ++d) {
       const auto counts = readCounts(counts_, n);
       if (std::none_of(counts.begin(), counts.end(),
                        [](std::uint32_t c) { return (c & gl::binding::DLM_COUNT_UNBOUNDED) != 0; }))
         break;
-      march(volume, program, settings.epsilon * std::ldexp(1.0, d), true);
+      march(volume, program, settings.epsilon * std::ldexp(1.0, d), true, invocations);
     }
   };
 
+  const bool peripheral = settings.peripheral && fractions_.peripheral > 0.0 && steps_ > 0;
+  const int ds = std::max(1, settings.scatter_downsample);
+  const glm::ivec2 scatterCells = (n + ds - 1) / ds;
+  // With a scatter map, pass 1's map is read by pass 2 alone, at its cell centres: pass 1 marches
+  // only those texels, compacted (glsl/dlm/march.comp passOneTexel; pass 3 rebuilds every texel).
+  PassOneAxis axis[2] = {{0, 1, n.x}, {0, 1, n.y}};
+  if (peripheral && !baseline_.no_pruning) {
+    axis[0] = passOneAxis(n.x, scatterCells.x);
+    axis[1] = passOneAxis(n.y, scatterCells.y);
+    if (axis[0].cells == 0 || axis[1].cells == 0) {  // cells under 2 texels wide: every texel is read
+      axis[0] = {0, 1, n.x};
+      axis[1] = {0, 1, n.y};
+    }
+  }
+  const glm::ivec2 pass1Invocations =
+      axis[0].cells > 0 ? glm::ivec2(axis[0].cells * axis[0].slots, axis[1].cells * axis[1].slots) : n;
+  march_.set("u_pass1_cells", glm::ivec2(axis[0].cells, axis[1].cells));
+  march_.set("u_pass1_slots", glm::ivec2(axis[0].slots, axis[1].slots));
+  stats_.pass1_texels = std::int64_t(axis[0].texels) * axis[1].texels;
+  glFinish();  // the pass times below are the passes' own, not the uploads queued before them
   auto t0 = std::chrono::steady_clock::now();
-  runWithOverflowRule(march_);
+  std::clock_t c0 = std::clock();
+  runWithOverflowRule(march_, pass1Invocations);
   glFinish();
   const double pass1 = msSince(t0);
+  double cpu[3] = {cpuMsSince(c0), 0.0, 0.0};
 
   double pass2 = 0.0, pass3 = 0.0;
-  const bool peripheral = settings.peripheral && fractions_.peripheral > 0.0 && steps_ > 0;
   stats_.scatter_cells = glm::ivec3(0);
   if (peripheral) {
     t0 = std::chrono::steady_clock::now();
-    const int ds = std::max(1, settings.scatter_downsample);
+    c0 = std::clock();
     // The slices must fit GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe): lengthen them (keeping the
     // step count per slice even) when a long ray at a fine step would need more. The effective
     // value is in settings().scatter_slice_steps.
@@ -232,7 +288,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     int sliceSteps = settings.scatter_slice_steps;
     while ((steps_ + sliceSteps - 1) / sliceSteps + 1 > max3D) sliceSteps += 2;
     settings_.scatter_slice_steps = sliceSteps;
-    const glm::ivec3 cells((n.x + ds - 1) / ds, (n.y + ds - 1) / ds, (steps_ + sliceSteps - 1) / sliceSteps + 1);
+    const glm::ivec3 cells(scatterCells, (steps_ + sliceSteps - 1) / sliceSteps + 1);
     stats_.scatter_cells = cells;
     if (scatter_map_.width() != cells.x || scatter_map_.height() != cells.y || scatter_map_.depth() != cells.z) {
       scatter_map_ = gl::Texture::create3D(GL_R32F, cells.x, cells.y, cells.z).label("DLM scatter map");
@@ -273,8 +329,10 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glFinish();
     pass2 = msSince(t0);
+    cpu[1] = cpuMsSince(c0);
 
     t0 = std::chrono::steady_clock::now();
+    c0 = std::clock();
     march_peripheral_.use();
     glBindTextureUnit(gl::binding::UNIT_SCATTER_MAP, scatter_map_.id());
     if (!baseline_.slice_breaks) glBindTextureUnit(gl::binding::UNIT_SCATTER_RUNS, scatter_runs_map_.id());
@@ -282,9 +340,10 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     march_peripheral_.set("u_scatter_slices", cells.z);
     march_peripheral_.set("u_slice_steps", sliceSteps);
     glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    runWithOverflowRule(march_peripheral_);
+    runWithOverflowRule(march_peripheral_, n);
     glFinish();
     pass3 = msSince(t0);
+    cpu[2] = cpuMsSince(c0);
     // Passes 2 and 3 are the scatter map's only readers: the look-up (glsl/dlm/lookup.glsl), the
     // light-cache bake and the eye pass read the nodes alone. Freed here rather than held through
     // the frame (issue 19, memory; textureBytes() drops by their size); the next build allocates
@@ -299,8 +358,12 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   stats_.rebuilt = true;
   computeStats(pass1, pass2, pass3);
   stats_.light_cache_ms = bake;
-  log::debug("DLM built: {}x{} texels, {} steps of {:.1f} m, mean {:.2f} nodes, {} unbounded, {:.1f}+{:.1f}+{:.1f} ms",
-             n.x, n.y, steps_, step_m_, stats_.mean_nodes, stats_.unbounded_texels, pass1, pass2, pass3);
+  log::debug(
+      "DLM built: {}x{} texels ({} in pass 1), {} steps of {:.1f} m, scatter map {}x{}x{}, mean {:.2f} nodes, {} "
+      "unbounded, {:.1f}+{:.1f}+{:.1f} ms (CPU {:.0f}+{:.0f}+{:.0f} ms), light cache {:.1f} ms",
+      n.x, n.y, stats_.pass1_texels, steps_, step_m_, stats_.scatter_cells.x, stats_.scatter_cells.y,
+      stats_.scatter_cells.z, stats_.mean_nodes, stats_.unbounded_texels, pass1, pass2, pass3, cpu[0], cpu[1], cpu[2],
+      bake);
   return true;
 }
 

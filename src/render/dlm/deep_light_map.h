@@ -1,7 +1,9 @@
 #pragma once
 // Deep light map builder (Nes 2008 §5.3; model and discretisation in lighting/dlm_model.h):
-//   pass 1  glsl/dlm/march.comp     central light per texel, ε-compressed node lists
+//   pass 1  glsl/dlm/march.comp     central light per texel, ε-compressed node lists; with a
+//           scatter map only at the texels pass 2 reads (issue 19: ¼ of them at 4 × 4 per cell)
 //   pass 2  glsl/dlm/scatter.comp   low-resolution light-aligned scatter map, slice by slice
+//           (clear cells keep P without looking their neighbours up)
 //   pass 3  march.comp + PERIPHERAL re-march adding the peripheral light, re-compressed within ε;
 //           it skips empty bricks across the scatter map's flat runs (glsl/dlm/scatter_runs.comp,
 //           issue 19) instead of stopping at every slice centre
@@ -45,6 +47,7 @@ struct DlmStats {
   int unbounded_texels = 0;                      ///< still overflowing after all doublings
   glm::ivec3 scatter_cells{0};
   double pass1_ms = 0.0, pass2_ms = 0.0, pass3_ms = 0.0;  ///< wall time incl. glFinish
+  std::int64_t pass1_texels = 0;     ///< texels pass 1 marched (only those pass 2 reads when there is a scatter map)
   glm::ivec3 light_cache_texels{0};  ///< the light cache's size (0 without one; DlmSettings::light_cache_voxels)
   double light_cache_ms = 0.0;       ///< its bake, wall time incl. glFinish
   bool rebuilt = false;
@@ -56,6 +59,11 @@ struct DlmStats {
 struct DlmBaseline {
   bool binary_search = false;  ///< pass 2's DLM look-up by binary search (glsl/dlm/lookup.glsl)
   bool slice_breaks = false;   ///< pass 3 stops at every scatter-slice centre in empty space
+  /// The passes without issue 19's pruning ("nothing computed that a scene does not need"): pass 1
+  /// marches every texel, not only those pass 2 reads; pass 2 looks up the neighbours of clear
+  /// cells too; passes 1 and 3 evaluate the empty-space skip under a lane mask at every step.
+  /// The same map bit for bit.
+  bool no_pruning = false;
 };
 
 class DeepLightMap {
@@ -107,7 +115,9 @@ class DeepLightMap {
   static double lookup(const Readback& map, const lighting::LightSpace& lightSpace, const glm::dvec3& world_m);
 
  private:
-  void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed);
+  /// One march dispatch over `invocations` (the texels, or pass 1's compacted texels).
+  void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed,
+             glm::ivec2 invocations);
   void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
   double bakeLightCache(const VolumeTextures& volume);
 
