@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -42,6 +43,42 @@ double cloudTop_m(const ExtinctionVolumes& v) {
   return v.z_bottom_m + double(v.nz) * v.dz_m;  // clear air: the whole column
 }
 
+/// How far the cloud reaches horizontally from the domain's centre, as a fraction of the domain's
+/// half diagonal: the farthest corner of any column holding cloud (1 for clear air, so the domain is
+/// framed as before). The presets frame the domain's bounding sphere about its centre, so scaling
+/// their distance by this keeps every cloudy column in the frame while a storm that fills a third
+/// of its domain (a hurricane run's nest, make demo's storm) is no longer a third of the picture.
+double cloudReach(const ExtinctionVolumes& v) {
+  const std::size_t layer = std::size_t(v.nx) * std::size_t(v.ny);
+  std::vector<char> cloudy(layer, 0);
+  bool any = false;
+  for (int k = 0; k < v.nz; ++k) {
+    const std::size_t base = std::size_t(k) * layer;
+    for (std::size_t n = 0; n < layer; ++n) {
+      if (v.ice_per_m[base + n] > kCloudExtinction_per_m || v.water_per_m[base + n] > kCloudExtinction_per_m) {
+        cloudy[n] = 1;
+        any = true;
+      }
+    }
+  }
+  if (!any) return 1.0;
+  const double cx = 0.5 * v.nx, cy = 0.5 * v.ny;  // in columns; dx = dy for the grids nephele reads
+  double reach2 = 0.0;
+  for (int j = 0; j < v.ny; ++j) {
+    for (int i = 0; i < v.nx; ++i) {
+      if (!cloudy[std::size_t(j) * std::size_t(v.nx) + std::size_t(i)]) continue;
+      const double dx = std::max(std::abs(i - cx), std::abs(i + 1 - cx)),
+                   dy = std::max(std::abs(j - cy), std::abs(j + 1 - cy));
+      reach2 = std::max(reach2, dx * dx + dy * dy);
+    }
+  }
+  return std::sqrt(reach2 / (cx * cx + cy * cy));
+}
+
+/// The quick look's camera distance never drops below this share of the preset's: the storm's
+/// surroundings and the basemap stay in the picture.
+constexpr double kMinDistanceScale = 0.35;
+
 }  // namespace
 
 double quickLookExaggeration(double domain_long_side_m, double cloud_top_m) {
@@ -53,7 +90,10 @@ double quickLookExaggeration(double domain_long_side_m, double cloud_top_m) {
 std::string quickLookSceneText(const QuickLookRequest& r, const ExtinctionVolumes& v) {
   const volume::VolumeFrame unit = volume::frameOf(v, 1.0);
   const glm::dvec3 extent = unit.size_m();
-  const double exaggeration = quickLookExaggeration(std::max(extent.x, extent.y), cloudTop_m(v));
+  // Framed on the cloud, not the domain: the camera closes in by the cloud's reach (rounded to
+  // 0.05, at least kMinDistanceScale) and the exaggeration follows the framed width.
+  const double scale = std::clamp(std::ceil(cloudReach(v) * 20.0) / 20.0, kMinDistanceScale, 1.0);
+  const double exaggeration = quickLookExaggeration(scale * std::max(extent.x, extent.y), cloudTop_m(v));
   const bool on_earth = !v.georef.proj_definition.empty();
 
   nlohmann::ordered_json j;
@@ -65,6 +105,7 @@ std::string quickLookSceneText(const QuickLookRequest& r, const ExtinctionVolume
     j["data"] = {{"path", std::filesystem::absolute(r.data_path).lexically_normal().string()}, {"timestep", 0}};
   }
   j["camera"] = {{"preset", "oblique"}, {"fov_deg", 40}};
+  if (scale < 1.0) j["camera"]["distance_scale"] = scale;
 
   // The sun from the data's own time and place when that gives a daylit picture.
   bool timed_sun = false;
