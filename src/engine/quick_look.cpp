@@ -30,38 +30,35 @@ constexpr double kMinTimedSunElevation_deg = 10.0;
 /// A voxel counts as cloud from this extinction on (optical depth 0.01 over 100 m).
 constexpr float kCloudExtinction_per_m = 1e-4f;
 
-double cloudTop_m(const ExtinctionVolumes& v) {
-  const std::size_t layer = std::size_t(v.nx) * std::size_t(v.ny);
-  for (int k = v.nz - 1; k >= 0; --k) {
-    const std::size_t base = std::size_t(k) * layer;
-    for (std::size_t n = 0; n < layer; ++n) {
-      if (v.ice_per_m[base + n] > kCloudExtinction_per_m || v.water_per_m[base + n] > kCloudExtinction_per_m) {
-        return v.z_bottom_m + double(k + 1) * v.dz_m;
-      }
-    }
-  }
-  return v.z_bottom_m + double(v.nz) * v.dz_m;  // clear air: the whole column
-}
+/// Where the cloud is, from one scan of the voxels (a voxel counts from kCloudExtinction_per_m on).
+struct CloudExtent {
+  /// Top of the highest cloudy layer above mean sea level; the whole column for clear air.
+  double top_m = 0.0;
+  /// How far the cloud reaches horizontally from the domain's centre, as a fraction of the domain's
+  /// half diagonal: the farthest corner of any column holding cloud (1 for clear air, so the domain
+  /// is framed as before). The presets frame the domain's bounding sphere about its centre, so
+  /// scaling their distance by this keeps every cloudy column in the frame while a storm that fills
+  /// a third of its domain (a hurricane run's nest, make demo's storm) is no longer a third of the
+  /// picture.
+  double reach = 1.0;
+};
 
-/// How far the cloud reaches horizontally from the domain's centre, as a fraction of the domain's
-/// half diagonal: the farthest corner of any column holding cloud (1 for clear air, so the domain is
-/// framed as before). The presets frame the domain's bounding sphere about its centre, so scaling
-/// their distance by this keeps every cloudy column in the frame while a storm that fills a third
-/// of its domain (a hurricane run's nest, make demo's storm) is no longer a third of the picture.
-double cloudReach(const ExtinctionVolumes& v) {
+CloudExtent cloudExtent(const ExtinctionVolumes& v) {
   const std::size_t layer = std::size_t(v.nx) * std::size_t(v.ny);
   std::vector<char> cloudy(layer, 0);
-  bool any = false;
+  int top_layer = -1;
   for (int k = 0; k < v.nz; ++k) {
     const std::size_t base = std::size_t(k) * layer;
     for (std::size_t n = 0; n < layer; ++n) {
       if (v.ice_per_m[base + n] > kCloudExtinction_per_m || v.water_per_m[base + n] > kCloudExtinction_per_m) {
         cloudy[n] = 1;
-        any = true;
+        top_layer = k;
       }
     }
   }
-  if (!any) return 1.0;
+  CloudExtent e;
+  e.top_m = v.z_bottom_m + double(top_layer >= 0 ? top_layer + 1 : v.nz) * v.dz_m;
+  if (top_layer < 0) return e;
   const double cx = 0.5 * v.nx, cy = 0.5 * v.ny;  // in columns; dx = dy for the grids nephele reads
   double reach2 = 0.0;
   for (int j = 0; j < v.ny; ++j) {
@@ -72,7 +69,8 @@ double cloudReach(const ExtinctionVolumes& v) {
       reach2 = std::max(reach2, dx * dx + dy * dy);
     }
   }
-  return std::sqrt(reach2 / (cx * cx + cy * cy));
+  e.reach = std::sqrt(reach2 / (cx * cx + cy * cy));
+  return e;
 }
 
 /// The quick look's camera distance never drops below this share of the preset's: the storm's
@@ -92,8 +90,9 @@ std::string quickLookSceneText(const QuickLookRequest& r, const ExtinctionVolume
   const glm::dvec3 extent = unit.size_m();
   // Framed on the cloud, not the domain: the camera closes in by the cloud's reach (rounded to
   // 0.05, at least kMinDistanceScale) and the exaggeration follows the framed width.
-  const double scale = std::clamp(std::ceil(cloudReach(v) * 20.0) / 20.0, kMinDistanceScale, 1.0);
-  const double exaggeration = quickLookExaggeration(scale * std::max(extent.x, extent.y), cloudTop_m(v));
+  const CloudExtent cloud = cloudExtent(v);
+  const double scale = std::clamp(std::ceil(cloud.reach * 20.0) / 20.0, kMinDistanceScale, 1.0);
+  const double exaggeration = quickLookExaggeration(scale * std::max(extent.x, extent.y), cloud.top_m);
   const bool on_earth = !v.georef.proj_definition.empty();
 
   nlohmann::ordered_json j;
