@@ -15,6 +15,7 @@
 #include "common/math.glsl"
 #include "common/ray_box.glsl"
 #include "common/detail.glsl"
+#include "common/cubic_bspline.glsl"
 layout(binding = UNIT_ICE_PER_M) uniform sampler3D u_ice_per_m;
 layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
 layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels)
@@ -79,26 +80,22 @@ bool insideGrownVolume(vec3 uvw) {
 }
 
 // Tricubic B-spline of one volume at uvw from 8 trilinear fetches (Sigg & Hadwiger 2005, §20.3):
-// per axis, the four B-spline weights w0..w3 of the voxels i−1 … i+2 around the sample are merged
-// pairwise into two linear fetches at i−1 + w1/(w0+w1) and i+1 + w3/(w2+w3) (voxel-centre index
-// units) weighted g0 = w0+w1 and g1 = w2+w3 — exact because GL_LINEAR's weights are then w0/g0,
-// w1/g0. Voxels outside the grid read the texture's border rule: 0 for the extinction volumes
-// (zero border, as in the CPU sum), the edge voxel for the column depths (clamp to edge). All
-// channels are filtered (the column depths' (τ_up, τ_down) pair shares one set of fetches); the
-// texture must have the extinction volumes' dimensions u_voxels.
+// per axis, the four B-spline weights of the voxels i−1 … i+2 around the sample are merged
+// pairwise into two linear fetches at i−1 + h0 and i+1 + h1 (voxel-centre index units) weighted
+// g0 and g1 (glsl/common/cubic_bspline.glsl cubicBSplineFetches, whose weights the CPU's 64-weight
+// sum uses too). Voxels outside the grid read the texture's border rule: 0 for the extinction
+// volumes (zero border, as in the CPU sum), the edge voxel for the column depths (clamp to edge).
+// All channels are filtered (the column depths' (τ_up, τ_down) pair shares one set of fetches);
+// the texture must have the extinction volumes' dimensions u_voxels.
 vec4 cubicBSplineRgba(sampler3D volume, vec3 uvw) {
   vec3 n = vec3(u_voxels);
   vec3 c = uvw * n - 0.5;  // continuous index, voxel centres at integers
   vec3 i = floor(c);
   vec3 f = c - i;
-  vec3 g = 1.0 - f;
-  vec3 w0 = g * g * g / 6.0;
-  vec3 w1 = 2.0 / 3.0 - 0.5 * f * f * (2.0 - f);
-  vec3 w2 = 2.0 / 3.0 - 0.5 * g * g * (1.0 + f);
-  vec3 w3 = f * f * f / 6.0;
-  vec3 g0 = w0 + w1, g1 = w2 + w3;
-  vec3 p0 = (i - 0.5 + w1 / g0) / n;  // (index + ½) / n is the texture coordinate of a voxel centre
-  vec3 p1 = (i + 1.5 + w3 / g1) / n;
+  vec4 ax = cubicBSplineFetches(f.x), ay = cubicBSplineFetches(f.y), az = cubicBSplineFetches(f.z);
+  vec3 g0 = vec3(ax.x, ay.x, az.x), g1 = vec3(ax.y, ay.y, az.y);
+  vec3 p0 = (i - 0.5 + vec3(ax.z, ay.z, az.z)) / n;  // (index + ½) / n is the texture coordinate of a voxel centre
+  vec3 p1 = (i + 1.5 + vec3(ax.w, ay.w, az.w)) / n;
   vec4 s000 = texture(volume, p0), s100 = texture(volume, vec3(p1.x, p0.y, p0.z));
   vec4 s010 = texture(volume, vec3(p0.x, p1.y, p0.z)), s110 = texture(volume, vec3(p1.x, p1.y, p0.z));
   vec4 s001 = texture(volume, vec3(p0.x, p0.y, p1.z)), s101 = texture(volume, vec3(p1.x, p0.y, p1.z));

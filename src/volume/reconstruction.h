@@ -36,6 +36,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/glsl_cpp.h"
+
 namespace nph::volume {
 
 enum class Reconstruction { Trilinear = 0, Cubic = 1, CubicInterpolating = 2 };
@@ -53,12 +55,27 @@ constexpr int reachVoxels(Reconstruction r) { return cubicWeights(r) ? 2 : 1; }
 /// How far β reaches outside the box [voxels]: reach − ½.
 constexpr double supportVoxels(Reconstruction r) { return double(reachVoxels(r)) - 0.5; }
 
+namespace cubic_f64 {  // glsl/common/cubic_bspline.glsl compiled as C++ in double (core/glsl_cpp.h)
+using namespace nph::glsl;
+using Number = double;
+using Vec4 = glm::dvec4;
+/// The shared file's functions as members (defined in the class: inline, so this header may be
+/// included anywhere).
+struct CubicBSpline {
+#include "../glsl/common/cubic_bspline.glsl"
+};
+}  // namespace cubic_f64
+
 /// Uniform cubic B-spline weights of the four voxels around a sample at fraction f ∈ [0, 1) past
-/// voxel centre c₁: voxels c₁ − 1, c₁, c₁ + 1, c₁ + 2 (Sigg & Hadwiger 2005, eq. 20.3).
+/// voxel centre c₁: voxels c₁ − 1, c₁, c₁ + 1, c₁ + 2 (Sigg & Hadwiger 2005, eq. 20.3) — the
+/// shaders' weights (glsl/common/cubic_bspline.glsl).
 inline std::array<double, 4> cubicBSplineWeights(double f) {
-  const double g = 1.0 - f;
-  return {g * g * g / 6.0, 2.0 / 3.0 - 0.5 * f * f * (2.0 - f), 2.0 / 3.0 - 0.5 * g * g * (1.0 + f), f * f * f / 6.0};
+  const glm::dvec4 w = cubic_f64::CubicBSpline{}.cubicBSplineWeights(f);
+  return {w.x, w.y, w.z, w.w};
 }
+
+/// The shaders' merge of those weights into two linear fetches: (g0, g1, h0, h1) (cubic_bspline.glsl).
+inline glm::dvec4 cubicBSplineFetches(double f) { return cubic_f64::CubicBSpline{}.cubicBSplineFetches(f); }
 
 /// The filter's weighted sum of the voxels around a point at continuous index `c` relative to the
 /// voxel centres (voxel centres at integers: grid coordinate − ½): Σ w·fetch(i, j, k) over the
