@@ -1,5 +1,6 @@
 # nephele_add_gtest(<target> PREFIX <prefix> LABELS <label>...
 #                   [ENVIRONMENT <VAR=value>...] [DISCOVERY_TIMEOUT <s>])
+# (every test also gets NEPHELE_CACHE_DIR=<build>/test-cache and NEPHELE_CACHE_MAX_MB=512)
 #
 # The one way a GoogleTest executable becomes CTest tests (issue 17, "Tests and habits"):
 #  - DISCOVERY_MODE PRE_TEST: `--gtest_list_tests` runs when ctest starts, not as a POST_BUILD step,
@@ -34,9 +35,9 @@ function(nephele_add_gtest target)
     DISCOVERY_TIMEOUT ${arg_DISCOVERY_TIMEOUT})
 
   set(properties "LABELS [==[${arg_LABELS}]==]")
-  if(arg_ENVIRONMENT)
-    string(APPEND properties " ENVIRONMENT [==[${arg_ENVIRONMENT}]==]")
-  endif()
+  # The reprojected-basemap cache (src/scene/basemap_cache.h) in the build tree, not the user's home.
+  list(APPEND arg_ENVIRONMENT "NEPHELE_CACHE_DIR=${PROJECT_BINARY_DIR}/test-cache" "NEPHELE_CACHE_MAX_MB=512")
+  string(APPEND properties " ENVIRONMENT [==[${arg_ENVIRONMENT}]==]")
   set(props_file "${CMAKE_CURRENT_BINARY_DIR}/${list_var}_properties.cmake")
   file(WRITE "${props_file}"
     "# Written by nephele_add_gtest (cmake/NepheleTesting.cmake): list-valued properties.\n"

@@ -6,10 +6,13 @@
 # page faults and peak RSS from GNU time, medians over the rounds and ratios against the first
 # variant (> 1: faster than it); then the 8-bit PNG difference of the last round's images
 # (oiiotool --diff) against the first variant's.
-# Usage: tools/render_speed.sh OUT_DIR ROUNDS SCENE_JSON WIDTHxHEIGHT LABEL=BUILD_DIR[+KNOB=VALUE...] [...]
+# Usage: tools/render_speed.sh OUT_DIR ROUNDS SCENE_JSON WIDTHxHEIGHT LABEL=BUILD_DIR[+KNOB=VALUE...][@ENV=VALUE...] [...]
 #   e.g. tools/render_speed.sh /tmp/rs 3 out/demo.json 1920x1080 old=/tmp/old-build new=build
 #        tools/render_speed.sh /tmp/rs 3 out/demo.json 1920x1080 full=build half=build+cloud_resolution=2
-# (BUILD_DIR/src/cli/nephele is run; each +KNOB=VALUE is set in the scene's quality.overrides.)
+#        tools/render_speed.sh /tmp/rs 3 out/demo.json 1280x720 off=build@NEPHELE_CACHE_DIR=off \
+#          warm=build@NEPHELE_CACHE_DIR=/tmp/rs/cache
+# (BUILD_DIR/src/cli/nephele is run; each +KNOB=VALUE is set in the scene's quality.overrides, each
+# @ENV=VALUE in the environment of that variant's runs.)
 set -euo pipefail
 out=$1
 rounds=$2
@@ -23,6 +26,7 @@ printf 'variant\tround\twall_s\tcpu_s\tminor_faults\tmax_rss_kb\n' > "$runs"
 for v in "${variants[@]}"; do
   label=${v%%=*}
   rest=${v#*=}
+  rest=${rest%%@*}
   overrides=""
   [[ $rest == *+* ]] && overrides=${rest#*+}
   python3 - "$scene" "$out/$label.png" "$size" "$overrides" > "$out/$label.json" <<'PY'
@@ -43,8 +47,11 @@ for ((r = 0; r < rounds; ++r)); do
     v=${variants[$(((i + r) % ${#variants[@]}))]}
     label=${v%%=*}
     build=${v#*=}
+    envs=()
+    [[ $build == *@* ]] && IFS=@ read -r -a envs <<< "${build#*@}"
+    build=${build%%@*}
     build=${build%%+*}
-    /usr/bin/time -f '%e %U %S %R %M' -o "$out/time.txt" "$build/src/cli/nephele" render "$out/$label.json" \
+    /usr/bin/time -f '%e %U %S %R %M' -o "$out/time.txt" env "${envs[@]}" "$build/src/cli/nephele" render "$out/$label.json" \
       > "$out/$label.log" 2>&1
     read -r wall user sys faults rss < "$out/time.txt"
     printf '%s\t%d\t%s\t%s\t%s\t%s\n' "$label" "$r" "$wall" "$(echo "$user + $sys" | bc -l)" "$faults" "$rss" >> "$runs"

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/basemap_cache.h"
 #include "scene/dem.h"
 #include "scene/night_lights.h"
 #include "scene/solar_position.h"
@@ -90,7 +91,7 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
     if (!layers.front().wholeEarth() && std::filesystem::exists(kBlueMarblePath)) {
       layers.insert(layers.begin(), BasemapRaster::open(kBlueMarblePath));
     }
-    p.basemap = reprojectBasemap(layers, *geo, rect, w, h);
+    p.basemap = reprojectBasemapCached(layers, *geo, rect, w, h);
     // The night side's lights on the same grids (issue 14): the scene's raster, else Debian's.
     std::optional<BasemapRaster> lights;
     if (s.style.city_lights > 0.0) {
@@ -100,19 +101,20 @@ PreparedScene prepareScene(const SceneDescription& s, const ExtinctionVolumes& v
         lights = BasemapRaster::open(kCityLightsPath);
       }
     }
-    if (lights) p.basemap_lights = cityLightsIntensity(reprojectBasemap(*lights, *geo, rect, w, h));
+    if (lights) p.basemap_lights = cityLightsIntensity(reprojectBasemapCached({*lights}, *geo, rect, w, h));
     if (s.view == ViewMode::Globe) {
       const glm::ivec2 globeSize = equirectangularSizeFor(layers.back());
-      p.basemap_equirect = reprojectEquirectangular(layers, globeSize.x, globeSize.y);
+      p.basemap_equirect = reprojectEquirectangularCached(layers, globeSize.x, globeSize.y);
       if (lights) {
-        p.basemap_equirect_lights = cityLightsIntensity(reprojectEquirectangular({*lights}, globeSize.x, globeSize.y));
+        p.basemap_equirect_lights =
+            cityLightsIntensity(reprojectEquirectangularCached({*lights}, globeSize.x, globeSize.y));
       }
     } else {
       p.far_basemap_rect = farBasemapRectangle(p.frame);
-      p.far_basemap = reprojectBasemap(layers, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
+      p.far_basemap = reprojectBasemapCached(layers, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels);
       if (lights) {
         p.far_basemap_lights = cityLightsIntensity(
-            reprojectBasemap(*lights, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels));
+            reprojectBasemapCached({*lights}, *geo, *p.far_basemap_rect, kFarBasemapPixels, kFarBasemapPixels));
       }
     }
     p.basemap_rect = rect;
