@@ -53,6 +53,11 @@ constexpr std::array kKnobs{
          .preset = {1.0, 1.0, 1.0}, .doc = "adaptive view steps grow up to this × step_voxels far away and in thin cloud (1: fixed)"},
     Knob{.name = "dlm_step_voxels", .unit = "voxels", .min = 0.01, .max = 10.0, .field = &Q::dlm_step_voxels,
          .preset = {1.0, 0.5, 0.25}, .doc = "deep light map march step in voxel sizes"},
+    // The adaptive light step (issue 19; glsl/dlm/march.comp, DlmSettings::step_growth_max): runs of
+    // up to this many steps where the occupancy brick's (max, min) bound β, within a per-ray error
+    // budget of ε/2 against the fixed step.
+    Knob{.name = "dlm_step_growth_max", .unit = "steps", .min = 1, .max = 16, .field = &Q::dlm_step_growth_max,
+         .preset = {1, 1, 1}, .doc = "adaptive light steps: up to this many dlm steps at once in uniform cloud (1: fixed)"},
     Knob{.name = "dlm_texel_voxels", .unit = "voxels", .min = 0.1, .max = 16.0, .field = &Q::dlm_texel_voxels,
          .preset = {1.0, 1.0, 1.0}, .doc = "deep light map texel size in voxel sizes"},
     Knob{.name = "dlm_resolution", .unit = "texels", .min = 16, .max = 4096, .field = &Q::dlm_resolution,
@@ -198,6 +203,7 @@ lighting::DlmSettings dlmSettingsFor(const QualitySettings& q) {
   lighting::DlmSettings d;
   d.epsilon = q.dlm_epsilon;
   d.step_voxels = q.dlm_step_voxels;
+  d.step_growth_max = q.dlm_step_growth_max;
   d.texel_voxels = q.dlm_texel_voxels;
   d.max_nodes = q.dlm_max_nodes;
   d.max_texels = q.dlm_resolution;
