@@ -483,10 +483,10 @@ void BM_DlmAdaptiveStep(benchmark::State& state) {
                sliceDispatches, median(dispatchWall), median(dispatchCpu));
   for (int k = 0; k < kVariants; ++k) {
     const render::DlmStats& sk = maps[k].stats();
-    std::fprintf(stderr, "  %-5s %lld steps marched, %lld (%.0f %%) in %lld runs\n", name[k],
-                 static_cast<long long>(sk.marched_steps), static_cast<long long>(sk.run_steps),
+    std::fprintf(stderr, "  %-5s %lld steps marched, %lld (%.0f %%) in %lld runs; %d texels overflowed (ε doubled)\n",
+                 name[k], static_cast<long long>(sk.marched_steps), static_cast<long long>(sk.run_steps),
                  100.0 * double(sk.run_steps) / double(std::max<std::int64_t>(sk.marched_steps, 1)),
-                 static_cast<long long>(sk.runs));
+                 static_cast<long long>(sk.runs), sk.overflowed_texels);
   }
   for (int k = 0; k < kVariants; ++k) {
     std::fprintf(stderr,
