@@ -92,6 +92,31 @@ void addPassTimes(std::vector<double> (&pass)[3], const render::DlmStats& stats)
   pass[2].push_back(stats.pass3_ms);
 }
 
+// Rounds of `variants` fresh DLM builds in rotating order, one round per benchmark iteration
+// (BM_DlmPruning, BM_DlmAdaptiveStep): `prepare(map, k)` untimed (programs compiled), then
+// `buildOne(map, k)` timed; wall and CPU per variant into `build`, the pass times into `pass`.
+// Returns the rounds run.
+template <class Prepare, class BuildOne>
+int interleavedBuilds(benchmark::State& state, int variants, Series* build, std::vector<double> (*pass)[3],
+                      Prepare&& prepare, BuildOne&& buildOne) {
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < variants; ++j) {
+      const int k = (j + round) % variants;
+      render::DeepLightMap map;
+      prepare(map, k);
+      const Timing t = timed([&] { buildOne(map, k); });
+      build[k].add(t);
+      addPassTimes(pass[k], map.stats());
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  return round;
+}
+
 long differingFloats(const std::vector<float>& a, const std::vector<float>& b) {
   if (a.size() != b.size()) return long(std::max(a.size(), b.size()));
   long n = 0;
@@ -335,21 +360,9 @@ void BM_DlmPruning(benchmark::State& state) {
   const double light = maxLightDifference(maps[0], maps[2]);
   Series build[3];
   std::vector<double> pass[3][3];
-  int round = 0;
-  for (auto _ : state) {
-    double total = 0.0;
-    for (int j = 0; j < 3; ++j) {
-      const int k = (j + round) % 3;
-      render::DeepLightMap map;
-      map.setBaseline(baseline[k]);
-      const Timing t = timed([&] { map.build(tex, -sun.toSun(), ds); });
-      build[k].add(t);
-      addPassTimes(pass[k], map.stats());
-      total += t.wall_ms;
-    }
-    ++round;
-    state.SetIterationTime(total * 1e-3);
-  }
+  const int round = interleavedBuilds(
+      state, 3, build, pass, [&](render::DeepLightMap& map, int k) { map.setBaseline(baseline[k]); },
+      [&](render::DeepLightMap& map, int) { map.build(tex, -sun.toSun(), ds); });
   auto& c = state.counters;
   for (int k = 0; k < 3; ++k) {
     c[std::string("dlm_ms_") + name[k]] = median(build[k].wall);
@@ -445,20 +458,9 @@ void BM_DlmAdaptiveStep(benchmark::State& state) {
   }
   Series build[kVariants];
   std::vector<double> pass[kVariants][3];
-  int round = 0;
-  for (auto _ : state) {
-    double total = 0.0;
-    for (int j = 0; j < kVariants; ++j) {
-      const int k = (j + round) % kVariants;
-      render::DeepLightMap map;
-      const Timing t = timed([&] { map.build(tex, -sun.toSun(), ds[k]); });
-      build[k].add(t);
-      addPassTimes(pass[k], map.stats());
-      total += t.wall_ms;
-    }
-    ++round;
-    state.SetIterationTime(total * 1e-3);
-  }
+  const int round = interleavedBuilds(
+      state, kVariants, build, pass, [](render::DeepLightMap&, int) {},
+      [&](render::DeepLightMap& map, int k) { map.build(tex, -sun.toSun(), ds[k]); });
   auto& c = state.counters;
   for (int k = 0; k < kVariants; ++k) {
     c[std::string("dlm_ms_") + name[k]] = median(build[k].wall);
