@@ -10,6 +10,19 @@
 // unobstructed sun (lighting/dlm_model.h). Empty occupancy bricks are
 // skipped whole (I is constant there; in pass 3 the skip also stops at scatter-slice centres,
 // where P has its breakpoints, so the compressor sees the same piecewise-linear function).
+//
+// Adaptive step (issue 19, u_step_growth > 1): where the occupancy brick bounds β to a narrow range
+// [min, max] the march takes m ≤ u_step_growth fine steps at once, with β at the run's midpoint;
+// it pushes every fine sample to the compressor all the same (Ic·f^j, P linear between the
+// scatter-slice centres, which a run never crosses), so the compressor sees the same lattice and
+// its ε bound (Nes 2008 §5.3.4, §5.4) holds for what it is given. That differs from the fine
+// march only through β: both products over the run lie in [I·f(max)^m, I·f(min)^m], so a run
+// moves I by at most I·m·(f(min) − f(max)) (a^j − b^j ≤ j·(a − b)), and an earlier difference is
+// only ever multiplied by factors ≤ 1 afterwards. A run is taken only while the sum of these
+// bounds along the ray stays within u_growth_budget, so every sample is within that budget of
+// the fixed step's (up to β's half-float rounding): the stored function within ε + budget of it.
+// Near cloud edges (min 0 in the brick or a neighbour) and in varying cloud the bound is large
+// and the march stays fine; in clear bricks the empty-space skip above already jumps.
 // Instead of copying render-target slices as Nes did on 2008 hardware, nodes are written with
 // image stores into layers of a 3-D texture (GL 4.5 compute).
 #include "dlm/volume.glsl"
@@ -31,6 +44,17 @@ uniform float u_central_fraction;    // CP(θ/4)
 uniform float u_optical_depth_scale; // f(light): height exaggeration keeps the data's τ (VolumeFrame)
 uniform bool u_skip_empty;
 uniform bool u_only_overflowed;      // retry pass of the overflow rule
+uniform int u_step_growth;           // adaptive step: at most this many Δ per run (1: fixed step)
+// Counts for DlmStats (issue 19): fine steps marched outside the empty-space skip, those of them
+// in runs of m ≥ 2, and the runs — one atomic add each per texel.
+layout(std430, binding = SSBO_DLM_MARCH_STATS) buffer MarchStats { uint u_marched_steps, u_run_steps, u_runs; };
+uniform float u_growth_budget;       // the bound of the adaptive step's difference per ray (above)
+
+// The step factor T + (1 − T)·CP(θ/4) of one fine step Δ through extinction β.
+float stepFactor(float beta) {
+  float T = exp(-beta * u_optical_depth_scale * u_step_m);
+  return T + (1.0 - T) * u_central_fraction;
+}
 
 #ifdef PERIPHERAL
 layout(binding = UNIT_SCATTER_MAP) uniform sampler3D u_scatter;  // P at scatter cell centres (pass 2)
@@ -125,13 +149,16 @@ void main() {
   vec3 start = worldFromLight(vec3(uv, 0.0));
   float Ic = 1.0;  // central light, I_0 = 1
 #ifdef PERIPHERAL
-  Compressor c = startCompressor(texel, 0.0, min(Ic + peripheralAt(vec3(uv, 0.0)), 1.0));
+  float Pcur = peripheralAt(vec3(uv, 0.0));  // P at the last pushed sample
+  Compressor c = startCompressor(texel, 0.0, min(Ic + Pcur, 1.0));
 #else
   Compressor c = startCompressor(texel, 0.0, Ic);
 #endif
 #if defined(PERIPHERAL) && !defined(DLM_BASELINE_SLICE_BREAKS)
   ivec4 columns = scatterColumns(uv);
 #endif
+  float spent = 0.0;  // the adaptive step's bounds so far (u_growth_budget)
+  int marched = 0, inRuns = 0, runs = 0;
   int n = 0;
   while (n < u_steps) {
     float s = float(n) * u_step_m;
@@ -169,23 +196,59 @@ void main() {
         s = float(n) * u_step_m;
         p = start + s * u_ls_w;
 #ifdef PERIPHERAL
-        pushSample(c, s, min(Ic + peripheralAt(vec3(uv, s)), 1.0));
+        Pcur = peripheralAt(vec3(uv, s));
+        pushSample(c, s, min(Ic + Pcur, 1.0));
 #else
         pushSample(c, s, Ic);
 #endif
       }
     }
-    vec2 beta = extinctionAt(p + 0.5 * u_step_m * u_ls_w);
-    float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_step_m);
-    Ic *= T + (1.0 - T) * u_central_fraction;
-    n++;
-    float sn = float(n) * u_step_m;
+    // The run: m fine steps from n (1 unless the adaptive step may grow here; header).
+    int m = 1;
+    if (u_step_growth > 1) {
+      int end = min(n + u_step_growth, u_steps);
 #ifdef PERIPHERAL
-    pushSample(c, sn, min(Ic + peripheralAt(vec3(uv, sn)), 1.0));
+      // P is linear in s between scatter-slice centres: a run ends at the next one.
+      int halfS = u_slice_steps / 2;
+      end = min(end, n < halfS ? halfS : ((n - halfS) / u_slice_steps + 1) * u_slice_steps + halfS);
+#endif
+      vec3 q = p + 0.5 * u_step_m * u_ls_w;  // the first fine step's midpoint
+      if (end - n >= 2 && insideVolume(volumeUvw(q))) {
+        // Every fine midpoint q + jΔ (j < m) inside q's brick, whose range bounds their β.
+        end = min(end, n + 1 + int(floor(brickExitDistance(q, u_ls_w) / u_step_m - 1e-3)));
+        vec2 range = brickRangeAt(q);
+        float bound = Ic * float(end - n) * (stepFactor(range.y) - stepFactor(range.x));
+        if (end - n >= 2 && spent + bound <= u_growth_budget) {
+          m = end - n;
+          spent += bound;
+        }
+      }
+    }
+    vec2 beta = extinctionAt(p + 0.5 * float(m) * u_step_m * u_ls_w);
+    float f = stepFactor(beta.x + beta.y);
+#ifdef PERIPHERAL
+    float Pend = peripheralAt(vec3(uv, float(n + m) * u_step_m));
+#endif
+    for (int j = 1; j <= m; ++j) {
+      Ic *= f;
+      float sj = float(n + j) * u_step_m;
+#ifdef PERIPHERAL
+      pushSample(c, sj, min(Ic + (j == m ? Pend : mix(Pcur, Pend, float(j) / float(m))), 1.0));
 #else
-    pushSample(c, sn, Ic);
+      pushSample(c, sj, Ic);
+#endif
+    }
+    n += m;
+    marched += m;
+    inRuns += m > 1 ? m : 0;
+    runs += m > 1 ? 1 : 0;
+#ifdef PERIPHERAL
+    Pcur = Pend;
 #endif
   }
+  atomicAdd(u_marched_steps, uint(marched));
+  atomicAdd(u_run_steps, uint(inRuns));
+  atomicAdd(u_runs, uint(runs));
   int count = finishCompressor(c);
   imageStore(u_counts, texel, uvec4(uint(count) | (c.overflow ? DLM_COUNT_UNBOUNDED : 0u)));
   imageStore(u_texel_eps, texel, vec4(u_epsilon));

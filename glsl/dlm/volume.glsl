@@ -18,7 +18,7 @@
 #include "common/cubic_bspline.glsl"
 layout(binding = UNIT_ICE_PER_M) uniform sampler3D u_ice_per_m;
 layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
-layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels)
+layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels), a lower bound of β (volume/occupancy.h)
 layout(binding = UNIT_DETAIL_CONTROLS) uniform sampler3D u_detail_controls;  // RGBA8 (turbulence, convective, fraction, core)
 layout(binding = UNIT_DETAIL_NOISE) uniform sampler3D u_detail_noise;        // RGBA8 periodic noise tile, GL_REPEAT
 layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction
@@ -159,6 +159,13 @@ float brickMaxAt(vec3 world_m) {
   if (!insideGrownVolume(uvw)) return 0.0;
   ivec3 voxel = clamp(ivec3(floor(uvw * vec3(u_voxels))), ivec3(0), u_voxels - 1);
   return texelFetch(u_occupancy_per_m, voxel / u_brick_voxels, 0).r;
+}
+
+// (max, lower bound) of β in the occupancy brick containing `world_m`, which must be inside the
+// volume (volume/occupancy.h; the bound is 0 where the filter or the detail allows none).
+vec2 brickRangeAt(vec3 world_m) {
+  ivec3 voxel = clamp(ivec3(floor(volumeUvw(world_m) * vec3(u_voxels))), ivec3(0), u_voxels - 1);
+  return texelFetch(u_occupancy_per_m, voxel / u_brick_voxels, 0).rg;
 }
 
 // Distance along `dir` from `world_m` (inside the volume) to the exit of its occupancy brick.

@@ -103,7 +103,8 @@ void addBenchAccuracyCommand(CLI::App& app, Action& run) {
   cmd->add_option("--scenes", o->sweep.scene_filter, "only scenes whose name contains this");
   cmd->add_option("--knobs", o->sweep.knob_filter,
                   "only settings whose knob name contains this (default, step_voxels, dlm_texel_voxels, "
-                  "dlm_step_voxels, epsilon, multiple_scattering, scatter_downsample, forward_angle_deg, preset)");
+                  "dlm_step_voxels, dlm_step_growth_max, epsilon, multiple_scattering, scatter_downsample, "
+                  "forward_angle_deg, preset)");
   cmd->add_flag("--fit-octaves", o->fit_octaves,
                 "instead of the sweep: fit the multiple-scattering octave series (a, b, c, N) to the path-traced "
                 "truth on the CPU reference and write octave-fit.md (issue 12)");

@@ -11,10 +11,10 @@ namespace nph::lighting {
 
 std::string DlmSettings::key() const {
   return fmt::format("eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};"
-                     "ss={};cache={:.9g};fi={:.9g};fw={:.9g}",
+                     "ss={};cache={:.9g};fi={:.9g};fw={:.9g};grow={};gb={:.9g}",
                      epsilon, step_voxels, texel_voxels, max_texels, max_nodes, max_epsilon_doublings,
                      forward_angle_deg, cornette_shanks_g, peripheral ? 1 : 0, scatter_downsample, scatter_slice_steps,
-                     light_cache_voxels, forward_peak_ice, forward_peak_water);
+                     light_cache_voxels, forward_peak_ice, forward_peak_water, step_growth_max, step_growth_budget);
 }
 
 ForwardFractions forwardFractions(const DlmSettings& s) {

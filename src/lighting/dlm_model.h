@@ -50,6 +50,11 @@ struct DlmSettings {
   int scatter_downsample = 4;        ///< scatter-map cell = this many DLM texels per side
   int scatter_slice_steps = 4;       ///< scatter-map slice = this many steps Δ
   bool empty_space_skipping = true;  ///< skip empty occupancy bricks in pass 1/3
+  /// Adaptive light step (issue 19; glsl/dlm/march.comp): up to this many steps Δ in one where the
+  /// occupancy brick bounds β closely enough that the run stays within the ray's error budget
+  /// (step_growth_budget·ε in I against the fixed step, summed along the ray). 1: the fixed step.
+  int step_growth_max = 1;
+  double step_growth_budget = 0.5;  ///< the budget as a fraction of ε
   /// Light cache (issue 19): after each build the map's sunlight is baked into a world volume of
   /// this many extinction voxels per cell along each axis (R16F, glsl/dlm/light_cache.comp), and
   /// the eye pass reads it with one trilinear fetch. 0: no cache, the eye pass evaluates the map

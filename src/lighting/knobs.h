@@ -44,6 +44,7 @@ struct QualitySettings {
   int dlm_resolution{};              ///< cap on deep light map texels per side (DlmSettings::max_texels)
   double dlm_epsilon{};              ///< Lokovic–Veach error bound on I(depth) (DlmSettings::epsilon)
   double dlm_step_voxels{};          ///< DLM march step Δ in voxel sizes (DlmSettings::step_voxels)
+  int dlm_step_growth_max{};         ///< adaptive DLM step: up to this many Δ per run (DlmSettings::step_growth_max)
   double dlm_texel_voxels{};         ///< DLM texel size in voxel sizes (DlmSettings::texel_voxels)
   int dlm_max_nodes{};               ///< node budget per DLM texel (DlmSettings::max_nodes)
   double light_cache_voxels{};       ///< light cache cell in voxels, 0 = none (DlmSettings::light_cache_voxels)

@@ -1,6 +1,8 @@
 #include "volume/occupancy.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "volume/spline_coefficients.h"
 
@@ -24,6 +26,8 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick, Reconstr
   g.dilation_voxels = d;
   g.bricks = {(v.nx + brick - 1) / brick, (v.ny + brick - 1) / brick, (v.nz + brick - 1) / brick};
   g.max_per_m.assign(std::size_t(g.bricks.x) * std::size_t(g.bricks.y) * std::size_t(g.bricks.z), 0.0f);
+  // The least voxel per brick, undilated (widened to the neighbours below).
+  std::vector<float> own_min(g.max_per_m.size(), std::numeric_limits<float>::infinity());
   g.nonEmptyMinVoxel = {v.nx, v.ny, v.nz};
   g.nonEmptyMaxVoxel = {-1, -1, -1};
   for (int k = 0; k < v.nz; ++k) {
@@ -34,6 +38,10 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick, Reconstr
         // Positive parts: β_ice⁺ + β_water⁺ ≤ Σw·(c_ice⁺ + c_water⁺) also where the interpolating
         // spline's coefficients are negative (volume/spline_coefficients.h); the voxels' sum otherwise.
         const float b = (std::max(s.ice[idx], 0.0f) + std::max(s.water[idx], 0.0f)) * max_scale;
+        float& own = own_min[(std::size_t(k / brick) * std::size_t(g.bricks.y) + std::size_t(j / brick)) *
+                                 std::size_t(g.bricks.x) +
+                             std::size_t(i / brick)];
+        own = std::min(own, std::isnan(b) ? 0.0f : b);
         if (!(b > 0.0f)) continue;  // also skips NaN (the loaders never produce it)
         g.nonEmptyMinVoxel = glm::min(g.nonEmptyMinVoxel, glm::ivec3(i, j, k));
         g.nonEmptyMaxVoxel = glm::max(g.nonEmptyMaxVoxel, glm::ivec3(i, j, k));
@@ -50,6 +58,30 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick, Reconstr
             }
       }
   }
+  // The lower bound: the least of the brick's and its 26 neighbours' own minima (a neighbour past
+  // the grid's edge is the zero border), valid for a reach up to one brick with non-negative
+  // weights; 0 for the filters and detail where it is not (occupancy.h).
+  g.min_per_m.assign(g.max_per_m.size(), 0.0f);
+  const bool bounded = !readsSplineCoefficients(reconstruction) && extra_reach_voxels == 0 && max_scale == 1.0f &&
+                       reachVoxels(reconstruction) <= brick;
+  if (!bounded) return g;
+  const glm::ivec3 nb = g.bricks;
+  auto index = [&](int i, int j, int k) {
+    return (std::size_t(k) * std::size_t(nb.y) + std::size_t(j)) * std::size_t(nb.x) + std::size_t(i);
+  };
+  for (int k = 0; k < nb.z; ++k)
+    for (int j = 0; j < nb.y; ++j)
+      for (int i = 0; i < nb.x; ++i) {
+        float m = std::numeric_limits<float>::infinity();
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const int a = i + di, b = j + dj, c = k + dk;
+              const bool inside = a >= 0 && b >= 0 && c >= 0 && a < nb.x && b < nb.y && c < nb.z;
+              m = std::min(m, inside ? own_min[index(a, b, c)] : 0.0f);
+            }
+        g.min_per_m[index(i, j, k)] = m;
+      }
   return g;
 }
 

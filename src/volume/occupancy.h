@@ -6,6 +6,13 @@
 // trilinear, 2 for the cubic B-spline), so a brick whose stored max is 0 returns exactly 0
 // everywhere inside it. Both filters have non-negative weights summing to at most 1, so the same
 // grid bounds every sample in the brick (the majorant for delta tracking).
+//
+// A lower bound per brick too (issue 19, the DLM's adaptive light step): min_per_m is the least
+// voxel of the brick and its 26 neighbours (0 where a neighbour lies outside the grid), so with
+// the trilinear filter (reach 1 ≤ brick) or the cubic B-spline (reach 2; both non-negative weights
+// over voxels inside that block, the zero border outside it) every sample in the brick is at least
+// that. It is 0 where no such bound holds: the interpolating spline (negative coefficients, β
+// clamped at 0) and the sub-grid detail (ρ ∈ [0, 2], displacement beyond the neighbours).
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -21,6 +28,7 @@ struct OccupancyGrid {
   int dilation_voxels = 1;                               ///< the reach the bricks were dilated by
   glm::ivec3 bricks{0};                                  ///< brick counts
   std::vector<float> max_per_m;                          ///< per brick, x fastest
+  std::vector<float> min_per_m;                          ///< per brick: a lower bound of β in it (see above)
   glm::ivec3 nonEmptyMinVoxel{0}, nonEmptyMaxVoxel{-1};  ///< inclusive voxel bounds of β > 0
   bool empty() const { return nonEmptyMaxVoxel.x < nonEmptyMinVoxel.x; }
   float at(int i, int j, int k) const {

@@ -22,6 +22,7 @@
 // storm), `coarse` = datagen::coarseStormSpec (72 × 64 × 30). Image width is the second argument
 // (16:9); this 2-core VM renders the demo at 960 × 540.
 // BM_DlmPruning (issue 19, session 15): the DLM build of the broadcast preset, pruned or not.
+// BM_DlmAdaptiveStep (issue 19, session 16): the DLM's fixed light step against the adaptive one.
 // BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
 // BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
 // BM_CloudResolution (issue 19 item 4): the clouds marched at 1/1, 1/2, 1/4 of the resolution.
@@ -89,6 +90,31 @@ void addPassTimes(std::vector<double> (&pass)[3], const render::DlmStats& stats)
   pass[0].push_back(stats.pass1_ms);
   pass[1].push_back(stats.pass2_ms);
   pass[2].push_back(stats.pass3_ms);
+}
+
+// Rounds of `variants` fresh DLM builds in rotating order, one round per benchmark iteration
+// (BM_DlmPruning, BM_DlmAdaptiveStep): `prepare(map, k)` untimed (programs compiled), then
+// `buildOne(map, k)` timed; wall and CPU per variant into `build`, the pass times into `pass`.
+// Returns the rounds run.
+template <class Prepare, class BuildOne>
+int interleavedBuilds(benchmark::State& state, int variants, Series* build, std::vector<double> (*pass)[3],
+                      Prepare&& prepare, BuildOne&& buildOne) {
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < variants; ++j) {
+      const int k = (j + round) % variants;
+      render::DeepLightMap map;
+      prepare(map, k);
+      const Timing t = timed([&] { buildOne(map, k); });
+      build[k].add(t);
+      addPassTimes(pass[k], map.stats());
+      total += t.wall_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  return round;
 }
 
 long differingFloats(const std::vector<float>& a, const std::vector<float>& b) {
@@ -334,21 +360,9 @@ void BM_DlmPruning(benchmark::State& state) {
   const double light = maxLightDifference(maps[0], maps[2]);
   Series build[3];
   std::vector<double> pass[3][3];
-  int round = 0;
-  for (auto _ : state) {
-    double total = 0.0;
-    for (int j = 0; j < 3; ++j) {
-      const int k = (j + round) % 3;
-      render::DeepLightMap map;
-      map.setBaseline(baseline[k]);
-      const Timing t = timed([&] { map.build(tex, -sun.toSun(), ds); });
-      build[k].add(t);
-      addPassTimes(pass[k], map.stats());
-      total += t.wall_ms;
-    }
-    ++round;
-    state.SetIterationTime(total * 1e-3);
-  }
+  const int round = interleavedBuilds(
+      state, 3, build, pass, [&](render::DeepLightMap& map, int k) { map.setBaseline(baseline[k]); },
+      [&](render::DeepLightMap& map, int) { map.build(tex, -sun.toSun(), ds); });
   auto& c = state.counters;
   for (int k = 0; k < 3; ++k) {
     c[std::string("dlm_ms_") + name[k]] = median(build[k].wall);
@@ -383,6 +397,113 @@ BENCHMARK(BM_DlmPruning)
     ->ArgNames({"scene"})
     ->Arg(1)  // coarse storm
     ->Arg(0)  // demo storm
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Issue 19, session 16: the adaptive light step of the DLM march (DlmSettings::step_growth_max;
+// glsl/dlm/march.comp). The broadcast preset's build with the fixed step Δ = ½ voxel (`fixed`) and
+// runs of up to 2 and 4 Δ where the occupancy brick bounds β within the per-ray budget ε/2
+// (`g2`, `g4`; pass 3's runs end at scatter-slice centres, 4 Δ apart at broadcast, so more would
+// only lengthen pass 1's), interleaved in rotating order, fresh objects per build. Storms: the coarse
+// storm (1), the smooth realistic hurricane (0) and the cellular hurricane of `make demo`
+// (2: WrfCase::HurricaneCells, realistic size). Reported: medians of wall and process CPU ms and
+// of each pass, fixed/variant ratios, and max |ΔI| against the fixed step over every step of every
+// texel (bound 2.5 ε: each map within ε of its samples, the samples within the budget ε/2).
+void BM_DlmAdaptiveStep(benchmark::State& state) {
+  const int scene = int(state.range(0));
+  const auto ctx = bench::hiddenContext();
+  ExtinctionVolumes v;
+  if (scene == 2) {
+    datagen::WrfHurricaneSpec spec = datagen::wrfPreset(datagen::SampleSize::Realistic);
+    spec.ntimes = 1;
+    spec.weather = datagen::WrfCase::HurricaneCells;
+    v = bench::generatedVolumes(spec, "nephele-frame-bench.nc");
+  } else {
+    v = benchVolumes(scene == 0);
+  }
+  const auto frame = volume::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "bench");
+  const scene::Sun sun{140.0, 35.0};
+  constexpr int kVariants = 3;
+  const int growth[kVariants] = {1, 2, 4};
+  const char* name[kVariants] = {"fixed", "g2", "g4"};
+  lighting::DlmSettings ds[kVariants];
+  render::DeepLightMap maps[kVariants];
+  for (int k = 0; k < kVariants; ++k) {  // compiles, warms up; the maps compared below
+    ds[k] = lighting::dlmSettingsFor(lighting::qualityPreset(lighting::Preset::Broadcast));
+    ds[k].step_growth_max = growth[k];
+    maps[k].build(tex, -sun.toSun(), ds[k]);
+  }
+  double light[kVariants] = {0.0};
+  for (int k = 1; k < kVariants; ++k) light[k] = maxLightDifference(maps[0], maps[k]);
+  // Item 2 of the session's brief (merge passes 2 and 3?): pass 2 is one dispatch per scatter slice
+  // with a barrier after each. Their fixed cost on this GL, measured as as many dispatches of the
+  // fetch kernel on one 8 × 8 workgroup of one fetch each, with the same barrier (medians of 5).
+  const int sliceDispatches = maps[0].stats().scatter_cells.z - 1;
+  std::vector<double> dispatchWall, dispatchCpu;
+  {
+    const bench::FetchKernel tiny({8, 8}, 1);
+    auto one = gl::Texture::create3D(GL_R32F, 1, 1, 1);
+    for (int r = 0; r < 5; ++r) {
+      const Timing t = timed([&] {
+        for (int k = 0; k < sliceDispatches; ++k) {
+          tiny.dispatch(one, glm::vec3(0.0f, 0.0f, 0.01f));
+          glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+      });
+      dispatchWall.push_back(t.wall_ms);
+      dispatchCpu.push_back(t.cpu_ms);
+    }
+  }
+  Series build[kVariants];
+  std::vector<double> pass[kVariants][3];
+  const int round = interleavedBuilds(
+      state, kVariants, build, pass, [](render::DeepLightMap&, int) {},
+      [&](render::DeepLightMap& map, int k) { map.build(tex, -sun.toSun(), ds[k]); });
+  auto& c = state.counters;
+  for (int k = 0; k < kVariants; ++k) {
+    c[std::string("dlm_ms_") + name[k]] = median(build[k].wall);
+    c[std::string("dlm_cpu_ms_") + name[k]] = median(build[k].cpu);
+    for (int p = 0; p < 3; ++p) c["pass" + std::to_string(p + 1) + "_ms_" + name[k]] = median(pass[k][p]);
+    if (k > 0) {
+      c[std::string("ratio_fixed_") + name[k]] = median(build[0].wall) / median(build[k].wall);
+      c[std::string("cpu_ratio_fixed_") + name[k]] = median(build[0].cpu) / median(build[k].cpu);
+      c[std::string("max_abs_light_") + name[k]] = light[k];
+    }
+  }
+  c["pass2_dispatch_overhead_ms"] = median(dispatchWall);
+  const render::DlmStats& st = maps[0].stats();
+  const char* storm[3] = {"demo (smooth)", "coarse", "cellular"};
+  std::fprintf(stderr,
+               "DLM adaptive step, %s storm %dx%dx%d voxels, broadcast preset, %d rounds on %s\n"
+               "  map %dx%d texels (pass 1: %lld), %d steps of %.0f m, scatter map %dx%dx%d, %.2f nodes per texel\n",
+               storm[scene], v.nx, v.ny, v.nz, round, ctx->info().renderer.c_str(), st.texels.x, st.texels.y,
+               static_cast<long long>(st.pass1_texels), st.steps, st.step_m, st.scatter_cells.x, st.scatter_cells.y,
+               st.scatter_cells.z, st.mean_nodes);
+  std::fprintf(stderr, "  pass 2: %d dispatches, their fixed cost (empty dispatches) %.1f ms wall, %.1f ms CPU\n",
+               sliceDispatches, median(dispatchWall), median(dispatchCpu));
+  for (int k = 0; k < kVariants; ++k) {
+    const render::DlmStats& sk = maps[k].stats();
+    std::fprintf(stderr, "  %-5s %lld steps marched, %lld (%.0f %%) in %lld runs; %d texels overflowed (ε doubled)\n",
+                 name[k], static_cast<long long>(sk.marched_steps), static_cast<long long>(sk.run_steps),
+                 100.0 * double(sk.run_steps) / double(std::max<std::int64_t>(sk.marched_steps, 1)),
+                 static_cast<long long>(sk.runs), sk.overflowed_texels);
+  }
+  for (int k = 0; k < kVariants; ++k) {
+    std::fprintf(stderr,
+                 "  %-5s wall %7.0f ms (passes %6.0f + %6.0f + %6.0f)  CPU %7.0f ms  fixed/this wall %.2f CPU %.2f  "
+                 "max |dI| %.4f  nodes %.2f\n",
+                 name[k], median(build[k].wall), median(pass[k][0]), median(pass[k][1]), median(pass[k][2]),
+                 median(build[k].cpu), median(build[0].wall) / median(build[k].wall),
+                 median(build[0].cpu) / median(build[k].cpu), light[k], maps[k].stats().mean_nodes);
+  }
+}
+BENCHMARK(BM_DlmAdaptiveStep)
+    ->ArgNames({"scene"})
+    ->Arg(1)  // coarse storm
+    ->Arg(0)  // smooth realistic hurricane
+    ->Arg(2)  // cellular hurricane (make demo's)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

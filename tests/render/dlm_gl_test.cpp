@@ -373,6 +373,102 @@ TEST_F(DlmTest, PrunedPassesBuildTheSameMapBitForBit) {
   }
 }
 
+// The adaptive light step (issue 19, session 16; DlmSettings::step_growth_max, glsl/dlm/march.comp).
+// Each map is within its texel's ε of the samples it was given (Nes 2008 §5.3.4, §5.4); the adaptive
+// march's samples are within step_growth_budget·ε of the fixed step's (the budget argument in
+// march.comp). So at every step of every texel |I_adaptive − I_fixed| ≤ ε_a + ε_f + budget·ε, plus
+// float rounding (kFloatSlack) and β's half-float rounding in a run's bound (2⁻¹¹ relative of a
+// bound that is itself ≤ the budget). Returns the largest difference and the largest excess over
+// that bound (≤ 0 when it holds); unbounded texels (no ε kept) are left out.
+struct StepComparison {
+  double max_diff = 0.0, max_excess = -1.0;
+};
+StepComparison compareSteps(const render::DeepLightMap& adaptive, const render::DeepLightMap& fixed) {
+  const auto ra = adaptive.readBack(), rf = fixed.readBack();
+  EXPECT_EQ(ra.nodes.size(), rf.nodes.size());
+  const double budget = adaptive.settings().step_growth_budget * adaptive.settings().epsilon;
+  StepComparison c;
+  for (std::size_t t = 0; t < ra.nodes.size() && t < rf.nodes.size(); ++t) {
+    if (ra.unbounded[t] || rf.unbounded[t]) continue;
+    const double allowed = double(ra.texel_epsilon[t]) + double(rf.texel_epsilon[t]) + budget + kFloatSlack;
+    for (int n = 0; n <= fixed.stats().steps; ++n) {
+      const double sm = n * fixed.stats().step_m;
+      const double d = std::abs(lighting::evaluateLightFunction(ra.nodes[t].data(), int(ra.nodes[t].size()), sm) -
+                                lighting::evaluateLightFunction(rf.nodes[t].data(), int(rf.nodes[t].size()), sm));
+      c.max_diff = std::max(c.max_diff, d);
+      c.max_excess = std::max(c.max_excess, d - allowed);
+    }
+  }
+  return c;
+}
+
+// On a storm with cloud edges everywhere (issue 13's coarse storm: convective cells, a stratiform
+// shield, clear gaps), the adaptive step stays within its bound of the fixed step in both passes,
+// and it does take runs (else the comparison would prove nothing).
+TEST_F(DlmTest, AdaptiveStepStaysWithinItsBoundOfTheFixedStep) {
+  const ExtinctionVolumes v = coarseStorm();
+  const auto frame = volume::frameOf(v, 8.0);
+  auto tex = render::VolumeTextures::upload(v, frame, "coarse storm");
+  const glm::dvec3 light = -scene::Sun{140.0, 35.0}.toSun();
+  for (bool peripheral : {false, true}) {
+    lighting::DlmSettings s;
+    s.peripheral = peripheral;
+    render::DeepLightMap fixed, adaptive;
+    ASSERT_TRUE(fixed.build(tex, light, s));
+    s.step_growth_max = 4;
+    ASSERT_TRUE(adaptive.build(tex, light, s));
+    EXPECT_EQ(fixed.stats().run_steps, 0);
+    EXPECT_EQ(fixed.stats().runs, 0);
+    EXPECT_GT(adaptive.stats().runs, 0) << "no run taken: the test would compare the fixed step with itself";
+    EXPECT_LE(adaptive.stats().run_steps, 4 * adaptive.stats().runs);
+    const StepComparison c = compareSteps(adaptive, fixed);
+    EXPECT_LE(c.max_excess, 0.0) << "max |difference| " << c.max_diff;
+    std::printf("[ adaptive ] %s: %lld of %lld steps in %lld runs, max |difference| %.2e (bound ≈ %.3f)\n",
+                peripheral ? "passes 1-3" : "pass 1", static_cast<long long>(adaptive.stats().run_steps),
+                static_cast<long long>(adaptive.stats().marched_steps), static_cast<long long>(adaptive.stats().runs),
+                c.max_diff, 2.5 * s.epsilon);
+  }
+}
+
+// A thin dense sheet (one layer, τ = 2) inside a large uniform cloud (τ = 0.01 per layer): the runs
+// through the uniform bricks must not step across the sheet. Its brick's (max, min) makes the
+// bound large, so the march stays fine there; a run of 4 Δ over the sheet (its trilinear profile
+// is 4 Δ wide) would sample β once at the run's midpoint — on the sheet's peak (τ doubled) or
+// beside it (the sheet missed) — and move the light below it by far more than the bound.
+TEST_F(DlmTest, AdaptiveStepDoesNotStepAcrossAThinDenseSheet) {
+  constexpr int kSheet = 24;
+  ExtinctionVolumes v = homogeneousSlab(32, 32, 48, 4e-5f);  // 250 m layers: τ 0.01 each
+  for (int j = 0; j < v.ny; ++j)
+    for (int i = 0; i < v.nx; ++i) v.water_per_m[v.index(i, j, kSheet)] = 8e-3f;  // τ 2
+  v.updateMaxima();
+  const auto frame = volume::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "sheet");
+  const glm::dvec3 light = -scene::Sun{200.0, 60.0}.toSun();
+  lighting::DlmSettings s;
+  render::DeepLightMap fixed, adaptive;
+  ASSERT_TRUE(fixed.build(tex, light, s));
+  s.step_growth_max = 4;
+  ASSERT_TRUE(adaptive.build(tex, light, s));
+  // Runs in the uniform bricks above and below the sheet's (bricks 1 and 4 of 6 along z).
+  EXPECT_GT(adaptive.stats().run_steps, adaptive.stats().marched_steps / 20);
+  const StepComparison c = compareSteps(adaptive, fixed);
+  EXPECT_LE(c.max_excess, 0.0) << "max |difference| " << c.max_diff;
+  // The sheet's shadow itself, in the middle of the map: the light 1½ layers below the sheet's
+  // centre against 2½ above it (clear of its trilinear profile), the same in both maps within the
+  // bound — and a shadow: the slant τ 2.3 through the sheet less the central forward share.
+  const auto ra = adaptive.readBack(), rf = fixed.readBack();
+  auto at = [&](const render::DeepLightMap::Readback& map, double k) {
+    return render::DeepLightMap::lookup(map, adaptive.lightSpace(), frame.worldFromGrid({16.0, 16.0, k}));
+  };
+  const double above = at(ra, kSheet + 3.0), below = at(ra, kSheet - 1.0);
+  EXPECT_LT(below, 0.5 * above) << "the sheet casts no shadow";
+  EXPECT_NEAR(below, at(rf, kSheet - 1.0), 2.5 * s.epsilon + kFloatSlack);
+  std::printf("[ sheet    ] %lld of %lld steps in %lld runs, max |difference| %.2e; light above %.4f, below %.4f\n",
+              static_cast<long long>(adaptive.stats().run_steps),
+              static_cast<long long>(adaptive.stats().marched_steps), static_cast<long long>(adaptive.stats().runs),
+              c.max_diff, above, below);
+}
+
 }  // namespace
 }  // namespace nph::test
 namespace nph::test {

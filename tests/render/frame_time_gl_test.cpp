@@ -336,7 +336,7 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
 
 // Memory (issue 19, docs/benchmarks.md "Memory"): a Compact upload (the default, what `nephele
 // render`, the API and the session make) holds the volume once, in the packed RGBA16F texture: 8
-// bytes per voxel plus the occupancy grid (one R32F per brick of 8³ voxels), the terrain heights and
+// bytes per voxel plus the occupancy grid (one RG32F per brick of 8³ voxels: max, lower bound), the terrain heights and
 // three 1-texel defaults; the Reference upload adds the R32F ice and water and the RG16F column
 // depths, 12 bytes per voxel more. Counted by the renderer's own accounting (gl::Texture::bytes, the
 // storage each glTextureStorage call asked for). The DLM passes of the Compact upload read β in
@@ -359,7 +359,7 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   EXPECT_NE(compact.identity(), reference.identity()) << "a DLM of one is not the other's";
   const std::size_t voxels = v.voxelCount();
   const glm::ivec3 bricks = compact.occupancy().bricks;
-  const std::size_t occupancyBytes = 4 * std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z);
+  const std::size_t occupancyBytes = 8 * std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z);
   // The model's terrain (or a 1-texel sea level) and the user DEM's far field, absent here: 1 texel.
   const std::size_t terrainBytes = (compact.terrain().present() ? 4 * std::size_t(v.nx) * std::size_t(v.ny) : 4) + 4;
   EXPECT_EQ(compact.bytes(), 8 * voxels + occupancyBytes + terrainBytes + 3 * 4);
@@ -392,7 +392,7 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
       render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = volume::Reconstruction::Cubic});
   EXPECT_FALSE(cubic.hasPacked());
   EXPECT_TRUE(cubic.hasSeparateTextures());
-  EXPECT_EQ(cubic.bytes(), 12 * voxels + 4 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
+  EXPECT_EQ(cubic.bytes(), 12 * voxels + 8 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
 
   // The DLM after its build holds the nodes (RG32F × node budget), the counts (R32UI), the texel ε
   // (R32F) and the light cache (R16F): the scatter map and its flat runs (passes 2 and 3 only) are
@@ -477,6 +477,7 @@ TEST_F(LightCacheTest, LayeredUploadIsTheFloatUploadBitForBit) {
     EXPECT_EQ(layered.hasWater(), floats.hasWater());
     EXPECT_EQ(layered.hasPacked(), r == volume::Reconstruction::Trilinear);
     EXPECT_EQ(layered.occupancy().max_per_m, floats.occupancy().max_per_m);
+    EXPECT_EQ(layered.occupancy().min_per_m, floats.occupancy().min_per_m);
     EXPECT_EQ(layered.occupancy().nonEmptyMinVoxel, floats.occupancy().nonEmptyMinVoxel);
     EXPECT_EQ(layered.occupancy().nonEmptyMaxVoxel, floats.occupancy().nonEmptyMaxVoxel);
     EXPECT_EQ(layered.packedBetaUnit_per_m(), floats.packedBetaUnit_per_m());

@@ -1,11 +1,14 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "lighting/light_function.h"
 #include "lighting/light_space.h"
+#include "volume/extinction_sampler.h"
 #include "volume/occupancy.h"
+#include "volume/volume_frame.h"
 
 namespace nph::scene {
 namespace {
@@ -109,6 +112,47 @@ TEST(Occupancy, BricksAreDilatedByOneVoxel) {
   EXPECT_EQ(g.at(0, 0, 0), 2.0f) << "voxel 7 of brick 0 interpolates with voxel 8";
   EXPECT_EQ(g.at(0, 1, 0), 0.0f);
   EXPECT_EQ(g.nonEmptyMinVoxel, glm::ivec3(8, 3, 3));
+}
+
+// Issue 19 (the DLM's adaptive light step, glsl/dlm/march.comp): min_per_m bounds every sample
+// the filter can return inside its brick from below, and is the voxels' value in the interior of a
+// uniform region (where the light march may take runs) and 0 at the grid's faces and beside a
+// clear voxel (where it must not).
+TEST(Occupancy, LowerBoundHoldsForEverySampleInTheBrick) {
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(32, 32, 24, 3000.0, 250.0, 0.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(1e-3f, 3e-3f);
+  for (float& b : v.water_per_m) b = u(rng);
+  v.water_per_m[v.index(28, 28, 20)] = 0.0f;  // a clear voxel in brick (3, 3, 2)
+  v.updateMaxima();
+  const volume::VolumeFrame frame = volume::frameOf(v);
+  for (auto r : {volume::Reconstruction::Trilinear, volume::Reconstruction::Cubic}) {
+    const volume::OccupancyGrid g = volume::buildOccupancy(v, 8, r);
+    ASSERT_EQ(g.min_per_m.size(), g.max_per_m.size());
+    const volume::ExtinctionSampler sampler(v, frame, r);
+    std::uniform_real_distribution<double> x(0.0, 1.0);
+    int below = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const glm::dvec3 grid(x(rng) * v.nx, x(rng) * v.ny, x(rng) * v.nz);
+      const glm::ivec3 b = glm::min(glm::ivec3(glm::floor(grid)), glm::ivec3(v.nx, v.ny, v.nz) - 1) / g.brick;
+      const std::size_t i =
+          (std::size_t(b.z) * std::size_t(g.bricks.y) + std::size_t(b.y)) * std::size_t(g.bricks.x) + std::size_t(b.x);
+      const double beta = sampler.at(frame.worldFromGrid(grid)).total();
+      below += beta < double(g.min_per_m[i]) * (1.0 - 1e-6) ? 1 : 0;
+      ASSERT_LE(beta, double(g.max_per_m[i]) * (1.0 + 1e-6));
+    }
+    EXPECT_EQ(below, 0) << volume::kReconstructionNames[std::size_t(r)];
+    auto minAt = [&](int i, int j, int k) {
+      return g.min_per_m[(std::size_t(k) * std::size_t(g.bricks.y) + std::size_t(j)) * std::size_t(g.bricks.x) +
+                         std::size_t(i)];
+    };
+    EXPECT_GE(minAt(1, 1, 1), 1e-3f) << "brick (1, 1, 1): every neighbour in the uniform cloud";
+    EXPECT_EQ(minAt(0, 1, 1), 0.0f) << "brick (0, 1, 1) touches a face: the zero border";
+    EXPECT_EQ(minAt(2, 2, 1), 0.0f) << "brick (2, 2, 1) neighbours the clear voxel's brick";
+  }
+  const volume::OccupancyGrid spline = volume::buildOccupancy(v, 8, volume::Reconstruction::CubicInterpolating);
+  EXPECT_EQ(*std::max_element(spline.min_per_m.begin(), spline.min_per_m.end()), 0.0f)
+      << "the interpolating spline has no lower bound";
 }
 
 }  // namespace

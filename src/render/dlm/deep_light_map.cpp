@@ -170,13 +170,17 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
   p.set("u_optical_depth_scale", float(depth_scale_));
   p.set("u_skip_empty", settings_.empty_space_skipping ? 1 : 0);
   p.set("u_only_overflowed", onlyOverflowed ? 1 : 0);
+  p.set("u_step_growth", std::max(settings_.step_growth_max, 1));
+  p.set("u_growth_budget", float(settings_.step_growth_budget * settings_.epsilon));
   p.set("u_max_nodes", settings_.max_nodes);
   p.set("u_epsilon", float(epsilon));
   glBindImageTexture(gl::binding::IMAGE_DLM_NODES, nodes_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
   glBindImageTexture(gl::binding::IMAGE_DLM_COUNTS, counts_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(gl::binding::IMAGE_DLM_TEXEL_EPSILON, texel_eps_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_DLM_MARCH_STATS, march_stats_.id());
   p.dispatchCovering({invocations.x, invocations.y, 1});
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                  GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDirection,
@@ -236,6 +240,9 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   }
   const std::uint32_t zero = 0;
   glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  const std::uint32_t noCounts[3] = {0, 0, 0};
+  if (march_stats_.size() == 0) march_stats_ = gl::Buffer::create(sizeof(noCounts)).label("DLM march counts");
+  march_stats_.upload(0, sizeof(noCounts), noCounts);
 
   auto runWithOverflowRule = [&](const gl::Program& program, glm::ivec2 invocations) {
     march(volume, program, settings.epsilon, false, invocations);
@@ -357,13 +364,19 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   ++stats_.builds;
   stats_.rebuilt = true;
   computeStats(pass1, pass2, pass3);
+  std::uint32_t marchCounts[3] = {0, 0, 0};
+  march_stats_.download(0, sizeof(marchCounts), marchCounts);
+  stats_.marched_steps = marchCounts[0];
+  stats_.run_steps = marchCounts[1];
+  stats_.runs = marchCounts[2];
   stats_.light_cache_ms = bake;
   log::debug(
       "DLM built: {}x{} texels ({} in pass 1), {} steps of {:.1f} m, scatter map {}x{}x{}, mean {:.2f} nodes, {} "
-      "unbounded, {:.1f}+{:.1f}+{:.1f} ms (CPU {:.0f}+{:.0f}+{:.0f} ms), light cache {:.1f} ms",
+      "unbounded, {:.1f}+{:.1f}+{:.1f} ms (CPU {:.0f}+{:.0f}+{:.0f} ms), light cache {:.1f} ms; {} steps marched, {} "
+      "in {} runs",
       n.x, n.y, stats_.pass1_texels, steps_, step_m_, stats_.scatter_cells.x, stats_.scatter_cells.y,
       stats_.scatter_cells.z, stats_.mean_nodes, stats_.unbounded_texels, pass1, pass2, pass3, cpu[0], cpu[1], cpu[2],
-      bake);
+      bake, stats_.marched_steps, stats_.run_steps, stats_.runs);
   return true;
 }
 

@@ -234,7 +234,18 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
   t.occupancy_ = t.detail_.on()
                      ? volume::buildOccupancy(src, o.brick_voxels, reconstruction, t.detail_.reach_voxels, maxScale)
                      : volume::buildOccupancy(src, o.brick_voxels, reconstruction);
-  t.occupancy_tex_ = upload3D(t.occupancy_.max_per_m, t.occupancy_.bricks, "occupancy max [1/m]");
+  {
+    // RG32F (max, lower bound) per brick (volume/occupancy.h): one fetch serves the empty-space
+    // skip (max) and the DLM's adaptive light step (max − min; glsl/dlm/march.comp).
+    const glm::ivec3 b = t.occupancy_.bricks;
+    std::vector<float> rg(2 * t.occupancy_.max_per_m.size());
+    for (std::size_t i = 0; i < t.occupancy_.max_per_m.size(); ++i) {
+      rg[2 * i] = t.occupancy_.max_per_m[i];
+      rg[2 * i + 1] = t.occupancy_.min_per_m[i];
+    }
+    t.occupancy_tex_ = gl::Texture::create3D(GL_RG32F, b.x, b.y, b.z).label("occupancy max, min [1/m]");
+    glTextureSubImage3D(t.occupancy_tex_.id(), 0, 0, 0, 0, b.x, b.y, b.z, GL_RG, GL_FLOAT, rg.data());
+  }
   t.occupancy_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
   return t;
 }
