@@ -64,8 +64,11 @@ int main(int argc, char** argv) {
                   "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored) | "
                   "hurricane-cells (the sample storm as 2-4 km model output shows it, make demo's: eyewall towers "
                   "with overshooting tops, rainbands of discrete cells, stratiform shield, banded outflow canopy, "
-                  "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies)")
-      ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells"}));
+                  "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies) | alpine-storm (make demo's terrain shot: "
+                  "160x128x50 at 3 km over a generated range in the Central Alps, HGT with ridges and draining "
+                  "valleys, towers over the crests with anvils, a lee deck, cumulus over the slopes, valley fog; "
+                  "W/TKE_PBL/CLDFRA, 1 timestep, deflate; --size is ignored)")
+      ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells", "alpine-storm"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
   wrf->add_option("--proj", proj_name,
                   "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | "
@@ -151,8 +154,11 @@ int main(int argc, char** argv) {
       return compress ? nph::datagen::NcFormat::Netcdf4Deflate : preset;
     };
     auto write_wrf = [&](const std::string& path, nph::datagen::WrfProjection p, nph::datagen::WrfScheme s) {
-      const bool storm = case_name == "storm";
-      auto spec = storm ? nph::datagen::coarseStormSpec() : nph::datagen::wrfPreset(size);
+      const bool alpine = case_name == "alpine-storm";
+      const bool storm = case_name == "storm" || alpine;
+      auto spec = alpine  ? nph::datagen::alpineStormSpec()
+                  : storm ? nph::datagen::coarseStormSpec()
+                          : nph::datagen::wrfPreset(size);
       if (case_name == "hurricane-cells") spec.weather = nph::datagen::WrfCase::HurricaneCells;
       spec.projection = p;
       spec.scheme = s;

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "geo/map_projection.h"
 #include "geo/utc_time.h"
+#include "wrf_alpine.h"
 
 namespace nph::datagen {
 namespace {
@@ -203,6 +204,7 @@ class Writer {
   std::vector<float> lat_, lon_;
   std::map<std::string, int> var_;
   WrfTruth truth_;
+  AlpineTerrain alpine_;  ///< WrfCase::AlpineStorm only
   geo::UtcTime start_ = geo::UtcTime::fromCivil(2026, 9, 1, 12);
 };
 
@@ -604,6 +606,7 @@ void Writer::defineFile() {
               fmt::format("{} written by nephele-gen, seed {}",
                           spec_.weather == WrfCase::CoarseStorm      ? "coarse convective storm"
                           : spec_.weather == WrfCase::HurricaneCells ? "cellular hurricane"
+                          : spec_.weather == WrfCase::AlpineStorm    ? "alpine convective storm"
                                                                      : "idealized hurricane",
                           spec_.seed));
   const std::string start = start_.wrfTimeString();
@@ -690,7 +693,9 @@ void Writer::writeTimestep(int t) {
     truth_.storm_centre_y_m = cy;
   }
   // Intensifying hurricane; the coarse storm keeps only a weak mesoscale vortex (a third).
-  const double intensity = (spec_.weather == WrfCase::CoarseStorm ? 0.3 : 1.0) * (0.85 + 0.05 * hours);
+  // The alpine storm has none (no vortex, no warm core: the flow of alpineWind()).
+  const bool alpine = spec_.weather == WrfCase::AlpineStorm;
+  const double intensity = alpine ? 0.0 : (spec_.weather == WrfCase::CoarseStorm ? 0.3 : 1.0) * (0.85 + 0.05 * hours);
 
   const std::string time_string = start_.plusSeconds(3600.0 * double(spec_.first_hour + t)).wrfTimeString();
   truth_.times.push_back(time_string);
@@ -806,6 +811,7 @@ void Writer::writeTimestep(int t) {
     const double phi = std::atan2(ddy, ddx);
     u = -vt * std::sin(phi) + kStormMotionX_m_per_s;
     v = vt * std::cos(phi) + kStormMotionY_m_per_s;
+    if (alpine) alpineWind(z_m, u, v);
   };
   {
     std::vector<float> u(std::size_t(nx + 1) * std::size_t(ny) * std::size_t(nz));
@@ -842,14 +848,17 @@ void Writer::writeTimestep(int t) {
   // condensate; hydrometeors fade to zero over the outer 10 % of the domain (at least five rows),
   // so a storm wider than the domain ends softly instead of being cut by the box.
   const double lx_km = (nx - 1) * dx / 1000.0, ly_km = (ny - 1) * dx / 1000.0;
-  const double boundary_km = std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
+  // (The alpine storm's valleys reach the domain's edge: its zone is the five rows alone.)
+  const double boundary_km = alpine ? 5.0 * dx / 1000.0 : std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
   const bool storm = spec_.weather == WrfCase::CoarseStorm;
   const bool cellular = spec_.weather == WrfCase::HurricaneCells;
   std::vector<float> w_stag, tke, cldfra;
   std::vector<StormCell> cells;
   CellularColumns columns;
   if (cellular) columns = cellularColumns(hours, cx, cy);
-  if (storm || cellular) {
+  AlpineColumns alpine_columns;
+  if (alpine) alpine_columns = alpineColumns(alpine_, noise_);
+  if (storm || cellular || alpine) {
     if (storm) cells = stormCells(hours);
     w_stag.assign(n2 * std::size_t(nz + 1), 0.0f);
     tke.assign(n3, 0.0f);
@@ -876,6 +885,21 @@ void Writer::writeTimestep(int t) {
           cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
           // W on the staggered level below this mass point (and the model top above the last).
           w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * sp.w_m_per_s);
+          continue;
+        }
+        if (alpine) {
+          const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
+          const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
+          const AlpinePoint ap = alpinePoint(alpine_columns, c, z_mass[m], terrain_m_[c], t_mass[m]);
+          qc[m] = static_cast<float>(inside * ap.q_cloud);
+          qr[m] = static_cast<float>(inside * ap.q_rain);
+          qi[m] = static_cast<float>(inside * ap.q_ice);
+          qs[m] = static_cast<float>(inside * ap.q_snow);
+          qg[m] = static_cast<float>(inside * ap.q_graupel);
+          qh[m] = 0.0f;
+          tke[m] = static_cast<float>(ap.tke_m2_per_s2);
+          cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
+          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * ap.w_m_per_s);
           continue;
         }
         if (cellular) {
@@ -945,7 +969,7 @@ void Writer::writeTimestep(int t) {
       }
     }
   });
-  if (storm || cellular) {
+  if (storm || cellular || alpine) {
     put3d("W", t, w_stag, nz + 1, ny, nx);
     put3d("TKE_PBL", t, tke, nz, ny, nx);
     put3d("CLDFRA", t, cldfra, nz, ny, nx);
@@ -1017,6 +1041,10 @@ WrfTruth Writer::run() {
       terrain_m_[std::size_t(j) * std::size_t(g_.nx) + std::size_t(i)] = h < 1.0 ? 0.0 : h;
     }
   }
+  if (spec_.weather == WrfCase::AlpineStorm) {
+    alpine_ = alpineTerrain(g_.nx, g_.ny, spec_.dx_m, noise_);
+    terrain_m_ = alpine_.height_m;
+  }
   truth_.terrain_m = terrain_m_;
 
   // Geolocation of mass points: XLAT/XLONG computed with PROJ from the projection, the domain
@@ -1081,6 +1109,20 @@ WrfHurricaneSpec coarseStormSpec() {
   s.ntimes = 2;
   s.weather = WrfCase::CoarseStorm;
   s.format = NcFormat::Netcdf4Deflate;
+  return s;
+}
+
+WrfHurricaneSpec alpineStormSpec() {
+  WrfHurricaneSpec s;
+  s.nx = 160;
+  s.ny = 128;
+  s.nz = 50;
+  s.dx_m = 3000.0;
+  s.ntimes = 1;
+  s.weather = WrfCase::AlpineStorm;
+  s.format = NcFormat::Netcdf4Deflate;
+  s.centre_lon_deg = 10.5;
+  s.centre_lat_deg = 46.4;
   return s;
 }
 

@@ -248,6 +248,25 @@ case $case in
     awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
       fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
     ;;
+  alpine-storm)  # make demo's terrain shot (nephele-gen wrf --case alpine-storm): generates, converts, renders
+    run "$gen" wrf --case alpine-storm -o "$out/alpine.nc"
+    expect_rc 0
+    run "$nephele" convert "$out/alpine.nc" -o "$out/alpine.nph" --no-progress
+    expect_rc 0
+    run "$nephele" info "$out/alpine.nph"
+    expect_rc 0; expect_out "grid          160 x 128 x"
+    # The model's own terrain: HGT from the valley floors to the summits.
+    expect_out "terrain \[m\]   1[0-9][0-9] .. 4[0-9][0-9][0-9]"
+    run "$nephele" render "$out/alpine.nph" -o "$out/alpine.png" --width 160 --height 90 --layer "$out/layer.exr"
+    expect_rc 0
+    [ -s "$out/alpine.png" ] || fail "no image of the alpine storm"
+    oiiotool "$out/layer.exr" --ch A --printstats -o "$out/alpha.exr" >"$out/alpha.stats" ||
+      fail "oiiotool --printstats of the cloud layer failed"
+    lo=$(grep 'Stats Min' "$out/alpha.stats" | sed 's/.*Min: //' | awk '{print $1}')
+    hi=$(grep 'Stats Max' "$out/alpha.stats" | sed 's/.*Max: //' | awk '{print $1}')
+    awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
+      fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
+    ;;
   basemap)  # --basemap FILE: a user raster through GDAL under the storm; an ungeoreferenced one is refused
     # A uniform red world in EPSG:4326 as a PNG with a world file and GDAL's .aux.xml (CRS): the
     # ground of the frame must turn red where Blue Marble's sea is blue.
