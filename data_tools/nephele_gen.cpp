@@ -93,6 +93,10 @@ int main(int argc, char** argv) {
          "LON,LAT,HEIGHT_M,SIGMA_M: add a Gaussian mountain to HGT (terrain; issue 14), e.g. -76,25.3,2500,40000")
       ->expected(4)
       ->delimiter(',');
+  std::string alpine_dem;
+  wrf->add_option("--dem", alpine_dem,
+                  "alpine-storm only: also write its range at 500 m as a GeoTIFF in the model's projection, for "
+                  "\"terrain\": {\"dem\": FILE} (make demo's terrain shot; docs/terrain.md)");
   std::vector<double> centre;
   wrf->add_option("--centre", centre,
                   "LON,LAT: the domain centre (CEN_LON, CEN_LAT; default -75,25, over the sea east of the Bahamas); "
@@ -156,6 +160,10 @@ int main(int argc, char** argv) {
     auto write_wrf = [&](const std::string& path, nph::datagen::WrfProjection p, nph::datagen::WrfScheme s) {
       const bool alpine = case_name == "alpine-storm";
       const bool storm = case_name == "storm" || alpine;
+      if (!alpine_dem.empty() && !alpine) {
+        throw nph::UsageError(fmt::format("--dem {}: the DEM is written for --case alpine-storm only (got --case {})",
+                                          alpine_dem, case_name));
+      }
       auto spec = alpine  ? nph::datagen::alpineStormSpec()
                   : storm ? nph::datagen::coarseStormSpec()
                           : nph::datagen::wrfPreset(size);
@@ -175,6 +183,10 @@ int main(int argc, char** argv) {
       spec.format = format(spec.format);
       const auto t0 = std::chrono::steady_clock::now();
       const auto truth = nph::datagen::writeWrfHurricane(spec, path);
+      if (!alpine_dem.empty()) {
+        const auto [w, h] = nph::datagen::writeAlpineDem(spec, 500.0, alpine_dem);
+        fmt::print("{}: DEM {}x{} pixels of 500 m in the model's projection\n", alpine_dem, w, h);
+      }
       fmt::print("{}: wrfout {}x{}x{} x {} times, MAP_PROJ={}, MP_PHYSICS={}, {:.2f} s\n", path, truth.nx, truth.ny,
                  truth.nz, truth.ntimes, truth.map_proj, truth.mp_physics, secondsSince(t0));
     };

@@ -58,6 +58,43 @@ double AlpineTerrain::axisYkm(double x_km) const {
   return 0.5 * ly + 16.0 * std::sin(2.0 * kPi * x_km / 300.0 + 0.6);
 }
 
+AlpineSample sampleAlpineTerrain(const AlpineTerrain& t, const ValueNoise& noise, double x, double y, int octaves) {
+  const double d = y - t.axisYkm(x);
+  const double plain = 180.0 + 270.0 * smoothstep(-40.0, 40.0, d);
+  const double crest = 2750.0 + 900.0 * (noise.fbm(x / 70.0, 3.1, 0.5, 2) - 0.5);
+  const double belt =
+      (1.0 - smoothstep(30.0, 105.0, std::abs(d))) * (0.75 + 0.5 * noise.fbm(x / 45.0 + 10.0, y / 45.0 + 10.0, 1.7, 3));
+  const double env = plain + crest * belt;
+  AlpineSample a;
+  double h = env, floor = env, wall = 1.0;
+  for (const AlpineValley& v : t.valleys) {
+    const double reach = v.floor_half_width_km + v.wall_width_km;
+    if (x < v.x_min - reach || x > v.x_max + reach || y < v.y_min - reach || y > v.y_max + reach) continue;
+    double dist = 0.0, frac = 0.0;
+    nearestOnLine(v, x, y, dist, frac);
+    if (dist > v.floor_half_width_km + v.wall_width_km) continue;
+    const double f = floorAt(v, frac);
+    if (f >= env) continue;
+    const double s = smoothstep(v.floor_half_width_km, v.floor_half_width_km + v.wall_width_km, dist);
+    const double hv = f + (env - f) * s;
+    if (hv < h) {
+      h = hv;
+      floor = f;
+      wall = s;
+      a.fog = v.fog ? 1 : 0;
+    }
+  }
+  // Ridged relief on the walls and crests (none on the floors, little on the foreland).
+  const double ridged =
+      std::pow(1.0 - std::abs(2.0 * noise.fbm(x / 16.0 + 30.0, y / 16.0 + 30.0, 7.3, octaves) - 1.0), 2.0);
+  const double mountain = std::clamp((env - plain) / 2000.0, 0.0, 1.0);
+  a.height_m = std::max(floor, h + wall * (0.15 + 0.85 * mountain) * (1100.0 * ridged - 300.0));
+  a.envelope_m = env;
+  a.floor_m = floor;
+  a.wall = wall;
+  return a;
+}
+
 // The range: a crest envelope (a belt of half-width ~60 km along the divide, its crest 2.3–3.2 km
 // varying along the range, over a foreland at 180 m in the south and 450 m in the north) into
 // which valleys are cut: two longitudinal valleys either side of the divide (the northern one
@@ -162,6 +199,12 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
     }
   }
 
+  for (AlpineValley& v : t.valleys) {
+    v.x_min = *std::min_element(v.x_km.begin(), v.x_km.end());
+    v.x_max = *std::max_element(v.x_km.begin(), v.x_km.end());
+    v.y_min = *std::min_element(v.y_km.begin(), v.y_km.end());
+    v.y_max = *std::max_element(v.y_km.begin(), v.y_km.end());
+  }
   const std::size_t n2 = std::size_t(nx) * std::size_t(ny);
   t.height_m.assign(n2, 0.0);
   t.envelope_m.assign(n2, 0.0);
@@ -171,40 +214,12 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
   tbb::parallel_for(0, ny, [&](int j) {
     for (int i = 0; i < nx; ++i) {
       const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
-      const double x = i * t.dx_km, y = j * t.dx_km;
-      const double d = y - t.axisYkm(x);
-      const double plain = 180.0 + 270.0 * smoothstep(-40.0, 40.0, d);
-      const double crest = 2750.0 + 900.0 * (noise.fbm(x / 70.0, 3.1, 0.5, 2) - 0.5);
-      const double belt = (1.0 - smoothstep(30.0, 105.0, std::abs(d))) *
-                          (0.75 + 0.5 * noise.fbm(x / 45.0 + 10.0, y / 45.0 + 10.0, 1.7, 3));
-      const double env = plain + crest * belt;
-      double h = env, floor = env, wall = 1.0;
-      signed char fog = 0;
-      for (const AlpineValley& v : t.valleys) {
-        double dist = 0.0, frac = 0.0;
-        nearestOnLine(v, x, y, dist, frac);
-        if (dist > v.floor_half_width_km + v.wall_width_km) continue;
-        const double f = floorAt(v, frac);
-        if (f >= env) continue;
-        const double s = smoothstep(v.floor_half_width_km, v.floor_half_width_km + v.wall_width_km, dist);
-        const double hv = f + (env - f) * s;
-        if (hv < h) {
-          h = hv;
-          floor = f;
-          wall = s;
-          fog = v.fog ? 1 : 0;
-        }
-      }
-      // Ridged relief on the walls and crests (none on the floors, little on the foreland).
-      const double ridged =
-          std::pow(1.0 - std::abs(2.0 * noise.fbm(x / 16.0 + 30.0, y / 16.0 + 30.0, 7.3, 4) - 1.0), 2.0);
-      const double mountain = std::clamp((env - plain) / 2000.0, 0.0, 1.0);
-      h = std::max(floor, h + wall * (0.15 + 0.85 * mountain) * (1100.0 * ridged - 300.0));
-      t.height_m[c] = h;
-      t.envelope_m[c] = env;
-      t.floor_m[c] = floor;
-      t.wall[c] = wall;
-      t.fog[c] = fog;
+      const AlpineSample a = sampleAlpineTerrain(t, noise, i * t.dx_km, j * t.dx_km, 4);
+      t.height_m[c] = a.height_m;
+      t.envelope_m[c] = a.envelope_m;
+      t.floor_m[c] = a.floor_m;
+      t.wall[c] = a.wall;
+      t.fog[c] = a.fog;
     }
   });
   // Hydrological conditioning: the ridged relief leaves small closed bowls on the walls, which

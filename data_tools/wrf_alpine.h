@@ -22,6 +22,7 @@ struct AlpineValley {
   double floor_half_width_km = 3.0;  ///< flat floor either side of the line
   double wall_width_km = 8.0;        ///< the walls rise to the crest envelope over this distance
   bool fog = false;                  ///< fog with a flat top lies on its floor where it is low
+  double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0;  ///< the line's bounding box [km]
 };
 
 struct AlpineTerrain {
@@ -38,6 +39,16 @@ struct AlpineTerrain {
 
 /// The generated range on an nx × ny grid of dx_m.
 AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise);
+
+/// The range's continuous height function at (x, y) [grid km from mass point (0, 0)], its ridged
+/// relief summed over `octaves` (the model's HGT: 4, down to 2 km; its finer DEM: 6, to 0.5 km).
+/// HGT is this at the mass points, then conditioned so that every column drains.
+struct AlpineSample {
+  double height_m = 0.0, envelope_m = 0.0, floor_m = 0.0, wall = 1.0;
+  signed char fog = 0;
+};
+AlpineSample sampleAlpineTerrain(const AlpineTerrain& t, const ValueNoise& noise, double x_km, double y_km,
+                                 int octaves);
 
 /// Per-column structure of the storm; each point follows from it, the height and the temperature.
 struct AlpineColumns {

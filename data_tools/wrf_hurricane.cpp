@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -11,6 +12,7 @@
 
 #include "atmosphere.h"
 #include "core/error.h"
+#include "dem_writer.h"
 #include "geo/map_projection.h"
 #include "geo/utc_time.h"
 #include "wrf_alpine.h"
@@ -1124,6 +1126,40 @@ WrfHurricaneSpec alpineStormSpec() {
   s.centre_lon_deg = 10.5;
   s.centre_lat_deg = 46.4;
   return s;
+}
+
+std::pair<int, int> writeAlpineDem(const WrfHurricaneSpec& spec, double pixel_m, const std::string& path) {
+  if (spec.projection == WrfProjection::Cartesian || !(pixel_m > 0.0) || pixel_m > spec.dx_m) {
+    throw UsageError(fmt::format("{}: the alpine DEM needs a map projection and a pixel in (0, DX]", path));
+  }
+  const ProjectionSetup proj = projectionSetup(spec.projection, spec.centre_lon_deg, spec.centre_lat_deg);
+  if (proj.geographic) throw UsageError(fmt::format("{}: the alpine DEM needs a projected (metre) grid", path));
+  const geo::MapProjection projection(proj.proj_definition);
+  const glm::dvec2 centre = projection.forward({spec.centre_lon_deg, spec.centre_lat_deg});
+  // Projected metres of mass point (0, 0), as Writer::run() places XLAT/XLONG.
+  const double x0 = centre.x - 0.5 * (spec.nx - 1) * spec.dx_m, y0 = centre.y - 0.5 * (spec.ny - 1) * spec.dx_m;
+  const ValueNoise noise(spec.seed);
+  const AlpineTerrain t = alpineTerrain(spec.nx, spec.ny, spec.dx_m, noise);
+  // The pixels cover the model's cells: from half a cell west/south of the first mass point to
+  // half a cell beyond the last.
+  const int w = static_cast<int>(std::ceil(spec.nx * spec.dx_m / pixel_m));
+  const int h = static_cast<int>(std::ceil(spec.ny * spec.dx_m / pixel_m));
+  std::vector<float> heights(std::size_t(w) * std::size_t(h));
+  tbb::parallel_for(0, h, [&](int j) {
+    const double y_km = (spec.ny - 0.5) * spec.dx_m / 1000.0 - (j + 0.5) * pixel_m / 1000.0;  // row 0 north
+    for (int i = 0; i < w; ++i) {
+      const double x_km = -0.5 * spec.dx_m / 1000.0 + (i + 0.5) * pixel_m / 1000.0;
+      heights[std::size_t(j) * std::size_t(w) + std::size_t(i)] =
+          static_cast<float>(sampleAlpineTerrain(t, noise, x_km, y_km, 6).height_m);
+    }
+  });
+  const std::array<double, 6> gt = {
+      x0 - 0.5 * spec.dx_m, pixel_m, 0.0, y0 + (spec.ny - 0.5) * spec.dx_m, 0.0, -pixel_m};
+  writeHeightsGeoTiff(
+      path, w, h, heights, gt, proj.proj_definition,
+      "height above sea level (generated: nephele-gen wrf --case alpine-storm --dem)",
+      fmt::format("nephele-gen wrf --case alpine-storm --seed {} (synthesis, not a survey)", spec.seed));
+  return {w, h};
 }
 
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path) {

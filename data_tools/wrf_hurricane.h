@@ -109,6 +109,12 @@ WrfHurricaneSpec coarseStormSpec();
 /// (10.5° E, 46.4° N), one timestep, NetCDF-4 with deflate.
 WrfHurricaneSpec alpineStormSpec();
 
+/// The alpine storm's range (WrfCase::AlpineStorm) as a DEM finer than the model: its continuous
+/// height function with two more octaves of ridged relief (to 0.5 km), sampled at `pixel_m` over
+/// the model's footprint and written as a Float32 GeoTIFF in the model's own projection, for
+/// `"terrain": {"dem": FILE}` (make demo's terrain shot). Returns the pixel grid's size.
+std::pair<int, int> writeAlpineDem(const WrfHurricaneSpec& spec, double pixel_m, const std::string& path);
+
 /// Writes the file; throws nph::IoError when NetCDF fails.
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path);
 

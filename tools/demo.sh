@@ -27,11 +27,12 @@ fi
 # The terrain shot (issues 13/14): a 3 km convective storm over a generated mountain range, the
 # model's own HGT (nephele-gen wrf --case alpine-storm: ridges and draining valleys, towers over the
 # crests with anvils, cumulus over the slopes, valley fog; docs/terrain.md "A storm over the
-# mountains"). Generate + convert: about 7 s on 2 cores.
+# mountains"), and its range as a 500 m DEM in the model's projection (--dem: the same relief with
+# finer ridges, read as a user DEM). Generate + convert: about 8 s on 2 cores.
 alpine="$out/alpine-storm.nph"
-if [ ! -f "$alpine" ] || [ "$(cat "$alpine.case" 2>/dev/null)" != alpine-storm ]; then
+if [ ! -f "$alpine" ] || [ ! -f "$out/alpine-dem.tif" ] || [ "$(cat "$alpine.case" 2>/dev/null)" != alpine-storm ]; then
   echo "demo: generating the storm over the mountains (wrfout at 3 km with HGT, W, TKE_PBL, CLDFRA)"
-  "$gen" wrf --case alpine-storm -o "$out/wrfout-alpine-storm.nc"
+  "$gen" wrf --case alpine-storm -o "$out/wrfout-alpine-storm.nc" --dem "$out/alpine-dem.tif"
   "$nephele" convert "$out/wrfout-alpine-storm.nc" -o "$alpine" --progress
   rm -f "$out/wrfout-alpine-storm.nc"
   echo alpine-storm > "$alpine.case"
