@@ -871,53 +871,34 @@ void Writer::writeTimestep(int t) {
       for (int i = 0; i < nx; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
         const std::size_t m = g_.at(i, j, k);
-        if (storm) {
-          const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
-          const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
-          const StormPoint sp = stormPoint(cells, i, j, x_km, y_km, z_mass[m], terrain_m_[c], t_mass[m], hours);
-          qc[m] = static_cast<float>(inside * sp.q_cloud);
-          qr[m] = static_cast<float>(inside * sp.q_rain);
-          qi[m] = static_cast<float>(inside * sp.q_ice);
-          qs[m] = static_cast<float>(inside * sp.q_snow);
-          qg[m] = static_cast<float>(inside * sp.q_graupel);
-          qh[m] = 0.0f;
-          tke[m] = static_cast<float>(sp.tke_m2_per_s2);
+        // The cases with W/TKE_PBL/CLDFRA: every class scaled (intensity and the boundary fade),
+        // W by the fade alone.
+        auto store = [&](const auto& pt, double scale, double w_scale, double hail) {
+          qc[m] = static_cast<float>(scale * pt.q_cloud);
+          qr[m] = static_cast<float>(scale * pt.q_rain);
+          qi[m] = static_cast<float>(scale * pt.q_ice);
+          qs[m] = static_cast<float>(scale * pt.q_snow);
+          qg[m] = static_cast<float>(scale * pt.q_graupel);
+          qh[m] = static_cast<float>(hail);
+          tke[m] = static_cast<float>(pt.tke_m2_per_s2);
           // Cloud fraction from the condensate (WRF's cloud-fraction schemes ramp it with the
           // cloud water and ice content): 1 in resolved cloud, a ramp over 1e-6 .. 5e-5 kg/kg.
           cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
           // W on the staggered level below this mass point (and the model top above the last).
-          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * sp.w_m_per_s);
-          continue;
-        }
-        if (alpine) {
+          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(w_scale * pt.w_m_per_s);
+        };
+        if (storm || alpine || cellular) {
           const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
           const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
-          const AlpinePoint ap = alpinePoint(alpine_columns, c, z_mass[m], terrain_m_[c], t_mass[m]);
-          qc[m] = static_cast<float>(inside * ap.q_cloud);
-          qr[m] = static_cast<float>(inside * ap.q_rain);
-          qi[m] = static_cast<float>(inside * ap.q_ice);
-          qs[m] = static_cast<float>(inside * ap.q_snow);
-          qg[m] = static_cast<float>(inside * ap.q_graupel);
-          qh[m] = 0.0f;
-          tke[m] = static_cast<float>(ap.tke_m2_per_s2);
-          cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
-          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * ap.w_m_per_s);
-          continue;
-        }
-        if (cellular) {
-          const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
-          const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
-          const CellularPoint cp = cellularPoint(columns, c, r_km[c], z_mass[m], terrain_m_[c], t_mass[m]);
-          const double scale = intensity * inside;
-          qc[m] = static_cast<float>(scale * cp.q_cloud);
-          qr[m] = static_cast<float>(scale * cp.q_rain);
-          qi[m] = static_cast<float>(scale * cp.q_ice);
-          qs[m] = static_cast<float>(scale * cp.q_snow);
-          qg[m] = static_cast<float>(scale * cp.q_graupel);
-          qh[m] = static_cast<float>(spec_.include_hail ? scale * cp.q_hail : 0.0);
-          tke[m] = static_cast<float>(cp.tke_m2_per_s2);
-          cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
-          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * cp.w_m_per_s);
+          if (storm) {
+            store(stormPoint(cells, i, j, x_km, y_km, z_mass[m], terrain_m_[c], t_mass[m], hours), inside, inside, 0.0);
+          } else if (alpine) {
+            store(alpinePoint(alpine_columns, c, z_mass[m], terrain_m_[c], t_mass[m]), inside, inside, 0.0);
+          } else {
+            const CellularPoint cp = cellularPoint(columns, c, r_km[c], z_mass[m], terrain_m_[c], t_mass[m]);
+            const double scale = intensity * inside;
+            store(cp, scale, inside, spec_.include_hail ? scale * cp.q_hail : 0.0);
+          }
           continue;
         }
         const double r = r_km[c], phi = phi_rad[c];
