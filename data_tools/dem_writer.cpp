@@ -147,16 +147,33 @@ DemTruth writeGeneratedDem(const DemSpec& spec, const std::string& path) {
       truth.max_m = std::max(truth.max_m, z);
     }
   }
+  const std::array<double, 6> gt = {spec.lon_min_deg, spec.pixel_deg, 0.0, spec.lat_max_deg, 0.0, -spec.pixel_deg};
+  writeHeightsGeoTiff(path, w, h, heights, gt, "EPSG:4326",
+                      "height above sea level (generated: nephele-gen dem, docs/terrain.md)",
+                      fmt::format("nephele-gen dem --seed {} (synthesis, not a survey)", spec.seed));
+  return truth;
+}
+
+void writeHeightsGeoTiff(const std::string& path, int w, int h, const std::vector<float>& heights,
+                         const std::array<double, 6>& geotransform, const std::string& crs,
+                         const std::string& description, const std::string& source) {
   GDALAllRegister();
   GDALDriverH driver = GDALGetDriverByName("GTiff");
   if (!driver) throw std::runtime_error(fmt::format("{}: GDAL has no GTiff driver", path));
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  if (OSRSetFromUserInput(srs, crs.c_str()) != OGRERR_NONE) {
+    OSRDestroySpatialReference(srs);
+    throw std::runtime_error(fmt::format("{}: GDAL does not understand the CRS '{}'", path, crs));
+  }
   const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", "TILED=YES", nullptr};
   GDALDatasetH ds = GDALCreate(driver, path.c_str(), w, h, 1, GDT_Float32, const_cast<char**>(options));
-  if (!ds) throw std::runtime_error(fmt::format("{}: GDAL cannot create the GeoTIFF: {}", path, CPLGetLastErrorMsg()));
-  double gt[6] = {spec.lon_min_deg, spec.pixel_deg, 0.0, spec.lat_max_deg, 0.0, -spec.pixel_deg};
+  if (!ds) {
+    OSRDestroySpatialReference(srs);
+    throw std::runtime_error(fmt::format("{}: GDAL cannot create the GeoTIFF: {}", path, CPLGetLastErrorMsg()));
+  }
+  double gt[6];
+  std::copy(geotransform.begin(), geotransform.end(), gt);
   GDALSetGeoTransform(ds, gt);
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, 4326);
   char* wkt = nullptr;
   OSRExportToWkt(srs, &wkt);
   GDALSetProjection(ds, wkt);
@@ -164,14 +181,13 @@ DemTruth writeGeneratedDem(const DemSpec& spec, const std::string& path) {
   OSRDestroySpatialReference(srs);
   GDALRasterBandH band = GDALGetRasterBand(ds, 1);
   GDALSetRasterUnitType(band, "m");
-  GDALSetDescription(band, "height above sea level (generated: nephele-gen dem, docs/terrain.md)");
-  GDALSetMetadataItem(ds, "SOURCE",
-                      fmt::format("nephele-gen dem --seed {} (synthesis, not a survey)", spec.seed).c_str(), nullptr);
-  const CPLErr err = GDALRasterIO(band, GF_Write, 0, 0, w, h, heights.data(), w, h, GDT_Float32, 0, 0);
+  GDALSetDescription(band, description.c_str());
+  GDALSetMetadataItem(ds, "SOURCE", source.c_str(), nullptr);
+  const CPLErr err =
+      GDALRasterIO(band, GF_Write, 0, 0, w, h, const_cast<float*>(heights.data()), w, h, GDT_Float32, 0, 0);
   GDALClose(ds);
   if (err != CE_None)
     throw std::runtime_error(fmt::format("{}: GDAL cannot write the heights: {}", path, CPLGetLastErrorMsg()));
-  return truth;
 }
 
 }  // namespace nph::datagen

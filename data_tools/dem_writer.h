@@ -10,8 +10,10 @@
 // on the axis falling to a foreland of a few hundred metres and to sea level 250 km away. It is
 // synthesis, not the Alps: the ridges are not the real ones; only the belt follows the real
 // range, so that Blue Marble's snow and valleys lie roughly under it. Deterministic from `seed`.
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace nph::datagen {
 
@@ -35,5 +37,12 @@ DemTruth writeGeneratedDem(const DemSpec& spec, const std::string& path);
 /// The height [m] the generator gives at (lon, lat): the same function the file samples at its
 /// pixel centres (for tests).
 double generatedDemHeight_m(const DemSpec& spec, double lon_deg, double lat_deg);
+
+/// A Float32 GeoTIFF of heights [m] (deflate, unit "m", no nodata), row 0 first as `geotransform`
+/// (GDAL's six coefficients) says, in `crs` (anything OSRSetFromUserInput takes: "EPSG:4326", a
+/// PROJ string). Throws std::runtime_error naming `path`.
+void writeHeightsGeoTiff(const std::string& path, int w, int h, const std::vector<float>& heights,
+                         const std::array<double, 6>& geotransform, const std::string& crs,
+                         const std::string& description, const std::string& source);
 
 }  // namespace nph::datagen

@@ -64,8 +64,11 @@ int main(int argc, char** argv) {
                   "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored) | "
                   "hurricane-cells (the sample storm as 2-4 km model output shows it, make demo's: eyewall towers "
                   "with overshooting tops, rainbands of discrete cells, stratiform shield, banded outflow canopy, "
-                  "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies)")
-      ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells"}));
+                  "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies) | alpine-storm (make demo's terrain shot: "
+                  "160x128x50 at 3 km over a generated range in the Central Alps, HGT with ridges and draining "
+                  "valleys, towers over the crests with anvils, a lee deck, cumulus over the slopes, valley fog; "
+                  "W/TKE_PBL/CLDFRA, 1 timestep, deflate; --size is ignored)")
+      ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells", "alpine-storm"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
   wrf->add_option("--proj", proj_name,
                   "lambert (MAP_PROJ=1) | polar (2) | mercator (3) | latlon (6) | rotated (6, rotated pole) | "
@@ -90,6 +93,10 @@ int main(int argc, char** argv) {
          "LON,LAT,HEIGHT_M,SIGMA_M: add a Gaussian mountain to HGT (terrain; issue 14), e.g. -76,25.3,2500,40000")
       ->expected(4)
       ->delimiter(',');
+  std::string alpine_dem;
+  wrf->add_option("--dem", alpine_dem,
+                  "alpine-storm only: also write its range at 500 m as a GeoTIFF in the model's projection, for "
+                  "\"terrain\": {\"dem\": FILE} (make demo's terrain shot; docs/terrain.md)");
   std::vector<double> centre;
   wrf->add_option("--centre", centre,
                   "LON,LAT: the domain centre (CEN_LON, CEN_LAT; default -75,25, over the sea east of the Bahamas); "
@@ -151,8 +158,15 @@ int main(int argc, char** argv) {
       return compress ? nph::datagen::NcFormat::Netcdf4Deflate : preset;
     };
     auto write_wrf = [&](const std::string& path, nph::datagen::WrfProjection p, nph::datagen::WrfScheme s) {
-      const bool storm = case_name == "storm";
-      auto spec = storm ? nph::datagen::coarseStormSpec() : nph::datagen::wrfPreset(size);
+      const bool alpine = case_name == "alpine-storm";
+      const bool storm = case_name == "storm" || alpine;
+      if (!alpine_dem.empty() && !alpine) {
+        throw nph::UsageError(fmt::format("--dem {}: the DEM is written for --case alpine-storm only (got --case {})",
+                                          alpine_dem, case_name));
+      }
+      auto spec = alpine  ? nph::datagen::alpineStormSpec()
+                  : storm ? nph::datagen::coarseStormSpec()
+                          : nph::datagen::wrfPreset(size);
       if (case_name == "hurricane-cells") spec.weather = nph::datagen::WrfCase::HurricaneCells;
       spec.projection = p;
       spec.scheme = s;
@@ -169,6 +183,10 @@ int main(int argc, char** argv) {
       spec.format = format(spec.format);
       const auto t0 = std::chrono::steady_clock::now();
       const auto truth = nph::datagen::writeWrfHurricane(spec, path);
+      if (!alpine_dem.empty()) {
+        const auto [w, h] = nph::datagen::writeAlpineDem(spec, 500.0, alpine_dem);
+        fmt::print("{}: DEM {}x{} pixels of 500 m in the model's projection\n", alpine_dem, w, h);
+      }
       fmt::print("{}: wrfout {}x{}x{} x {} times, MAP_PROJ={}, MP_PHYSICS={}, {:.2f} s\n", path, truth.nx, truth.ny,
                  truth.nz, truth.ntimes, truth.map_proj, truth.mp_physics, secondsSince(t0));
     };

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -11,8 +12,10 @@
 
 #include "atmosphere.h"
 #include "core/error.h"
+#include "dem_writer.h"
 #include "geo/map_projection.h"
 #include "geo/utc_time.h"
+#include "wrf_alpine.h"
 
 namespace nph::datagen {
 namespace {
@@ -203,6 +206,7 @@ class Writer {
   std::vector<float> lat_, lon_;
   std::map<std::string, int> var_;
   WrfTruth truth_;
+  AlpineTerrain alpine_;  ///< WrfCase::AlpineStorm only
   geo::UtcTime start_ = geo::UtcTime::fromCivil(2026, 9, 1, 12);
 };
 
@@ -604,6 +608,7 @@ void Writer::defineFile() {
               fmt::format("{} written by nephele-gen, seed {}",
                           spec_.weather == WrfCase::CoarseStorm      ? "coarse convective storm"
                           : spec_.weather == WrfCase::HurricaneCells ? "cellular hurricane"
+                          : spec_.weather == WrfCase::AlpineStorm    ? "alpine convective storm"
                                                                      : "idealized hurricane",
                           spec_.seed));
   const std::string start = start_.wrfTimeString();
@@ -690,7 +695,9 @@ void Writer::writeTimestep(int t) {
     truth_.storm_centre_y_m = cy;
   }
   // Intensifying hurricane; the coarse storm keeps only a weak mesoscale vortex (a third).
-  const double intensity = (spec_.weather == WrfCase::CoarseStorm ? 0.3 : 1.0) * (0.85 + 0.05 * hours);
+  // The alpine storm has none (no vortex, no warm core: the flow of alpineWind()).
+  const bool alpine = spec_.weather == WrfCase::AlpineStorm;
+  const double intensity = alpine ? 0.0 : (spec_.weather == WrfCase::CoarseStorm ? 0.3 : 1.0) * (0.85 + 0.05 * hours);
 
   const std::string time_string = start_.plusSeconds(3600.0 * double(spec_.first_hour + t)).wrfTimeString();
   truth_.times.push_back(time_string);
@@ -806,6 +813,7 @@ void Writer::writeTimestep(int t) {
     const double phi = std::atan2(ddy, ddx);
     u = -vt * std::sin(phi) + kStormMotionX_m_per_s;
     v = vt * std::cos(phi) + kStormMotionY_m_per_s;
+    if (alpine) alpineWind(z_m, u, v);
   };
   {
     std::vector<float> u(std::size_t(nx + 1) * std::size_t(ny) * std::size_t(nz));
@@ -842,14 +850,17 @@ void Writer::writeTimestep(int t) {
   // condensate; hydrometeors fade to zero over the outer 10 % of the domain (at least five rows),
   // so a storm wider than the domain ends softly instead of being cut by the box.
   const double lx_km = (nx - 1) * dx / 1000.0, ly_km = (ny - 1) * dx / 1000.0;
-  const double boundary_km = std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
+  // (The alpine storm's valleys reach the domain's edge: its zone is the five rows alone.)
+  const double boundary_km = alpine ? 5.0 * dx / 1000.0 : std::max(5.0 * dx / 1000.0, 0.1 * std::min(lx_km, ly_km));
   const bool storm = spec_.weather == WrfCase::CoarseStorm;
   const bool cellular = spec_.weather == WrfCase::HurricaneCells;
   std::vector<float> w_stag, tke, cldfra;
   std::vector<StormCell> cells;
   CellularColumns columns;
   if (cellular) columns = cellularColumns(hours, cx, cy);
-  if (storm || cellular) {
+  AlpineColumns alpine_columns;
+  if (alpine) alpine_columns = alpineColumns(alpine_, noise_);
+  if (storm || cellular || alpine) {
     if (storm) cells = stormCells(hours);
     w_stag.assign(n2 * std::size_t(nz + 1), 0.0f);
     tke.assign(n3, 0.0f);
@@ -860,38 +871,34 @@ void Writer::writeTimestep(int t) {
       for (int i = 0; i < nx; ++i) {
         const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
         const std::size_t m = g_.at(i, j, k);
-        if (storm) {
-          const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
-          const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
-          const StormPoint sp = stormPoint(cells, i, j, x_km, y_km, z_mass[m], terrain_m_[c], t_mass[m], hours);
-          qc[m] = static_cast<float>(inside * sp.q_cloud);
-          qr[m] = static_cast<float>(inside * sp.q_rain);
-          qi[m] = static_cast<float>(inside * sp.q_ice);
-          qs[m] = static_cast<float>(inside * sp.q_snow);
-          qg[m] = static_cast<float>(inside * sp.q_graupel);
-          qh[m] = 0.0f;
-          tke[m] = static_cast<float>(sp.tke_m2_per_s2);
+        // The cases with W/TKE_PBL/CLDFRA: every class scaled (intensity and the boundary fade),
+        // W by the fade alone.
+        auto store = [&](const auto& pt, double scale, double w_scale, double hail) {
+          qc[m] = static_cast<float>(scale * pt.q_cloud);
+          qr[m] = static_cast<float>(scale * pt.q_rain);
+          qi[m] = static_cast<float>(scale * pt.q_ice);
+          qs[m] = static_cast<float>(scale * pt.q_snow);
+          qg[m] = static_cast<float>(scale * pt.q_graupel);
+          qh[m] = static_cast<float>(hail);
+          tke[m] = static_cast<float>(pt.tke_m2_per_s2);
           // Cloud fraction from the condensate (WRF's cloud-fraction schemes ramp it with the
           // cloud water and ice content): 1 in resolved cloud, a ramp over 1e-6 .. 5e-5 kg/kg.
           cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
           // W on the staggered level below this mass point (and the model top above the last).
-          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * sp.w_m_per_s);
-          continue;
-        }
-        if (cellular) {
+          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(w_scale * pt.w_m_per_s);
+        };
+        if (storm || alpine || cellular) {
           const double x_km = i * dx / 1000.0, y_km = j * dx / 1000.0;
           const double inside = smoothstep(0.0, boundary_km, std::min({x_km, lx_km - x_km, y_km, ly_km - y_km}));
-          const CellularPoint cp = cellularPoint(columns, c, r_km[c], z_mass[m], terrain_m_[c], t_mass[m]);
-          const double scale = intensity * inside;
-          qc[m] = static_cast<float>(scale * cp.q_cloud);
-          qr[m] = static_cast<float>(scale * cp.q_rain);
-          qi[m] = static_cast<float>(scale * cp.q_ice);
-          qs[m] = static_cast<float>(scale * cp.q_snow);
-          qg[m] = static_cast<float>(scale * cp.q_graupel);
-          qh[m] = static_cast<float>(spec_.include_hail ? scale * cp.q_hail : 0.0);
-          tke[m] = static_cast<float>(cp.tke_m2_per_s2);
-          cldfra[m] = static_cast<float>(smoothstep(1e-6, 5e-5, double(qc[m]) + double(qi[m]) + double(qs[m])));
-          w_stag[std::size_t(k) * n2 + c] = static_cast<float>(inside * cp.w_m_per_s);
+          if (storm) {
+            store(stormPoint(cells, i, j, x_km, y_km, z_mass[m], terrain_m_[c], t_mass[m], hours), inside, inside, 0.0);
+          } else if (alpine) {
+            store(alpinePoint(alpine_columns, c, z_mass[m], terrain_m_[c], t_mass[m]), inside, inside, 0.0);
+          } else {
+            const CellularPoint cp = cellularPoint(columns, c, r_km[c], z_mass[m], terrain_m_[c], t_mass[m]);
+            const double scale = intensity * inside;
+            store(cp, scale, inside, spec_.include_hail ? scale * cp.q_hail : 0.0);
+          }
           continue;
         }
         const double r = r_km[c], phi = phi_rad[c];
@@ -945,7 +952,7 @@ void Writer::writeTimestep(int t) {
       }
     }
   });
-  if (storm || cellular) {
+  if (storm || cellular || alpine) {
     put3d("W", t, w_stag, nz + 1, ny, nx);
     put3d("TKE_PBL", t, tke, nz, ny, nx);
     put3d("CLDFRA", t, cldfra, nz, ny, nx);
@@ -1017,6 +1024,10 @@ WrfTruth Writer::run() {
       terrain_m_[std::size_t(j) * std::size_t(g_.nx) + std::size_t(i)] = h < 1.0 ? 0.0 : h;
     }
   }
+  if (spec_.weather == WrfCase::AlpineStorm) {
+    alpine_ = alpineTerrain(g_.nx, g_.ny, spec_.dx_m, noise_);
+    terrain_m_ = alpine_.height_m;
+  }
   truth_.terrain_m = terrain_m_;
 
   // Geolocation of mass points: XLAT/XLONG computed with PROJ from the projection, the domain
@@ -1082,6 +1093,54 @@ WrfHurricaneSpec coarseStormSpec() {
   s.weather = WrfCase::CoarseStorm;
   s.format = NcFormat::Netcdf4Deflate;
   return s;
+}
+
+WrfHurricaneSpec alpineStormSpec() {
+  WrfHurricaneSpec s;
+  s.nx = 160;
+  s.ny = 128;
+  s.nz = 50;
+  s.dx_m = 3000.0;
+  s.ntimes = 1;
+  s.weather = WrfCase::AlpineStorm;
+  s.format = NcFormat::Netcdf4Deflate;
+  s.centre_lon_deg = 10.5;
+  s.centre_lat_deg = 46.4;
+  return s;
+}
+
+std::pair<int, int> writeAlpineDem(const WrfHurricaneSpec& spec, double pixel_m, const std::string& path) {
+  if (spec.projection == WrfProjection::Cartesian || !(pixel_m > 0.0) || pixel_m > spec.dx_m) {
+    throw UsageError(fmt::format("{}: the alpine DEM needs a map projection and a pixel in (0, DX]", path));
+  }
+  const ProjectionSetup proj = projectionSetup(spec.projection, spec.centre_lon_deg, spec.centre_lat_deg);
+  if (proj.geographic) throw UsageError(fmt::format("{}: the alpine DEM needs a projected (metre) grid", path));
+  const geo::MapProjection projection(proj.proj_definition);
+  const glm::dvec2 centre = projection.forward({spec.centre_lon_deg, spec.centre_lat_deg});
+  // Projected metres of mass point (0, 0), as Writer::run() places XLAT/XLONG.
+  const double x0 = centre.x - 0.5 * (spec.nx - 1) * spec.dx_m, y0 = centre.y - 0.5 * (spec.ny - 1) * spec.dx_m;
+  const ValueNoise noise(spec.seed);
+  const AlpineTerrain t = alpineTerrain(spec.nx, spec.ny, spec.dx_m, noise);
+  // The pixels cover the model's cells: from half a cell west/south of the first mass point to
+  // half a cell beyond the last.
+  const int w = static_cast<int>(std::ceil(spec.nx * spec.dx_m / pixel_m));
+  const int h = static_cast<int>(std::ceil(spec.ny * spec.dx_m / pixel_m));
+  std::vector<float> heights(std::size_t(w) * std::size_t(h));
+  tbb::parallel_for(0, h, [&](int j) {
+    const double y_km = (spec.ny - 0.5) * spec.dx_m / 1000.0 - (j + 0.5) * pixel_m / 1000.0;  // row 0 north
+    for (int i = 0; i < w; ++i) {
+      const double x_km = -0.5 * spec.dx_m / 1000.0 + (i + 0.5) * pixel_m / 1000.0;
+      heights[std::size_t(j) * std::size_t(w) + std::size_t(i)] =
+          static_cast<float>(sampleAlpineTerrain(t, noise, x_km, y_km, 6).height_m);
+    }
+  });
+  const std::array<double, 6> gt = {
+      x0 - 0.5 * spec.dx_m, pixel_m, 0.0, y0 + (spec.ny - 0.5) * spec.dx_m, 0.0, -pixel_m};
+  writeHeightsGeoTiff(
+      path, w, h, heights, gt, proj.proj_definition,
+      "height above sea level (generated: nephele-gen wrf --case alpine-storm --dem)",
+      fmt::format("nephele-gen wrf --case alpine-storm --seed {} (synthesis, not a survey)", spec.seed));
+  return {w, h};
 }
 
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path) {

@@ -30,7 +30,11 @@ enum class WrfCase {
   /// eyewall of convective towers with overshooting tops, spiral rainbands of discrete cells with
   /// gaps, a stratiform shield of varied depth, a banded outflow cirrus canopy thinning at its edge,
   /// shallow cumulus in the moat and outside; with W, TKE_PBL and CLDFRA
-  HurricaneCells
+  HurricaneCells,
+  /// issues 13/14: a 3 km convective storm over a generated mountain range (make demo's terrain
+  /// shot, data_tools/wrf_alpine.h): HGT with ridges and draining valleys, orographic towers over
+  /// the crests with anvils, a lee deck, cumulus over the slopes, valley fog; W, TKE_PBL, CLDFRA
+  AlpineStorm
 };
 
 enum class WrfScheme {
@@ -99,6 +103,17 @@ std::pair<double, double> stormCentreLonLat(const WrfTruth& truth, double dx_m);
 /// levels from column to column, with grid-scale (2Δx) noise, plus W, TKE_PBL and CLDFRA. Two
 /// hourly timesteps, NetCDF-4 with deflate (~2 MB).
 WrfHurricaneSpec coarseStormSpec();
+
+/// The alpine storm of issues 13/14 (`nephele-gen wrf --case alpine-storm`): 160×128 columns at
+/// 3 km (480 × 384 km) and 50 eta levels over a generated range centred in the Central Alps
+/// (10.5° E, 46.4° N), one timestep, NetCDF-4 with deflate.
+WrfHurricaneSpec alpineStormSpec();
+
+/// The alpine storm's range (WrfCase::AlpineStorm) as a DEM finer than the model: its continuous
+/// height function with two more octaves of ridged relief (to 0.5 km), sampled at `pixel_m` over
+/// the model's footprint and written as a Float32 GeoTIFF in the model's own projection, for
+/// `"terrain": {"dem": FILE}` (make demo's terrain shot). Returns the pixel grid's size.
+std::pair<int, int> writeAlpineDem(const WrfHurricaneSpec& spec, double pixel_m, const std::string& path);
 
 /// Writes the file; throws nph::IoError when NetCDF fails.
 WrfTruth writeWrfHurricane(const WrfHurricaneSpec& spec, const std::string& path);

@@ -24,23 +24,20 @@ if [ ! -f "$storm" ] || [ "$(cat "$storm.case" 2>/dev/null)" != hurricane-cells 
   rm -f "$out/wrfout-hurricane-$size.nc"
   echo hurricane-cells > "$storm.case"
 fi
-# The terrain demo (issue 14): issue 13's coarse storm over a generated Gaussian mountain, the
-# domain centred over the Alps so that Blue Marble drapes land on it: the mountain stands on the
-# Bernese Alps' snow (8° E, 46.5° N; docs/terrain.md).
-if [ ! -f "$out/storm-alps.nph" ]; then
-  echo "demo: generating the coarse storm over a 3000 m mountain in the Alps (wrfout with HGT)"
-  "$gen" wrf --case storm --times 1 --centre 11.85,47.1 --mountain=8,46.5,3000,35000 -o "$out/wrfout-storm-alps.nc"
-  "$nephele" convert "$out/wrfout-storm-alps.nc" -o "$out/storm-alps.nph" --progress
-  rm -f "$out/wrfout-storm-alps.nc"
+# The terrain shot (issues 13/14): a 3 km convective storm over a generated mountain range, the
+# model's own HGT (nephele-gen wrf --case alpine-storm: ridges and draining valleys, towers over the
+# crests with anvils, cumulus over the slopes, valley fog; docs/terrain.md "A storm over the
+# mountains"), and its range as a 500 m DEM in the model's projection (--dem: the same relief with
+# finer ridges, read as a user DEM). Generate + convert: about 8 s on 2 cores.
+alpine="$out/alpine-storm.nph"
+if [ ! -f "$alpine" ] || [ ! -f "$out/alpine-dem.tif" ] || [ "$(cat "$alpine.case" 2>/dev/null)" != alpine-storm ]; then
+  echo "demo: generating the storm over the mountains (wrfout at 3 km with HGT, W, TKE_PBL, CLDFRA)"
+  "$gen" wrf --case alpine-storm -o "$out/wrfout-alpine-storm.nc" --dem "$out/alpine-dem.tif"
+  "$nephele" convert "$out/wrfout-alpine-storm.nc" -o "$alpine" --progress
+  rm -f "$out/wrfout-alpine-storm.nc"
+  echo alpine-storm > "$alpine.case"
 fi
-# Its ground: a generated Alpine range as a GeoTIFF (nephele-gen dem; no real DEM ships or may be
-# downloaded), read through the user-DEM path as SRTM would be (docs/terrain.md "A generated
-# Alpine DEM").
-if [ ! -f "$out/alps-dem.tif" ]; then
-  echo "demo: generating the Alpine DEM (ridged multifractal, 0.01° GeoTIFF)"
-  "$gen" dem -o "$out/alps-dem.tif"
-fi
-sed "s|@DATA@|$out/storm-alps.nph|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
+sed "s|@DATA@|$alpine|; s|@OUT@|$out|g" "$root/examples/scenes/demo-terrain.json.in" > "$out/demo-terrain.json"
 for view in demo demo-globe demo-golden-hour demo-dawn; do
   sed "s|@DATA@|$storm|; s|@OUT@|$out|g" "$root/examples/scenes/$view.json.in" > "$out/$view.json"
 done
@@ -52,7 +49,7 @@ echo "demo: rendering the golden-hour oblique view (sun 5° high)"
 "$nephele" render "$out/demo-golden-hour.json"
 echo "demo: rendering the same view at dawn (sun 2° below the horizon, city lights)"
 "$nephele" render "$out/demo-dawn.json"
-echo "demo: rendering the storm over the mountain (terrain, golden hour)"
+echo "demo: rendering the storm over the mountains (terrain, golden hour, from a valley)"
 "$nephele" render "$out/demo-terrain.json"
 echo "demo: wrote $out/hurricane.png, $out/hurricane.exr, $out/hurricane-cloud-layer.exr (flat map)"
 echo "demo: wrote $out/hurricane-globe.png and $out/hurricane-globe.exr (globe)"

@@ -29,7 +29,8 @@ using namespace nph;
 
 using bench::median;
 
-/// Issue 13's coarse storm with `make demo`'s mountain (examples/scenes/demo-terrain.json.in's data).
+/// Issue 13's coarse storm with the mountain of `make demo`'s terrain shot before session 16 (tools/demo.sh now
+/// renders `nephele-gen wrf --case alpine-storm`).
 ExtinctionVolumes stormOverMountain(const char* file) {
   datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
   spec.ntimes = 1;

@@ -248,6 +248,34 @@ case $case in
     awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
       fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
     ;;
+  alpine-storm)  # make demo's terrain shot (nephele-gen wrf --case alpine-storm): generates, converts, renders
+    run "$gen" wrf --case alpine-storm -o "$out/alpine.nc" --dem "$out/alpine-dem.tif"
+    expect_rc 0
+    expect_out "alpine-dem.tif: DEM 960x768 pixels of 500 m"
+    run "$nephele" convert "$out/alpine.nc" -o "$out/alpine.nph" --no-progress
+    expect_rc 0
+    run "$nephele" info "$out/alpine.nph"
+    expect_rc 0; expect_out "grid          160 x 128 x"
+    # The model's own terrain: HGT from the valley floors to the summits.
+    expect_out "terrain \[m\]   1[0-9][0-9] .. 4[0-9][0-9][0-9]"
+    run "$nephele" render "$out/alpine.nph" -o "$out/alpine.png" --width 160 --height 90 --layer "$out/layer.exr"
+    expect_rc 0
+    [ -s "$out/alpine.png" ] || fail "no image of the alpine storm"
+    # Its finer DEM, in the model's projection, covers the model's footprint exactly: every point of
+    # the lattice refined 6 times (3 km / 500 m) has a height from it.
+    run "$nephele" render "$out/alpine.nph" -o "$out/alpine-dem.png" --width 96 --height 54 --dem "$out/alpine-dem.tif"
+    expect_rc 0
+    expect_err "heights on 737280 of 737280 lattice points (6x the model's cell)"
+    run "$gen" wrf --case storm -o "$out/storm.nc" --dem "$out/storm-dem.tif"
+    expect_rc 1
+    expect_err "for --case alpine-storm only"
+    oiiotool "$out/layer.exr" --ch A --printstats -o "$out/alpha.exr" >"$out/alpha.stats" ||
+      fail "oiiotool --printstats of the cloud layer failed"
+    lo=$(grep 'Stats Min' "$out/alpha.stats" | sed 's/.*Min: //' | awk '{print $1}')
+    hi=$(grep 'Stats Max' "$out/alpha.stats" | sed 's/.*Max: //' | awk '{print $1}')
+    awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
+      fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
+    ;;
   basemap)  # --basemap FILE: a user raster through GDAL under the storm; an ungeoreferenced one is refused
     # A uniform red world in EPSG:4326 as a PNG with a world file and GDAL's .aux.xml (CRS): the
     # ground of the frame must turn red where Blue Marble's sea is blue.

@@ -26,8 +26,9 @@ std::string slurp(const std::string& path) {
 TEST(Datagen, SameSeedSameBytesOtherSeedOtherBytes) {
   nph::test::ScratchDir dir("io");
   // The smooth hurricane, and make demo's cellular one on a grid fine enough for its cells.
-  for (const datagen::WrfCase weather : {datagen::WrfCase::Hurricane, datagen::WrfCase::HurricaneCells}) {
-    const bool cells = weather == datagen::WrfCase::HurricaneCells;
+  for (const datagen::WrfCase weather :
+       {datagen::WrfCase::Hurricane, datagen::WrfCase::HurricaneCells, datagen::WrfCase::AlpineStorm}) {
+    const bool cells = weather != datagen::WrfCase::Hurricane;
     datagen::WrfHurricaneSpec s;
     s.nx = cells ? 60 : 20;
     s.ny = cells ? 50 : 16;
@@ -39,8 +40,8 @@ TEST(Datagen, SameSeedSameBytesOtherSeedOtherBytes) {
     datagen::writeWrfHurricane(s, dir.file("b.nc"));
     s.seed = 2;
     datagen::writeWrfHurricane(s, dir.file("c.nc"));
-    EXPECT_EQ(slurp(dir.file("a.nc")), slurp(dir.file("b.nc"))) << (cells ? "cellular" : "smooth");
-    EXPECT_NE(slurp(dir.file("a.nc")), slurp(dir.file("c.nc"))) << (cells ? "cellular" : "smooth");
+    EXPECT_EQ(slurp(dir.file("a.nc")), slurp(dir.file("b.nc"))) << int(weather);
+    EXPECT_NE(slurp(dir.file("a.nc")), slurp(dir.file("c.nc"))) << int(weather);
   }
   datagen::IconSceneSpec i;
   i.ntimes = 1;
@@ -397,6 +398,168 @@ TEST(Datagen, CellularHurricaneHasEyeEyewallTowersRainbandCellsCanopyAndCumulus)
     }
   }
   EXPECT_GT(*std::max_element(st.tke.begin(), st.tke.end()), 2.0f) << "TKE in the cores";
+}
+
+// make demo's terrain shot (nephele-gen wrf --case alpine-storm): the structure the shot is built
+// on, in the data and in the converted extinction — HGT with valleys that drain, towers that are
+// optically thick over the crests and rise to 9.5–12.5 km with anvils downwind, cumulus over the
+// slopes, fog in the valleys with clear air above it.
+TEST(Datagen, AlpineStormHasDrainingValleysCrestTowersAnvilsCumulusAndValleyFog) {
+  nph::test::ScratchDir dir("io");
+  datagen::WrfHurricaneSpec s = datagen::alpineStormSpec();
+  s.keep_truth = true;
+  const std::string path = dir.file("alpine.nc");
+  const datagen::WrfTruth truth = datagen::writeWrfHurricane(s, path);
+  const int nx = s.nx, ny = s.ny, nz = s.nz;
+  const std::size_t n2 = std::size_t(nx) * std::size_t(ny), n3 = n2 * std::size_t(nz);
+  int nc = -1;
+  test::ncCheck(nc_open(path.c_str(), NC_NOWRITE, &nc), "open");
+  const std::vector<float> hgt_stored = readFloats(nc, "HGT", n2);
+  const std::vector<double> hgt(hgt_stored.begin(), hgt_stored.end());
+  const std::vector<float> qc = readFloats(nc, "QCLOUD", n3), qi = readFloats(nc, "QICE", n3),
+                           qs = readFloats(nc, "QSNOW", n3), qg = readFloats(nc, "QGRAUP", n3),
+                           cldfra = readFloats(nc, "CLDFRA", n3), tke = readFloats(nc, "TKE_PBL", n3),
+                           w = readFloats(nc, "W", n2 * std::size_t(nz + 1));
+  nc_close(nc);
+  const std::vector<double>& z = truth.height_m.at(0);
+  const ExtinctionVolumes v =
+      physics::buildExtinctionVolumes(openModelFile(path).load(0), physics::defaultOptics(), {});
+  ASSERT_EQ(v.nx, nx);
+  ASSERT_EQ(v.ny, ny);
+  auto at = [&](int i, int j) { return std::size_t(j) * std::size_t(nx) + std::size_t(i); };
+
+  // ---- terrain: a range with ridges and valleys, and the valleys drain -----------------------
+  // Local relief: the highest minus the lowest ground within 5 columns (15 km).
+  auto relief = [&](int i, int j, double& lo, double& hi) {
+    lo = 1e30;
+    hi = -1e30;
+    for (int dj = -5; dj <= 5; ++dj)
+      for (int di = -5; di <= 5; ++di) {
+        const int ii = std::clamp(i + di, 0, nx - 1), jj = std::clamp(j + dj, 0, ny - 1);
+        lo = std::min(lo, hgt[at(ii, jj)]);
+        hi = std::max(hi, hgt[at(ii, jj)]);
+      }
+  };
+  std::size_t alpine_relief = 0, valley_cells = 0, drained = 0, long_paths = 0;
+  double highest = 0.0;
+  for (int j = 1; j < ny - 1; ++j)
+    for (int i = 1; i < nx - 1; ++i) {
+      double lo = 0, hi = 0;
+      relief(i, j, lo, hi);
+      highest = std::max(highest, hgt[at(i, j)]);
+      alpine_relief += hi - lo > 1500.0 ? 1 : 0;
+      // A valley cell: 1000 m or more below the crests around it, itself above 1200 m.
+      if (hgt[at(i, j)] < 1200.0 || hi - hgt[at(i, j)] < 1000.0) continue;
+      ++valley_cells;
+      // Steepest descent over the 8 neighbours: a valley that drains reaches the foreland (under
+      // 500 m) or the domain's edge without meeting a pit (an isolated bowl).
+      int ci = i, cj = j, steps = 0;
+      for (;;) {
+        if (hgt[at(ci, cj)] < 500.0 || ci == 0 || cj == 0 || ci == nx - 1 || cj == ny - 1) {
+          ++drained;
+          long_paths += steps >= 20 ? 1 : 0;
+          break;
+        }
+        int bi = ci, bj = cj;
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di)
+            if (hgt[at(ci + di, cj + dj)] < hgt[at(bi, bj)]) {
+              bi = ci + di;
+              bj = cj + dj;
+            }
+        if (bi == ci && bj == cj) break;  // a pit
+        ci = bi;
+        cj = bj;
+        ++steps;
+      }
+    }
+  EXPECT_GT(highest, 3500.0) << "a high range";
+  EXPECT_GT(alpine_relief, n2 / 5) << "Alpine relief (1.5 km within 15 km) over a fifth of the domain";
+  ASSERT_GT(valley_cells, 300u) << "deep valleys";
+  EXPECT_GE(double(drained), 0.98 * double(valley_cells)) << "valleys drain (connected descending lines), few bowls";
+  EXPECT_GT(long_paths, valley_cells / 3) << "long valleys, not short gullies";
+
+  // ---- clouds ---------------------------------------------------------------------------------
+  auto columnTau = [&](int i, int j, double z_lo, double z_hi) {
+    double tau = 0.0;
+    for (int k = 0; k < v.nz; ++k) {
+      const double zc = v.layerCentreHeight_m(k);
+      if (zc < z_lo || zc > z_hi) continue;
+      const std::size_t n = v.index(i, j, k);
+      tau += (double(v.ice_per_m[n]) + double(v.water_per_m[n])) * v.dz_m;
+    }
+    return tau;
+  };
+  std::size_t interior = 0, crests = 0, towers = 0, towers_on_crests = 0, anvil = 0, cumulus = 0, fog = 0,
+              fog_clear_above = 0;
+  double tallest = 0.0;
+  for (int j = 5; j < ny - 5; ++j)
+    for (int i = 5; i < nx - 5; ++i) {
+      const std::size_t c = at(i, j);
+      double top = -1.0, base = -1.0, ice_aloft = 0.0, liquid_top = -1.0;
+      for (int k = 0; k < nz; ++k) {
+        const std::size_t m = std::size_t(k) * n2 + c;
+        const float cond = qc[m] + qs[m] + qg[m];
+        if (cond > 1e-5f) {
+          top = z[m];
+          if (base < 0.0) base = z[m];
+        }
+        if (qc[m] > 1e-6f) liquid_top = z[m];
+        if (z[m] > 8000.0 && qi[m] > 1e-6f) ice_aloft = 1.0;
+      }
+      anvil += ice_aloft > 0.0 ? 1 : 0;
+      tallest = std::max(tallest, top);
+      double lo = 0, hi = 0;
+      relief(i, j, lo, hi);
+      const bool crest = hgt[c] > 1500.0 && hi - hgt[c] < 1000.0;
+      ++interior;
+      crests += crest ? 1 : 0;
+      if (top > 9000.0 && columnTau(i, j, 0.0, 20000.0) > 50.0) {
+        ++towers;
+        // Over the crests and upper slopes: the ground under it high, within 1000 m of the highest
+        // within 15 km.
+        towers_on_crests += crest ? 1 : 0;
+      }
+      // Shallow cumulus over the slopes: liquid cloud 0.3–3.5 km above the ground, no ice above.
+      if (top < 0.0 && liquid_top > hgt[c] + 300.0 && liquid_top < hgt[c] + 3500.0 && ice_aloft == 0.0 &&
+          hgt[c] > 800.0)
+        ++cumulus;
+      // Valley fog: cloud water on the lowest level of a low valley floor, its top within 600 m of
+      // the ground, and above it, clear air (in the converted extinction).
+      const std::size_t m0 = c;
+      if (qc[m0] > 2e-5f && hgt[c] < 1000.0 && hi - hgt[c] > 800.0) {
+        ++fog;
+        int k = 0;
+        while (k < nz && qc[std::size_t(k) * n2 + c] > 1e-6f) ++k;
+        const double fog_top = z[std::size_t(k) * n2 + c];
+        EXPECT_LT(fog_top, hgt[c] + 600.0) << "fog, not cloud to the ground, at " << i << "," << j;
+        const double below = columnTau(i, j, 0.0, hgt[c] + 250.0), above = columnTau(i, j, fog_top + 300.0, 20000.0);
+        fog_clear_above += below > 1.0 && above < 0.05 ? 1 : 0;
+      }
+    }
+  // Measured: 157 tower columns, tallest 12.5 km, 2254 anvil columns, 75 cumulus, 476 fog
+  // columns of which 355 under clear air; 4591 valley cells, all drained, 3013 along 20+ steps.
+  EXPECT_GT(towers, 40u) << "deep convective columns";
+  // 99 of 157 tower columns (63 %), five times the crests' share of the domain (12 %).
+  EXPECT_GT(double(towers_on_crests) / double(towers), 2.0 * double(crests) / double(interior))
+      << "the towers stand over the crests";
+  EXPECT_GT(tallest, 10000.0) << "tops at 10–12.5 km";
+  EXPECT_LT(tallest, 13000.0);
+  EXPECT_GT(anvil, 3 * towers) << "anvils spread beyond the towers";
+  EXPECT_GT(cumulus, 40u) << "shallow cumulus over the slopes";
+  EXPECT_GT(fog, 50u) << "fog in the valleys";
+  EXPECT_GT(fog_clear_above, fog / 2) << "valley fog under clear air";
+
+  // The fields agree: cloud fraction 1 in cloud and 0 in clear air; updrafts and turbulence in the
+  // towers, still air in the fog.
+  for (std::size_t m = 0; m < n3; ++m) {
+    ASSERT_TRUE(cldfra[m] >= 0.0f && cldfra[m] <= 1.0f) << cldfra[m];
+    if (qc[m] + qi[m] + qs[m] > 1e-4f) {
+      ASSERT_GT(cldfra[m], 0.99f);
+    }
+  }
+  EXPECT_GT(*std::max_element(w.begin(), w.end()), 6.0f) << "updrafts in the towers";
+  EXPECT_GT(*std::max_element(tke.begin(), tke.end()), 2.0f) << "TKE in the cores";
 }
 
 // The structure assertions above are not met by the smooth sample hurricane (they would pass for
