@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "dlm_scenes.h"
 #include "reference/mc_radiance_volume.h"
 #include "render/dlm/radiance_volume.h"
 #include "render/dlm/volume_textures.h"
@@ -22,19 +23,14 @@ namespace {
 
 using RadianceVolumeTest = GlTest;
 
+// dlm_scenes.h's homogeneous slab with this test's spacing and an ice share.
 ExtinctionVolumes box(int nx, int ny, int nz, double dx_m, double dz_m, float water_per_m, float ice_per_m) {
-  ExtinctionVolumes v;
-  v.nx = nx;
-  v.ny = ny;
-  v.nz = nz;
+  ExtinctionVolumes v = homogeneousSlab(nx, ny, nz, water_per_m);
   v.dz_m = dz_m;
   v.georef.dx_m = dx_m;
   v.georef.dy_m = dx_m;
-  const std::size_t n = std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
-  v.water_per_m.assign(n, water_per_m);
-  v.ice_per_m.assign(n, ice_per_m);
-  v.max_water_per_m = water_per_m;
-  v.max_ice_per_m = ice_per_m;
+  std::fill(v.ice_per_m.begin(), v.ice_per_m.end(), ice_per_m);
+  v.updateMaxima();
   return v;
 }
 
@@ -49,7 +45,7 @@ const glm::dvec3 kObliqueSun = glm::normalize(glm::dvec3(-0.3, 0.5, 0.4));
 
 reference::McRadianceVolume cpuVolume(const ExtinctionVolumes& v, const volume::VolumeFrame& frame,
                                       const glm::dvec3& toSun, const render::RadianceVolumeSettings& g,
-                                      std::uint64_t seed) {
+                                      std::uint64_t seed, reference::McStats* stats = nullptr) {
   reference::McTallySpec spec;
   spec.coarsen_xy = g.coarsen_xy;
   spec.coarsen_z = g.coarsen_z;
@@ -60,7 +56,7 @@ reference::McRadianceVolume cpuVolume(const ExtinctionVolumes& v, const volume::
   s.seed = seed;
   s.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, g.g_ice};
   s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, g.g_water};
-  return reference::traceMcRadianceVolumes(v, frame, toSun, {spec}, s).front();
+  return reference::traceMcRadianceVolumes(v, frame, toSun, {spec}, s, stats).front();
 }
 
 // RMS over the cells of the moments' difference, each moment k relative to the RMS of the
@@ -103,7 +99,13 @@ TEST_F(RadianceVolumeTest, MatchesTheCpuTwinWithinThePhotonNoise) {
   ASSERT_TRUE(gpu.build(tex, kObliqueSun, s));
   EXPECT_EQ(gpu.stats().clamped, 0u);
   EXPECT_EQ(gpu.stats().truncated, 0u);
-  const reference::McRadianceVolume a = cpuVolume(v, frame, kObliqueSun, s, 15);
+  reference::McStats cpuStats;
+  const reference::McRadianceVolume a = cpuVolume(v, frame, kObliqueSun, s, 15, &cpuStats);
+  // the same medium: collisions per photon within 1 %
+  const double perPhotonGpu = double(gpu.stats().collisions) / double(s.photons);
+  const double perPhotonCpu = double(cpuStats.collisions) / double(cpuStats.photons);
+  EXPECT_NEAR(perPhotonGpu / perPhotonCpu, 1.0, 0.01)
+      << "collisions per photon GPU " << perPhotonGpu << ", CPU " << perPhotonCpu;
   const reference::McRadianceVolume b = cpuVolume(v, frame, kObliqueSun, s, 16);
   ASSERT_EQ(gpu.cells(), a.cells);
   ASSERT_EQ(a.harmonics(), render::kRadianceVolumeMoments);
