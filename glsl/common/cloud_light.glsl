@@ -191,7 +191,13 @@ Number forwardLobe(Number sunlight, Number cosPsi, Number g, Number tauAbove, Nu
 // 2 single scattering plus the independent-column two-stream diffuse light (twoStreamDiffuse) and
 // the once-scattered light's forward lobe (forwardLobe, thirteenth session) with g the sample's
 // β-weighted asymmetry, the sample's column depths (τ_above, τ_below), the sun frame
-// of twoStreamSunFrame and the view's vertical cosine μ_out (towards the eye, in the data).
+// of twoStreamSunFrame and the view's vertical cosine μ_out (towards the eye, in the data); 3 (the
+// Monte Carlo radiance volume, sixteenth session) single scattering plus the forward lobe only: the
+// caller adds the volume's orders ≥ 2, max(J, 0) (glsl/common/radiance_volume.glsl; on the CPU
+// reference::McRadianceVolume::radianceAt), as the CPU row "orders ≥ 2 + DLM single +
+// forwardLobe" of docs/accuracy.md "Fifteenth session" counts them: the map carries the cone of
+// order 2, the volume everything scattered twice or more, its cone included, but the cone's share
+// of order 2 is small on the accuracy scenes (0.0774 against 0.0770 with the exact beam).
 Number cloudSunFactor(int mode, Number sunlight, Number cosPsi, Number iceWeight, Number gIce, Number gWater,
                       int octaves, Number extinctionScale, Number energyScale, Number anisotropyScale,
                       Number tauAbove, Number tauBelow, Vec3 sunFrame, Number muOut) {
@@ -199,9 +205,10 @@ Number cloudSunFactor(int mode, Number sunlight, Number cosPsi, Number iceWeight
     return octaveSeries(sunlight, cosPsi, iceWeight, gIce, gWater, octaves, extinctionScale, energyScale,
                         anisotropyScale);
   Number single = sunlight * mixedPhase(cosPsi, iceWeight, gIce, gWater);
-  if (mode != 2) return single;
+  if (mode != 2 && mode != 3) return single;
   Number g = gWater + (gIce - gWater) * iceWeight;
-  Number diffuse = twoStreamDiffuse(tauAbove, tauBelow, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g);
+  Number diffuse =
+      mode == 2 ? twoStreamDiffuse(tauAbove, tauBelow, sunFrame.x, sunFrame.y, sunFrame.z, muOut, g) : Number(0.0);
 #ifndef NO_FORWARD_LOBE  // benchmark baseline (render::EyePassBaseline::no_forward_lobe)
   diffuse += forwardLobe(sunlight, cosPsi, g, tauAbove, sunFrame.x);
 #endif

@@ -46,6 +46,12 @@
 #include "dlm/light_space.glsl"
 #include "dlm/lookup.glsl"
 #include "common/cloud_light.glsl"
+// The Monte Carlo radiance volume (multiple_scattering = radiance_volume, issue 12 sixteenth
+// session): compiled in only for that model (CloudRenderer adds the define), its seven samplers
+// with it.
+#ifdef SPEC_RADIANCE_VOLUME
+#include "common/radiance_volume.glsl"
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform image2D u_cloud_layer;
@@ -91,7 +97,7 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   float u_height_exaggeration;  // e: β is scaled by |(d_x, d_y, d_z/e)| along a ray
   bool u_atmosphere;          // the physically based atmosphere (AtmosphereBlock and its tables)
   bool u_write_passes;        // fill u_pass_ground and u_pass_sky
-  int u_cloud_ms_model;  // lighting::MultipleScattering: 0 single, 1 octaves, 2 two_stream
+  int u_cloud_ms_model;  // lighting::MultipleScattering: 0 single, 1 octaves, 2 two_stream, 3 radiance_volume
   float u_step_growth_max;  // adaptive steps (adaptiveStep below): at most this × u_step_m; 1 = fixed
   vec2 u_subpixel;          // this sample's position in the pixel, [0, 1)² ((0.5, 0.5): the centre)
   uint u_sample_index;      // k of RenderSettings::samples_per_pixel (runningMean below)
@@ -582,6 +588,11 @@ void main() {
         float sun = cloudSunFactor(u_cloud_ms_model, sampleSunlight(w), cosPsi, iceWeight, u_g_ice, u_g_water,
                                    u_octaves, u_ms_extinction_scale, u_ms_energy_scale, u_ms_anisotropy_scale,
                                    tau.x, tau.y, twoStreamSun, muOut);
+#ifdef SPEC_RADIANCE_VOLUME
+        // the volume's orders ≥ 2 beside the map's single scattering and forward lobe (cloud_light.glsl
+        // cloudSunFactor mode 3); its directions are the world's (on the globe: the local frame's)
+        if (u_cloud_ms_model == 3) sun += radianceVolumeSource(w, -dLocal, iceWeight, u_g_ice, u_g_water);
+#endif
         vec3 L = sunAtClouds * sun + skyLightAt(tau, mix(u_g_water, u_g_ice, iceWeight), twoStreamSun.z, skyAtClouds);
         C += Tacc * (1.0 - T) * L;
         depthSum += Tacc * (1.0 - T) * t;

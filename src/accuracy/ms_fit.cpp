@@ -16,6 +16,7 @@
 #include "lighting/diffusion_volume.h"
 #include "reference/mc_radiance_volume.h"
 #include "reference/ray_marcher.h"
+#include "render/dlm/radiance_volume.h"
 
 namespace nph::accuracy {
 namespace {
@@ -76,7 +77,10 @@ constexpr int kMcTallies = int(kMcVariants.size());
 constexpr int kMcBeam = kDiffusionEnd;
 constexpr int kMcOrders = reference::kMcMaxL + 1;  // the series truncated after l = 0 … 8
 int mcTerm(int tally, int max_l) { return kMcBeam + 1 + kMcOrders * tally + max_l; }
-constexpr int kTerms = kMcBeam + 1 + kMcOrders * kMcTallies;
+// The GPU's radiance volume (render/dlm/radiance_volume.h; sixteenth session): cells 4x4x2, orders
+// >= 2, l <= 4, the eye pass's multiple_scattering = radiance_volume, read back and evaluated here.
+constexpr int kGpuMc = kMcBeam + 1 + kMcOrders * kMcTallies;
+constexpr int kTerms = kGpuMc + 1;
 
 int columnBin(double tau) {
   int b = 0;
@@ -357,6 +361,28 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
       log::info("{}: one tally alone: {:.2f} s", sc.name, one.seconds);
       out.mc_seconds.push_back({sc.name, one.seconds});
     }
+    // The GPU's volume (sixteenth session), as the eye pass builds it, read back.
+    render::RadianceVolumeSettings gpuSettings;
+    gpuSettings.photons = std::uint32_t(std::min<std::uint64_t>(o.mc_photons, 1u << 30));
+    gpuSettings.g_ice = float(march.g_ice);
+    gpuSettings.g_water = float(march.g_water);
+    render::RadianceVolume gpuVolume;
+    gpuVolume.build(tex, toSun, gpuSettings);
+    reference::McTallySpec gpuSpec;
+    gpuSpec.coarsen_xy = gpuSettings.coarsen_xy;
+    gpuSpec.coarsen_z = gpuSettings.coarsen_z;
+    gpuSpec.min_order = gpuSettings.min_order;
+    gpuSpec.max_l = 4;
+    const std::vector<float> gpuMoments = gpuVolume.readBackMoments();
+    const reference::McRadianceVolume gpuMc =
+        reference::mcRadianceVolumeOf(sc.frame, gpuSpec, std::vector<double>(gpuMoments.begin(), gpuMoments.end()));
+    log::info("{}: GPU radiance volume: {} photons, {:.1f} collisions per photon, {} rouletted, {} cut, {} clamped; "
+              "{:.0f} ms (llvmpipe)",
+              sc.name, gpuVolume.stats().photons,
+              double(gpuVolume.stats().collisions) / double(std::max<std::uint64_t>(1, gpuVolume.stats().photons)),
+              gpuVolume.stats().rouletted, gpuVolume.stats().truncated, gpuVolume.stats().clamped,
+              gpuVolume.stats().build_ms);
+    out.gpu_mc_ms.push_back({sc.name, gpuVolume.stats().build_ms});
     out.mc_photons = mcStats.photons;
     out.mc_cost_tally = fmt::format("cells {}x{}x{}{}, orders >= 1", o.mc_coarsen_xy, o.mc_coarsen_xy, o.mc_coarsen_z,
                                     o.mc_subdivide_z > 1 ? fmt::format("/{}", o.mc_subdivide_z) : std::string());
@@ -436,6 +462,7 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
                   mc[std::size_t(k)].radianceByOrder(s.position_m, -dir, s.ice_weight, march.g_ice, march.g_water);
               for (int l = 0; l < kMcOrders; ++l) t[std::size_t(mcTerm(k, l))] += s.weight * j[std::size_t(l)];
             }
+            t[kGpuMc] += s.weight * gpuMc.radianceAt(s.position_m, -dir, s.ice_weight, march.g_ice, march.g_water, 4);
           }
           const double total = tau.x + tau.y;
           t[kAlpha] += s.weight;
@@ -493,16 +520,18 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
                 d.y_sun * sum[std::size_t(mcTerm(1, kMcOrders - 1))] / px);
     }
     data.push_back(std::move(d));
-    // The models of the knob, rendered exactly (the CPU twin of the eye pass, no early termination).
+    // The models of the knob, rendered exactly (the CPU twin of the eye pass, no early termination;
+    // radiance_volume with the GPU's volume read back).
     for (const lighting::MultipleScattering ms :
          {lighting::MultipleScattering::Single, lighting::MultipleScattering::Octaves,
-          lighting::MultipleScattering::TwoStream}) {
+          lighting::MultipleScattering::TwoStream, lighting::MultipleScattering::RadianceVolume}) {
       reference::RayMarchSettings m = march;
       m.min_transmittance = 0.0;
       m.multiple_scattering = ms;
       const auto start = std::chrono::steady_clock::now();
       const scene::RgbaImage img = reference::marchCloudLayer(
-          *sc.volumes, sc.frame, sc.camera, sc.sun, [&](const glm::dvec3& p) { return light->intensityAt(p); }, m);
+          *sc.volumes, sc.frame, sc.camera, sc.sun, [&](const glm::dvec3& p) { return light->intensityAt(p); }, m,
+          &gpuMc);
       MsRenderedScene r;
       r.march_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       r.scene = sc.name;
@@ -574,6 +603,11 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
   models.push_back(
       {"MC radiance volume (cells 4x4x2, orders >= 1), P2 + DLM single (the cone counted twice)", {mcTerm(0, 2)}, {}});
   models.push_back({"exact beam alone (single scattering, no cone)", {kMcBeam}, {}});
+  models.push_back(
+      {"**GPU radiance volume** (cells 4x4x2, orders >= 2, l <= 4; eye pass radiance_volume) + DLM single + "
+       "forwardLobe",
+       {kForwardLobe, kGpuMc},
+       {}});
   for (const Model& m : models) {
     out.models.push_back(evaluate(data, m));
     const MsModelResult& r = out.models.back();
@@ -615,6 +649,13 @@ std::string msComparisonMarkdown(const MsComparison& c) {
         "machine) in s:",
         c.mc_photons, c.mc_cost_tally);
     for (const auto& [scene, seconds] : c.mc_seconds) md += fmt::format(" {} {:.1f};", scene, seconds);
+    md += "\n\n";
+  }
+  if (!c.gpu_mc_ms.empty()) {
+    md += fmt::format("GPU radiance volume (render/dlm/radiance_volume.h, {} photons, cells 4x4x2, l <= 4, "
+                      "llvmpipe on this machine), build in ms:",
+                      c.mc_photons);
+    for (const auto& [scene, ms] : c.gpu_mc_ms) md += fmt::format(" {} {:.0f};", scene, ms);
     md += "\n\n";
   }
   md += "| scene | model | relMSE | luminance bias | > 2/255 | truth noise RMSE | CPU march ms |\n"

@@ -64,6 +64,7 @@ struct MsComparison {
   double objective_noise_floor = 0.0;     ///< the truth's own noise in the objective
   /// The Monte Carlo radiance volume's trace per scene [s] and its photons per scene.
   std::vector<std::pair<std::string, double>> mc_seconds;
+  std::vector<std::pair<std::string, double>> gpu_mc_ms;  ///< the GPU radiance volume's build per scene
   std::uint64_t mc_photons = 0;
   std::string mc_cost_tally;  ///< the tally whose trace is timed (the first: --ms-mc-coarsen)
 };

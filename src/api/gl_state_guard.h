@@ -13,6 +13,7 @@
 //   discard, alpha-to-coverage, colour logic op and the colour write mask of draw buffer 0.
 // While the guard lives, the state the passes rely on is put in a known condition: no sampler
 // objects on those units, no pixel buffers bound, default pixel store (tight rows, alignment 4).
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -23,11 +24,15 @@ namespace nph::api {
 
 class GlStateGuard {
  public:
-  static constexpr int kTextureUnits = 24;  ///< headroom over the passes' units (0 … 17); the test checks 32
-  static constexpr int kImageUnits = int(gl::binding::highest("IMAGE_")) + 1;
+  static constexpr int kTextureUnits =
+      32;  ///< the passes' units (0 … 30: UNIT_MC_MOMENTS is 7 units); the test checks 32
+  /// IMAGE_MC_MOMENTS is an array of 7 image units (render/dlm/radiance_volume.cpp).
+  static constexpr int kImageUnits =
+      std::max(int(gl::binding::highest("IMAGE_")) + 1, int(gl::binding::IMAGE_MC_MOMENTS) + 7);
   static constexpr int kStorageBindings = int(gl::binding::highest("SSBO_")) + 1;
   static constexpr int kUniformBindings = int(gl::binding::highest("UBO_")) + 1;
   static_assert(kTextureUnits > int(gl::binding::highest("UNIT_")), "a pass binds a unit the guard does not save");
+  static_assert(kTextureUnits >= int(gl::binding::UNIT_MC_MOMENTS) + 7, "the radiance volume's units are not saved");
 
   GlStateGuard();
   ~GlStateGuard();

@@ -124,8 +124,10 @@ constexpr std::array kKnobs{
     // the column depths through the extinction's own reconstruction filter (volume/column_depth.h),
     // so the cubic B-spline keeps the model grid out of its light as well
     // (ReconstructionTest.CubicLowersTheGridArtefactsOfTheCoarseStorm).
-    Knob{.name = "multiple_scattering", .unit = "", .min = 0, .max = 2, .field = &Q::multiple_scattering,
-         .preset = {2, 2, 2}, .doc = "multiple scattering: single (none), octaves (fitted series) or two_stream (column δ-Eddington)",
+    // radiance_volume (sixteenth session): the Monte Carlo radiance volume traced on the GPU with
+    // the map (render/dlm/radiance_volume.h), an option: docs/accuracy.md "Sixteenth session".
+    Knob{.name = "multiple_scattering", .unit = "", .min = 0, .max = 3, .field = &Q::multiple_scattering,
+         .preset = {2, 2, 2}, .doc = "multiple scattering: single (none), octaves (fitted series), two_stream (column δ-Eddington) or radiance_volume (GPU Monte Carlo volume)",
          .choices = kMultipleScatteringNames},
     Knob{.name = "g_ice", .unit = "1", .min = -0.99, .max = 0.99, .field = &S::g_ice,
          .doc = "Henyey–Greenstein asymmetry of ice in the eye pass"},

@@ -56,7 +56,7 @@ struct QualitySettings {
   int cloud_resolution{};     ///< divisor of the clouds' march resolution (RenderSettings::cloud_resolution)
   int reconstruction{};       ///< 0 trilinear, 1 cubic B-spline, 2 auto (reconstructionOf)
   int detail{};               ///< volume::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
-  int multiple_scattering{};  ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream
+  int multiple_scattering{};  ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream, 3 radiance_volume
 
   bool operator==(const QualitySettings&) const = default;
 };

@@ -17,9 +17,13 @@ namespace nph::lighting {
 /// The multiple-scattering model of the eye pass (issue 12; glsl/common/cloud_light.glsl
 /// cloudSunFactor, docs/light-transport.md): single scattering only, the octave series fitted to the
 /// path tracer, or the independent-column two-stream (δ-Eddington) diffuse light from the column
-/// depths — the default since issue 12's third phase (docs/accuracy.md).
-enum class MultipleScattering { Single = 0, Octaves = 1, TwoStream = 2 };
-inline constexpr std::array<std::string_view, 3> kMultipleScatteringNames{"single", "octaves", "two_stream"};
+/// depths — the default since issue 12's third phase (docs/accuracy.md) —, or the Monte Carlo
+/// radiance volume traced on the GPU with the deep light map (issue 12, sixteenth session:
+/// render/dlm/radiance_volume.h; the map's single scattering and forward lobe plus the volume's
+/// orders ≥ 2, docs/accuracy.md "Sixteenth session").
+enum class MultipleScattering { Single = 0, Octaves = 1, TwoStream = 2, RadianceVolume = 3 };
+inline constexpr std::array<std::string_view, 4> kMultipleScatteringNames{"single", "octaves", "two_stream",
+                                                                          "radiance_volume"};
 
 /// Appearance: the eye phase functions and the ambient light. The knob table (lighting/knobs.h)
 /// exposes some fields by name; these defaults are the knobs' defaults.

@@ -233,6 +233,25 @@ void add(McStats& into, const McStats& s) {
 
 }  // namespace
 
+McRadianceVolume mcRadianceVolumeOf(const volume::VolumeFrame& frame, const McTallySpec& spec,
+                                    std::vector<double> moments) {
+  if (spec.max_l < 0 || spec.max_l > kMcMaxL)
+    throw UsageError("mcRadianceVolumeOf: max_l must lie in 0 … " + std::to_string(kMcMaxL));
+  const Grid g = gridOf(frame, spec);
+  McRadianceVolume v;
+  v.spec = spec;
+  v.frame = frame;
+  v.cells = g.cells;
+  v.cell_m = g.cell_m;
+  const std::size_t want =
+      std::size_t(g.cells.x) * std::size_t(g.cells.y) * std::size_t(g.cells.z) * std::size_t(harmonicsUpTo(spec.max_l));
+  if (moments.size() != want)
+    throw UsageError("mcRadianceVolumeOf: " + std::to_string(moments.size()) + " moments for a grid of " +
+                     std::to_string(want));
+  v.moments = std::move(moments);
+  return v;
+}
+
 McMoments sphericalHarmonics(const glm::dvec3& d, int max_l) {
   // Y_l0 = K_l0·P_l(z), Y_l±m = √2·K_lm·P̃_lm(z)·{Re, Im}(x + iy)^m with P̃_lm = P_lm/sin^m θ (a
   // polynomial in z: P̃_mm = (2m − 1)!!, P̃_{m+1,m} = (2m + 1)·z·P̃_mm, then the three-term recurrence)

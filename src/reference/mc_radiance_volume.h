@@ -109,6 +109,12 @@ struct McRadianceVolume {
                                                   double ice_weight, double g_ice, double g_water) const;
 };
 
+/// A volume from moments computed elsewhere (the GPU's, render/dlm/radiance_volume.h readBackMoments:
+/// harmonicsUpTo(spec.max_l) per cell, cell-major), on the grid `spec` gives `frame` (gridOf's rule:
+/// ⌈voxels / coarsening⌉ cells from the box's min corner). Throws UsageError when the counts disagree.
+McRadianceVolume mcRadianceVolumeOf(const volume::VolumeFrame& frame, const McTallySpec& spec,
+                                    std::vector<double> moments);
+
 /// Real spherical harmonics Y_lm up to l = kMcMaxL of a unit vector (index l² + l + m: 00, 1−1, 10,
 /// 11, 2−2 …), by the associated Legendre recurrence (no Condon–Shortley phase; any consistent sign
 /// per (l, m) gives the same Σ_m Y_lm(a)·Y_lm(b)). `max_l` limits the work; the rest is left 0.

@@ -66,8 +66,10 @@ glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& dep
 
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
                                  const scene::Camera& camera, const scene::Sun& sun,
-                                 const std::function<double(const glm::dvec3&)>& sunlightAt,
-                                 const RayMarchSettings& s) {
+                                 const std::function<double(const glm::dvec3&)>& sunlightAt, const RayMarchSettings& s,
+                                 const McRadianceVolume* radiance_volume) {
+  const bool volumeTerm =
+      s.multiple_scattering == lighting::MultipleScattering::RadianceVolume && radiance_volume != nullptr;
   scene::RgbaImage img;
   img.width = camera.width;
   img.height = camera.height;
@@ -89,9 +91,11 @@ scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const volume:
         // vertical cosine in the data (clouds.comp: −d_z/(e·f(d))).
         const double cosPsi = glm::dot(lightDir, -dir);
         const double muOut = -dir.z / (frame.height_exaggeration * frame.opticalDepthScale(dir) * glm::length(dir));
-        const double sunFactor =
-            lighting::cloudSunFactor(s, sunlightAt(smp.position_m), cosPsi, smp.ice_weight,
-                                     columnDepthAt(depths, frame, smp.position_m), sunFrame, muOut);
+        double sunFactor = lighting::cloudSunFactor(s, sunlightAt(smp.position_m), cosPsi, smp.ice_weight,
+                                                    columnDepthAt(depths, frame, smp.position_m), sunFrame, muOut);
+        if (volumeTerm)  // orders ≥ 2 beside the map's single scattering and forward lobe
+          sunFactor += radiance_volume->radianceAt(smp.position_m, -glm::normalize(dir), smp.ice_weight, s.g_ice,
+                                                   s.g_water, kMcMaxL);
         colour[pixel(x, y)] += smp.weight * (sunRadiance * sunFactor + sampleSkyLight(sky, depths, frame, smp, s));
       },
       [&](int x, int y, double T) {

@@ -9,6 +9,7 @@
 
 #include "lighting/cloud_light.h"
 #include "lighting/render_settings.h"
+#include "reference/mc_radiance_volume.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
 #include "scene/sun.h"
@@ -51,10 +52,12 @@ glm::dvec3 sampleSkyLight(const lighting::SkyLight& sky, const ColumnDepths& dep
                           const RaySample& sample, const RayMarchSettings& settings);
 
 /// Premultiplied cloud layer (rgb = scattered light, a = 1 − transmittance), row 0 at the top.
-/// With settings.terrain, rays end at the volumes' terrain (the GPU's rule).
+/// With settings.terrain, rays end at the volumes' terrain (the GPU's rule). With
+/// multiple_scattering = radiance_volume the sun term adds max(J, 0) of `radiance_volume` (l ≤ its
+/// max_l; the eye pass's glsl/common/radiance_volume.glsl), none when it is null.
 scene::RgbaImage marchCloudLayer(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
                                  const scene::Camera& camera, const scene::Sun& sun,
                                  const std::function<double(const glm::dvec3&)>& sunlightAt,
-                                 const RayMarchSettings& settings);
+                                 const RayMarchSettings& settings, const McRadianceVolume* radiance_volume = nullptr);
 
 }  // namespace nph::reference

@@ -6,7 +6,7 @@
 #include <GL/glext.h>
 #include <stdio.h>
 
-#define UNITS 32 /* texture and sampler units checked: more than the plugin saves (24) */
+#define UNITS 32 /* texture and sampler units checked: as many as the plugin saves (32) */
 #define IMAGE_UNITS 8
 #define SSBO_BINDINGS 8
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -364,16 +365,30 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   const auto map = dlm.readBack();
   const auto& ls = dlm.lightSpace();
   // Every multiple-scattering model (lighting::MultipleScattering): the two-stream term reads the
-  // column depths and the exaggerated sun frame (glsl/common/cloud_light.glsl, one source).
+  // column depths and the exaggerated sun frame (glsl/common/cloud_light.glsl, one source); the
+  // radiance volume's term (sixteenth session) is read by both from the volume the GPU traced.
   for (const lighting::MultipleScattering ms :
        {lighting::MultipleScattering::Single, lighting::MultipleScattering::Octaves,
-        lighting::MultipleScattering::TwoStream}) {
+        lighting::MultipleScattering::TwoStream, lighting::MultipleScattering::RadianceVolume}) {
     rs.multiple_scattering = ms;
     const auto gpu = renderer.render(tex, dlm, cam, sun, rs);
     reference::RayMarchSettings ref;
     ref.multiple_scattering = ms;
+    std::optional<reference::McRadianceVolume> mc;
+    if (ms == lighting::MultipleScattering::RadianceVolume) {
+      ASSERT_NE(renderer.radianceVolume(), nullptr);
+      const render::RadianceVolumeSettings rv;
+      const std::vector<float> m = renderer.radianceVolume()->readBackMoments();
+      reference::McTallySpec spec;
+      spec.coarsen_xy = rv.coarsen_xy;
+      spec.coarsen_z = rv.coarsen_z;
+      spec.min_order = rv.min_order;
+      spec.max_l = 4;
+      mc = reference::mcRadianceVolumeOf(frame, spec, std::vector<double>(m.begin(), m.end()));
+    }
     const auto cpu = reference::marchCloudLayer(
-        v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, ref);
+        v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, ref,
+        mc ? &*mc : nullptr);
     const LayerDifference d = layerDifference(gpu.cloud_layer, cpu);
     const std::string_view name = lighting::kMultipleScatteringNames[std::size_t(ms)];
     std::printf("[ raycast  ] 96x54 hurricane, %s: coverage %.2f, max |GPU-CPU| %.2e, mean %.2e\n",

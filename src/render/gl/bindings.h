@@ -47,6 +47,11 @@
   X(IMAGE_LIGHT_CACHE, 0)       /* image3D r16f: the map's sunlight baked per world cell (light_cache.comp) */ \
   X(UNIT_LIGHT_CACHE, 19)       /* sampler3D: the same, read by the eye pass (issue 19) */      \
   X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down): eye pass; all passes when packed only (issue 19) */ \
+  /* Monte Carlo radiance volume, glsl/dlm/radiance_volume*.comp (render/dlm/radiance_volume.cpp) */ \
+  X(SSBO_MC_TALLY, 4)           /* uint[]: fixed-point SH tallies, (low, high) words per moment */ \
+  X(SSBO_MC_STATS, 5)           /* uint[]: photons collided, collisions, rouletted, cut, clamped */ \
+  X(IMAGE_MC_MOMENTS, 0)        /* image3D rgba32f[7]: the resolved moments (units 0–6) */      \
+  X(UNIT_MC_MOMENTS, 24)        /* sampler3D[7]: the same, read by the eye pass (units 24–30) */ \
   /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
   X(UBO_RAYCAST, 2)             /* RaycastBlock (render/gl/uniform_blocks.h) */                 \
   X(UBO_GLOBE, 3)               /* GlobeBlock (render/gl/uniform_blocks.h) */                   \

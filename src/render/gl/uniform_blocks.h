@@ -158,7 +158,7 @@ struct RaycastBlock {
   float height_exaggeration = 1.0f;  ///< u_height_exaggeration: e of the volume frame
   std::uint32_t atmosphere = 0;      ///< u_atmosphere (bool): AtmosphereBlock and its tables valid
   std::uint32_t write_passes = 0;    ///< u_write_passes (bool): fill the compositing-pass images
-  std::int32_t cloud_ms_model = 0;   ///< u_cloud_ms_model: lighting::MultipleScattering
+  std::int32_t cloud_ms_model = 0;   ///< u_cloud_ms_model: lighting::MultipleScattering (0 … 3)
   float step_growth_max = 1.0f;      ///< u_step_growth_max: adaptive steps up to this × Δ (1 = fixed)
   glm::vec2 subpixel{0.5f};          ///< u_subpixel: this sample's position inside the pixel [0, 1)²
   std::uint32_t sample_index = 0;    ///< u_sample_index: k of samples_per_pixel; k > 0 averages into the images

@@ -27,6 +27,14 @@ gl::Defines EyePassFeatures::defines() const {
           {"SPEC_CLOUD_PASS", std::to_string(cloud_pass)}};
 }
 
+namespace {
+// The radiance volume's define is no uniform branch (its samplers exist only with it): every
+// program that draws the model gets it, the uniform-branch baseline too.
+void addRadianceVolumeDefine(gl::Defines& d, bool on) {
+  if (on) d.emplace_back("SPEC_RADIANCE_VOLUME", "1");
+}
+}  // namespace
+
 glm::vec2 subpixelPosition(int k) {
   if (k <= 0) return {0.5f, 0.5f};
   constexpr double kPlastic = 1.32471795724474602596;  // φ₂: x³ = x + 1
@@ -243,6 +251,7 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Deep
   f.cubic = volume::cubicWeights(volume.reconstruction());
   f.light_cache = dlm.hasLightCache();
   f.packed = volume.hasPacked() && !baseline_.separate_textures;
+  f.radiance_volume = s.multiple_scattering == lighting::MultipleScattering::RadianceVolume;
   return f;
 }
 
@@ -251,6 +260,7 @@ const gl::Program& CloudRenderer::program(const EyePassFeatures& features) {
   // The role is no uniform branch: the baseline keeps it as a define.
   if (baseline_.uniform_branches && features.cloud_pass != 0)
     defines.emplace_back("SPEC_CLOUD_PASS", std::to_string(features.cloud_pass));
+  addRadianceVolumeDefine(defines, features.radiance_volume);
   if (baseline_.binary_search) defines.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
   if (baseline_.unclipped_steps) defines.emplace_back("ADAPTIVE_STEPS_UNCLIPPED", "1");
   if (baseline_.sky_half_transmittance) defines.emplace_back("SKY_HALF_TRANSMITTANCE", "1");
@@ -300,6 +310,13 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     count_size_ = marched;
   }
   const EyePassFeatures f = features(volume, dlm, s);
+  if (f.radiance_volume) {  // traced when the sun, the data or its settings change (its cache key)
+    if (!radiance_volume_) radiance_volume_ = std::make_unique<RadianceVolume>();
+    RadianceVolumeSettings rv = radiance_volume_settings_;
+    rv.g_ice = float(s.g_ice);
+    rv.g_water = float(s.g_water);
+    radiance_volume_->build(volume, sun.toSun(), rv);
+  }
   EyePassFeatures lowFeatures = f, fullFeatures = f;
   lowFeatures.cloud_pass = 1;
   lowFeatures.passes = false;  // the full-resolution pass writes them
@@ -309,6 +326,16 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   p.use();
   volume.bind();
   dlm.bindForLookup();
+  if (f.radiance_volume) {
+    radiance_volume_->bind();
+    const glm::vec3 boxMin(volume.frame().min_m());
+    const glm::vec3 extent(glm::dvec3(radiance_volume_->cells()) * radiance_volume_->cellSize_m());
+    for (const gl::Program* q : {&p, lowProgram}) {
+      if (q == nullptr) continue;
+      q->set("u_mc_box_min_m", boxMin);
+      q->set("u_mc_extent_m", extent);
+    }
+  }
   glBindTextureUnit(gl::binding::UNIT_BASEMAP, basemap_ ? basemap_.id() : blank_.id());
   glBindTextureUnit(gl::binding::UNIT_HOST_DEPTH, depth.texture ? depth.texture : blank_.id());
   gl::RaycastBlock b;

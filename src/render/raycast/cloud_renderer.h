@@ -19,6 +19,7 @@
 #include "lighting/render_settings.h"
 #include "render/atmosphere/atmosphere_luts.h"
 #include "render/dlm/deep_light_map.h"
+#include "render/dlm/radiance_volume.h"
 #include "render/dlm/volume_textures.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
@@ -88,6 +89,9 @@ struct EyePassFeatures {
   /// clouds.comp SPEC_CLOUD_PASS): 0 march and composite, 1 the reduced march only, 2 the
   /// full-resolution pass over the upsampled clouds. Set by dispatch(), not by features().
   int cloud_pass = 0;
+  /// the Monte Carlo radiance volume's term and samplers (multiple_scattering = radiance_volume;
+  /// clouds.comp SPEC_RADIANCE_VOLUME, defined only when on, in every baseline)
+  bool radiance_volume = false;
   /// {"SPEC_GLOBE", "0|1"}, … for gl::Program::compute.
   gl::Defines defines() const;
 };
@@ -169,6 +173,12 @@ class CloudRenderer {
   const gl::Texture& frame() const { return frame_tex_; }
   const gl::Texture& groundPass() const { return ground_pass_tex_; }
   const gl::Texture& skyPass() const { return sky_pass_tex_; }
+  /// The Monte Carlo radiance volume (render/dlm/radiance_volume.h) dispatch() traces for
+  /// multiple_scattering = radiance_volume, rebuilt only when its key (volume identity, sun,
+  /// settings) changes — with the deep light map; null before the first such frame.
+  const RadianceVolume* radianceVolume() const { return radiance_volume_.get(); }
+  /// Its settings (photons, grid, seed); the phases are RenderSettings::g_ice, g_water.
+  void setRadianceVolumeSettings(const RadianceVolumeSettings& settings) { radiance_volume_settings_ = settings; }
 
  private:
   void updateGlobeBlock(const ViewRays& view, const VolumeTextures& volume, const RenderSettings& settings,
@@ -201,6 +211,8 @@ class CloudRenderer {
   gl::UniformBuffer<gl::TerrainBlock> terrain_block_;  // the ground's height field, the far basemap
   std::unique_ptr<AtmosphereLuts> atmosphere_;         // built on the first frame that wants it
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
+  std::unique_ptr<RadianceVolume> radiance_volume_;  // built on the first frame that wants it
+  RadianceVolumeSettings radiance_volume_settings_;
 };
 
 }  // namespace nph::render

@@ -1,0 +1,172 @@
+#include "render/dlm/radiance_volume.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "render/gl/bindings.h"
+#include "render/gl/debug.h"
+#include "volume/reconstruction.h"
+
+namespace nph::render {
+namespace {
+
+// The fixed-point bound of glsl/dlm/radiance_volume.comp: one addition is w·ℓ·Y_lm with ℓ ≤ the
+// cell's diagonal, |Y_lm| ≤ √(9/(4π)) at l = 4 (the addition theorem) and w ≤ kWeightBound.
+constexpr double kMaxHarmonic = 0.8462843753216345;  // √(9/(4π))
+// Roulette divides w by 0.999 per collision past 1000: w = 16 needs 2770 more (a photon
+// surviving them is 0.999^2770 ≈ 6 % of those that reach them, and ≪ 10⁻⁶ of all).
+constexpr double kWeightBound = 16.0;
+constexpr double kInt32Bound = 2147483520.0;  // float's largest below 2³¹ (the shader's clamp)
+
+}  // namespace
+
+RadianceVolume::RadianceVolume()
+    : build_(gl::Program::compute("dlm/radiance_volume.comp")),
+      resolve_(gl::Program::compute("dlm/radiance_volume_resolve.comp")),
+      stats_buffer_(gl::Buffer::create(8 * sizeof(std::uint32_t)).label("radiance volume stats")) {}
+
+bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_sun, const RadianceVolumeSettings& s) {
+  if (s.photons < 1) throw UsageError("radiance volume: photons must be at least 1");
+  if (s.coarsen_xy < 1 || s.coarsen_z < 1) throw UsageError("radiance volume: the coarsening must be at least 1");
+  if (s.roulette_after_events < 0 || s.roulette_after_events == 1)
+    throw UsageError("radiance volume: roulette_after_events must be 0 (off) or at least 2");
+  if (s.max_events < 1) throw UsageError("radiance volume: max_events must be at least 1");
+  if (!(std::abs(s.g_ice) < 1.0f) || !(std::abs(s.g_water) < 1.0f))
+    throw UsageError("radiance volume: the phase asymmetries must lie in (−1, 1)");
+  if (!(glm::length(to_sun) > 0.0)) throw UsageError("radiance volume: the sun direction is zero");
+  const glm::dvec3 sun = glm::normalize(to_sun);
+  const volume::VolumeFrame& frame = volume.frame();
+  const std::string key =
+      fmt::format("{}|sun={:.9g},{:.9g},{:.9g}|e={:.9g}|n={}|seed={}|c={}x{}|o={}|r={}|m={}|g={:.9g},{:.9g}",
+                  volume.identity(), sun.x, sun.y, sun.z, frame.height_exaggeration, s.photons, s.seed, s.coarsen_xy,
+                  s.coarsen_z, s.min_order, s.roulette_after_events, s.max_events, s.g_ice, s.g_water);
+  if (key == key_ && built()) {
+    stats_.rebuilt = false;
+    ++stats_.reuses;
+    return false;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  // The coarse grid (the CPU twin's gridOf): ⌈voxels / c⌉ cells of c voxels from the box's corner.
+  const glm::ivec3 c(s.coarsen_xy, s.coarsen_xy, s.coarsen_z);
+  const glm::ivec3 cells = (frame.voxels + c - 1) / c;
+  cell_m_ = glm::dvec3(c) * frame.voxel_size_m;
+  const std::size_t cellCount = std::size_t(cells.x) * std::size_t(cells.y) * std::size_t(cells.z);
+  const std::size_t words = cellCount * kRadianceVolumeMoments * 2;
+  if (tally_.id() == 0 || tally_.size() != words * sizeof(std::uint32_t))
+    tally_ = gl::Buffer::create(words * sizeof(std::uint32_t)).label("radiance volume tallies");
+  const std::uint32_t zero = 0;
+  glClearNamedBufferData(tally_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glClearNamedBufferData(stats_buffer_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  // The support box (the filter's support past the box, as glsl/dlm/radiance_volume.comp
+  // supportPad_m: the reach of the upload, detail included, less ½ voxel) and the power per photon.
+  const double reach = volume::reachVoxels(volume.reconstruction()) + volume.detail().reach_voxels;
+  const glm::dvec3 size = frame.size_m() + 2.0 * (reach - 0.5) * frame.voxel_size_m;
+  const glm::dvec3 faces(size.y * size.z, size.x * size.z, size.x * size.y);
+  const glm::dvec3 projected = faces * glm::abs(sun);
+  const double power = (projected.x + projected.y + projected.z) / double(s.photons);
+  const double diagonal = glm::length(cell_m_);
+  quantum_m_ = kWeightBound * kMaxHarmonic * diagonal / kInt32Bound;
+  moment_unit_ = quantum_m_ * power / (cell_m_.x * cell_m_.y * cell_m_.z);
+
+  build_.use();
+  volume.bind();
+  build_.set("u_photons", int(s.photons));  // set as int: Program has no uint setter; ≤ 2³¹ − 1
+  build_.set("u_seed", int(s.seed));
+  build_.set("u_to_sun", glm::vec3(sun));
+  build_.set("u_projected_m2", glm::vec3(projected));
+  build_.set("u_min_order", s.min_order);
+  build_.set("u_cells", cells);
+  build_.set("u_cell_m", glm::vec3(cell_m_));
+  build_.set("u_quantum_m", float(quantum_m_));
+  build_.set("u_g_ice", s.g_ice);
+  build_.set("u_g_water", s.g_water);
+  build_.set("u_height_exaggeration", float(std::max(frame.height_exaggeration, 1e-6)));
+  build_.set("u_roulette_after", s.roulette_after_events);
+  build_.set("u_max_events", s.max_events);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_MC_TALLY, tally_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_MC_STATS, stats_buffer_.id());
+  build_.dispatchCovering({int(s.photons), 1, 1});
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+  if (!moments_[0] || moments_[0].width() != cells.x || moments_[0].height() != cells.y ||
+      moments_[0].depth() != cells.z)
+    for (int k = 0; k < kRadianceVolumeTextures; ++k)
+      moments_[k] = gl::Texture::create3D(GL_RGBA32F, cells.x, cells.y, cells.z)
+                        .label(fmt::format("radiance volume moments {}", k))
+                        .sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  resolve_.use();
+  resolve_.set("u_cells", cells);
+  resolve_.set("u_scale", float(moment_unit_));
+  for (int k = 0; k < kRadianceVolumeTextures; ++k)
+    glBindImageTexture(GLuint(gl::binding::IMAGE_MC_MOMENTS + k), moments_[k].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                       GL_RGBA32F);
+  resolve_.dispatchCovering(cells);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glFinish();
+  gl::checkErrors("radiance volume");
+
+  std::uint32_t st[8] = {};
+  stats_buffer_.download(0, sizeof(st), st);
+  stats_.photons = s.photons;
+  stats_.collided = st[0];
+  stats_.collisions = st[1];
+  stats_.rouletted = st[2];
+  stats_.truncated = st[3];
+  stats_.clamped = st[4];
+  stats_.cells = cells;
+  stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  stats_.rebuilt = true;
+  ++stats_.builds;
+  key_ = key;
+  if (stats_.clamped > 0)
+    log::warn("radiance volume: {} tally additions past the fixed-point bound were clamped", stats_.clamped);
+  log::debug("radiance volume: {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {:.0f} ms", s.photons,
+             double(stats_.collisions) / double(s.photons), cells.x, cells.y, cells.z, stats_.build_ms);
+  return true;
+}
+
+void RadianceVolume::bind() const {
+  for (int k = 0; k < kRadianceVolumeTextures; ++k)
+    glBindTextureUnit(GLuint(gl::binding::UNIT_MC_MOMENTS + k), moments_[k].id());
+}
+
+std::vector<std::int64_t> RadianceVolume::readBackSums() const {
+  std::vector<std::int64_t> out;
+  if (tally_.id() == 0) return out;
+  std::vector<std::uint32_t> w(tally_.size() / sizeof(std::uint32_t));
+  tally_.download(0, tally_.size(), w.data());
+  out.resize(w.size() / 2);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = std::int64_t((std::uint64_t(w[2 * i + 1]) << 32) | std::uint64_t(w[2 * i]));
+  return out;
+}
+
+std::vector<float> RadianceVolume::readBackMoments() const {
+  std::vector<float> out;
+  if (!built()) return out;
+  const glm::ivec3 n = stats_.cells;
+  const std::size_t cells = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
+  out.assign(cells * kRadianceVolumeMoments, 0.0f);
+  std::vector<float> rgba(cells * 4);
+  for (int k = 0; k < kRadianceVolumeTextures; ++k) {
+    glGetTextureImage(moments_[k].id(), 0, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)), rgba.data());
+    for (std::size_t c = 0; c < cells; ++c)
+      for (int ch = 0; ch < 4; ++ch)
+        if (4 * k + ch < kRadianceVolumeMoments)
+          out[c * kRadianceVolumeMoments + std::size_t(4 * k + ch)] = rgba[4 * c + std::size_t(ch)];
+  }
+  return out;
+}
+
+std::size_t RadianceVolume::textureBytes() const {
+  std::size_t b = tally_.size();
+  for (const gl::Texture& t : moments_) b += t ? t.bytes() : 0;
+  return b;
+}
+
+}  // namespace nph::render

@@ -1,0 +1,200 @@
+// The Monte Carlo radiance volume on the GPU (render/dlm/radiance_volume.h; issue 12, sixteenth
+// session) against its CPU twin (reference/mc_radiance_volume.h) and the invariants the twin is
+// tested on (tests/reference/mc_radiance_volume_test.cpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <vector>
+
+#include "core/error.h"
+#include "dlm_scenes.h"
+#include "reference/mc_radiance_volume.h"
+#include "render/dlm/radiance_volume.h"
+#include "render/dlm/volume_textures.h"
+#include "support/gl_fixture.h"
+#include "volume/volume_frame.h"
+
+namespace nph::test {
+namespace {
+
+using RadianceVolumeTest = GlTest;
+
+// dlm_scenes.h's homogeneous slab with this test's spacing and an ice share.
+ExtinctionVolumes box(int nx, int ny, int nz, double dx_m, double dz_m, float water_per_m, float ice_per_m) {
+  ExtinctionVolumes v = homogeneousSlab(nx, ny, nz, water_per_m);
+  v.dz_m = dz_m;
+  v.georef.dx_m = dx_m;
+  v.georef.dy_m = dx_m;
+  std::fill(v.ice_per_m.begin(), v.ice_per_m.end(), ice_per_m);
+  v.updateMaxima();
+  return v;
+}
+
+// A box with structure (every 7th voxel without water), both phases, × 4 exaggeration.
+ExtinctionVolumes structuredBox() {
+  ExtinctionVolumes v = box(16, 16, 8, 200.0, 100.0, 0.01f, 0.002f);
+  for (std::size_t i = 0; i < v.water_per_m.size(); i += 7) v.water_per_m[i] = 0.0f;
+  return v;
+}
+
+const glm::dvec3 kObliqueSun = glm::normalize(glm::dvec3(-0.3, 0.5, 0.4));
+
+reference::McRadianceVolume cpuVolume(const ExtinctionVolumes& v, const volume::VolumeFrame& frame,
+                                      const glm::dvec3& toSun, const render::RadianceVolumeSettings& g,
+                                      std::uint64_t seed, reference::McStats* stats = nullptr) {
+  reference::McTallySpec spec;
+  spec.coarsen_xy = g.coarsen_xy;
+  spec.coarsen_z = g.coarsen_z;
+  spec.min_order = g.min_order;
+  spec.max_l = 4;
+  reference::McSettings s;
+  s.photons = g.photons;
+  s.seed = seed;
+  s.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, g.g_ice};
+  s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, g.g_water};
+  return reference::traceMcRadianceVolumes(v, frame, toSun, {spec}, s, stats).front();
+}
+
+// RMS over the cells of the moments' difference, each moment k relative to the RMS of the
+// reference's c_00 (the fluence's scale; the higher moments are signed and often near 0).
+double rmsDifference(const std::vector<double>& a, const std::vector<double>& b, int k) {
+  double d = 0.0, s = 0.0;
+  const std::size_t cells = a.size() / render::kRadianceVolumeMoments;
+  for (std::size_t c = 0; c < cells; ++c) {
+    const double x = a[c * render::kRadianceVolumeMoments + std::size_t(k)];
+    const double y = b[c * render::kRadianceVolumeMoments + std::size_t(k)];
+    const double r = b[c * render::kRadianceVolumeMoments];
+    d += (x - y) * (x - y);
+    s += r * r;
+  }
+  return std::sqrt(d / s);
+}
+
+double sumOf(const std::vector<double>& m, int k) {
+  double s = 0.0;
+  for (std::size_t c = 0; c < m.size() / render::kRadianceVolumeMoments; ++c)
+    s += m[c * render::kRadianceVolumeMoments + std::size_t(k)];
+  return s;
+}
+
+// The GPU volume against the CPU twin with the same photons, grid, phases and convention (orders
+// ≥ 1, l ≤ 4). Not bit-identical (float against double, other random streams), so statistically:
+// the yardstick is the CPU twin against itself with another seed — two independent estimates with
+// the same photon count differ by the photon noise alone, and so must the GPU's. Per moment the
+// RMS difference over the 64 cells must stay within 1.5 × the seed-to-seed one (the RMS of 64
+// cells is itself uncertain by ≈ 9 %; a bias of the port — a wrong power, cell volume, majorant,
+// exaggeration or harmonic sign — is many times the noise), and the total fluence within 1 %.
+TEST_F(RadianceVolumeTest, MatchesTheCpuTwinWithinThePhotonNoise) {
+  const ExtinctionVolumes v = structuredBox();
+  const volume::VolumeFrame frame = volume::frameOf(v, 4.0);
+  render::RadianceVolumeSettings s;
+  s.photons = 1u << 17;
+  s.min_order = 1;
+  const auto tex = render::VolumeTextures::upload(v, frame, "twin");
+  render::RadianceVolume gpu;
+  ASSERT_TRUE(gpu.build(tex, kObliqueSun, s));
+  EXPECT_EQ(gpu.stats().clamped, 0u);
+  EXPECT_EQ(gpu.stats().truncated, 0u);
+  reference::McStats cpuStats;
+  const reference::McRadianceVolume a = cpuVolume(v, frame, kObliqueSun, s, 15, &cpuStats);
+  // the same medium: collisions per photon within 1 %
+  const double perPhotonGpu = double(gpu.stats().collisions) / double(s.photons);
+  const double perPhotonCpu = double(cpuStats.collisions) / double(cpuStats.photons);
+  EXPECT_NEAR(perPhotonGpu / perPhotonCpu, 1.0, 0.01)
+      << "collisions per photon GPU " << perPhotonGpu << ", CPU " << perPhotonCpu;
+  const reference::McRadianceVolume b = cpuVolume(v, frame, kObliqueSun, s, 16);
+  ASSERT_EQ(gpu.cells(), a.cells);
+  ASSERT_EQ(a.harmonics(), render::kRadianceVolumeMoments);
+  const std::vector<float> g = gpu.readBackMoments();
+  const std::vector<double> gd(g.begin(), g.end());
+  for (int k = 0; k < render::kRadianceVolumeMoments; ++k) {
+    const double noise = rmsDifference(b.moments, a.moments, k), port = rmsDifference(gd, a.moments, k);
+    if (std::getenv("NPH_TEST_VERBOSE")) std::printf("moment %d: GPU-CPU %.4f CPU-CPU %.4f\n", k, port, noise);
+    EXPECT_LT(port, 1.5 * noise + 1e-4) << "moment " << k << ": GPU−CPU " << port << ", CPU seed to seed " << noise;
+  }
+  const double total = sumOf(a.moments, 0);
+  ASSERT_GT(total, 0.0);
+  EXPECT_NEAR(sumOf(gd, 0) / total, 1.0, 0.01) << "total fluence, GPU over CPU";
+  EXPECT_NEAR(sumOf(b.moments, 0) / total, 1.0, 0.01) << "total fluence, CPU seed 16 over seed 15";
+  // The resolve is q·P/V times the integer sum, exactly (up to float's rounding of the result).
+  const std::vector<std::int64_t> sums = gpu.readBackSums();
+  ASSERT_EQ(sums.size(), g.size());
+  for (std::size_t i = 0; i < sums.size(); i += 37)
+    EXPECT_NEAR(g[i], double(sums[i]) * gpu.momentUnit(), 1e-6 * std::abs(double(sums[i]) * gpu.momentUnit()) + 1e-30);
+}
+
+// Integer sums are associative: the same photons give the same volume bit for bit however the
+// invocations were scheduled; another seed does not.
+TEST_F(RadianceVolumeTest, SameSeedSameVolumeBitForBit) {
+  const ExtinctionVolumes v = structuredBox();
+  const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "determinism");
+  render::RadianceVolumeSettings s;
+  s.photons = 20000;
+  render::RadianceVolume a, b, c;
+  ASSERT_TRUE(a.build(tex, kObliqueSun, s));
+  ASSERT_TRUE(b.build(tex, kObliqueSun, s));
+  EXPECT_FALSE(a.build(tex, kObliqueSun, s)) << "an unchanged key must not rebuild";
+  s.seed = 17;
+  ASSERT_TRUE(c.build(tex, kObliqueSun, s));
+  const auto sa = a.readBackSums(), sb = b.readBackSums(), sc = c.readBackSums();
+  EXPECT_EQ(sa, sb);
+  EXPECT_NE(sa, sc);
+  EXPECT_EQ(a.readBackMoments(), b.readBackMoments());
+  EXPECT_GT(a.stats().collisions, 0u);
+}
+
+// A conservative slab lit from straight above (the CPU twin's test): the net vertical flux of all
+// light, beam and every order (min_order 0), is the same at every depth (∂F_z/∂z = 0 in 1-D) and
+// equals the transmitted share −(1 − R), R = 0.240 by δ-Eddington for τ = 5, g = 0.85 (the twin
+// measures 0.761 against 0.760). Tolerances as the twin's, at the same photon count.
+TEST_F(RadianceVolumeTest, ConservativeSlabCarriesTheSameNetFluxAtEveryDepth) {
+  const ExtinctionVolumes v = box(32, 32, 8, 100.0, 25.0, 0.025f, 0.0f);  // τ = 5, 3.2 km × 200 m
+  const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "slab");
+  render::RadianceVolumeSettings s;
+  s.photons = 120000;
+  s.min_order = 0;
+  s.coarsen_xy = 8;
+  s.coarsen_z = 1;
+  render::RadianceVolume gpu;
+  ASSERT_TRUE(gpu.build(tex, glm::dvec3(0, 0, 1), s));
+  ASSERT_EQ(gpu.cells(), glm::ivec3(4, 4, 8));
+  const std::vector<float> m = gpu.readBackMoments();
+  const double norm = std::sqrt(4.0 * std::numbers::pi / 3.0);
+  const double r = 0.240;
+  double lo = 0.0, hi = -1.0;
+  for (int k = 0; k < 8; ++k) {
+    double fz = 0.0;  // the central 2 × 2 columns
+    for (int j = 1; j <= 2; ++j)
+      for (int i = 1; i <= 2; ++i)
+        fz += 0.25 * double(m[std::size_t((k * 4 + j) * 4 + i) * render::kRadianceVolumeMoments + 2]) * norm;
+    EXPECT_NEAR(fz, -(1.0 - r), 0.02) << "layer " << k;
+    lo = std::min(lo, fz);
+    hi = std::max(hi, fz);
+  }
+  EXPECT_LT(hi - lo, 0.01) << "the net flux changes with depth";
+}
+
+TEST_F(RadianceVolumeTest, BadSettingsAreAClearError) {
+  const ExtinctionVolumes v = structuredBox();
+  const auto tex = render::VolumeTextures::upload(v, volume::frameOf(v), "bad");
+  render::RadianceVolume gpu;
+  render::RadianceVolumeSettings s;
+  s.photons = 0;
+  EXPECT_THROW(gpu.build(tex, kObliqueSun, s), nph::UsageError);
+  s = {};
+  s.coarsen_z = 0;
+  EXPECT_THROW(gpu.build(tex, kObliqueSun, s), nph::UsageError);
+  s = {};
+  s.g_water = 1.0f;
+  EXPECT_THROW(gpu.build(tex, kObliqueSun, s), nph::UsageError);
+  EXPECT_THROW(gpu.build(tex, glm::dvec3(0.0), render::RadianceVolumeSettings{}), nph::UsageError);
+}
+
+}  // namespace
+}  // namespace nph::test
