@@ -396,6 +396,22 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
     EXPECT_GT(d.coverage, 0.1) << "the camera must see the storm";
     EXPECT_LE(d.mean, 1e-5) << name;
     EXPECT_LE(d.max, 0.02) << name;
+    if (mc) {
+      // The agreement must not be that of two zero terms: the volume's light is part of the picture.
+      // The same march without the volume (J = 0, the map's single scattering and forward lobe only).
+      const auto without = reference::marchCloudLayer(
+          v, frame, cam, sun, [&](const glm::dvec3& p) { return render::DeepLightMap::lookup(map, ls, p); }, ref,
+          nullptr);
+      double lit = 0.0, unlit = 0.0;
+      for (std::size_t i = 0; i < cpu.rgba.size(); i += 4) {
+        for (int c = 0; c < 3; ++c) {
+          lit += cpu.rgba[i + std::size_t(c)];
+          unlit += without.rgba[i + std::size_t(c)];
+        }
+      }
+      std::printf("[ raycast  ] the radiance volume's share of the layer: %.1f %%\n", 100.0 * (lit - unlit) / lit);
+      EXPECT_GT(lit, 1.02 * unlit) << "the radiance volume adds no light";
+    }
   }
 }
 
