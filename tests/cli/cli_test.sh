@@ -26,6 +26,17 @@ expect_no_nph_left() {  # no output and no temporary file
   left=$(ls "$out" | grep -E '\.nph' || true)
   [ -z "$left" ] || fail "files left behind after a failed conversion: $left"
 }
+# expect_clear_and_opaque LAYER.exr: the storm is in the frame — its cloud layer's alpha has opaque
+# cloud somewhere (> 0.95) and clear sky or ground elsewhere (< 0.05).
+expect_clear_and_opaque() {
+  local lo hi
+  oiiotool "$1" --ch A --printstats -o "$out/alpha.exr" >"$out/alpha.stats" ||
+    fail "oiiotool --printstats of the cloud layer failed"
+  lo=$(grep 'Stats Min' "$out/alpha.stats" | sed 's/.*Min: //' | awk '{print $1}')
+  hi=$(grep 'Stats Max' "$out/alpha.stats" | sed 's/.*Max: //' | awk '{print $1}')
+  awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
+    fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
+}
 
 # animate_cache: a 6-timestep .nph of the tiny storm and a small scene animating timesteps 0-2
 animate_cache() {
@@ -241,12 +252,7 @@ case $case in
     expect_rc 0
     [ -s "$out/cells.png" ] || fail "no image of the cellular hurricane"
     # The storm is in the frame: opaque cloud somewhere, clear sky or sea elsewhere.
-    oiiotool "$out/layer.exr" --ch A --printstats -o "$out/alpha.exr" >"$out/alpha.stats" ||
-      fail "oiiotool --printstats of the cloud layer failed"
-    lo=$(grep 'Stats Min' "$out/alpha.stats" | sed 's/.*Min: //' | awk '{print $1}')
-    hi=$(grep 'Stats Max' "$out/alpha.stats" | sed 's/.*Max: //' | awk '{print $1}')
-    awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
-      fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
+    expect_clear_and_opaque "$out/layer.exr"
     ;;
   alpine-storm)  # make demo's terrain shot (nephele-gen wrf --case alpine-storm): generates, converts, renders
     run "$gen" wrf --case alpine-storm -o "$out/alpine.nc" --dem "$out/alpine-dem.tif"
@@ -269,12 +275,7 @@ case $case in
     run "$gen" wrf --case storm -o "$out/storm.nc" --dem "$out/storm-dem.tif"
     expect_rc 1
     expect_err "for --case alpine-storm only"
-    oiiotool "$out/layer.exr" --ch A --printstats -o "$out/alpha.exr" >"$out/alpha.stats" ||
-      fail "oiiotool --printstats of the cloud layer failed"
-    lo=$(grep 'Stats Min' "$out/alpha.stats" | sed 's/.*Min: //' | awk '{print $1}')
-    hi=$(grep 'Stats Max' "$out/alpha.stats" | sed 's/.*Max: //' | awk '{print $1}')
-    awk -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(lo < 0.05 && hi > 0.95) }' ||
-      fail "cloud layer alpha spans $lo .. $hi, expected clear and opaque pixels"
+    expect_clear_and_opaque "$out/layer.exr"
     ;;
   basemap)  # --basemap FILE: a user raster through GDAL under the storm; an ungeoreferenced one is refused
     # A uniform red world in EPSG:4326 as a PNG with a world file and GDAL's .aux.xml (CRS): the
