@@ -409,8 +409,8 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
       double lit = 0.0, unlit = 0.0;
       for (std::size_t i = 0; i < cpu.rgba.size(); i += 4) {
         for (int c = 0; c < 3; ++c) {
-          lit += cpu.rgba[i + std::size_t(c)];
-          unlit += without.rgba[i + std::size_t(c)];
+          lit += double(cpu.rgba[i + std::size_t(c)]);
+          unlit += double(without.rgba[i + std::size_t(c)]);
         }
       }
       std::printf("[ raycast  ] the radiance volume's share of the layer: %.1f %%\n", 100.0 * (lit - unlit) / lit);
