@@ -35,6 +35,30 @@
 // number of wraps of a sum of non-negative words does not depend on the order of the additions,
 // so the 64-bit total is associative: the same photons give the same volume bit for bit, however
 // the invocations are scheduled.
+//
+// llvmpipe's loop limiter (seventeenth session; docs/accuracy.md "Seventeenth session"). Mesa's
+// llvmpipe ends every loop of a shader once a counter shared by all its loops reaches
+// LP_MAX_TGSI_LOOP_ITERATIONS = 65 535 back-edges (gallivm/lp_bld_limits.h; lp_exec_endloop), and
+// the counter belongs to a SIMD group of 8 or 16 invocations. A photon in a thick deck makes
+// thousands of null collisions, brick steps and cell crossings: past the limit its loops fell
+// through silently and it left the volume without its remaining collisions — the sixteenth
+// session's 87.1 collisions per photon on the hurricane against the CPU twin's 97.6 (and far fewer
+// with larger occupancy bricks, whose majorants need more null collisions). So the photons are
+// resumable: a dispatch gives each photon at most u_step_budget steps (counted with weights that
+// bound the back-edges they cost, below), then the photon pauses and its state (position,
+// direction, weight, order, random state) waits in the McPhotons buffer for the next dispatch;
+// the host dispatches until none is left (render/dlm/radiance_volume.cpp). Delta tracking is
+// memoryless, so a flight paused at a null collision resumes there as a new flight from that point
+// (Novák et al. 2018 §4.1): the same estimator. Where a pause falls depends only on the photon's
+// own steps, so the volume stays bit-identical for the same photons. A loop that still ends
+// without its exit condition (the limiter) is counted (stats[6]), never silent.
+//
+// Cost: the crossings' integers are summed in registers, as 64-bit pairs (uaddCarry), for as long
+// as the photon's flights stay in one coarse cell — in a thick deck tens of flights, a cell being
+// many mean free paths wide — and added to the SSBO once when it moves to another cell (or pauses):
+// integer addition is associative, so the totals are those of one atomic per crossing, which the
+// sixteenth session did (25–50 atomics per crossed cell, executed lane by lane on llvmpipe;
+// TALLY_EVERY_CROSSING restores that for the benchmark, tests/bench/dlm_benchmark.cpp).
 #include "dlm/volume.glsl"
 #include "common/spherical_harmonics.glsl"
 
@@ -44,10 +68,21 @@ layout(std430, binding = SSBO_MC_TALLY) buffer McTally {
   uint words[];  // per cell, per moment k (< 25): (low, high) at 2·(cell·25 + k)
 };
 layout(std430, binding = SSBO_MC_STATS) buffer McStats {
-  uint stats[];  // photons collided, collisions, rouletted, truncated, clamped crossings
+  uint stats[];  // collided, collisions, rouletted, truncated, clamped crossings, paused, cut short
+};
+// A photon between dispatches: (position, weight), (direction, −), (random state, order, alive, −).
+struct McPhoton {
+  vec4 position_weight;
+  vec4 direction;
+  uvec4 state;
+};
+layout(std430, binding = SSBO_MC_PHOTONS) buffer McPhotons {
+  McPhoton photons[];
 };
 
 uniform int u_photons;          // N
+uniform bool u_start;           // the first dispatch: photons start from the sun
+uniform int u_step_budget;      // weighted steps per photon and dispatch (see the header)
 uniform int u_seed;             // photon i draws from the stream (u_seed, i)
 uniform vec3 u_to_sun;          // unit, world
 uniform vec3 u_projected_m2;    // the support box's faces' areas projected along the sun, per axis
@@ -126,9 +161,18 @@ vec2 brickMajorant(vec3 p, vec3 d) {
   return vec2(texelFetch(u_occupancy_per_m, b, 0).r, exit_m);
 }
 
-// Delta tracking from o along d up to tMax: true at a real collision (distance tHit, (β_ice,
-// β_water) there), false when the flight leaves. f: the optical-depth scale along d.
-bool deltaTrack(vec3 o, vec3 d, float tMax, float f, out float tHit, out vec2 beta) {
+// The steps this invocation took in this dispatch, weighted by the back-edges they may cost:
+// a brick or a null collision 1, a flight (its harmonics' loops) kFlightSteps, a cell crossing (its
+// moment loop and a run's flush) kCrossingSteps.
+int g_steps = 0;
+const int kFlightSteps = 24;
+const int kCrossingSteps = 52;
+const int kLeft = 0, kHit = 1, kPaused = 2;
+
+// Delta tracking from o along d up to tMax: kHit at a real collision (distance tHit, (β_ice,
+// β_water) there), kLeft when the flight leaves, kPaused when the step budget is spent (at tHit, a
+// null collision or a brick face: the flight resumes there). f: the optical-depth scale along d.
+int deltaTrack(vec3 o, vec3 d, float tMax, float f, out float tHit, out vec2 beta) {
   tHit = tMax;
   beta = vec2(0.0);
   float t = 0.0;
@@ -138,6 +182,10 @@ bool deltaTrack(vec3 o, vec3 d, float tMax, float f, out float tHit, out vec2 be
     float mu = brick.x * f;
     if (mu > 0.0) {
       for (;;) {
+        if (++g_steps > u_step_budget) {
+          tHit = t;
+          return kPaused;
+        }
         t -= log(1.0 - uniform01()) / mu;
         if (t >= tb) break;
         vec2 b = extinctionAt(o + t * d);
@@ -145,21 +193,54 @@ bool deltaTrack(vec3 o, vec3 d, float tMax, float f, out float tHit, out vec2 be
         if (uniform01() * brick.x < b.x + b.y) {
           tHit = t;
           beta = b;
-          return true;
+          return kHit;
         }
       }
     }
     t = tb;  // memoryless: the next brick's majorant takes over at its face
+    if (++g_steps > u_step_budget && t < tMax) {
+      tHit = t;
+      return kPaused;
+    }
   }
-  return false;
+  if (!(t >= tMax)) atomicAdd(stats[6], 1u);  // the loop ended without its condition: llvmpipe's limiter
+  return kLeft;
 }
 
-// Adds x to the 64-bit moment `m` (a word pair): the low word's wrap carries into the high word.
-void tallyAdd(uint m, int x) {
-  if (x == 0) return;
-  uint old = atomicAdd(words[2u * m], uint(x));
-  uint high = (old + uint(x) < old ? 1u : 0u) + (x < 0 ? 0xffffffffu : 0u);
-  if (high != 0u) atomicAdd(words[2u * m + 1u], high);
+// The invocation's tally run (see the header): the cell it belongs to (−1: none) and the 64-bit
+// two's-complement sums of its crossings' integers, per moment, as (low, high) word pairs.
+int g_runCell = -1;
+uint g_runLow[25], g_runHigh[25];
+
+// Adds the run to the SSBO's 64-bit moments of its cell and empties it: the low word's atomicAdd
+// returns the old value, whose unsigned wrap is the carry into the high word.
+void flushRun() {
+  if (g_runCell < 0) return;
+  for (int k = 0; k < kShCount; ++k) {
+    uint low = g_runLow[k], high = g_runHigh[k];
+    if (low == 0u && high == 0u) continue;
+    uint m = uint(g_runCell) * uint(kShCount) + uint(k);
+    uint old = atomicAdd(words[2u * m], low);
+    high += old + low < old ? 1u : 0u;
+    if (high != 0u) atomicAdd(words[2u * m + 1u], high);
+    g_runLow[k] = 0u;
+    g_runHigh[k] = 0u;
+  }
+  g_runCell = -1;
+}
+
+// Starts a run in `cell` (the previous one flushed) unless it is the current one.
+void runEnter(int cell) {
+  if (cell == g_runCell) return;
+  flushRun();
+  g_runCell = cell;
+}
+
+// Adds x (sign-extended to 64 bits) to moment k of the run.
+void runAdd(int k, int x) {
+  uint carry;
+  g_runLow[k] = uaddCarry(g_runLow[k], uint(x), carry);
+  g_runHigh[k] += carry + (x < 0 ? 0xffffffffu : 0u);
 }
 
 // The track-length tally of the flight o + t·d, t ∈ [0, len], weight w, harmonics y (Amanatides &
@@ -204,7 +285,8 @@ void tallySegment(vec3 o, vec3 d, float len, float w, float y[25]) {
     int axis = tNext.x <= tNext.y ? (tNext.x <= tNext.z ? 0 : 2) : (tNext.y <= tNext.z ? 1 : 2);
     float tExit = min(tNext[axis], t1);
     if (tExit > t) {
-      uint cell = uint((idx.z * u_cells.y + idx.y) * u_cells.x + idx.x);
+      g_steps += kCrossingSteps;
+      runEnter((idx.z * u_cells.y + idx.y) * u_cells.x + idx.x);
       float q = scale * (tExit - t);
       for (int k = 0; k < kShCount; ++k) {
         float x = round(q * y[k]);
@@ -212,8 +294,11 @@ void tallySegment(vec3 o, vec3 d, float len, float w, float y[25]) {
           atomicAdd(stats[4], 1u);
           x = clamp(x, -2147483520.0, 2147483520.0);
         }
-        tallyAdd(cell * uint(kShCount) + uint(k), int(x));
+        runAdd(k, int(x));
       }
+#ifdef TALLY_EVERY_CROSSING
+      flushRun();  // the sixteenth session's cost: every crossing's moments to the SSBO at once (benchmark)
+#endif
       t = tExit;
     }
     if (tExit >= t1) return;
@@ -223,44 +308,72 @@ void tallySegment(vec3 o, vec3 d, float len, float w, float y[25]) {
   }
 }
 
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= uint(u_photons)) return;
+// Photon i's stream and its entry point on a face facing the sun, chosen by projected area.
+vec3 photonEntry(uint i) {
   g_rng = pcgHash(i ^ pcgHash(uint(u_seed)));
-  // The entry point on a face facing the sun, chosen by projected area.
   vec3 pad = supportPad_m();
   vec3 lo = u_box_min_m - pad, hi = u_box_min_m + u_box_size_m + pad;
   float u = uniform01() * (u_projected_m2.x + u_projected_m2.y + u_projected_m2.z);
   int axis = u < u_projected_m2.x ? 0 : (u < u_projected_m2.x + u_projected_m2.y ? 1 : 2);
   vec3 o = lo + vec3(uniform01(), uniform01(), uniform01()) * (hi - lo);
   o[axis] = u_to_sun[axis] > 0.0 ? hi[axis] : lo[axis];
-  vec3 d = -u_to_sun;
-  float weight = 1.0;
-  int order = 0;
-  bool collided = false;
-  for (;;) {
+  return o;
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= uint(u_photons)) return;
+  vec3 o, d;
+  float weight;
+  int order;
+  if (u_start) {
+    o = photonEntry(i);
+    d = -u_to_sun;
+    weight = 1.0;
+    order = 0;
+  } else {
+    McPhoton p = photons[i];
+    if (p.state.z == 0u) return;  // ended in an earlier dispatch
+    o = p.position_weight.xyz;
+    weight = p.position_weight.w;
+    d = p.direction.xyz;
+    g_rng = p.state.x;
+    order = int(p.state.y);
+  }
+  bool alive = true, paused = false;
+  while (alive && !paused) {
     vec2 span = supportInterval(o, d);
     float tOut = span.y > span.x ? span.y : 0.0;  // o is inside (or on) the box
     float f = length(vec3(d.xy, d.z / u_height_exaggeration));
     float tHit;
     vec2 beta;
-    bool hit = deltaTrack(o, d, tOut, f, tHit, beta);
+    g_steps += kFlightSteps;
+    int flight = deltaTrack(o, d, tOut, f, tHit, beta);
     if (order >= u_min_order) {
       float y[25];
       shBasis4(d, y);
-      tallySegment(o, d, hit ? tHit : tOut, weight, y);
+      tallySegment(o, d, flight == kLeft ? tOut : tHit, weight, y);
     }
-    if (!hit) break;
-    collided = true;
+    if (flight == kPaused) {
+      o += tHit * d;  // a null collision or a brick face: the flight goes on from there
+      paused = true;
+      break;
+    }
+    if (flight == kLeft) {
+      alive = false;
+      break;
+    }
     ++order;
     if (order >= u_max_events) {
       atomicAdd(stats[3], 1u);
+      alive = false;
       break;
     }
     if (u_roulette_after > 0 && order >= u_roulette_after) {
       float q = 1.0 - 1.0 / float(u_roulette_after);
       if (uniform01() >= q) {
         atomicAdd(stats[2], 1u);
+        alive = false;
         break;
       }
       weight /= q;
@@ -269,8 +382,19 @@ void main() {
     float mu = sampleHgCos(ice ? u_g_ice : u_g_water, uniform01());
     o += tHit * d;
     d = aroundAxis(d, mu, 2.0 * kPi * uniform01());
+    if (g_steps > u_step_budget) {  // the budget is spent: pause at the collision, d drawn
+      paused = true;
+      break;
+    }
   }
-  if (collided) {
+  if (alive && !paused) atomicAdd(stats[6], 1u);  // the loop ended without its condition (limiter)
+  flushRun();
+  photons[i].position_weight = vec4(o, weight);
+  photons[i].direction = vec4(d, 0.0);
+  photons[i].state = uvec4(g_rng, uint(order), paused ? 1u : 0u, 0u);
+  if (paused) {
+    atomicAdd(stats[5], 1u);
+  } else if (order > 0) {
     atomicAdd(stats[0], 1u);
     atomicAdd(stats[1], uint(order));
   }

@@ -5,20 +5,28 @@
 // the cloud's bounding box, against a map built with the tightest settings (ε = 1e-4, Δ = ⅛ voxel,
 // texel = ½ voxel). Time: wall time of DeepLightMap::build incl. glFinish and the read-backs of
 // the overflow rule and stats (manual time).
+// BM_RadianceVolumeBuild (issue 12, seventeenth session): the Monte Carlo radiance volume's build
+// (render/dlm/radiance_volume.h) on the accuracy hurricane from above, the tally summed per run of
+// crossings in one cell against one SSBO addition per crossing (the sixteenth session's), interleaved.
 // Run: make bench, or build/tests/bench/nephele_dlm_benchmarks
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "io/model_file.h"
 #include "physics/volume_builder.h"
 #include "presets.h"
 #include "render/dlm/deep_light_map.h"
+#include "render/dlm/radiance_volume.h"
 #include "render/gl/context.h"
 #include "scene/sun.h"
 
@@ -176,6 +184,74 @@ void BM_Pass1VersusUncompressedLightVolume(benchmark::State& state) {
   state.counters["uncompressed_MB"] = double(plainBytes) / 1e6;
 }
 BENCHMARK(BM_Pass1VersusUncompressedLightVolume)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The radiance volume's build, the tally per run of crossings in one cell (the default) against one
+// SSBO addition of every moment per crossing (RadianceVolume(true), the sixteenth session's), on the
+// accuracy sweep's hurricane (96 × 96 model points at 7 km, × 8, sun 120°/70°: hurricane-above-sun-
+// high, src/accuracy/accuracy_scenes.cpp), `photons` per build, the two in rotating order each
+// round. Reported: median wall ms incl. glFinish of each, ratio every-crossing / runs (> 1: the runs
+// are faster), collisions per photon and the resumable build's dispatches. Both give the same sums
+// bit for bit (tests/render/radiance_volume_gl_test.cpp TallyRunsSumWhatEveryCrossingSums).
+void BM_RadianceVolumeBuild(benchmark::State& state) {
+  const std::uint32_t photons = std::uint32_t(state.range(0));
+  gl::ContextOptions o;
+  o.backend = gl::backendFromEnvironment();
+  o.visible = false;
+  const auto ctx = gl::createContext(o);
+  datagen::WrfHurricaneSpec spec = datagen::wrfPreset(datagen::SampleSize::Tiny);
+  spec.nx = 96;
+  spec.ny = 96;
+  spec.nz = 30;
+  spec.dx_m = 7000.0;
+  spec.ntimes = 1;
+  const auto path = (std::filesystem::temp_directory_path() / "nephele-rv-bench.nc").string();
+  datagen::writeWrfHurricane(spec, path);
+  const ExtinctionVolumes v = physics::buildExtinctionVolumes(io::openModelFile(path).load(0), physics::defaultOptics(),
+                                                              physics::VerticalGridOptions{});
+  std::filesystem::remove(path);
+  const auto tex = render::VolumeTextures::upload(v, volume::frameOf(v, 8.0), "bench hurricane");
+  const glm::dvec3 toSun = scene::Sun{120.0, 70.0}.toSun();
+  render::RadianceVolume runs, everyCrossing(true);
+  render::RadianceVolume* variant[2] = {&everyCrossing, &runs};
+  std::vector<double> ms[2];
+  render::RadianceVolumeSettings s;
+  s.photons = photons;
+  int round = 0;
+  for (auto _ : state) {
+    double total = 0.0;
+    for (int j = 0; j < 2; ++j) {
+      const int k = (j + round) % 2;
+      s.seed = std::uint32_t(16 + round);  // a new key: rebuilt; both variants trace the same photons
+      variant[k]->build(tex, toSun, s);
+      ms[k].push_back(variant[k]->stats().build_ms);
+      total += variant[k]->stats().build_ms;
+    }
+    ++round;
+    state.SetIterationTime(total * 1e-3);
+  }
+  auto median = [](std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    return x.empty() ? 0.0 : x[x.size() / 2];
+  };
+  const render::RadianceVolumeStats& st = runs.stats();
+  state.counters["every_crossing_ms"] = median(ms[0]);
+  state.counters["runs_ms"] = median(ms[1]);
+  state.counters["ratio"] = median(ms[0]) / median(ms[1]);
+  state.counters["collisions_per_photon"] = double(st.collisions) / double(photons);
+  state.counters["dispatches"] = st.dispatches;
+  std::fprintf(stderr,
+               "radiance volume build, hurricane %dx%dx%d x8, %u photons, %d rounds on %s: every crossing %.0f ms, "
+               "runs %.0f ms (median), ratio %.2f; %.1f collisions per photon, %d dispatches, %llu cut short\n",
+               v.nx, v.ny, v.nz, photons, round, ctx->info().renderer.c_str(), median(ms[0]), median(ms[1]),
+               median(ms[0]) / median(ms[1]), double(st.collisions) / double(photons), st.dispatches,
+               static_cast<unsigned long long>(st.cut_short));
+}
+BENCHMARK(BM_RadianceVolumeBuild)
+    ->ArgNames({"photons"})
+    ->Arg(4096)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 }  // namespace
 

@@ -23,7 +23,8 @@
 // (16:9); this 2-core VM renders the demo at 960 × 540.
 // BM_DlmPruning (issue 19, session 15): the DLM build of the broadcast preset, pruned or not.
 // BM_DlmAdaptiveStep (issue 19, session 16): the DLM's fixed light step against the adaptive one.
-// BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model.
+// BM_MultipleScatteringCost (issue 12): the broadcast frame with each multiple-scattering model
+// (radiance_volume's eye pass since the seventeenth session).
 // BM_EyePassDefaults (issue 19 item 1): light cache and adaptive steps against the direct path.
 // BM_CloudResolution (issue 19 item 4): the clouds marched at 1/1, 1/2, 1/4 of the resolution.
 // BM_DetailCost (issue 13): cubic reconstruction and sub-grid detail against the plain frame.
@@ -524,12 +525,20 @@ void BM_MultipleScatteringCost(benchmark::State& state) {
   const lighting::DlmSettings ds;
   render::DeepLightMap dlm;
   dlm.build(tex, -sun.toSun(), ds);
-  constexpr int kModels = 3;  // lighting::MultipleScattering: single, octaves, two_stream
+  // lighting::MultipleScattering: single, octaves, two_stream, radiance_volume (seventeenth session:
+  // its volume is traced on the warm-up render and cached, as with the map — the rounds time the
+  // eye pass only; state.range(2) photons, the build's own cost is BM_RadianceVolumeBuild's)
+  constexpr int kModels = 4;
   render::RenderSettings rs[kModels];
   render::CloudRenderer renderer[kModels];
+  render::RadianceVolumeSettings rv;
+  rv.photons = std::uint32_t(state.range(2));
+  renderer[3].setRadianceVolumeSettings(rv);
+  double rvBuildMs = 0.0;
   for (int k = 0; k < kModels; ++k) {
     rs[k].multiple_scattering = lighting::MultipleScattering(k);
-    renderer[k].render(tex, dlm, camera, sun, rs[k]);  // compiles, warms up
+    const Timing warm = timed([&] { renderer[k].render(tex, dlm, camera, sun, rs[k]); });  // compiles, warms up
+    if (k == 3) rvBuildMs = warm.wall_ms;
   }
   Series cast[kModels], build;
   int round = 0;
@@ -561,20 +570,28 @@ void BM_MultipleScatteringCost(benchmark::State& state) {
     c["frame_cpu_ratio_" + name] = (dc + median(cast[k].cpu)) / (dc + median(cast[1].cpu));
   }
   c["dlm_ms"] = d;
+  c["cast_ratio_radiance_volume_to_two_stream"] = median(cast[3].wall) / median(cast[2].wall);
+  c["frame_ratio_radiance_volume_to_two_stream"] = (d + median(cast[3].wall)) / (d + median(cast[2].wall));
   std::fprintf(stderr,
                "multiple scattering cost, %s storm %dx%dx%d voxels, %dx%d pixels, %d rounds on %s\n"
-               "  DLM build wall %.0f ms (CPU %.0f); ray cast wall ms single %.0f, octaves %.0f, two_stream %.0f "
-               "(CPU %.0f, %.0f, %.0f)\n"
-               "  frame (DLM + cast) two_stream / octaves: wall %.3f, CPU %.3f; single / octaves: wall %.3f\n",
+               "  DLM build wall %.0f ms (CPU %.0f); ray cast wall ms single %.0f, octaves %.0f, two_stream %.0f, "
+               "radiance_volume %.0f (CPU %.0f, %.0f, %.0f, %.0f)\n"
+               "  frame (DLM + cast) two_stream / octaves: wall %.3f, CPU %.3f; single / octaves: wall %.3f\n"
+               "  radiance_volume / two_stream: cast wall %.3f, CPU %.3f; frame wall %.3f (its volume, %lld photons, "
+               "traced once with the warm-up frame: %.0f ms)\n",
                demo ? "demo" : "coarse", v.nx, v.ny, v.nz, width, height, round, ctx->info().renderer.c_str(), d, dc,
-               median(cast[0].wall), median(cast[1].wall), median(cast[2].wall), median(cast[0].cpu),
-               median(cast[1].cpu), median(cast[2].cpu), double(c["frame_ratio_two_stream"]),
-               double(c["frame_cpu_ratio_two_stream"]), double(c["frame_ratio_single"]));
+               median(cast[0].wall), median(cast[1].wall), median(cast[2].wall), median(cast[3].wall),
+               median(cast[0].cpu), median(cast[1].cpu), median(cast[2].cpu), median(cast[3].cpu),
+               double(c["frame_ratio_two_stream"]), double(c["frame_cpu_ratio_two_stream"]),
+               double(c["frame_ratio_single"]), median(cast[3].wall) / median(cast[2].wall),
+               median(cast[3].cpu) / median(cast[2].cpu), double(c["frame_ratio_radiance_volume_to_two_stream"]),
+               static_cast<long long>(state.range(2)), rvBuildMs);
 }
 BENCHMARK(BM_MultipleScatteringCost)
-    ->ArgNames({"scene", "width"})
-    ->Args({1, 1280})  // coarse storm, 1280 × 720
-    ->Args({0, 960})   // demo storm, 960 × 540
+    ->ArgNames({"scene", "width", "photons"})
+    ->Args({1, 1280, 65536})  // coarse storm, 1280 × 720
+    ->Args({1, 640, 16384})   // coarse storm, 640 × 360 (seventeenth session's run)
+    ->Args({0, 960, 65536})   // demo storm, 960 × 540
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(7);

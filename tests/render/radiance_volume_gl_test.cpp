@@ -127,8 +127,62 @@ TEST_F(RadianceVolumeTest, MatchesTheCpuTwinWithinThePhotonNoise) {
     EXPECT_NEAR(g[i], double(sums[i]) * gpu.momentUnit(), 1e-6 * std::abs(double(sums[i]) * gpu.momentUnit()) + 1e-30);
 }
 
+// Seventeenth session (docs/accuracy.md "Seventeenth session"): llvmpipe ends every loop of a SIMD
+// group past 65 535 back-edges (glsl/dlm/radiance_volume.comp, header); the sixteenth session's
+// build lost the remaining collisions of photons that needed more, silently (on the hurricane 87
+// collisions per photon against the twin's 98). Here every photon needs ≈ 10⁵ loop iterations at
+// little cost: the sun straight above a column of clear air, 6.4 km deep, whose occupancy bricks
+// all hold one dense voxel (β = 16 /m), so the majorant is 16 /m everywhere and a photon between
+// the dense voxels makes ≈ 10⁵ null collisions on its way down to an opaque floor (τ = 10). Nearly
+// every photon collides — at a dense voxel or the floor — in the CPU twin and in a build that
+// traces every photon to its end; with the step budget off (one dispatch, as the sixteenth
+// session's build) 0.06 of them, and loops cut short. 128 photons: the share's binomial standard
+// deviation is < 0.02, the bound 0.05. With the default bricks and with bricks of 16 voxels (whose majorants the volume
+// block misread before this session).
+ExtinctionVolumes spikyColumn() {
+  ExtinctionVolumes v = box(16, 16, 64, 1000.0, 100.0, 0.0f, 0.0f);
+  for (int j = 0; j < v.ny; ++j)
+    for (int i = 0; i < v.nx; ++i) v.water_per_m[std::size_t(j) * 16 + std::size_t(i)] = 0.1f;  // the floor
+  for (int k = 3; k < v.nz; k += 8)
+    for (int j = 3; j < v.ny; j += 8)
+      for (int i = 3; i < v.nx; i += 8) v.water_per_m[(std::size_t(k) * 16 + std::size_t(j)) * 16 + std::size_t(i)] = 16.0f;
+  v.updateMaxima();
+  return v;
+}
+
+TEST_F(RadianceVolumeTest, PhotonsWithManyNullCollisionsAreNotCutShort) {
+  const ExtinctionVolumes v = spikyColumn();
+  const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
+  const glm::dvec3 overhead(0.0, 0.0, 1.0);
+  render::RadianceVolumeSettings s;
+  s.photons = 128;
+  reference::McStats cpuStats;
+  cpuVolume(v, frame, overhead, s, 15, &cpuStats);
+  const double cpuCollided = double(cpuStats.collided) / double(cpuStats.photons);
+  EXPECT_GT(cpuCollided, 0.9);
+  for (int brick : {8, 16}) {
+    render::UploadOptions o;
+    o.brick_voxels = brick;
+    const auto tex = render::VolumeTextures::upload(v, frame, "spiky column", o);
+    render::RadianceVolume gpu;
+    ASSERT_TRUE(gpu.build(tex, overhead, s));
+    const render::RadianceVolumeStats& st = gpu.stats();
+    const double collided = double(st.collided) / double(s.photons);
+    if (std::getenv("NPH_TEST_VERBOSE"))
+      std::printf("bricks of %d: collided GPU %.3f CPU %.3f, collisions per photon GPU %.1f CPU %.1f, %d dispatches, "
+                  "%.0f ms\n",
+                  brick, collided, cpuCollided, double(st.collisions) / double(s.photons),
+                  double(cpuStats.collisions) / double(cpuStats.photons), st.dispatches, st.build_ms);
+    EXPECT_EQ(st.cut_short, 0u) << "bricks of " << brick;
+    EXPECT_GT(st.dispatches, 1) << "the budget must pause photons here, or the case tests nothing";
+    EXPECT_NEAR(collided, cpuCollided, 0.05) << "bricks of " << brick;
+  }
+}
+
 // Integer sums are associative: the same photons give the same volume bit for bit however the
-// invocations were scheduled; another seed does not.
+// invocations were scheduled; another seed does not. Seventeenth session: a photon's crossings are
+// summed in registers while it stays in one cell and added once (glsl/dlm/radiance_volume.comp),
+// so the sums are also those of the sixteenth session's one addition per crossing, bit for bit.
 TEST_F(RadianceVolumeTest, SameSeedSameVolumeBitForBit) {
   const ExtinctionVolumes v = structuredBox();
   const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
@@ -139,6 +193,10 @@ TEST_F(RadianceVolumeTest, SameSeedSameVolumeBitForBit) {
   ASSERT_TRUE(a.build(tex, kObliqueSun, s));
   ASSERT_TRUE(b.build(tex, kObliqueSun, s));
   EXPECT_FALSE(a.build(tex, kObliqueSun, s)) << "an unchanged key must not rebuild";
+  render::RadianceVolume everyCrossing(true);
+  ASSERT_TRUE(everyCrossing.build(tex, kObliqueSun, s));
+  EXPECT_EQ(a.readBackSums(), everyCrossing.readBackSums()) << "the tally runs against one addition per crossing";
+  EXPECT_EQ(a.stats().collisions, everyCrossing.stats().collisions);
   s.seed = 17;
   ASSERT_TRUE(c.build(tex, kObliqueSun, s));
   const auto sa = a.readBackSums(), sb = b.readBackSums(), sc = c.readBackSums();

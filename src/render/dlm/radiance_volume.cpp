@@ -22,11 +22,21 @@ constexpr double kMaxHarmonic = 0.8462843753216345;  // √(9/(4π))
 // surviving them is 0.999^2770 ≈ 6 % of those that reach them, and ≪ 10⁻⁶ of all).
 constexpr double kWeightBound = 16.0;
 constexpr double kInt32Bound = 2147483520.0;  // float's largest below 2³¹ (the shader's clamp)
+// llvmpipe's loop limiter (glsl/dlm/radiance_volume.comp, header): every loop of a shader ends
+// once a SIMD group of up to 16 invocations has taken 65 535 back-edges in all. A photon's steps
+// per dispatch, weighted by the back-edges they may cost, stay below 2048, so 16 of them (and the
+// last flight's tally, which cannot pause) stay below the limit with room.
+constexpr int kStepBudget = 2048;
+// Dispatches before the photons still paused are given up (counted as cut): far more than any
+// case needs (the hurricane's longest photon takes a few dozen).
+constexpr int kMaxDispatches = 100000;
+constexpr std::size_t kPhotonBytes = 48;  // McPhoton: vec4, vec4, uvec4 (std430)
 
 }  // namespace
 
-RadianceVolume::RadianceVolume()
-    : build_(gl::Program::compute("dlm/radiance_volume.comp")),
+RadianceVolume::RadianceVolume(bool tally_every_crossing)
+    : build_(tally_every_crossing ? gl::Program::compute("dlm/radiance_volume.comp", {{"TALLY_EVERY_CROSSING", "1"}})
+                                  : gl::Program::compute("dlm/radiance_volume.comp")),
       resolve_(gl::Program::compute("dlm/radiance_volume_resolve.comp")),
       stats_buffer_(gl::Buffer::create(8 * sizeof(std::uint32_t)).label("radiance volume stats")) {}
 
@@ -90,9 +100,22 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
   build_.set("u_max_events", s.max_events);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_MC_TALLY, tally_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_MC_STATS, stats_buffer_.id());
-  build_.dispatchCovering({int(s.photons), 1, 1});
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-
+  // Resumable photons (the shader's header): dispatch until no photon is paused.
+  if (photons_.id() == 0 || photons_.size() < std::size_t(s.photons) * kPhotonBytes)
+    photons_ = gl::Buffer::create(std::size_t(s.photons) * kPhotonBytes).label("radiance volume photons");
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_MC_PHOTONS, photons_.id());
+  build_.set("u_step_budget", kStepBudget);
+  std::uint32_t paused = 0;
+  int dispatches = 0;
+  do {
+    build_.set("u_start", dispatches == 0 ? 1 : 0);
+    glClearNamedBufferSubData(stats_buffer_.id(), GL_R32UI, 5 * sizeof(std::uint32_t), sizeof(std::uint32_t),
+                              GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    build_.dispatchCovering({int(s.photons), 1, 1});
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    stats_buffer_.download(5 * sizeof(std::uint32_t), sizeof(paused), &paused);
+    ++dispatches;
+  } while (paused > 0 && dispatches < kMaxDispatches);
   if (!moments_[0] || moments_[0].width() != cells.x || moments_[0].height() != cells.y ||
       moments_[0].depth() != cells.z)
     for (int k = 0; k < kRadianceVolumeTextures; ++k)
@@ -118,6 +141,9 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
   stats_.rouletted = st[2];
   stats_.truncated = st[3];
   stats_.clamped = st[4];
+  stats_.truncated += paused;  // still paused after kMaxDispatches (not expected)
+  stats_.cut_short = st[6];
+  stats_.dispatches = dispatches;
   stats_.cells = cells;
   stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   stats_.rebuilt = true;
@@ -125,8 +151,11 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
   key_ = key;
   if (stats_.clamped > 0)
     log::warn("radiance volume: {} tally additions past the fixed-point bound were clamped", stats_.clamped);
-  log::debug("radiance volume: {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {:.0f} ms", s.photons,
-             double(stats_.collisions) / double(s.photons), cells.x, cells.y, cells.z, stats_.build_ms);
+  if (stats_.cut_short > 0)
+    log::warn("radiance volume: {} loops ended by the driver's loop limiter (photons cut short)", stats_.cut_short);
+  log::debug("radiance volume: {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {} dispatches, {:.0f} ms",
+             s.photons, double(stats_.collisions) / double(s.photons), cells.x, cells.y, cells.z, dispatches,
+             stats_.build_ms);
   return true;
 }
 
@@ -164,7 +193,7 @@ std::vector<float> RadianceVolume::readBackMoments() const {
 }
 
 std::size_t RadianceVolume::textureBytes() const {
-  std::size_t b = tally_.size();
+  std::size_t b = tally_.size() + photons_.size();
   for (const gl::Texture& t : moments_) b += t ? t.bytes() : 0;
   return b;
 }

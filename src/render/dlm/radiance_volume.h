@@ -51,6 +51,10 @@ struct RadianceVolumeStats {
   std::uint64_t rouletted = 0;
   std::uint64_t truncated = 0;  ///< cut by max_events (biased)
   std::uint64_t clamped = 0;    ///< tally additions past the fixed-point bound (clamped; expected 0)
+  /// Loops that ended without their exit condition — a driver's loop limiter (llvmpipe: 65 535
+  /// back-edges per SIMD group) cutting photons short; expected 0 (glsl/dlm/radiance_volume.comp).
+  std::uint64_t cut_short = 0;
+  int dispatches = 0;  ///< of the resumable build (photons paused after a step budget, then resumed)
   glm::ivec3 cells{0};
   double build_ms = 0.0;  ///< both passes, wall time incl. glFinish
   bool rebuilt = false;
@@ -59,7 +63,10 @@ struct RadianceVolumeStats {
 
 class RadianceVolume {
  public:
-  RadianceVolume();
+  /// `tally_every_crossing`: the sixteenth session's tally, every crossing's 25 moments added to the
+  /// SSBO at once instead of once per run of crossings in one cell (the benchmark's baseline; the
+  /// same sums bit for bit).
+  explicit RadianceVolume(bool tally_every_crossing = false);
 
   /// Traces the volume for `volume` lit from `to_sun` (unit, world, towards the sun). Returns false
   /// and does nothing when the cache key (volume identity, sun, settings) is unchanged. Throws
@@ -85,7 +92,7 @@ class RadianceVolume {
 
  private:
   gl::Program build_, resolve_;
-  gl::Buffer tally_, stats_buffer_;
+  gl::Buffer tally_, stats_buffer_, photons_;
   gl::Texture moments_[kRadianceVolumeTextures];
   glm::dvec3 cell_m_{0.0};
   double quantum_m_ = 0.0, moment_unit_ = 0.0;

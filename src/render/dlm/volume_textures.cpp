@@ -198,7 +198,9 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
   block.box_min_m = glm::vec3(t.frame_.min_m());
   block.box_size_m = glm::vec3(t.frame_.size_m());
   block.voxels = t.frame_.voxels;
-  block.brick_voxels = t.occupancy_.brick;
+  // The brick the occupancy below is built with (t.occupancy_ is still the default here: reading
+  // its brick gave 8 whatever the option, and the majorants of another size were misread).
+  block.brick_voxels = o.brick_voxels;
   block.has_ice = t.hasIce() ? 1u : 0u;
   block.has_water = t.hasWater() ? 1u : 0u;
   block.reconstruction = volume::cubicWeights(reconstruction) ? 1 : 0;  // the shaders' RECONSTRUCTION_CUBIC

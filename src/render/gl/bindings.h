@@ -49,7 +49,8 @@
   X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down): eye pass; all passes when packed only (issue 19) */ \
   /* Monte Carlo radiance volume, glsl/dlm/radiance_volume*.comp (render/dlm/radiance_volume.cpp) */ \
   X(SSBO_MC_TALLY, 4)           /* uint[]: fixed-point SH tallies, (low, high) words per moment */ \
-  X(SSBO_MC_STATS, 5)           /* uint[]: photons collided, collisions, rouletted, cut, clamped */ \
+  X(SSBO_MC_STATS, 5)           /* uint[8]: collided, collisions, rouletted, cut, clamped, paused, cut short */ \
+  X(SSBO_MC_PHOTONS, 6)         /* McPhoton[]: each photon's state between dispatches (seventeenth session) */ \
   X(IMAGE_MC_MOMENTS, 0)        /* image3D rgba32f[7]: the resolved moments (units 0–6) */      \
   X(UNIT_MC_MOMENTS, 24)        /* sampler3D[7]: the same, read by the eye pass (units 24–30) */ \
   /* Ray caster, glsl/render/clouds.comp and globe.glsl (render/raycast/cloud_renderer.cpp) */   \
