@@ -19,6 +19,16 @@ Vec4 cubicBSplineWeights(Number f) {
               Number(2.0) / Number(3.0) - Number(0.5) * g * g * (Number(1.0) + f), f * f * f / Number(6.0));
 }
 
+// Their derivatives d w_k / d f (−g²/2, f(3f − 4)/2, (1 + 2f − 3f²)/2, f²/2): the spline's slope is
+// Σ w_k'·s_k per sample spacing. They sum to 0, and Σ w_k'·s_k = Σ_{k=1..3} B2_k(f)·(s_k − s_{k−1})
+// with B2 the quadratic B-spline's weights (≥ 0, summing to 1), so the slope never exceeds the
+// largest step between neighbouring samples (the terrain's Lipschitz bound, volume/terrain_field.cpp).
+Vec4 cubicBSplineSlopes(Number f) {
+  Number g = Number(1.0) - f;
+  return Vec4(Number(-0.5) * g * g, Number(0.5) * f * (Number(3.0) * f - Number(4.0)),
+              Number(0.5) * (Number(1.0) + Number(2.0) * f - Number(3.0) * f * f), Number(0.5) * f * f);
+}
+
 // The same weights merged pairwise into two linear fetches (§20.3): (g0, g1, h0, h1), where
 // g0 = w0 + w1 and g1 = w2 + w3 weight the two fetches and h0 = w1 / g0, h1 = w3 / g1 are their
 // fractions past samples c₁ − 1 and c₁ + 1 — a linear fetch at c₁ − 1 + h0 returns

@@ -5,9 +5,10 @@
 // 2017's shared definitions).
 //
 // The surface (Thomann 2021 §5.3 draws WRF's HGT as a displaced mesh; Muth 2026 §3.4.10 and
-// weBIGeo show clouds over real terrain): z = e·h(x, y), h the heights bilinear between the mass
-// points (i + ½)·dx, (j + ½)·dy — the same lattice as the voxel centres — and e the height
-// exaggeration, applied exactly as to the clouds (Nes 2008 §5.5.2). Outside the data's footprint
+// weBIGeo show clouds over real terrain): z = e·h(x, y), h the interpolating cubic spline through
+// the heights at the mass points (i + ½)·dx, (j + ½)·dy — the same lattice as the voxel centres —
+// and e the height exaggeration, applied exactly as to the clouds (Nes 2008 §5.5.2). Outside the
+// data's footprint
 // the edge heights are held (clamp to edge) and fade linearly to sea level over `fade_m`, so the
 // ground beyond the domain is the plane z = 0 of the flat view (item 4, no void) with no cliff at
 // the domain's edge.
@@ -67,27 +68,69 @@ Number terrainFarHeight_m(TerrainGrid g, Vec2 xy) {
              mix(TERRAIN_FAR_TEXEL(g, i0.x, i1.y), TERRAIN_FAR_TEXEL(g, i1.x, i1.y), f.x), f.y);
 }
 
-// Terrain height in world metres (exaggerated) at world (x, y): bilinear between mass points,
+// The lattice's surface and its slope at the clamped continuous index qc ∈ [0, size − 1]²:
+// (h [m], ∂h/∂q_x, ∂h/∂q_y [m per lattice step]), h = Σ_a Σ_b w_a(f_x)·w_b(f_y)·c(i₀ + a − 1, j₀ + b − 1)
+// with the uniform cubic B-spline's weights (glsl/common/cubic_bspline.glsl) and indices clamped
+// to the lattice. TERRAIN_TEXEL holds the coefficients c of the interpolating spline
+// (volume/terrain_field.cpp splineCoefficients: Unser 1999's prefilter, as the clouds'
+// `cubic_interpolating` reconstruction), so h passes through the lattice's heights exactly.
+// Issue 14 (seventeenth session): the bilinear surface of before was C⁰ — a ruled patch per cell,
+// its normal (central differences) kinked along every lattice line — so within ~10 km of a low
+// eye the 500 m DEM showed its cells as facets and its ridgelines as polygons. The spline is C²,
+// the normal is continuous and taken from the same polynomial (no finite differences), and on
+// relief of 8 lattice steps' wavelength its normal is ~10–20× closer to the true surface's than
+// the old one (tests/scene/terrain_surface_test.cpp). The plain B-spline of the heights (no
+// prefilter) would be smoother still but lowers every peak and flattens every slope — its normals
+// were further from the truth than the bilinear's. Cost: 16 texel fetches instead of 4. The
+// weights are ≥ 0 and sum to 1, so the surface stays inside its coefficients' range and its
+// slope inside the largest step between neighbouring coefficients: the march's slab and
+// Lipschitz bound are the coefficients' (TerrainField::min_m, max_m, lipschitz).
+Vec3 terrainLatticeSpline(TerrainGrid g, Vec2 qc) {
+  ivec2 i0 = ivec2(floor(qc));
+  Vec2 f = qc - Vec2(i0);
+  ivec2 last = g.size - ivec2(1);
+  Vec4 wx = cubicBSplineWeights(f.x), wy = cubicBSplineWeights(f.y);
+  Vec4 sx = cubicBSplineSlopes(f.x), sy = cubicBSplineSlopes(f.y);
+  Vec3 s = Vec3(Number(0.0));
+  for (int b = 0; b < 4; ++b) {
+    int j = min(max(i0.y - 1 + b, 0), last.y);
+    Number row = Number(0.0), rowSlope = Number(0.0);
+    for (int a = 0; a < 4; ++a) {
+      Number h = TERRAIN_TEXEL(g, min(max(i0.x - 1 + a, 0), last.x), j);
+      row += wx[a] * h;
+      rowSlope += sx[a] * h;
+    }
+    s += Vec3(wy[b] * row, wy[b] * rowSlope, sy[b] * row);
+  }
+  return s;
+}
+
+// Terrain height in world metres (exaggerated) at world (x, y): the lattice's interpolating spline,
 // clamped to the edge, faded to 0 over fade_m outside the footprint of the mass points.
 Number terrainHeight_m(TerrainGrid g, Vec2 xy) {
   Vec2 q = xy / g.cell_m - Vec2(Number(0.5));  // continuous mass-point index
   Vec2 hi = Vec2(g.size - ivec2(1));
   Vec2 qc = clamp(q, Vec2(Number(0.0)), hi);
-  ivec2 i0 = ivec2(floor(qc));
-  ivec2 i1 = min(i0 + ivec2(1), g.size - ivec2(1));
-  Vec2 f = qc - Vec2(i0);
-  Number h = mix(mix(TERRAIN_TEXEL(g, i0.x, i0.y), TERRAIN_TEXEL(g, i1.x, i0.y), f.x),
-                 mix(TERRAIN_TEXEL(g, i0.x, i1.y), TERRAIN_TEXEL(g, i1.x, i1.y), f.x), f.y);
+  Number h = terrainLatticeSpline(g, qc).x;
   Number outside_m = length((q - qc) * g.cell_m);
   Number fade = clamp(Number(1.0) - outside_m / g.fade_m, Number(0.0), Number(1.0));
   if (g.has_far && fade < Number(1.0)) return mix(terrainFarHeight_m(g, xy), h, fade) * g.exaggeration;
   return h * g.exaggeration * fade;
 }
 
-// Unit surface normal of the displaced (exaggerated) terrain: central differences half a cell
-// either way, the normal (−∂z/∂x, −∂z/∂y, 1) normalised. The exaggerated slope is what the picture
-// shows, so it is what is shaded (the "z-factor" of hill shading).
+// Unit surface normal of the displaced (exaggerated) terrain, (−∂z/∂x, −∂z/∂y, 1) normalised. The
+// exaggerated slope is what the picture shows, so it is what is shaded (the "z-factor" of hill
+// shading). Inside the footprint (half a cell short of its edge, where the clamp and the fade
+// begin) the slope is the B-spline's own, analytic: e·∂h/∂q / cell. Elsewhere — the fade to the
+// far field or to sea level — central differences half a cell either way, as before.
 Vec3 terrainNormal(TerrainGrid g, Vec2 xy) {
+  Vec2 q = xy / g.cell_m - Vec2(Number(0.5));
+  Vec2 hi = Vec2(g.size - ivec2(1));
+  if (q.x >= Number(0.0) && q.y >= Number(0.0) && q.x <= hi.x && q.y <= hi.y) {
+    Vec3 s = terrainLatticeSpline(g, q);
+    Vec2 slope = g.exaggeration * Vec2(s.y, s.z) / g.cell_m;
+    return normalize(Vec3(-slope.x, -slope.y, Number(1.0)));
+  }
   Vec2 d = Number(0.5) * g.cell_m;
   Number dzdx = (terrainHeight_m(g, xy + Vec2(d.x, Number(0.0))) - terrainHeight_m(g, xy - Vec2(d.x, Number(0.0)))) /
                 (Number(2.0) * d.x);

@@ -204,7 +204,7 @@ vec3 skyIrradianceAtDrawn(float drawnHeight_m, float sinSunElevation) {
 
 // The ground's height field (issue 14; glsl/common/terrain.glsl) and the far basemap (item 4). One
 // std140 block, declared in C++ as gl::TerrainBlock (render/gl/uniform_blocks.h).
-layout(binding = UNIT_TERRAIN) uniform sampler2D u_terrain;  // R32F height [m] per mass point
+layout(binding = UNIT_TERRAIN) uniform sampler2D u_terrain;  // R32F spline coefficient [m] per lattice point
 layout(binding = UNIT_FAR_TERRAIN) uniform sampler2D u_far_terrain;  // R32F height [m]: a DEM beyond the domain
 layout(binding = UNIT_FAR_BASEMAP) uniform sampler2D u_far_basemap;  // as u_basemap, over u_far_basemap_min..max
 layout(std140, binding = UBO_TERRAIN) uniform TerrainBlock {

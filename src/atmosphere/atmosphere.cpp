@@ -243,6 +243,11 @@ glm::dvec3 skyIrradiance(const Parameters& p, double altitude_m, double sun_elev
 }
 
 double horizontalIlluminance(const Parameters& p, double altitude_m, double sun_elevation_rad) {
+  const glm::dvec3 e = horizontalIrradiance(p, altitude_m, sun_elevation_rad);
+  return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
+}
+
+glm::dvec3 horizontalIrradiance(const Parameters& p, double altitude_m, double sun_elevation_rad) {
   Parameters once = p;
   once.multiple_scattering = false;
   Quadrature q;
@@ -251,8 +256,7 @@ double horizontalIlluminance(const Parameters& p, double altitude_m, double sun_
   const double mu_s = std::sin(sun_elevation_rad);
   const glm::dvec3 direct =
       std::max(mu_s, 0.0) * sunTransmittance(p, p.bottom_radius_m + altitude_m, mu_s, q.transmittance_steps);
-  const glm::dvec3 e = direct + skyIrradiance(once, altitude_m, sun_elevation_rad, q);
-  return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
+  return direct + skyIrradiance(once, altitude_m, sun_elevation_rad, q);
 }
 
 }  // namespace nph::atmosphere

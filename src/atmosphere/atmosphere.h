@@ -168,6 +168,11 @@ glm::dvec3 skyIrradiance(const Parameters& p, double altitude_m, double sun_elev
 /// image's light: Hillaire's Ψ_ms adds ≈ 10 % to E_sky at noon and more at twilight, and a meter's
 /// ±0.1 EV does not show. 0.1 ms.
 double horizontalIlluminance(const Parameters& p, double altitude_m, double sun_elevation_rad);
+/// The same meter per channel: the irradiance of a horizontal surface at `altitude_m`, direct sun
+/// μ_s·T_sun plus the once-scattered sky (per unit solar irradiance). The ground under the clouds
+/// is lit by this: its Lambertian bounce ρ̄/π·E·horizontalIrradiance is the light the clouds' bases
+/// get from below (render/raycast/cloud_renderer.cpp; issue 14, seventeenth session).
+glm::dvec3 horizontalIrradiance(const Parameters& p, double altitude_m, double sun_elevation_rad);
 
 /// The observer at altitude h above the ground at the north pole of the planet-centred frame:
 /// (0, 0, R + h); local directions (x, y horizontal, z up) are then planet-frame directions.

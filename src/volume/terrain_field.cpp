@@ -19,6 +19,7 @@ using std::abs;
 using Number = double;
 using Vec2 = glm::dvec2;
 using Vec3 = glm::dvec3;
+using Vec4 = glm::dvec4;
 using ivec2 = glm::ivec2;
 /// The shader's view of the field (the GLSL side builds the same struct from TerrainBlock).
 struct TerrainGrid {
@@ -33,13 +34,14 @@ struct TerrainGrid {
 };
 #define TERRAIN_TEXEL(g, i, j) Number((g).texels[std::size_t(j) * std::size_t((g).size.x) + std::size_t(i)])
 #define TERRAIN_FAR_TEXEL(g, i, j) Number((g).far_texels[std::size_t(j) * std::size_t((g).far_size.x) + std::size_t(i)])
+#include "../glsl/common/cubic_bspline.glsl"  // the surface's weights (terrain.glsl terrainLatticeSpline)
 #include "../glsl/common/terrain.glsl"
 #undef TERRAIN_TEXEL
 #undef TERRAIN_FAR_TEXEL
 
 TerrainGrid gridOf(const TerrainField& t) {
   return {t.size,      t.cell_m,     t.exaggeration,       t.fade_m,   t.max_m,
-          t.min_m,     t.lipschitz,  t.height_m.data(),    t.hasFar(), t.far_size,
+          t.min_m,     t.lipschitz,  t.spline_m.data(),    t.hasFar(), t.far_size,
           t.far_min_m, t.far_cell_m, t.far_height_m.data()};
 }
 }  // namespace f64
@@ -86,6 +88,36 @@ FieldBounds boundsOf(const std::vector<float>& h_m, int w, int h, const std::str
     }
   }
   return b;
+}
+
+/// Per line of n samples s (stride apart in `a`), in place: the coefficients c of the cubic
+/// B-spline through them, (c[i−1] + 4·c[i] + c[i+1]) / 6 = s[i], with the lattice's clamp to edge
+/// (c[−1] = c[0], c[n] = c[n − 1]: the indices terrain.glsl clamps), so the first and last rows
+/// read (5·c[0] + c[1]) / 6 = s[0]. Thomas algorithm in double; the matrix is strictly diagonally
+/// dominant (Unser 1999 prefilters the same system recursively; volume/spline_coefficients.h solves
+/// it with the clouds' zero border instead).
+void splineLine(std::vector<double>& a, std::size_t first, std::size_t stride, int n, std::vector<double>& cp) {
+  if (n == 1) return;  // c[−1] = c[0] = c[1]: c = s
+  const auto at = [&](int i) -> double& { return a[first + std::size_t(i) * stride]; };
+  constexpr double kOff = 1.0 / 6.0;
+  const auto diag = [&](int i) { return i == 0 || i == n - 1 ? 5.0 / 6.0 : 4.0 / 6.0; };
+  cp.resize(std::size_t(n));
+  cp[0] = kOff / diag(0);
+  at(0) /= diag(0);
+  for (int i = 1; i < n; ++i) {
+    const double m = diag(i) - kOff * cp[std::size_t(i - 1)];
+    cp[std::size_t(i)] = kOff / m;
+    at(i) = (at(i) - kOff * at(i - 1)) / m;
+  }
+  for (int i = n - 2; i >= 0; --i) at(i) -= cp[std::size_t(i)] * at(i + 1);
+}
+
+/// The interpolating bicubic B-spline's coefficients of a w × h field (x fastest): along x, then y.
+std::vector<float> splineCoefficients(const std::vector<float>& h_m, int w, int h) {
+  std::vector<double> a(h_m.begin(), h_m.end()), cp;
+  for (int j = 0; j < h; ++j) splineLine(a, std::size_t(j) * std::size_t(w), 1, w, cp);
+  for (int i = 0; i < w; ++i) splineLine(a, std::size_t(i), std::size_t(w), h, cp);
+  return std::vector<float>(a.begin(), a.end());
 }
 
 }  // namespace
@@ -143,12 +175,21 @@ TerrainField terrainOf(const ExtinctionVolumes& v, const VolumeFrame& frame, con
       if (!std::isnan(dem->model_m[k])) t.height_m[k] = dem->model_m[k];
     }
   }
-  const FieldBounds near = boundsOf(t.height_m, t.size.x, t.size.y, hasDem ? dem->source : v.source_file, "terrain");
+  const std::string& source = hasDem ? dem->source : v.source_file;
+  boundsOf(t.height_m, t.size.x, t.size.y, source, "terrain");  // finite heights, or the error naming the column
+  // The surface is the cubic B-spline of the coefficients (glsl/common/terrain.glsl), so its
+  // bounds are theirs: with weights ≥ 0 summing to 1 it stays within their range, and its slope
+  // along x is a blend (the quadratic B-spline's weights in x times the cubic's in y) of the
+  // differences between x-neighbouring coefficients, so |∂z/∂x| ≤ e·sx/dx and |∂z/∂y| ≤ e·sy/dy
+  // inside the footprint. Where the heights step, the coefficients ring (by ≈ 27 % of a step,
+  // decaying by 2 − √3 per lattice point), and the range and steps take that in.
+  t.spline_m = splineCoefficients(t.height_m, t.size.x, t.size.y);
+  const FieldBounds near = boundsOf(t.spline_m, t.size.x, t.size.y, source, "terrain spline");
   const double e = t.exaggeration;
   double lo = near.lo, hi = near.hi;
-  // A bilinear patch's gradient is a blend of its edges' differences, so |∂z/∂x| ≤ e·sx/dx and
-  // |∂z/∂y| ≤ e·sy/dy inside the footprint; the fade adds at most e·max|h|/fade_m, and the product
-  // h·fade keeps |∇| ≤ |∇h|·fade + |h|·|∇fade|. 1 % margin for float rounding of the heights.
+  // So, as for the bilinear surface of before, with the coefficients' steps; the fade adds at most
+  // e·max|h|/fade_m, and the product h·fade keeps |∇| ≤ |∇h|·fade + |h|·|∇fade|. 1 % margin for
+  // float rounding of the heights.
   const double inside = std::hypot(e * near.step_x / t.cell_m.x, e * near.step_y / t.cell_m.y);
   double lipschitz = inside + e * std::max(near.hi, -near.lo) / t.fade_m;
   if (hasDem && !dem->far_m.empty()) {

@@ -41,8 +41,12 @@ struct TerrainField {
   double fade_m = 0.0;          ///< outside the footprint, heights fall linearly to 0 over this distance
   double max_m = 0.0;           ///< highest world height, ≥ 0 (the ground beyond the fade is at 0)
   double min_m = 0.0;           ///< lowest world height, ≤ 0
-  double lipschitz = 0.0;       ///< upper bound of |∇(e·h)| of the bilinear, faded surface
+  double lipschitz = 0.0;       ///< upper bound of |∇(e·h)| of the B-spline, faded surface
   std::vector<float> height_m;  ///< nx·ny heights above MSL, x fastest (not exaggerated)
+  /// The surface's own texels: the interpolating cubic B-spline's coefficients of height_m on the
+  /// same lattice (terrainOf; glsl/common/terrain.glsl terrainLatticeSpline reads these, the GPU's
+  /// R32F texture holds them), so that the C² surface passes through height_m at every lattice point.
+  std::vector<float> spline_m;
   /// The far field (a DEM's relief beyond the domain; glsl/common/terrain.glsl): empty without.
   glm::ivec2 far_size{0};
   glm::dvec2 far_min_m{0.0};

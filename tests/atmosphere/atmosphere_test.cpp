@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "homogeneous_atmosphere.h"
@@ -171,6 +172,86 @@ TEST(AtmosphereModel, SkyIrradianceFallsWithTheSun) {
   EXPECT_GT(noon.b, noon.r);
   EXPECT_GT(noon.g, 0.03);
   EXPECT_LT(noon.g, 0.3);
+}
+
+// Issue 14 (seventeenth session): is the low sun's colour right? The sunlight through a
+// Rayleigh-only atmosphere (exponential, scale height H, β_R at 680/550/440 nm) against the
+// closed-form Beer–Lambert law along the curved path: τ = β_R·H·e^{−h/H}·Ch(x, χ), x = (R + h)/H,
+// with Chapman's grazing-incidence function in its asymptotic form (Chapman 1931; e.g. Schüler
+// 2012, GPU Pro 3 "An approximation to the Chapman grazing-incidence function")
+//   Ch(x, χ) ≈ √(πx/2) · e^{y²} · erfc(y),  y = √(x/2)·cos χ,
+// whose own error is ≈ 1/x ≈ 0.13 % of τ for every χ ≤ 90° (x ≈ 800); the top at 100 km truncates
+// e^{−12.5} of it. Tolerance 0.3 % of τ. And the air mass at 6° (zenith 84°) against Kasten and
+// Young 1989's empirical formula for the real atmosphere (8.84, refraction included, which this
+// model has not: 1.3 % apart; tolerance 2 %).
+TEST(AtmosphereModel, LowSunThroughRayleighAirIsTheClosedFormBeerLambert) {
+  Parameters p = Parameters::earth();
+  p.mie_scattering_per_m = glm::dvec3(0.0);
+  p.mie_absorption_per_m = glm::dvec3(0.0);
+  p.ozone_absorption_per_m = glm::dvec3(0.0);
+  const double H = p.rayleigh_scale_height_m;
+  for (double h : {0.0, 2000.0, 5000.0, 10000.0}) {
+    for (double elevation_deg : {90.0, 30.0, 10.0, 6.0, 3.0}) {
+      const double mu = std::sin(elevation_deg * kPi / 180.0);
+      const double x = (p.bottom_radius_m + h) / H, y = std::sqrt(x / 2.0) * mu;
+      const double chapman = std::sqrt(kPi * x / 2.0) * std::exp(y * y) * std::erfc(y);
+      const glm::dvec3 t = transmittanceToTop(p, p.bottom_radius_m + h, mu, 4096);
+      for (int c = 0; c < 3; ++c) {
+        const double tau_closed = p.rayleigh_scattering_per_m[c] * H * std::exp(-h / H) * chapman;
+        EXPECT_NEAR(-std::log(t[c]) / tau_closed, 1.0, 3e-3)
+            << "h " << h << " m, sun " << elevation_deg << " deg, channel " << c;
+      }
+    }
+  }
+  const double tau_6 = -std::log(transmittanceToTop(p, p.bottom_radius_m, std::sin(6.0 * kPi / 180.0), 4096).g);
+  const double air_mass = tau_6 / (p.rayleigh_scattering_per_m.g * H);
+  const double z = 84.0;  // Kasten & Young 1989: 1 / (cos z + 0.50572·(96.07995° − z)^−1.6364)
+  const double kasten_young = 1.0 / (std::cos(z * kPi / 180.0) + 0.50572 * std::pow(96.07995 - z, -1.6364));
+  EXPECT_NEAR(kasten_young, 8.84, 0.01);
+  EXPECT_NEAR(air_mass / kasten_young, 1.0, 0.02);
+}
+
+// The full Earth model (Rayleigh, Mie, ozone) at a 6° sun: the direct beam at sea level is
+// strongly reddened — (0.59, 0.30, 0.093): R e^{−0.046·8.7}, G e^{−0.108·8.7} and the ozone's
+// Chappuis band in green, B e^{−0.265·8.7} — and it pales with height as the air mass above
+// halves every 5.5 km (the closed forms of the test above, with the Mie and ozone paths of the
+// same geometry: Python quadrature, 20 000 steps). At 8 km, where the storm's anvils stand, the
+// sunlight is (0.80, 0.57, 0.42): peach, not orange. Values to 0.005.
+TEST(AtmosphereModel, LowSunIsReddenedAtTheGroundAndPalerAtTheAnvils) {
+  const Parameters p = Parameters::earth();
+  const double mu = std::sin(6.0 * kPi / 180.0);
+  const glm::dvec3 ground = sunTransmittance(p, p.bottom_radius_m, mu, 4096);
+  const glm::dvec3 anvil = sunTransmittance(p, p.bottom_radius_m + 8000.0, mu, 4096);
+  const glm::dvec3 ground_expected(0.590, 0.300, 0.093), anvil_expected(0.798, 0.565, 0.423);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(ground[c], ground_expected[c], 5e-3) << "channel " << c;
+    EXPECT_NEAR(anvil[c], anvil_expected[c], 5e-3) << "channel " << c;
+  }
+  EXPECT_LT(ground.b / ground.r, 0.2);  // orange-red at the ground
+  EXPECT_GT(anvil.b / anvil.r, 0.5);    // half the blue left at 8 km
+}
+
+// The ground under the clouds at a low sun (their light from below; render/raycast/
+// cloud_renderer.cpp): horizontalIrradiance is the direct beam μ_s·T_sun — the closed form's colour
+// above — plus the sky. At 6°, 1 km up, the ground is lit warm (R > G > B) although the sky's share
+// is blue; the clear-sky model used before gave the bounce the unattenuated sun, (1, 1, 1)·μ_s plus a
+// bluish sky: B/R 1.3. At noon the same meter reads nearly neutral. Its luminance is the exposure's
+// meter (horizontalIlluminance).
+TEST(AtmosphereModel, GroundUnderALowSunIsLitWarm) {
+  const Parameters p = Parameters::earth();
+  const double low = 6.0 * kPi / 180.0, noon = 60.0 * kPi / 180.0;
+  const glm::dvec3 e = horizontalIrradiance(p, 1000.0, low);
+  const glm::dvec3 direct = std::sin(low) * sunTransmittance(p, p.bottom_radius_m + 1000.0, std::sin(low), 4096);
+  for (int c = 0; c < 3; ++c) EXPECT_GT(e[c], direct[c]) << c;  // the sky adds to the beam
+  EXPECT_NEAR(direct.r, std::sin(low) * 0.637, 2e-3);           // the closed form's beam at 1 km (Python)
+  EXPECT_GT(e.r, e.g);
+  EXPECT_GT(e.g, e.b);
+  EXPECT_LT(e.b / e.r, 0.8);
+  const glm::dvec3 n = horizontalIrradiance(p, 1000.0, noon);
+  EXPECT_GT(n.b / n.r, 0.8);
+  EXPECT_NEAR(0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z, horizontalIlluminance(p, 1000.0, low), 1e-12);
+  std::printf("ground at 1 km: sun 6 deg %.4f %.4f %.4f (direct %.4f %.4f %.4f), sun 60 deg %.4f %.4f %.4f\n", e.r, e.g,
+              e.b, direct.r, direct.g, direct.b, n.r, n.g, n.b);
 }
 
 }  // namespace

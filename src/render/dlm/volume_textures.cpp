@@ -157,16 +157,17 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     }
     t.packed_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
-  // The terrain's heights, fetched texel by texel (glsl/common/terrain.glsl interpolates itself:
-  // fixed-function bilinear weights have 8 bits on most GPUs, which would terrace the normals).
+  // The terrain's surface: its interpolating spline's coefficients (TerrainField::spline_m),
+  // fetched texel by texel (glsl/common/terrain.glsl interpolates itself: fixed-function bilinear
+  // weights have 8 bits on most GPUs, which would terrace the normals).
   t.terrain_ = volume::terrainOf(header, frame, o.dem);
   {
     const bool present = t.terrain_.present();
     const int w = present ? t.terrain_.size.x : 1, h = present ? t.terrain_.size.y : 1;
-    t.terrain_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("terrain height [m]");
+    t.terrain_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("terrain spline [m]");
     const float zero = 0.0f;
     glTextureSubImage2D(t.terrain_tex_.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT,
-                        present ? t.terrain_.height_m.data() : &zero);
+                        present ? t.terrain_.spline_m.data() : &zero);
     t.terrain_tex_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
     // A user DEM's far field (glsl/common/terrain.glsl terrainFarHeight_m), row 0 south as the
     // mass points.

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "atmosphere/atmosphere.h"
 #include "core/error.h"
 #include "render/gl/debug.h"
 
@@ -349,6 +351,22 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   const lighting::SkyLight sky = lighting::skyLightFor(s, sun.elevation_deg, sun.colour, sun.intensity);
   b.sky_radiance = glm::vec3(sky.above);
   b.below_radiance = glm::vec3(sky.below);
+  if (s.atmosphere && !s.sky_below) {
+    // The light from below (issue 14, seventeenth session): the ground under the clouds is lit
+    // through the air, so its Lambertian bounce is ρ̄/π·E·(μ_s·T_sun + E_sky) at the ground's
+    // height (the terrain's mean, true metres), not the unattenuated sun of the clear-sky model
+    // above — at a 6° sun that white beam made the bounce 1 : 1.16 : 1.33 where the air's is
+    // 1 : 0.71 : 0.54, and the clouds' undersides lilac (docs/atmosphere.md "The golden-hour light").
+    const volume::TerrainField& terrain = volume.terrain();
+    double ground_m = 0.0;
+    if (terrain.present() && !terrain.height_m.empty()) {
+      for (float z : terrain.height_m) ground_m += std::max(double(z), 0.0);
+      ground_m /= double(terrain.height_m.size());
+    }
+    const glm::dvec3 e =
+        atmosphere::horizontalIrradiance(atmosphere::Parameters::earth(), ground_m, glm::radians(sun.elevation_deg));
+    b.below_radiance = glm::vec3(s.ground_albedo / std::numbers::pi * sun.colour * sun.intensity * e);
+  }
   b.octaves = s.octaves.octaves;
   b.cloud_ms_model = std::int32_t(s.multiple_scattering);
   b.ms_extinction_scale = float(s.octaves.extinction_scale);
