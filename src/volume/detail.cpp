@@ -54,6 +54,57 @@ glm::dvec4 DetailControls::at(const glm::dvec3& g) const {
   return r / 255.0;
 }
 
+double detailClock_s(const geo::OptionalUtcTime& time_utc) {
+  static const geo::UtcTime epoch = geo::UtcTime::parse("2000-01-01T00:00:00Z");
+  return time_utc ? time_utc->secondsSince(epoch) : 0.0;
+}
+
+DetailFlow detailFlow(double clock_s, bool has_wind) {
+  DetailFlow f;
+  if (!has_wind || !std::isfinite(clock_s)) return f;  // τ = 0, weight 1: the world-fixed noise
+  const double phi = clock_s / kDetailFlowPeriod_s - std::floor(clock_s / kDetailFlowPeriod_s);
+  const double phi_b = phi + 0.5 - std::floor(phi + 0.5);
+  f.tau_s = glm::dvec2(phi, phi_b) * kDetailFlowPeriod_s;
+  f.weight_a = 1.0 - std::abs(2.0 * phi - 1.0);
+  return f;
+}
+
+glm::dvec2 DetailWind::at(const glm::dvec3& g) const {
+  const glm::dvec3 c = g - 0.5;
+  const glm::dvec3 fl = glm::floor(c);
+  const glm::dvec3 t = c - fl;
+  const glm::ivec3 i0(fl);
+  glm::dvec2 r(0.0);
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const double w = (dx ? t.x : 1.0 - t.x) * (dy ? t.y : 1.0 - t.y) * (dz ? t.z : 1.0 - t.z);
+        if (w == 0.0) continue;
+        const int i = std::clamp(i0.x + dx, 0, nx - 1), j = std::clamp(i0.y + dy, 0, ny - 1),
+                  k = std::clamp(i0.z + dz, 0, nz - 1);
+        const std::size_t q =
+            2 * ((std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i));
+        r += w * glm::dvec2(uv[q], uv[q + 1]);
+      }
+  return r;
+}
+
+DetailWind buildDetailWind(const ExtinctionVolumes& v) {
+  DetailWind w;
+  const std::size_t n = v.voxelCount();
+  if (v.wind_u_m_per_s.size() != n || v.wind_v_m_per_s.size() != n || n == 0) return w;
+  w.nx = v.nx;
+  w.ny = v.ny;
+  w.nz = v.nz;
+  w.uv.resize(2 * n);
+  for (std::size_t q = 0; q < n; ++q) {
+    // Non-finite winds (a broken file the loader let through) would poison the noise: read as calm.
+    w.uv[2 * q] = std::isfinite(v.wind_u_m_per_s[q]) ? v.wind_u_m_per_s[q] : 0.0f;
+    w.uv[2 * q + 1] = std::isfinite(v.wind_v_m_per_s[q]) ? v.wind_v_m_per_s[q] : 0.0f;
+  }
+  return w;
+}
+
 namespace {
 double smoothstep(double a, double b, double x) {
   const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
