@@ -7,11 +7,14 @@
 //
 // The including code defines, before the #include:
 //   the volume's parameters under the VolumeBlock's names: u_voxels, u_box_size_m, u_displacement_m,
-//     u_detail_amplitude, u_noise_period_m, u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c;
+//     u_detail_amplitude, u_noise_period_m, u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c,
+//     u_detail_flow (τ_a, τ_b [s], phase a's weight, 0: volume/detail.h detailFlow);
 //   vec3 volumeUvw(vec3 world_m) and bool insideGrownVolume(vec3 uvw);
 //   vec2 plainExtinctionAt(vec3 world_m): (β_ice, β_water) of the reconstruction alone [1/m];
 //   vec4 detailControlsAt(vec3 uvw): the RGBA8 controls in [0, 1] (GL_LINEAR, clamp to edge);
 //   vec4 detailNoiseAt(vec3 q): the noise tile at q tiles (GL_LINEAR, GL_REPEAT);
+//   vec2 detailWindAt(vec3 uvw): the horizontal wind (U, V) [m/s] (GL_LINEAR, clamp to edge; 0
+//     where the volume has none);
 //   Number columnExtinctionAt(vec2 column_uv, Number w): β_ice + β_water at a column's centre
 //     (column_uv, a voxel centre horizontally) and height w (uvw units), linear in height, 0 outside
 //     the grid (GL_LINEAR with the zero border);
@@ -41,21 +44,38 @@ Number detailCoverageAt(vec3 world_m) {
   return coverage;
 }
 
+// The noise advected with the wind (volume/detail.h DetailFlow, the flow-map scheme): the tile at
+// (p + o_a) / period and (p + o_b) / period, o = −u·τ of each phase, blended by phase a's weight; `second`
+// reads the second, rotated frame (detail.glsl detailSecondFrame) at the same point. Without a
+// wind o_a = o_b = 0: both reads are the world-fixed tile's, bit for bit as before the advection.
+vec4 detailAdvectedNoiseAt(vec3 p_m, vec3 o_a, vec3 o_b, vec3 period_m, bool second) {
+  vec3 qa = (p_m + o_a) / period_m, qb = (p_m + o_b) / period_m;
+  if (second) {
+    qa = detailSecondFrame(qa);
+    qb = detailSecondFrame(qb);
+  }
+  return mix(detailNoiseAt(qb), detailNoiseAt(qa), u_detail_flow.z);
+}
+
 // (β_ice, β_water) of the detailed field β(x + d)·ρ(x + d)·s·c at a world position (detail.glsl):
-// the controls at x, the displacement d from the noise at x / 2P, β at the displaced point, the
-// density factor and the shape's noise term from the noise there, the shape's coverage at x + 3d,
-// the column's mass correction at x.
+// the controls and the wind at x, the displacement d from the noise at x / 2P, β at the displaced
+// point, the density factor and the shape's noise term from the noise there, the shape's coverage
+// at x + 3d, the column's mass correction at x. Every noise read is advected: at x − u(x)·τ per
+// phase (the wind read once, at x, so the whole stencil of one sample moves together).
 vec2 detailedExtinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(Number(0.0));
   vec4 c = detailControlsAt(uvw);
-  vec4 nd = detailNoiseAt(world_m / (Number(2.0) * u_noise_period_m));
+  vec2 u = detailWindAt(uvw);
+  vec3 oa = vec3(-u.x * u_detail_flow.x, -u.y * u_detail_flow.x, Number(0.0));
+  vec3 ob = vec3(-u.x * u_detail_flow.y, -u.y * u_detail_flow.y, Number(0.0));
+  vec4 nd = detailAdvectedNoiseAt(world_m, oa, ob, Number(2.0) * u_noise_period_m, false);
   vec3 d = detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, vec2(u_noise_stats_gs.x, u_noise_stats_gs.y));
   vec3 q = world_m + d;
   vec2 beta = plainExtinctionAt(q);
   if (!(beta.x + beta.y > Number(0.0))) return beta;
-  vec3 qn = q / u_noise_period_m;
-  vec4 n1 = detailNoiseAt(qn), n2 = detailNoiseAt(detailSecondFrame(qn));
+  vec4 n1 = detailAdvectedNoiseAt(q, oa, ob, u_noise_period_m, false);
+  vec4 n2 = detailAdvectedNoiseAt(q, oa, ob, u_noise_period_m, true);
   vec2 statsS = vec2(u_noise_stats_gs.z, u_noise_stats_gs.w), statsC = vec2(u_noise_stats_c.x, u_noise_stats_c.y);
   Number rho = detailDensity(n1, n2, c, u_detail_amplitude, statsS, statsC);
   Number m = detailModulation(n1, n2, c.y, statsS, statsC);

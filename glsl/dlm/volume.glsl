@@ -9,7 +9,8 @@
 // Sub-grid detail (issue 13; volume/detail.h, glsl/common/detail.glsl, detail_field.glsl): with
 // u_detail ≠ 0, extinctionAt returns the detailed field β(x + d)·ρ(x + d)·s, d and ρ from the noise
 // tile (generated once by glsl/render/noise.comp) addressed in world metres and the RGBA8 controls at
-// data resolution, times the per-column mass correction (constant per column). u_reach_voxels
+// data resolution, times the per-column mass correction (constant per column); the noise is
+// advected with the horizontal model wind between timesteps (u_detail_wind, u_detail_flow). u_reach_voxels
 // then includes the displacement's reach and the occupancy maxima are × 2·max c (ρ ≤ 2), so
 // empty-space skipping stays conservative.
 #include "common/math.glsl"
@@ -22,6 +23,7 @@ layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // 
 layout(binding = UNIT_DETAIL_CONTROLS) uniform sampler3D u_detail_controls;  // RGBA8 (turbulence, convective, fraction, core)
 layout(binding = UNIT_DETAIL_NOISE) uniform sampler3D u_detail_noise;        // RGBA8 periodic noise tile, GL_REPEAT
 layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction
+layout(binding = UNIT_DETAIL_WIND) uniform sampler3D u_detail_wind;  // RG32F horizontal wind [m/s] advecting the noise
 // The packed texture (issue 19; render/dlm/volume_textures.h hasPacked): RGBA16F (β_ice, β_water in
 // units of u_packed_beta_unit_per_m, τ_up, τ_down) per voxel, GL_LINEAR, GL_CLAMP_TO_EDGE. With
 // u_packed_only (VolumeStorage::Compact, the default upload) it is the only copy of the volume:
@@ -47,6 +49,7 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
   vec4 u_noise_stats_ra;  // (mean, half range) of noise channels r and a
   vec4 u_noise_stats_gs;  // of channel g and of the stratiform term
   vec4 u_noise_stats_c;   // of the convective term
+  vec4 u_detail_flow;     // (τ_a, τ_b [s], phase a's weight, 0): the noise's advection (volume/detail.h)
 };
 
 // Compile-time specialisation (issue 19, "Frame time"): llvmpipe runs 8 lanes in lock-step and a
@@ -143,6 +146,7 @@ float columnExtinctionAt(vec2 column_uv, float w) {
   return (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
 }
 float detailCorrectionAt(vec2 uv) { return texture(u_detail_correction, uv).r; }
+vec2 detailWindAt(vec3 uvw) { return texture(u_detail_wind, uvw).rg; }
 #include "common/detail_field.glsl"
 
 // (β_ice, β_water) at a world position: the field every pass integrates (the detailed field of

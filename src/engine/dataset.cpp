@@ -249,6 +249,11 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
   mixDetail(a.tke_m2_per_s2, b.tke_m2_per_s2, out.tke_m2_per_s2);
   mixDetail(a.cloud_fraction, b.cloud_fraction, out.cloud_fraction);
   mixDetail(a.wind_w_m_per_s, b.wind_w_m_per_s, out.wind_w_m_per_s);
+  mixDetail(a.wind_u_m_per_s, b.wind_u_m_per_s, out.wind_u_m_per_s);
+  mixDetail(a.wind_v_m_per_s, b.wind_v_m_per_s, out.wind_v_m_per_s);
+  // The noise's clock runs with model time through the blend (volume/detail.h DetailFlow), so the
+  // advected noise moves smoothly across the interval and is continuous at each timestep.
+  out.detail_clock_s = (1.0 - w) * a.detail_clock_s + w * b.detail_clock_s;
   out.updateMaxima();
   return out;
 }

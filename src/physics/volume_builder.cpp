@@ -1,6 +1,7 @@
 #include "physics/volume_builder.h"
 
 #include "physics/extinction.h"
+#include "volume/detail.h"
 
 namespace nph::physics {
 
@@ -20,6 +21,9 @@ ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts, const Opti
   v.cloud_fraction = resampleFieldVertically(
       ts, ts.cloud_fraction.empty() ? ts.cloud_cover_fraction : ts.cloud_fraction, "cloud fraction", grid);
   v.wind_w_m_per_s = resampleFieldVertically(ts, ts.wind_w_m_per_s, "W", grid);
+  v.wind_u_m_per_s = resampleFieldVertically(ts, ts.wind_u_m_per_s, "U", grid);
+  v.wind_v_m_per_s = resampleFieldVertically(ts, ts.wind_v_m_per_s, "V", grid);
+  v.detail_clock_s = volume::detailClock_s(v.time_utc);  // the noise's advection clock (volume/detail.h)
   v.updateMaxima();
   return v;
 }

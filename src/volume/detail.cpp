@@ -34,12 +34,16 @@ DetailParameters detailParameters(Detail detail, const VolumeFrame& frame) {
   return p;
 }
 
-glm::dvec4 DetailControls::at(const glm::dvec3& g) const {
+namespace {
+// GL_LINEAR with GL_CLAMP_TO_EDGE on an nx × ny × nz grid at continuous grid coordinates g (voxel
+// centres at i + ½): the 8 texels' weights, `texel(q)` the value of voxel index q (x fastest).
+template <class T, class Texel>
+T linearClampToEdge(const glm::dvec3& g, int nx, int ny, int nz, Texel texel) {
   const glm::dvec3 c = g - 0.5;
   const glm::dvec3 fl = glm::floor(c);
   const glm::dvec3 t = c - fl;
   const glm::ivec3 i0(fl);
-  glm::dvec4 r(0.0);
+  T r(0.0);
   for (int dz = 0; dz < 2; ++dz)
     for (int dy = 0; dy < 2; ++dy)
       for (int dx = 0; dx < 2; ++dx) {
@@ -47,11 +51,55 @@ glm::dvec4 DetailControls::at(const glm::dvec3& g) const {
         if (w == 0.0) continue;
         const int i = std::clamp(i0.x + dx, 0, nx - 1), j = std::clamp(i0.y + dy, 0, ny - 1),
                   k = std::clamp(i0.z + dz, 0, nz - 1);
-        const std::size_t q =
-            4 * ((std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i));
-        r += w * glm::dvec4(rgba[q], rgba[q + 1], rgba[q + 2], rgba[q + 3]);
+        r += w * texel((std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx) + std::size_t(i));
       }
-  return r / 255.0;
+  return r;
+}
+}  // namespace
+
+glm::dvec4 DetailControls::at(const glm::dvec3& g) const {
+  return linearClampToEdge<glm::dvec4>(g, nx, ny, nz,
+                                       [&](std::size_t q) {
+                                         return glm::dvec4(rgba[4 * q], rgba[4 * q + 1], rgba[4 * q + 2],
+                                                           rgba[4 * q + 3]);
+                                       }) /
+         255.0;
+}
+
+double detailClock_s(const geo::OptionalUtcTime& time_utc) {
+  static const geo::UtcTime epoch = geo::UtcTime::parse("2000-01-01T00:00:00Z");
+  return time_utc ? time_utc->secondsSince(epoch) : 0.0;
+}
+
+DetailFlow detailFlow(double clock_s, bool has_wind) {
+  DetailFlow f;
+  if (!has_wind || !std::isfinite(clock_s)) return f;  // τ = 0, weight 1: the world-fixed noise
+  const double phi = clock_s / kDetailFlowPeriod_s - std::floor(clock_s / kDetailFlowPeriod_s);
+  const double phi_b = phi + 0.5 - std::floor(phi + 0.5);
+  f.tau_s = glm::dvec2(phi, phi_b) * kDetailFlowPeriod_s;
+  f.weight_a = 1.0 - std::abs(2.0 * phi - 1.0);
+  return f;
+}
+
+glm::dvec2 DetailWind::at(const glm::dvec3& g) const {
+  return linearClampToEdge<glm::dvec2>(g, nx, ny, nz,
+                                       [&](std::size_t q) { return glm::dvec2(uv[2 * q], uv[2 * q + 1]); });
+}
+
+DetailWind buildDetailWind(const ExtinctionVolumes& v) {
+  DetailWind w;
+  const std::size_t n = v.voxelCount();
+  if (v.wind_u_m_per_s.size() != n || v.wind_v_m_per_s.size() != n || n == 0) return w;
+  w.nx = v.nx;
+  w.ny = v.ny;
+  w.nz = v.nz;
+  w.uv.resize(2 * n);
+  for (std::size_t q = 0; q < n; ++q) {
+    // Non-finite winds (a broken file the loader let through) would poison the noise: read as calm.
+    w.uv[2 * q] = std::isfinite(v.wind_u_m_per_s[q]) ? v.wind_u_m_per_s[q] : 0.0f;
+    w.uv[2 * q + 1] = std::isfinite(v.wind_v_m_per_s[q]) ? v.wind_v_m_per_s[q] : 0.0f;
+  }
+  return w;
 }
 
 namespace {

@@ -63,6 +63,43 @@ struct DetailParameters {
 };
 DetailParameters detailParameters(Detail detail, const VolumeFrame& frame);
 
+/// Advection of the noise with the model wind (issue 13 "temporally coherent: the noise is fixed in
+/// the air mass — advected with the model wind (U, V) between timesteps"; Muth 2026 §3.3.1 builds
+/// the detail per forecast hour and leaves the animation to future work, §5.2). Between two
+/// timesteps the volume is the blend of both (docs/animation.md): the clouds the model moves
+/// between them travel with the wind, and noise fixed in world space stays behind while they do.
+/// Here the noise is read at x − u(x)·τ, u the horizontal model wind at x (U, V; W is left out:
+/// 1–10 m/s in the cells' cores would cycle a tile vertically within minutes), τ the model time
+/// since the phase's start — the "flow map" scheme of water rendering (two phases half a period
+/// apart, each reset when its weight is 0, weights triangular in the phase): a spatially varying
+/// wind stretches the noise by at most |∇u|·T, never without bound, and the noise is continuous in
+/// time (the clock runs through the timestep blend and across timesteps). With a uniform wind each
+/// phase is exactly the noise translated by u·τ; without a wind (a .nph cache, a host volume) the
+/// noise is the world-fixed tile bit for bit (weight 1 on a phase with τ = 0).
+/// Period: T = 30 min of model time — a 10 m/s wind moves a phase by 9 km (about a noise tile on a
+/// 10-km grid) before it fades out, and a shear of 1 m/s per column stretches it by ≤ 1.8 km.
+inline constexpr double kDetailFlowPeriod_s = 1800.0;
+/// detail_clock_s of a timestep's time: seconds since 2000-01-01T00:00:00Z, 0 without a time.
+double detailClock_s(const geo::OptionalUtcTime& time_utc);
+/// The two phases at a clock: τ per phase [s] and phase a's weight (b's is 1 − it). φ = the clock
+/// modulo T, in periods: τ_a = φ·T, τ_b = ((φ + ½) mod 1)·T, w_a = 1 − |2φ − 1| (0 where τ_a resets,
+/// 1 where τ_b does). `has_wind` false: (0, 0, 1), the world-fixed noise.
+struct DetailFlow {
+  glm::dvec2 tau_s{0.0};
+  double weight_a = 1.0;
+};
+DetailFlow detailFlow(double clock_s, bool has_wind);
+/// The horizontal wind (U, V) at data resolution for the noise's advection, as uploaded (RG32F,
+/// GL_LINEAR, GL_CLAMP_TO_EDGE); empty when the volumes carry no U and V.
+struct DetailWind {
+  int nx = 0, ny = 0, nz = 0;
+  std::vector<float> uv;  ///< (u, v) per voxel, x fastest as ExtinctionVolumes
+  bool empty() const { return uv.empty(); }
+  /// GL_LINEAR with GL_CLAMP_TO_EDGE at continuous grid coordinates g (voxel centres at i + ½).
+  glm::dvec2 at(const glm::dvec3& g) const;
+};
+DetailWind buildDetailWind(const ExtinctionVolumes& volumes);
+
 /// The largest density factor ρ (detail.glsl): occupancy maxima and majorants scale by it.
 inline constexpr double kMaxDetailDensity = 2.0;
 

@@ -28,6 +28,8 @@ ExtinctionSampler::ExtinctionSampler(const ExtinctionVolumes& volumes, const Vol
       detail_(detailParameters(detail, frame)) {
   if (!detail_.on()) return;
   controls_ = std::make_shared<const DetailControls>(buildDetailControls(volumes));  // from the data
+  wind_ = std::make_shared<const DetailWind>(buildDetailWind(volumes));
+  flow_ = volume::detailFlow(volumes.detail_clock_s, !wind_->empty());
   correction_ = solveDetailCorrection(measureHalfColumnMasses(kMassPattern));
 }
 
@@ -53,6 +55,7 @@ struct DetailField {
   vec3 u_box_size_m, u_displacement_m, u_noise_period_m;
   Number u_detail_amplitude;
   vec4 u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c;
+  vec4 u_detail_flow;
   Number reach_voxels;
 
   DetailField(const ExtinctionSampler& sampler, const DetailControls& c, const std::vector<float>* corr)
@@ -65,6 +68,8 @@ struct DetailField {
     u_noise_period_m = vec3(p.period_m);
     u_detail_amplitude = Number(p.amplitude);
     packNoiseStats(noise.stats, u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c);
+    const DetailFlow& flow = s.detailFlow();
+    u_detail_flow = vec4(Number(flow.tau_s.x), Number(flow.tau_s.y), Number(flow.weight_a), Number(0.0));
     reach_voxels = Number(reachVoxels(s.reconstruction()) + p.reach_voxels);
   }
   vec3 volumeUvw(vec3 world_m) const {
@@ -80,6 +85,9 @@ struct DetailField {
   }
   vec4 detailControlsAt(vec3 uvw) const { return vec4(controls.at(glm::dvec3(uvw) * glm::dvec3(u_voxels))); }
   vec4 detailNoiseAt(vec3 q) const { return vec4(noise.sample(glm::dvec3(q))); }
+  vec2 detailWindAt(vec3 uvw) const {
+    return s.wind().empty() ? vec2(Number(0.0)) : vec2(s.wind().at(glm::dvec3(uvw) * glm::dvec3(u_voxels)));
+  }
   Number columnExtinctionAt(vec2 column_uv, Number w) const {
     const int i = int(std::floor(column_uv.x * Number(u_voxels.x))),
               j = int(std::floor(column_uv.y * Number(u_voxels.y)));

@@ -41,6 +41,10 @@ class ExtinctionSampler {
   const DetailParameters& detail() const { return detail_; }
   /// The per-column mass correction in use (volume/detail.h; empty without detail).
   const std::vector<float>& detailCorrection() const { return correction_; }
+  /// The phases of the noise's advection in use (volume/detail.h DetailFlow; world-fixed without U, V).
+  const DetailFlow& detailFlow() const { return flow_; }
+  /// The wind advecting the noise (empty without detail or without U, V).
+  const DetailWind& wind() const { return wind_ ? *wind_ : kNoWind; }
   /// The plain and the uncorrected detailed masses on half-columns, measured with `pattern`
   /// (volume/detail.h; the correction in use is solved from kMassPattern's).
   HalfColumnMasses measureHalfColumnMasses(const MassPattern& pattern = kMassPattern) const;
@@ -51,6 +55,7 @@ class ExtinctionSampler {
   double columnAt(int i, int j, double gz) const;
 
  private:
+  static inline const DetailWind kNoWind{};
   double fetch(const std::vector<float>& a, int i, int j, int k) const;
   ExtinctionSample detailedAt(const glm::dvec3& world_m, bool corrected) const;
   std::shared_ptr<const ExtinctionVolumes> coefficients_;  ///< for CubicInterpolating
@@ -59,6 +64,8 @@ class ExtinctionSampler {
   Reconstruction r_;
   DetailParameters detail_;
   std::shared_ptr<const DetailControls> controls_;  ///< when the detail is on
+  std::shared_ptr<const DetailWind> wind_;          ///< when the detail is on (empty: no U, V)
+  DetailFlow flow_;                                 ///< the noise's advection phases (volume/detail.h)
   std::vector<float> correction_;                   ///< c per model column, when the detail is on
 };
 

@@ -47,6 +47,13 @@ struct ExtinctionVolumes {
   std::vector<float> tke_m2_per_s2;   ///< turbulent kinetic energy (WRF TKE_PBL or QKE/2)
   std::vector<float> cloud_fraction;  ///< WRF CLDFRA, ICON clc/100, in [0, 1]
   std::vector<float> wind_w_m_per_s;  ///< vertical wind
+  /// Horizontal wind along the grid's x and y axes (WRF U, V: grid-relative, the world frame's x and
+  /// y): the detail's noise is advected with it between timesteps (volume/detail.h DetailFlow).
+  std::vector<float> wind_u_m_per_s, wind_v_m_per_s;
+  /// Model time of this (possibly blended) volume in seconds since kDetailClockEpoch
+  /// (volume/detail.h), the clock the noise is advected by: set from time_utc by the builder, the
+  /// blend of both timesteps' clocks by engine::blendVolumes; 0 without a time.
+  double detail_clock_s = 0.0;
 
   std::size_t voxelCount() const { return std::size_t(nx) * std::size_t(ny) * std::size_t(nz); }
   std::size_t index(int i, int j, int k) const {

@@ -67,8 +67,16 @@ TEST_F(DetailTest, GpuNoiseTileMatchesTheCpuTwin) {
 // CPU reference ray marcher with ExtinctionSampler's twin (same detail.glsl, the CPU noise tile,
 // the same RGBA8 controls), reading back the same DLM: coarse storm, demo view, no jitter. The
 // differences: float vs double positions, one-code noise texels, the GPU's filter weights.
+// The storm's U, V advect the noise (volume/detail.h DetailFlow); its clock is moved to 0.3 of a
+// flow period after its 12 UTC (where phase a is invisible), so both phases and their blend are
+// read, on both sides.
 TEST_F(DetailTest, GpuDetailMatchesTheCpuReferenceRayMarcher) {
-  const ExtinctionVolumes v = coarseStorm();
+  ExtinctionVolumes v = coarseStorm();
+  ASSERT_EQ(v.wind_u_m_per_s.size(), v.voxelCount());
+  v.detail_clock_s += 0.3 * volume::kDetailFlowPeriod_s;
+  const volume::DetailFlow flow = volume::detailFlow(v.detail_clock_s, true);
+  ASSERT_GT(flow.weight_a, 0.5);
+  ASSERT_LT(flow.weight_a, 0.7);
   const DemoView d = demoView(v, 96, 54);
   auto tex = render::VolumeTextures::upload(v, d.frame, "coarse-storm", {.detail = Detail::Full});
   EXPECT_EQ(tex.occupancy().dilation_voxels, 1 + tex.detail().reach_voxels);

@@ -195,6 +195,18 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     t.controls_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
     t.noise_ = o.noise ? o.noise : NoiseTexture::generate();
   }
+  // The horizontal wind that advects the noise (volume/detail.h DetailFlow), where the data has U, V.
+  volume::DetailFlow flow;
+  if (t.detail_.on()) {
+    const ExtinctionVolumes& voxels = coefficients ? *dataWhole : *whole;
+    const volume::DetailWind wind = volume::buildDetailWind(voxels);
+    flow = volume::detailFlow(voxels.detail_clock_s, !wind.empty());
+    if (!wind.empty()) {
+      t.wind_ = gl::Texture::create3D(GL_RG32F, n.x, n.y, n.z).label("detail wind [m/s]");
+      glTextureSubImage3D(t.wind_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_FLOAT, wind.uv.data());
+      t.wind_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    }
+  }
   gl::VolumeBlock block;
   block.box_min_m = glm::vec3(t.frame_.min_m());
   block.box_size_m = glm::vec3(t.frame_.size_m());
@@ -215,6 +227,7 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     block.noise_period_m = glm::vec3(t.detail_.period_m);
     block.displacement_m = glm::vec3(t.detail_.reach_m);
     volume::packNoiseStats(st, block.noise_stats_ra, block.noise_stats_gs, block.noise_stats_c);
+    block.detail_flow = glm::vec4(float(flow.tau_s.x), float(flow.tau_s.y), float(flow.weight_a), 0.0f);
   }
   t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
   // The per-column mass correction of the detail (volume/detail.h): measured with the correction
@@ -319,7 +332,7 @@ std::vector<std::uint16_t> VolumeTextures::readBackPacked() const {
 std::size_t VolumeTextures::bytes() const {
   std::size_t b = 0;
   for (const gl::Texture* tex : {&ice_, &water_, &occupancy_tex_, &column_depth_, &zero_, &terrain_tex_,
-                                 &far_terrain_tex_, &controls_, &zero_rgba_, &correction_, &packed_})
+                                 &far_terrain_tex_, &controls_, &zero_rgba_, &correction_, &packed_, &wind_})
     b += tex->bytes();
   return b;
 }
@@ -334,6 +347,7 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CONTROLS, controls_ ? controls_.id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_NOISE, noise_ ? noise_->texture().id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, correction_.id());
+  glBindTextureUnit(gl::binding::UNIT_DETAIL_WIND, wind_ ? wind_.id() : zero_.id());  // no wind: calm
   glBindTextureUnit(gl::binding::UNIT_PACKED_VOLUME, packed_ ? packed_.id() : zero_rgba_.id());
   block_.bind();
 }

@@ -100,7 +100,8 @@ class VolumeTextures {
   /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
   /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h),
   /// UNIT_DETAIL_CONTROLS, UNIT_DETAIL_NOISE (1-texel zeros without detail), UNIT_DETAIL_CORRECTION
-  /// (the per-column mass correction, 1 texel of 1 without detail) and the
+  /// (the per-column mass correction, 1 texel of 1 without detail), UNIT_DETAIL_WIND (the wind
+  /// advecting the noise, RG32F; a 1-texel zero without detail or without U, V) and the
   /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program,
   /// and the terrain heights (R32F, one texel per mass point, 1×1 zero without terrain) to
   /// UNIT_TERRAIN, the far terrain (a user DEM beyond the domain; 1×1 zero without) to
@@ -115,7 +116,7 @@ class VolumeTextures {
 
  private:
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, far_terrain_tex_, controls_, zero_rgba_,
-      correction_;
+      correction_, wind_;
   gl::Texture packed_;
   float packed_beta_unit_per_m_ = 0.0f;
   bool has_ice_ = false, has_water_ = false;

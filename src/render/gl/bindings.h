@@ -28,6 +28,7 @@
   X(UNIT_DETAIL_CONTROLS, 16)   /* sampler3D: RGBA8 sub-grid detail controls (volume/detail.h) */ \
   X(UNIT_DETAIL_NOISE, 17)      /* sampler3D: RGBA8 periodic noise tile (volume/noise.h) */     \
   X(UNIT_DETAIL_CORRECTION, 18) /* sampler2D: R32F per-column mass correction (volume/detail.h) */ \
+  X(UNIT_DETAIL_WIND, 31)       /* sampler3D: RG32F horizontal wind advecting the noise (volume/detail.h) */ \
   X(IMAGE_DETAIL_NOISE, 0)      /* image3D rgba8, written once by glsl/render/noise.comp */     \
   X(IMAGE_DETAIL_MASS, 0)       /* image2D rg32f: half-column masses (detail_mass.comp) */      \
   X(IMAGE_DETAIL_MASS_RANGE, 1) /* iimage2D rg32i: step range per column (detail_mass.comp) */   \

@@ -85,6 +85,9 @@ struct VolumeBlock {
   glm::vec4 noise_stats_ra{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_ra: (mean, half range) of r, a
   glm::vec4 noise_stats_gs{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_gs: of g, the stratiform term
   glm::vec4 noise_stats_c{0.0f, 1.0f, 0.0f, 0.0f};   ///< u_noise_stats_c: of the convective term
+  /// u_detail_flow: (τ_a, τ_b [s], phase a's weight, 0) of the noise's advection (volume/detail.h
+  /// DetailFlow); (0, 0, 1, 0) without a wind: the world-fixed noise.
+  glm::vec4 detail_flow{0.0f, 0.0f, 1.0f, 0.0f};
 };
 static_assert(offsetof(VolumeBlock, box_min_m) == 0 && offsetof(VolumeBlock, brick_voxels) == 12);
 static_assert(offsetof(VolumeBlock, box_size_m) == 16 && offsetof(VolumeBlock, has_ice) == 28);
@@ -94,8 +97,8 @@ static_assert(offsetof(VolumeBlock, detail) == 56 && offsetof(VolumeBlock, detai
 static_assert(offsetof(VolumeBlock, noise_period_m) == 64 && offsetof(VolumeBlock, displacement_m) == 80);
 static_assert(offsetof(VolumeBlock, packed_beta_unit_per_m) == 76 && offsetof(VolumeBlock, packed_only) == 92);
 static_assert(offsetof(VolumeBlock, noise_stats_ra) == 96 && offsetof(VolumeBlock, noise_stats_gs) == 112);
-static_assert(offsetof(VolumeBlock, noise_stats_c) == 128);
-static_assert(sizeof(VolumeBlock) == 144, "std140 size of VolumeBlock");
+static_assert(offsetof(VolumeBlock, noise_stats_c) == 128 && offsetof(VolumeBlock, detail_flow) == 144);
+static_assert(sizeof(VolumeBlock) == 160, "std140 size of VolumeBlock");
 inline constexpr BlockMember kVolumeMembers[] = {
     {"u_box_min_m", offsetof(VolumeBlock, box_min_m)},
     {"u_brick_voxels", offsetof(VolumeBlock, brick_voxels)},
@@ -113,7 +116,8 @@ inline constexpr BlockMember kVolumeMembers[] = {
     {"u_packed_only", offsetof(VolumeBlock, packed_only)},
     {"u_noise_stats_ra", offsetof(VolumeBlock, noise_stats_ra)},
     {"u_noise_stats_gs", offsetof(VolumeBlock, noise_stats_gs)},
-    {"u_noise_stats_c", offsetof(VolumeBlock, noise_stats_c)}};
+    {"u_noise_stats_c", offsetof(VolumeBlock, noise_stats_c)},
+    {"u_detail_flow", offsetof(VolumeBlock, detail_flow)}};
 
 /// std140 mat3: three columns, each padded to a vec4 (GL 4.5 §7.6.2.2 rules 5 and 4).
 struct Std140Mat3 {
