@@ -145,7 +145,8 @@ ExtinctionVolumes spikyColumn() {
     for (int i = 0; i < v.nx; ++i) v.water_per_m[std::size_t(j) * 16 + std::size_t(i)] = 0.1f;  // the floor
   for (int k = 3; k < v.nz; k += 8)
     for (int j = 3; j < v.ny; j += 8)
-      for (int i = 3; i < v.nx; i += 8) v.water_per_m[(std::size_t(k) * 16 + std::size_t(j)) * 16 + std::size_t(i)] = 16.0f;
+      for (int i = 3; i < v.nx; i += 8)
+        v.water_per_m[(std::size_t(k) * 16 + std::size_t(j)) * 16 + std::size_t(i)] = 16.0f;
   v.updateMaxima();
   return v;
 }
