@@ -1,5 +1,5 @@
 # nephele_add_gtest(<target> PREFIX <prefix> LABELS <label>...
-#                   [ENVIRONMENT <VAR=value>...] [DISCOVERY_TIMEOUT <s>])
+#                   [ENVIRONMENT <VAR=value>...] [DISCOVERY_TIMEOUT <s>] [FILTER <gtest filter>])
 # (every test also gets NEPHELE_CACHE_DIR=<build>/test-cache and NEPHELE_CACHE_MAX_MB=512)
 #
 # The one way a GoogleTest executable becomes CTest tests (issue 17, "Tests and habits"):
@@ -13,9 +13,12 @@
 #    in PROPERTIES, so `LABELS "unit;io"` gave the label `unit` and a bogus property `io`; here the
 #    properties are set by a second CTest include file, read after the discovered tests, on the
 #    TEST_LIST the discovery defines.
+#  - FILTER is passed to discovery as --gtest_filter (gtest_discover_tests' TEST_FILTER), so the
+#    tests it leaves out are never registered: e.g. a second GL backend that skips the numerical
+#    tests whose outcome cannot depend on the context (tests/render/CMakeLists.txt).
 # Call it once per environment (e.g. once per GL backend, with distinct prefixes).
 function(nephele_add_gtest target)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "PREFIX;DISCOVERY_TIMEOUT" "LABELS;ENVIRONMENT")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "PREFIX;DISCOVERY_TIMEOUT;FILTER" "LABELS;ENVIRONMENT")
   if(arg_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "nephele_add_gtest(${target}): unknown arguments ${arg_UNPARSED_ARGUMENTS}")
   endif()
@@ -27,7 +30,12 @@ function(nephele_add_gtest target)
     set(arg_DISCOVERY_TIMEOUT 120)
   endif()
   string(MAKE_C_IDENTIFIER "nephele_tests_${target}_${arg_PREFIX}" list_var)
+  set(filter_args)
+  if(arg_FILTER)
+    set(filter_args TEST_FILTER "${arg_FILTER}")
+  endif()
   gtest_discover_tests(${target}
+    ${filter_args}
     TEST_PREFIX "${arg_PREFIX}"
     TEST_LIST ${list_var}
     NO_PRETTY_VALUES
