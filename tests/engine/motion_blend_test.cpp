@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/dataset.h"
+#include "engine_test_support.h"
 #include "geo/utc_time.h"
+#include "wrf_hurricane.h"
 
 namespace nph::test {
 namespace {
@@ -209,6 +212,44 @@ TEST(MotionBlend, AShearedWindIsFollowedAlongTheTrajectory) {
     EXPECT_NEAR(sum, 0.5 * levelMass(timestepA().ice_per_m, 0), 0.01 * sum);  // half the weight, 1 %
     EXPECT_GT(peak, 0.4 * kPeak);                                             // sheared, not smeared out
   }
+}
+
+/// Mean |τ_m − τ_truth| over the columns, τ the column optical depth (ice + water) of each volume on
+/// its own vertical grid (each timestep converted on the fly is cropped to its own column).
+double meanColumnError(const ExtinctionVolumes& m, const ExtinctionVolumes& truth) {
+  const auto tau = [](const ExtinctionVolumes& v, int i, int j) {
+    double t = 0.0;
+    for (int k = 0; k < v.nz; ++k)
+      t += (double(v.ice_per_m[v.index(i, j, k)]) + double(v.water_per_m[v.index(i, j, k)])) * v.dz_m;
+    return t;
+  };
+  double sum = 0.0;
+  for (int j = 0; j < m.ny; ++j)
+    for (int i = 0; i < m.nx; ++i) sum += std::abs(tau(m, i, j) - tau(truth, i, j));
+  return sum / double(m.nx * m.ny);
+}
+
+TEST(MotionBlend, TheHalfWayVolumeOfAModelFileIsCloserToTheModelsOwn) {
+  // The coarse storm (72 × 64 × 30 at 10 km) converted from its wrfout as `nephele render` does, with
+  // U, V the drift its convective cells move with (nephele-gen --steering-wind): the blend of 12 and
+  // 14 UTC at w = ½ against the model's 13 UTC, per column optical depth. The cells also grow and
+  // decay, the shield stays, the column noise is new every hour: no blend reaches the truth, but the
+  // motion blend must come clearly closer than the cross-fade: measured 0.32 of its error (17.3 → 5.6);
+  // with the generator's vortex wind, which does not move the cells, 0.92 (and this test would fail).
+  const std::string path = (engineTestDir() / "wrfout_storm_steering.nc").string();
+  datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
+  spec.ntimes = 3;
+  spec.steering_wind_only = true;
+  datagen::writeWrfHurricane(spec, path);
+  const auto ds = engine::Dataset::open(path);
+  const ExtinctionVolumes a = ds->load(0), truth = ds->load(1), b = ds->load(2);
+  ASSERT_TRUE(engine::blendHasMotion(a, b));
+  const double linear = meanColumnError(engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Linear), truth);
+  const double motion = meanColumnError(engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Motion), truth);
+  std::printf("[ motion   ] mean |tau - tau(13 UTC)| per column: linear %.4f, motion %.4f (ratio %.3f)\n", linear,
+              motion, motion / linear);
+  EXPECT_GT(linear, 0.0);
+  EXPECT_LT(motion, 0.8 * linear);
 }
 
 }  // namespace
