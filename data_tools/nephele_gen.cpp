@@ -87,6 +87,10 @@ int main(int argc, char** argv) {
                   "KM_PER_H: the hurricane's ice tops rise by this much per hour, up to their usual heights at "
                   "the last timestep (a series whose cloud top rises; default 0)")
       ->check(CLI::Range(0.0, 3.0));
+  bool steering_wind = false;
+  wrf->add_flag("--steering-wind", steering_wind,
+                "U, V = the storm's drift (-4, 3) m/s everywhere, no vortex: with --case storm the wind its cells "
+                "move with (motion-compensated blending, docs/animation.md)");
   std::vector<double> mountain;
   wrf->add_option(
          "--mountain", mountain,
@@ -175,6 +179,7 @@ int main(int argc, char** argv) {
       spec.first_hour = start_hour;
       spec.include_hail = hail;
       spec.anvil_rise_km_per_h = anvil_rise_km_per_h;
+      spec.steering_wind_only = steering_wind;
       if (!mountain.empty()) spec.mountain = {mountain[0], mountain[1], mountain[2], mountain[3]};
       if (!centre.empty()) {
         spec.centre_lon_deg = centre[0];

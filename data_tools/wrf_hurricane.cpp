@@ -805,6 +805,11 @@ void Writer::writeTimestep(int t) {
 
   // ---- winds: Rankine-like tangential wind, cyclonic, decaying with height ---------------------
   auto tangential = [&](double x_m, double y_m, double z_m, double& u, double& v) {
+    if (spec_.steering_wind_only) {
+      u = kStormMotionX_m_per_s;
+      v = kStormMotionY_m_per_s;
+      return;
+    }
     const double ddx = x_m - cx, ddy = y_m - cy;
     const double r = std::max(std::hypot(ddx, ddy) / 1000.0, 1e-3);
     const double vt = intensity * kMaxWind_m_per_s *

@@ -73,6 +73,10 @@ struct WrfHurricaneSpec {
   /// reach their standard heights at the file's last timestep (0: steady tops). A series whose cloud top rises crops
   /// each timestep converted on the fly to a different column (issue 18: `animate` straight on such a wrfout).
   double anvil_rise_km_per_h = 0.0;
+  /// U, V are the storm's drift alone ((−4, 3) m/s everywhere, no vortex): the wind the coarse
+  /// storm's cells move with, so the file's wind describes how its cells move between timesteps
+  /// (motion-compensated blending, docs/animation.md; its stratiform shield stays in place).
+  bool steering_wind_only = false;
 };
 
 /// What the generator wrote, in double precision, to check loaders against.

@@ -2,6 +2,9 @@
 """Frame-to-frame difference of image sequences (issue 13 "Coherence", docs/detail.md "Coherence").
 
 Usage: tools/frame_diff.py LABEL=DIR [LABEL=DIR ...]
+       tools/frame_diff.py --truth TRUTH.png LABEL=FILE.png [LABEL=FILE.png ...]
+The second form prints each image's mean absolute difference (luminance, alpha, as below) from
+TRUTH.png, e.g. an in-between frame against the model's own state at that time (tools/motion_blend.sh).
 Each DIR holds layer_NNNNNN.png (`nephele animate --layer`: the premultiplied cloud layer). For each
 pair of consecutive frames: the mean absolute difference of the luminance (Rec. 709 weights on the
 8-bit premultiplied R, G, B) and of the alpha, in 8-bit levels over all pixels; then the mean and
@@ -80,9 +83,23 @@ def mad(a, b):
     return sum(abs(x - y) for x, y in zip(a, b)) / len(a)
 
 
+def against_truth(truth, args):
+    t = lum_alpha(truth)
+    print(f"| image | against {Path(truth).name}: luminance / alpha |")
+    print("| --- | ---: |")
+    for arg in args:
+        label, _, path = arg.partition("=")
+        a = lum_alpha(path)
+        print(f"| {label} | {mad(a[0], t[0]):.3f} / {mad(a[1], t[1]):.3f} |")
+
+
 def main(args):
     if not args:
         raise SystemExit(__doc__)
+    if args[0] == "--truth":
+        if len(args) < 3:
+            raise SystemExit(__doc__)
+        return against_truth(args[1], args[2:])
     series, frames_of = {}, {}
     for arg in args:
         label, _, folder = arg.partition("=")

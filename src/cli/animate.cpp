@@ -227,7 +227,9 @@ int runAnimate(const AnimateOptions& o) {
   if (o.duration_s) spec.duration_s = *o.duration_s, spec.speed.reset();
   if (o.speed) spec.speed = *o.speed, spec.duration_s.reset();
   if (!o.interpolation.empty()) {
-    spec.interpolation = o.interpolation == "step" ? scene::TimeInterpolation::Step : scene::TimeInterpolation::Linear;
+    spec.interpolation = o.interpolation == "step"     ? scene::TimeInterpolation::Step
+                         : o.interpolation == "linear" ? scene::TimeInterpolation::Linear
+                                                       : scene::TimeInterpolation::Motion;
   }
   if (!o.keyframes.empty()) spec.keyframes = scene::loadCameraKeyframes(o.keyframes);
 
@@ -250,6 +252,8 @@ int runAnimate(const AnimateOptions& o) {
   if (o.passes) s.output.passes = true;
   applyColourOptions(o.display, o.view, s.output.image);
   engine::Session session(dataset, s);
+  session.setTimeBlend(spec.interpolation == scene::TimeInterpolation::Linear ? engine::TimeBlend::Linear
+                                                                               : engine::TimeBlend::Motion);
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
   const auto [first, last] = frameRangeFor(o.frames, o.chunk, plan.frameCount());
 
@@ -433,8 +437,10 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_option("--fps", opts->fps, "frame rate: 25, 50, 59.94 (= 60000/1001), 60000/1001, ...");
   cmd->add_option("--duration", opts->duration_s, "video length in seconds (replaces animation.duration_s)");
   cmd->add_option("--speed", opts->speed, "model seconds per video second (replaces animation.speed)");
-  cmd->add_option("--interpolation", opts->interpolation, "linear (blend timesteps) or step (hold each)")
-      ->check(CLI::IsMember({"linear", "step"}));
+  cmd->add_option("--interpolation", opts->interpolation,
+                  "motion (blend timesteps carried along the wind; the default), linear (cross-fade) or step "
+                  "(hold each)")
+      ->check(CLI::IsMember({"motion", "linear", "step"}));
   cmd->add_option("--keyframes", opts->keyframes, "camera keyframe file (JSON; replaces the scene's)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--gl", opts->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();

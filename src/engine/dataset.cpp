@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "io/model_file.h"
 #include "physics/volume_builder.h"
+#include "volume/volume_frame.h"
 
 namespace nph::engine {
 namespace {
@@ -199,7 +200,70 @@ ExtinctionVolumes convertModelTimestep(const io::ModelTimestep& fields) {
   return physics::buildExtinctionVolumes(fields, physics::defaultOptics(), physics::VerticalGridOptions{});
 }
 
-ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w) {
+namespace {
+
+/// Bilinear read of layer `layer` of a field laid out as ExtinctionVolumes (x fastest) at
+/// fractional column indices (x, y), column centres at integers, clamped to the edge columns
+/// (GL_CLAMP_TO_EDGE: what flows in across the domain's edge is the edge column's value, the inflow
+/// boundary condition of a limited-area semi-Lagrangian scheme). At integer (x, y) the weights are
+/// exactly 1 and 0, so the value is read back bit for bit.
+float bilinear(const float* layer, int nx, int ny, double x, double y) {
+  x = x > 0.0 ? std::min(x, double(nx - 1)) : 0.0;  // NaN (a NaN wind) reads the edge too
+  y = y > 0.0 ? std::min(y, double(ny - 1)) : 0.0;
+  const int i0 = std::min(int(x), nx - 1), j0 = std::min(int(y), ny - 1);
+  const int i1 = std::min(i0 + 1, nx - 1), j1 = std::min(j0 + 1, ny - 1);
+  const float fx = float(x - i0), fy = float(y - j0);
+  const float* r0 = layer + std::size_t(j0) * std::size_t(nx);
+  const float* r1 = layer + std::size_t(j1) * std::size_t(nx);
+  return (r0[i0] * (1.0f - fx) + r0[i1] * fx) * (1.0f - fy) + (r1[i0] * (1.0f - fx) + r1[i1] * fx) * fy;
+}
+
+/// Where the air at each voxel centre of `v` is found after `seconds` of model time moving with
+/// v's own horizontal wind (negative: where it was before), in fractional column indices (x, y per
+/// voxel, v's layout). Semi-Lagrangian trajectory (Staniforth & Côté 1991, Mon. Wea. Rev. 119,
+/// "Semi-Lagrangian integration schemes for atmospheric models — a review", §2–3): the
+/// displacement d solves d = s·u(x + d/2), the wind at the trajectory's midpoint, by fixed-point
+/// iteration from d = s·u(x) — two iterations, as operational two-time-level schemes use: with a
+/// uniform wind the first is already exact, with a sheared one each iteration shrinks the error by
+/// s·|∇u|/2 (< ½ while the wind moves air less than a column per column of shear). Per level:
+/// only U and V move the air (W is left out, as the detail's noise leaves it out: volume/detail.h
+/// DetailFlow). `dx`, `dy`: the column spacing in metres (volume::frameOf, also for lat-lon grids).
+std::vector<float> trajectoryEnds(const ExtinctionVolumes& v, double seconds, double dx, double dy) {
+  const int nx = v.nx, ny = v.ny;
+  const std::size_t layer = std::size_t(nx) * std::size_t(ny);
+  std::vector<float> ends(2 * v.voxelCount());
+  const double sx = seconds / dx, sy = seconds / dy;  // metres per second -> columns
+  for (int k = 0; k < v.nz; ++k) {
+    const float* u = v.wind_u_m_per_s.data() + std::size_t(k) * layer;
+    const float* vv = v.wind_v_m_per_s.data() + std::size_t(k) * layer;
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+        double ex = sx * double(u[c]), ey = sy * double(vv[c]);
+        for (int it = 0; it < 2; ++it) {
+          const double mx = i + 0.5 * ex, my = j + 0.5 * ey;
+          ex = sx * double(bilinear(u, nx, ny, mx, my));
+          ey = sy * double(bilinear(vv, nx, ny, mx, my));
+        }
+        ends[2 * (std::size_t(k) * layer + c)] = float(i + ex);
+        ends[2 * (std::size_t(k) * layer + c) + 1] = float(j + ey);
+      }
+    }
+  }
+  return ends;
+}
+
+}  // namespace
+
+bool blendHasMotion(const ExtinctionVolumes& a, const ExtinctionVolumes& b) {
+  if (!a.time_utc || !b.time_utc || !(b.time_utc->secondsSince(*a.time_utc) > 0.0)) return false;
+  const auto hasWind = [](const ExtinctionVolumes& v) {
+    return v.wind_u_m_per_s.size() == v.voxelCount() && v.wind_v_m_per_s.size() == v.voxelCount();
+  };
+  return hasWind(a) && hasWind(b);
+}
+
+ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w, TimeBlend blend) {
   w = std::clamp(w, 0.0, 1.0);
   if (w == 0.0) return a;
   if (w == 1.0) return b;
@@ -229,14 +293,46 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
   out.source_file = a.source_file;
   out.source_time_index = a.source_time_index;
   const std::size_t layer = std::size_t(a.nx) * std::size_t(a.ny);
+  // Motion compensation (TimeBlend::Motion; docs/animation.md "Between two timesteps"). The
+  // cross-fade of Thomann 2021 §3.5 (listing 9: hourly meteoblue data, lerp by the time) keeps a
+  // moving cloud at both its places mid-interval; frame interpolation in video does the same blend
+  // after moving each key frame along its motion field to the in-between time, and the model gives
+  // the motion field: its wind. Timestep a is read where the air at x was at a's time
+  // (a trajectory back over w·Δt with a's wind), b where it will be at b's time (forward over
+  // (1−w)·Δt with b's wind). A cloud carried by a uniform wind is then one cloud at the
+  // in-between place (within the bilinear reads' smoothing), and the weights still sum to 1, so
+  // what the model changed in place (growth, decay) still fades linearly. Not conservative: a
+  // convergent or sheared wind compresses or stretches what it carries, and what leaves the
+  // domain is replaced by the edge column (bilinear()).
+  const bool motion = blend == TimeBlend::Motion && blendHasMotion(a, b);
+  std::vector<float> from_a, to_b;  // per voxel of a (b): fractional (x, y) to read it at
+  if (motion) {
+    const volume::VolumeFrame frame = volume::frameOf(a);
+    const double dt = b.time_utc->secondsSince(*a.time_utc);
+    from_a = trajectoryEnds(a, -w * dt, frame.voxel_size_m.x, frame.voxel_size_m.y);
+    to_b = trajectoryEnds(b, (1.0 - w) * dt, frame.voxel_size_m.x, frame.voxel_size_m.y);
+  }
+  // `src` weighted by `weight` into dst from dst's layer `offset` on, read at `ends` (or in place).
+  const auto addMoved = [&](const std::vector<float>& src, int nz, const std::vector<float>& ends, float weight,
+                            std::size_t offset, std::vector<float>& dst) {
+    if (ends.empty()) {
+      const std::size_t n = layer * std::size_t(nz);
+      for (std::size_t i = 0; i < n; ++i) dst[offset + i] += weight * src[i];
+      return;
+    }
+    for (int k = 0; k < nz; ++k) {
+      const float* level = src.data() + std::size_t(k) * layer;
+      for (std::size_t c = 0; c < layer; ++c) {
+        const std::size_t i = std::size_t(k) * layer + c;
+        dst[offset + i] += weight * bilinear(level, a.nx, a.ny, ends[2 * i], ends[2 * i + 1]);
+      }
+    }
+  };
   const auto mix = [&](const std::vector<float>& va, int nza, const std::vector<float>& vb, int nzb,
                        std::vector<float>& dst) {
     dst.assign(layer * std::size_t(out.nz), 0.0f);
-    const float wa = float(1.0 - w), wb = float(w);
-    const std::size_t na = va.empty() ? 0 : layer * std::size_t(nza), nb = vb.empty() ? 0 : layer * std::size_t(nzb);
-    const std::size_t da = layer * std::size_t(oa), db = layer * std::size_t(ob);
-    for (std::size_t i = 0; i < na; ++i) dst[da + i] = wa * va[i];
-    for (std::size_t i = 0; i < nb; ++i) dst[db + i] += wb * vb[i];
+    if (!va.empty()) addMoved(va, nza, from_a, float(1.0 - w), layer * std::size_t(oa), dst);
+    if (!vb.empty()) addMoved(vb, nzb, to_b, float(w), layer * std::size_t(ob), dst);
   };
   mix(a.ice_per_m, a.nz, b.ice_per_m, b.nz, out.ice_per_m);
   mix(a.water_per_m, a.nz, b.water_per_m, b.nz, out.water_per_m);

@@ -11,10 +11,12 @@
 // where neither timestep has any; its artefact is that a cloud that *moves* between timesteps
 // fades out at the old place while it fades in at the new one (a double image at w = ½) instead of
 // translating — model output every 5–15 minutes keeps that small; hourly output shows it.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "io/model_fields.h"
@@ -78,11 +80,37 @@ class Dataset {
 /// optics (Nes 2008 eq. 5.3), the default vertical grid (cropped above the condensate).
 ExtinctionVolumes convertModelTimestep(const io::ModelTimestep& fields);
 
-/// β = (1−w)·a + w·b on the union of both columns: the grids must agree horizontally and in dz,
-/// and their bottoms must lie on one dz lattice (layer counts and bottoms may differ: missing
-/// layers count as zeros). UsageError otherwise.
-/// w is clamped to [0, 1]; w = 0 and w = 1 return a and b exactly.
-ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w);
+/// How a volume between two timesteps is made (issue 13; docs/animation.md "Between two timesteps").
+enum class TimeBlend {
+  /// Cross-fade: β = (1−w)·β_a + w·β_b. A cloud the model moved fades out at its old place and
+  /// in at its new one (a translucent double image mid-interval).
+  Linear,
+  /// Motion-compensated: each timestep is carried along its own horizontal wind to the frame's
+  /// time before the cross-fade (semi-Lagrangian trajectories, Staniforth & Côté 1991),
+  ///   β(x, w) = (1−w)·β_a(x − d_a) + w·β_b(x + d_b),
+  /// d_a ≈ w·Δt·u_a (backward from the frame to timestep a), d_b ≈ (1−w)·Δt·u_b (forward to
+  /// timestep b), each a midpoint trajectory iterated twice, per level, sampled bilinearly in the
+  /// horizontal. Falls back to Linear (the same volume bit for bit) where it has no motion: Δt
+  /// unknown or ≤ 0 (a timestep without a time), or either timestep without U, V (a .nph cache,
+  /// a host volume).
+  Motion
+};
+/// Names in the order of the enum values (messages, docs).
+inline constexpr std::array<std::string_view, 2> kTimeBlendNames{"linear", "motion"};
+/// What a Session blends with unless told otherwise: motion-compensated, which is the linear blend
+/// where the data has no wind (docs/animation.md "Between two timesteps": measured).
+inline constexpr TimeBlend kDefaultTimeBlend = TimeBlend::Motion;
+
+/// The volume at weight w between timesteps a and b, on the union of both columns: the grids must
+/// agree horizontally and in dz, and their bottoms must lie on one dz lattice (layer counts and
+/// bottoms may differ: missing layers count as zeros). UsageError otherwise.
+/// w is clamped to [0, 1]; w = 0 and w = 1 return a and b exactly. Ice, water and the detail
+/// fields (volume/detail.h) are blended alike; the detail clock is the blend of both clocks.
+ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w,
+                               TimeBlend blend = TimeBlend::Linear);
+/// Whether TimeBlend::Motion moves anything between a and b (both carry U, V and a time, b later
+/// than a); false: it is the linear blend.
+bool blendHasMotion(const ExtinctionVolumes& a, const ExtinctionVolumes& b);
 
 /// The timestep pair and weight of fractional time index `t` among `count` timesteps:
 /// t is clamped to [0, count−1]; returns {i, i+1 (or i at the end), w}.

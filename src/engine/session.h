@@ -55,6 +55,10 @@ class Session {
   /// Fractional timestep index in [0, count−1] (clamped; UsageError when not finite). A move
   /// forwards or backwards also sets the playback direction the prefetch reads ahead in.
   void setTime(double time_index);
+  /// How a fractional time blends its two timesteps (dataset.h TimeBlend; default kDefaultTimeBlend).
+  /// A change re-blends the volume at the next render when the time lies between two timesteps.
+  void setTimeBlend(TimeBlend blend) { time_blend_ = blend; }
+  TimeBlend timeBlend() const { return time_blend_; }
   /// +1 (forwards) or −1: where the prefetch thread reads ahead; 0 (until the time first moves)
   /// reads nothing ahead, so a single-frame render decodes only what it shows.
   void setPlaybackDirection(int direction) { direction_ = direction < 0 ? -1 : direction > 0 ? 1 : 0; }
@@ -119,6 +123,7 @@ class Session {
   lighting::StyleSettings style_;
   render::RenderSettings render_settings_;
   double time_index_ = 0.0;
+  TimeBlend time_blend_ = kDefaultTimeBlend;
   int direction_ = 0;
   bool release_after_upload_ = false;
   bool reads_by_layer_ = false;  ///< the dataset gives headers and layers cheaply (a .nph cache)

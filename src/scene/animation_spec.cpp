@@ -156,8 +156,10 @@ AnimationSpec parseAnimation(const SceneDescription& scene) {
   if ((a.duration_s && *a.duration_s <= 0.0) || (a.speed && *a.speed <= 0.0)) {
     o.fail(o.at(a.speed ? "speed" : "duration_s"), "expected a positive number");
   }
-  a.interpolation = o.choice("interpolation", TimeInterpolation::Linear,
-                             {{"linear", TimeInterpolation::Linear}, {"step", TimeInterpolation::Step}});
+  a.interpolation = o.choice("interpolation", TimeInterpolation::Motion,
+                             {{"motion", TimeInterpolation::Motion},
+                              {"linear", TimeInterpolation::Linear},
+                              {"step", TimeInterpolation::Step}});
   if (o.get("sun_follows_clock")) a.sun_follows_clock = o.boolean("sun_follows_clock", false);
   a.sun_step_s = o.number("sun_step_s", 0.0, 0.0, 86400.0);
   a.keyframes = parseKeyframes(o, "camera_keyframes");

@@ -35,8 +35,10 @@ struct TimePoint {
 };
 
 enum class TimeInterpolation {
-  Linear,  ///< fractional time blends the two timesteps around it (engine/dataset.h)
-  Step     ///< each frame shows the last timestep at or before its time (held frames reuse the DLM)
+  Linear,  ///< fractional time cross-fades the two timesteps around it (engine/dataset.h TimeBlend)
+  Step,    ///< each frame shows the last timestep at or before its time (held frames reuse the DLM)
+  Motion   ///< fractional time blends both timesteps carried along their winds (engine/dataset.h
+           ///< TimeBlend::Motion; the cross-fade where the data has no U, V or no times)
 };
 
 struct CameraKeyframe {
@@ -50,7 +52,7 @@ struct AnimationSpec {
   FrameRate fps;
   std::optional<double> duration_s;  ///< video length; or
   std::optional<double> speed;       ///< model seconds per video second
-  TimeInterpolation interpolation = TimeInterpolation::Linear;
+  TimeInterpolation interpolation = TimeInterpolation::Motion;
   /// The sun at each frame's UTC time (default: when sun.from_time without sun.time_utc).
   std::optional<bool> sun_follows_clock;
   double sun_step_s = 0.0;  ///< the sun's clock moves in steps of this many model seconds (0: every frame)

@@ -66,6 +66,11 @@ TEST(AnimationSection, IsParsedStrictly) {
   EXPECT_EQ(*a.to.utc, "2026-09-01T14:00:00Z");
   EXPECT_EQ(a.fps.text(), "60000/1001");
   EXPECT_EQ(a.interpolation, scene::TimeInterpolation::Step);
+  EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "fps": 25 })")).interpolation, scene::TimeInterpolation::Motion);
+  EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "interpolation": "linear" })")).interpolation,
+            scene::TimeInterpolation::Linear);
+  EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "interpolation": "motion" })")).interpolation,
+            scene::TimeInterpolation::Motion);
   ASSERT_EQ(a.keyframes.size(), 2u);
   EXPECT_EQ(a.keyframes[1].at_s, 1.5);
   const auto fails = [](const std::string& section, const std::string& expected) {
@@ -78,6 +83,7 @@ TEST(AnimationSection, IsParsedStrictly) {
   };
   fails(R"({ "fpss": 25 })", "anim.json: animation.fpss: unknown key");
   fails(R"({ "fps": "fast" })", "animation.fps");
+  fails(R"({ "interpolation": "smooth" })", "animation.interpolation");
   fails(R"({ "duration_s": 2, "speed": 60 })", "animation.speed: give either");
   fails(R"({ "to": "yesterday" })", "animation.to");
   fails(R"({ "camera_keyframes": [ { "at_s": 1 }, { "at_s": 0.5 } ] })", "animation.camera_keyframes[1].at_s");

@@ -40,20 +40,30 @@ double meanAlpha(const scene::RgbaImage& img) {
 
 TEST_F(SessionTest, HalfwayFrameIsTheFrameOfTheCpuBlendedVolume) {
   const auto ds = engine::Dataset::open(tinyStormFile());
+  ASSERT_TRUE(engine::blendHasMotion(ds->load(0), ds->load(1))) << "the storm carries U, V and times";
   const scene::SceneDescription s = tinyScene();
   engine::Session session(ds, s);
-  session.setTime(0.5);
-  const auto halfway = session.render(session.prepared().camera);
-  EXPECT_TRUE(session.stats().volume_changed);
+  EXPECT_EQ(session.timeBlend(), engine::kDefaultTimeBlend);
+  std::vector<float> previous;
+  for (const engine::TimeBlend blend : {engine::TimeBlend::Motion, engine::TimeBlend::Linear}) {
+    SCOPED_TRACE(engine::kTimeBlendNames[std::size_t(blend)]);
+    session.setTimeBlend(blend);
+    session.setTime(0.5);
+    const auto halfway = session.render(session.prepared().camera);
+    EXPECT_TRUE(session.stats().volume_changed) << "the blend is part of the volume's key";
 
-  const ExtinctionVolumes blended = engine::blendVolumes(ds->load(0), ds->load(1), 0.5);
-  auto one = std::make_shared<ScriptedDataset>(std::vector<ExtinctionVolumes>{blended},
-                                               std::vector<std::string>{nph::geo::isoOrEmpty(blended.time_utc)});
-  engine::Session reference(one, s);
-  const auto expected = reference.render(reference.prepared().camera);
-  EXPECT_GT(meanAlpha(expected.cloud_layer), 0.01) << "the storm must be in view";
-  expectSameImage(halfway.cloud_layer, expected.cloud_layer, "cloud layer");
-  expectSameImage(halfway.frame, expected.frame, "frame");
+    const ExtinctionVolumes blended = engine::blendVolumes(ds->load(0), ds->load(1), 0.5, blend);
+    auto one = std::make_shared<ScriptedDataset>(std::vector<ExtinctionVolumes>{blended},
+                                                 std::vector<std::string>{nph::geo::isoOrEmpty(blended.time_utc)});
+    engine::Session reference(one, s);
+    const auto expected = reference.render(reference.prepared().camera);
+    EXPECT_GT(meanAlpha(expected.cloud_layer), 0.01) << "the storm must be in view";
+    expectSameImage(halfway.cloud_layer, expected.cloud_layer, "cloud layer");
+    expectSameImage(halfway.frame, expected.frame, "frame");
+    EXPECT_NE(halfway.cloud_layer.rgba, previous) << "motion and linear blends differ on a moving storm";
+    previous = halfway.cloud_layer.rgba;
+  }
+  const auto halfway = session.render(session.prepared().camera);
 
   // And it lies between the two timesteps: not the frame of either.
   session.setTime(0.0);
