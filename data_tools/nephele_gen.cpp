@@ -67,7 +67,9 @@ int main(int argc, char** argv) {
                   "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies) | alpine-storm (make demo's terrain shot: "
                   "160x128x50 at 3 km over a generated range in the Central Alps, HGT with ridges and draining "
                   "valleys, towers over the crests with anvils, a lee deck, cumulus over the slopes, valley fog; "
-                  "W/TKE_PBL/CLDFRA, 1 timestep, deflate; --size is ignored)")
+                  "W/TKE_PBL/CLDFRA, deflate; --size is ignored; 1 timestep, or with --times N >= 2 an hourly life cycle: "
+                  "young towers at the first, mature at the second, anvils spreading downwind, the towers "
+                  "collapsing at the last of 3 or more, the cells moving with the 0-6 km mean wind)")
       ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells", "alpine-storm"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
   wrf->add_option("--proj", proj_name,
