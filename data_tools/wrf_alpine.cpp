@@ -321,15 +321,16 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise, con
     const double strength = 0.6 + 0.4 * noise.hash(k, 6, 91);
     const double young = 1.0 - stage.growth;
     cells.push_back({bx + stage.shift_x_km, by + stage.shift_y_km,
-                     (4.5 + 3.5 * noise.hash(k, 5, 91)) * (1.0 - 0.25 * young),
-                     top - 3.5 * young - 2.5 * stage.decay, strength * (1.0 - 0.4 * young) * (1.0 - 0.65 * stage.decay),
-                     0.25, top > 10.3 && stage.growth > 0.0, top, strength * (1.0 - 0.4 * stage.decay), strength});
+                     (4.5 + 3.5 * noise.hash(k, 5, 91)) * (1.0 - 0.25 * young), top - 3.5 * young - 2.5 * stage.decay,
+                     strength * (1.0 - 0.4 * young) * (1.0 - 0.65 * stage.decay), 0.25,
+                     top > 10.3 && stage.growth > 0.0, top, strength * (1.0 - 0.4 * stage.decay), strength});
   }
   for (int k = 0; k < 4; ++k) {
     const double x = 190.0 + 80.0 * k + 20.0 * (noise.hash(k, 7, 91) - 0.5);
     const double y = t.axisYkm(x) - 44.0 + 8.0 * (noise.hash(k, 8, 91) - 0.5);
     const double young = 1.0 - stage.growth;
-    cells.push_back({x + stage.shift_x_km, y + stage.shift_y_km, (3.5 + 2.0 * noise.hash(k, 9, 91)) * (1.0 - 0.25 * young),
+    cells.push_back({x + stage.shift_x_km, y + stage.shift_y_km,
+                     (3.5 + 2.0 * noise.hash(k, 9, 91)) * (1.0 - 0.25 * young),
                      6.5 + 2.5 * noise.hash(k, 10, 91) - 2.0 * young - 2.0 * stage.decay,
                      0.5 * (1.0 - 0.4 * young) * (1.0 - 0.65 * stage.decay), 0.25, false, 0.0, 0.0, 0.5});
   }
@@ -344,8 +345,8 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise, con
       const double mountain = std::clamp((t.envelope_m[c] - 450.0) / 2000.0, 0.0, 1.0);
       if (t.wall[c] < 0.25 || mountain < 0.3 || noise.hash(p, q, 94) > 0.4 * smoothstep(90.0, 150.0, x)) continue;
       const double h = noise.hash(p, q, 95);
-      cells.push_back({x + stage.shift_x_km, y + stage.shift_y_km, 1.8 + 1.2 * h, 0.0, 0.35 + 0.25 * noise.hash(p, q, 96),
-                       0.9 + 1.6 * h, false});
+      cells.push_back({x + stage.shift_x_km, y + stage.shift_y_km, 1.8 + 1.2 * h, 0.0,
+                       0.35 + 0.25 * noise.hash(p, q, 96), 0.9 + 1.6 * h, false});
     }
   }
   // Where cells overlap the column is the one with the stronger claim (the mature strength, so a

@@ -68,7 +68,7 @@ struct AlpineColumns {
 struct AlpineStage {
   double shift_x_km = 0.0, shift_y_km = 0.0;            ///< the cells' displacement from their mature places
   double deck_shift_x_km = 0.0, deck_shift_y_km = 0.0;  ///< the lee deck's
-  double growth = 1.0;       ///< 0: the young towers of step 0, 1: mature
+  double growth = 1.0;                                  ///< 0: the young towers of step 0, 1: mature
   double anvil_age_h = 0.0;  ///< hours the anvils have spread downwind beyond their mature extent
   double decay = 0.0;        ///< 1: the towers collapse (the last step of three or more)
   bool life_cycle = false;   ///< several timesteps: the wind in the towers and the fog follows the clouds
