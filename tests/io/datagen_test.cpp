@@ -105,21 +105,21 @@ TEST(Datagen, WrfoutCarriesWrfConventions) {
 namespace nph::io {
 namespace {
 
-std::vector<float> readFloats(int nc, const char* name, std::size_t count) {
+// Timestep t of a variable.
+std::vector<float> readStep(int nc, const char* name, std::size_t count, std::size_t t) {
   int var = -1;
   EXPECT_EQ(nc_inq_varid(nc, name, &var), NC_NOERR) << name;
-  std::vector<float> out(count);
-  const std::size_t start[4] = {0, 0, 0, 0};
-  int ndims = 0;
+  int ndims = 0, dims[4] = {};
   nc_inq_varndims(nc, var, &ndims);
-  int dims[4] = {};
   nc_inq_vardimid(nc, var, dims);
-  std::size_t cnt[4] = {1, 1, 1, 1};
+  std::size_t start[4] = {t, 0, 0, 0}, cnt[4] = {1, 1, 1, 1};
   for (int d = 1; d < ndims; ++d) nc_inq_dimlen(nc, dims[d], &cnt[d]);
+  std::vector<float> out(count);
   EXPECT_EQ(cnt[1] * cnt[2] * cnt[3], count) << name;
   EXPECT_EQ(nc_get_vara_float(nc, var, start, cnt, out.data()), NC_NOERR) << name;
   return out;
 }
+std::vector<float> readFloats(int nc, const char* name, std::size_t count) { return readStep(nc, name, count, 0); }
 
 // Issue 13's coarse storm: a 10-km, 30-level wrfout with convective cells, a stratiform shield whose
 // top ends on different model levels in neighbouring columns, and W / TKE_PBL / CLDFRA.
@@ -567,20 +567,6 @@ TEST(Datagen, AlpineStormHasDrainingValleysCrestTowersAnvilsCumulusAndValleyFog)
 // in them (the centroid of each tower's column graupel moves by U·Δt: what a motion-compensated
 // blend reads), the anvils lengthen downwind, the towers collapse at the last step; HGT and the
 // fog stay.
-std::vector<float> readStep(int nc, const char* name, std::size_t count, std::size_t t) {
-  int var = -1;
-  EXPECT_EQ(nc_inq_varid(nc, name, &var), NC_NOERR) << name;
-  int ndims = 0, dims[4] = {};
-  nc_inq_varndims(nc, var, &ndims);
-  nc_inq_vardimid(nc, var, dims);
-  std::size_t start[4] = {t, 0, 0, 0}, cnt[4] = {1, 1, 1, 1};
-  for (int d = 1; d < ndims; ++d) nc_inq_dimlen(nc, dims[d], &cnt[d]);
-  std::vector<float> out(count);
-  EXPECT_EQ(cnt[1] * cnt[2] * cnt[3], count) << name;
-  EXPECT_EQ(nc_get_vara_float(nc, var, start, cnt, out.data()), NC_NOERR) << name;
-  return out;
-}
-
 TEST(Datagen, AlpineStormLifeCycleGrowsMovesWithItsWindSpreadsAndDecays) {
   nph::test::ScratchDir dir("io");
   datagen::WrfHurricaneSpec s = datagen::alpineStormSpec();
