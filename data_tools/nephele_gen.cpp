@@ -59,15 +59,18 @@ int main(int argc, char** argv) {
   bool hail = false;
   std::string case_name = "hurricane";
   add_common(wrf);
-  wrf->add_option("--case", case_name,
-                  "hurricane (the sample storm, --size applies) | storm (issue 13's coarse storm: 72x64x30 at 10 km, "
-                  "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored) | "
-                  "hurricane-cells (the sample storm as 2-4 km model output shows it, make demo's: eyewall towers "
-                  "with overshooting tops, rainbands of discrete cells, stratiform shield, banded outflow canopy, "
-                  "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies) | alpine-storm (make demo's terrain shot: "
-                  "160x128x50 at 3 km over a generated range in the Central Alps, HGT with ridges and draining "
-                  "valleys, towers over the crests with anvils, a lee deck, cumulus over the slopes, valley fog; "
-                  "W/TKE_PBL/CLDFRA, 1 timestep, deflate; --size is ignored)")
+  wrf->add_option(
+         "--case", case_name,
+         "hurricane (the sample storm, --size applies) | storm (issue 13's coarse storm: 72x64x30 at 10 km, "
+         "convective cells, stratiform shield, W/TKE_PBL/CLDFRA, 2 timesteps, deflate; --size is ignored) | "
+         "hurricane-cells (the sample storm as 2-4 km model output shows it, make demo's: eyewall towers "
+         "with overshooting tops, rainbands of discrete cells, stratiform shield, banded outflow canopy, "
+         "shallow cumulus; W/TKE_PBL/CLDFRA; --size applies) | alpine-storm (make demo's terrain shot: "
+         "160x128x50 at 3 km over a generated range in the Central Alps, HGT with ridges and draining "
+         "valleys, towers over the crests with anvils, a lee deck, cumulus over the slopes, valley fog; "
+         "W/TKE_PBL/CLDFRA, deflate; --size is ignored; 1 timestep, or with --times N >= 2 an hourly life cycle: "
+         "young towers at the first, mature at the second, anvils spreading downwind, the towers "
+         "collapsing at the last of 3 or more, the cells moving with the 0-6 km mean wind)")
       ->check(CLI::IsMember({"hurricane", "storm", "hurricane-cells", "alpine-storm"}));
   wrf->add_option("-o,--output", wrf_out, "output file");
   wrf->add_option("--proj", proj_name,

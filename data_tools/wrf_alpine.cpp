@@ -273,7 +273,13 @@ AlpineTerrain alpineTerrain(int nx, int ny, double dx_m, const ValueNoise& noise
 //   bases 400 m above the ground under them, 0.9–2.5 km deep;
 // - fog in the southern valley and its tributaries where their floor is below 1000 m: a flat top
 //   260–380 m above the floor (a valley inversion), so the walls rise out of it.
-AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
+//
+// The life cycle (alpineStage) moves and ages this mature storm: every cell is displaced by
+// stage.shift (found at its mature place first, so the crests it grew over stay the same), a
+// young tower (growth 0) is 3.5 km lower, 25 % narrower and holds 40 % less condensate and has no
+// anvil yet, a decaying one (decay 1) is 2.5 km lower with 65 % less; an anvil's upwind edge stays
+// at its tower while its downwind edge runs ahead with the wind at its height (anvil_age_h).
+AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise, const AlpineStage& stage) {
   const int nx = t.nx, ny = t.ny;
   const std::size_t n2 = std::size_t(nx) * std::size_t(ny);
   const double dx = t.dx_km, lx = (nx - 1) * dx, ly = (ny - 1) * dx;
@@ -291,6 +297,8 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
   struct Cell {
     double x, y, radius, top, strength, base_offset_km;
     bool anvil;
+    double anvil_top = 0.0, anvil_strength = 0.0;  ///< the mature tower's: the anvil stays at its level
+    double claim = strength;  ///< which cell a column belongs to where they overlap: the mature strength
   };
   std::vector<Cell> cells;
   for (int k = 0; k < 9; ++k) {
@@ -310,13 +318,21 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
     by -= 6.0 * noise.hash(k, 3, 91);
     const double h = noise.hash(k, 4, 91);
     const double top = 9.5 + 3.0 * std::pow(h, 1.3);
-    cells.push_back(
-        {bx, by, 4.5 + 3.5 * noise.hash(k, 5, 91), top, 0.6 + 0.4 * noise.hash(k, 6, 91), 0.25, top > 10.3});
+    const double strength = 0.6 + 0.4 * noise.hash(k, 6, 91);
+    const double young = 1.0 - stage.growth;
+    cells.push_back({bx + stage.shift_x_km, by + stage.shift_y_km,
+                     (4.5 + 3.5 * noise.hash(k, 5, 91)) * (1.0 - 0.25 * young), top - 3.5 * young - 2.5 * stage.decay,
+                     strength * (1.0 - 0.4 * young) * (1.0 - 0.65 * stage.decay), 0.25,
+                     top > 10.3 && stage.growth > 0.0, top, strength * (1.0 - 0.4 * stage.decay), strength});
   }
   for (int k = 0; k < 4; ++k) {
     const double x = 190.0 + 80.0 * k + 20.0 * (noise.hash(k, 7, 91) - 0.5);
     const double y = t.axisYkm(x) - 44.0 + 8.0 * (noise.hash(k, 8, 91) - 0.5);
-    cells.push_back({x, y, 3.5 + 2.0 * noise.hash(k, 9, 91), 6.5 + 2.5 * noise.hash(k, 10, 91), 0.5, 0.25, false});
+    const double young = 1.0 - stage.growth;
+    cells.push_back({x + stage.shift_x_km, y + stage.shift_y_km,
+                     (3.5 + 2.0 * noise.hash(k, 9, 91)) * (1.0 - 0.25 * young),
+                     6.5 + 2.5 * noise.hash(k, 10, 91) - 2.0 * young - 2.0 * stage.decay,
+                     0.5 * (1.0 - 0.4 * young) * (1.0 - 0.65 * stage.decay), 0.25, false, 0.0, 0.0, 0.5});
   }
   // Cumulus over the slopes.
   constexpr double kSpacing = 7.0;
@@ -329,9 +345,13 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
       const double mountain = std::clamp((t.envelope_m[c] - 450.0) / 2000.0, 0.0, 1.0);
       if (t.wall[c] < 0.25 || mountain < 0.3 || noise.hash(p, q, 94) > 0.4 * smoothstep(90.0, 150.0, x)) continue;
       const double h = noise.hash(p, q, 95);
-      cells.push_back({x, y, 1.8 + 1.2 * h, 0.0, 0.35 + 0.25 * noise.hash(p, q, 96), 0.9 + 1.6 * h, false});
+      cells.push_back({x + stage.shift_x_km, y + stage.shift_y_km, 1.8 + 1.2 * h, 0.0,
+                       0.35 + 0.25 * noise.hash(p, q, 96), 0.9 + 1.6 * h, false});
     }
   }
+  // Where cells overlap the column is the one with the stronger claim (the mature strength, so a
+  // young or collapsing tower is not holed by the cumulus around it).
+  std::vector<float> claim(n2, 0.0f);
   for (const Cell& s : cells) {
     const double reach = 2.2 * s.radius / dx;
     const double gi = s.x / dx, gj = s.y / dx;
@@ -349,7 +369,8 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
         // Towers: a super-Gaussian (steep sides, a broad core); cumulus: a Gaussian.
         const double r = std::hypot(i * dx - s.x, j * dx - s.y) / s.radius;
         const double g = cumulus ? std::exp(-r * r) : std::exp(-r * r * r * r);
-        if (s.strength * g <= double(col.tower[c])) continue;
+        if (s.claim * g <= double(claim[c])) continue;
+        claim[c] = static_cast<float>(s.claim * g);
         const double base = cumulus ? std::max(cu_base, t.height_m[c] / 1000.0 + 0.1)
                                     : std::max(2.0, t.height_m[c] / 1000.0 + s.base_offset_km);
         const double summit = cumulus ? cu_base + s.base_offset_km : s.top;
@@ -371,27 +392,39 @@ AlpineColumns alpineColumns(const AlpineTerrain& t, const ValueNoise& noise) {
       // Anvils.
       for (const Cell& s : cells) {
         if (!s.anvil) continue;
-        const double ax = x - (s.x + 30.0 * ca), ay = y - (s.y + 30.0 * sa);
+        // The anvil lengthens downwind: its upwind edge (20 km upwind of the centre of the tower)
+        // moves with the tower, its downwind edge with the wind at its mid level, 1.2 km under
+        // the mature top — (u(z) − u_steering) · age longer, the centre and the half-length
+        // each half of that further downwind. Its texture moves with the wind too.
+        double us = 0.0, vs = 0.0, ua = 0.0, va = 0.0;
+        alpineSteeringWind(us, vs);
+        alpineWind(1000.0 * (s.anvil_top - 1.2), ua, va);
+        const double spread_km = 0.5 * 3.6 * (std::hypot(ua, va) - std::hypot(us, vs)) * stage.anvil_age_h;
+        const double ax = x - (s.x + (30.0 + spread_km) * ca), ay = y - (s.y + (30.0 + spread_km) * sa);
         const double along = ax * ca + ay * sa, across = -ax * sa + ay * ca;
-        const double e = std::hypot(along / 50.0, across / 26.0) *
-                         (0.85 + 0.3 * noise.fbm(x / 20.0 + 60.0, y / 20.0 + 60.0, s.top, 2));
-        const double a = s.strength * (1.0 - smoothstep(0.55, 1.0, e));
+        const double tx = x - stage.shift_x_km - 2.0 * spread_km * ca, ty = y - stage.shift_y_km - 2.0 * spread_km * sa;
+        const double e = std::hypot(along / (50.0 + spread_km), across / 26.0) *
+                         (0.85 + 0.3 * noise.fbm(tx / 20.0 + 60.0, ty / 20.0 + 60.0, s.anvil_top, 2));
+        const double a = s.anvil_strength * (1.0 - smoothstep(0.55, 1.0, e));
         if (a <= double(col.anvil[c])) continue;
         const double rim = smoothstep(0.3, 1.0, e);
         col.anvil[c] = static_cast<float>(a);
-        col.anvil_top_km[c] = static_cast<float>(s.top - 0.3 - 0.8 * rim);
-        col.anvil_base_km[c] = static_cast<float>(s.top - 2.2 + 1.3 * rim);
+        col.anvil_top_km[c] = static_cast<float>(s.anvil_top - 0.3 - 0.8 * rim);
+        // A decaying anvil thins from below (its ice sublimating into drier air).
+        col.anvil_base_km[c] = static_cast<float>(s.anvil_top - 2.2 + 1.3 * rim + 0.3 * stage.decay);
       }
-      // The lee deck.
+      // The lee deck (moved as a whole by the wind at its mid level: the pattern at (x, y) is the
+      // mature one at (x, y) − shift).
       {
-        const double ax = x - 0.72 * lx, ay = y - (t.axisYkm(0.72 * lx) + 55.0);
+        const double dx_km = x - stage.deck_shift_x_km, dy_km = y - stage.deck_shift_y_km;
+        const double ax = dx_km - 0.72 * lx, ay = dy_km - (t.axisYkm(0.72 * lx) + 55.0);
         const double along = ax * ca + ay * sa, across = -ax * sa + ay * ca;
         const double e = std::hypot(along / 140.0, across / 70.0);
-        const double n = noise.fbm(x / 40.0 + 20.0, y / 40.0 + 20.0, 4.4, 3);
+        const double n = noise.fbm(dx_km / 40.0 + 20.0, dy_km / 40.0 + 20.0, 4.4, 3);
         col.deck[c] = static_cast<float>((1.0 - smoothstep(0.6, 1.0, e)) * smoothstep(0.35, 0.55, n));
-        col.deck_top_km[c] = static_cast<float>(6.0 + 1.5 * noise.fbm(x / 60.0, y / 60.0, 5.5, 2));
-        col.deck_base_km[c] =
-            static_cast<float>(3.6 + 0.6 * noise.fbm(x / 50.0, y / 50.0, 6.6, 2) + 1.0 * smoothstep(0.5, 1.0, e));
+        col.deck_top_km[c] = static_cast<float>(6.0 + 1.5 * noise.fbm(dx_km / 60.0, dy_km / 60.0, 5.5, 2));
+        col.deck_base_km[c] = static_cast<float>(3.6 + 0.6 * noise.fbm(dx_km / 50.0, dy_km / 50.0, 6.6, 2) +
+                                                 1.0 * smoothstep(0.5, 1.0, e));
       }
       // Valley fog.
       if (t.fog[c] && t.floor_m[c] < 1000.0) {
@@ -444,6 +477,54 @@ void alpineWind(double z_m, double& u, double& v) {
   const double speed = 6.0 + 1.5 * zk;
   u = speed * std::cos(kDownwind_rad);
   v = speed * std::sin(kDownwind_rad);
+}
+
+void alpineSteeringWind(double& u, double& v) {
+  // The 0–6 km mean wind (Bunkers et al. 2000, Weather and Forecasting 15, the non-pressure-
+  // weighted mean that ordinary cells move with): alpineWind is linear in height, so its mean over
+  // 0–6 km is its value at 3 km.
+  alpineWind(3000.0, u, v);
+}
+
+// The life cycle of an ordinary cell (Byers and Braham 1949, The Thunderstorm: cumulus, mature
+// and dissipating stages, each of the order of half an hour to an hour; a cell's top rises by
+// several kilometres in its cumulus stage, the anvil spreads at the equilibrium level, under the
+// tropopause, once the top reaches it). Step 1 is the mature storm (the single timestep), the
+// cells at their mature places; step t is (t − 1) hours from it.
+AlpineStage alpineStage(int t, int ntimes) {
+  AlpineStage s;
+  if (ntimes <= 1) return s;
+  s.life_cycle = true;
+  const double hours = t - 1.0;
+  double us = 0.0, vs = 0.0;
+  alpineSteeringWind(us, vs);
+  s.shift_x_km = 3.6 * us * hours;
+  s.shift_y_km = 3.6 * vs * hours;
+  // The deck (bases 3.6–5 km, tops 6–7.5 km) moves with the wind at 5.3 km, its mean mid level.
+  double ud = 0.0, vd = 0.0;
+  alpineWind(5300.0, ud, vd);
+  s.deck_shift_x_km = 3.6 * ud * hours;
+  s.deck_shift_y_km = 3.6 * vd * hours;
+  s.growth = t == 0 ? 0.0 : 1.0;
+  s.anvil_age_h = std::max(0.0, hours);
+  s.decay = ntimes >= 3 && t == ntimes - 1 ? 1.0 : 0.0;
+  return s;
+}
+
+void alpineCloudWind(const AlpineColumns& col, std::size_t c, double z_m, double& u, double& v) {
+  const double zk = z_m / 1000.0;
+  const double in_tower = smoothstep(0.0, 0.1, double(col.tower[c])) *
+                          layer(zk, double(col.tower_base_km[c]), double(col.tower_top_km[c]), 0.5);
+  double us = 0.0, vs = 0.0;
+  alpineSteeringWind(us, vs);
+  u += in_tower * (us - u);
+  v += in_tower * (vs - v);
+  const double fog_top = col.fog_top_m[c];
+  if (fog_top > 0.0) {
+    const double calm = 1.0 - smoothstep(fog_top, fog_top + 300.0, z_m);
+    u *= 1.0 - calm;
+    v *= 1.0 - calm;
+  }
 }
 
 }  // namespace nph::datagen

@@ -57,7 +57,25 @@ struct AlpineColumns {
   std::vector<float> deck, deck_top_km, deck_base_km;
   std::vector<float> fog_top_m;  ///< absolute [m]; 0: no fog
 };
-AlpineColumns alpineColumns(const AlpineTerrain& terrain, const ValueNoise& noise);
+
+/// Issue 14, eighteenth session: the storm's life cycle over a file of several hourly timesteps
+/// (`nephele-gen wrf --case alpine-storm --times N`). Step 1 is the mature storm of the single
+/// timestep (N = 1 writes it alone, byte for byte as before); step 0 is an hour younger (towering
+/// cumulus, no anvils yet), later steps are older (the anvils longer downwind), and the last of
+/// three or more decays (the towers collapse, the anvils thin). Every cell moves as one with the
+/// steering wind (alpineSteeringWind), the lee deck with the wind at its mid level, the fog stays
+/// in its valley; the wind written in the towers and the fog says so (alpineCloudWind).
+struct AlpineStage {
+  double shift_x_km = 0.0, shift_y_km = 0.0;            ///< the cells' displacement from their mature places
+  double deck_shift_x_km = 0.0, deck_shift_y_km = 0.0;  ///< the lee deck's
+  double growth = 1.0;                                  ///< 0: the young towers of step 0, 1: mature
+  double anvil_age_h = 0.0;  ///< hours the anvils have spread downwind beyond their mature extent
+  double decay = 0.0;        ///< 1: the towers collapse (the last step of three or more)
+  bool life_cycle = false;   ///< several timesteps: the wind in the towers and the fog follows the clouds
+};
+AlpineStage alpineStage(int t, int ntimes);
+
+AlpineColumns alpineColumns(const AlpineTerrain& terrain, const ValueNoise& noise, const AlpineStage& stage = {});
 
 struct AlpinePoint {
   double q_cloud = 0, q_rain = 0, q_ice = 0, q_snow = 0, q_graupel = 0, w_m_per_s = 0, tke_m2_per_s2 = 0;
@@ -67,5 +85,16 @@ AlpinePoint alpinePoint(const AlpineColumns& col, std::size_t c, double z_m, dou
 /// The ambient wind of the case [m/s] at height z: west-south-westerly, 6 m/s at the ground to
 /// 24 m/s at 12 km (the shear that carries the anvils east-north-east).
 void alpineWind(double z_m, double& u, double& v);
+
+/// The storm's motion [m/s]: the 0–6 km mean of alpineWind (Bunkers et al. 2000's steering wind),
+/// 10.5 m/s towards 20° north of east — 37.8 km, 12.6 columns, an hour.
+void alpineSteeringWind(double& u, double& v);
+
+/// The wind written at height z over column c in a life cycle (stage.life_cycle): in a tower
+/// (base to top) the cell's own motion, the steering wind — the updraft carries the air it lifts
+/// through the column, and a wind that says how the cloud moves is what a motion-compensated
+/// blend between the timesteps needs; in the valley fog calm (a cold pool under its inversion);
+/// elsewhere alpineWind. `u`, `v` hold alpineWind(z) on entry.
+void alpineCloudWind(const AlpineColumns& col, std::size_t c, double z_m, double& u, double& v);
 
 }  // namespace nph::datagen

@@ -803,6 +803,11 @@ void Writer::writeTimestep(int t) {
   ph = {};
   phb = {};
 
+  // The alpine storm's columns at this step of its life cycle (their in-cloud wind is written next).
+  const AlpineStage alpine_stage = alpine ? alpineStage(t, spec_.ntimes) : AlpineStage{};
+  AlpineColumns alpine_columns;
+  if (alpine) alpine_columns = alpineColumns(alpine_, noise_, alpine_stage);
+
   // ---- winds: Rankine-like tangential wind, cyclonic, decaying with height ---------------------
   auto tangential = [&](double x_m, double y_m, double z_m, double& u, double& v) {
     if (spec_.steering_wind_only) {
@@ -829,6 +834,10 @@ void Writer::writeTimestep(int t) {
           const double z = z_mass[g_.at(std::min(i, nx - 1), j, k)];
           double uu = 0, vv = 0;
           tangential((i - 0.5) * dx, j * dx, z, uu, vv);
+          if (alpine_stage.life_cycle) {
+            alpineCloudWind(alpine_columns, std::size_t(j) * std::size_t(nx) + std::size_t(std::min(i, nx - 1)), z, uu,
+                            vv);
+          }
           u[(std::size_t(k) * std::size_t(ny) + std::size_t(j)) * std::size_t(nx + 1) + std::size_t(i)] =
               static_cast<float>(uu);
         }
@@ -838,6 +847,10 @@ void Writer::writeTimestep(int t) {
           const double z = z_mass[g_.at(i, std::min(j, ny - 1), k)];
           double uu = 0, vv = 0;
           tangential(i * dx, (j - 0.5) * dx, z, uu, vv);
+          if (alpine_stage.life_cycle) {
+            alpineCloudWind(alpine_columns, std::size_t(std::min(j, ny - 1)) * std::size_t(nx) + std::size_t(i), z, uu,
+                            vv);
+          }
           v[(std::size_t(k) * std::size_t(ny + 1) + std::size_t(j)) * std::size_t(nx) + std::size_t(i)] =
               static_cast<float>(vv);
         }
@@ -863,8 +876,6 @@ void Writer::writeTimestep(int t) {
   std::vector<StormCell> cells;
   CellularColumns columns;
   if (cellular) columns = cellularColumns(hours, cx, cy);
-  AlpineColumns alpine_columns;
-  if (alpine) alpine_columns = alpineColumns(alpine_, noise_);
   if (storm || cellular || alpine) {
     if (storm) cells = stormCells(hours);
     w_stag.assign(n2 * std::size_t(nz + 1), 0.0f);

@@ -110,7 +110,8 @@ WrfHurricaneSpec coarseStormSpec();
 
 /// The alpine storm of issues 13/14 (`nephele-gen wrf --case alpine-storm`): 160×128 columns at
 /// 3 km (480 × 384 km) and 50 eta levels over a generated range centred in the Central Alps
-/// (10.5° E, 46.4° N), one timestep, NetCDF-4 with deflate.
+/// (10.5° E, 46.4° N), one timestep, NetCDF-4 with deflate. With ntimes ≥ 2 the timesteps are its
+/// life cycle (AlpineStage in wrf_alpine.h): step 1 is the single timestep's mature storm.
 WrfHurricaneSpec alpineStormSpec();
 
 /// The alpine storm's range (WrfCase::AlpineStorm) as a DEM finer than the model: its continuous
