@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "cache/nph_cache.h"
 #include "core/error.h"
@@ -233,7 +234,9 @@ std::vector<float> trajectoryEnds(const ExtinctionVolumes& v, double seconds, do
   const std::size_t layer = std::size_t(nx) * std::size_t(ny);
   std::vector<float> ends(2 * v.voxelCount());
   const double sx = seconds / dx, sy = seconds / dy;  // metres per second -> columns
-  for (int k = 0; k < v.nz; ++k) {
+  // Levels are independent (each writes only its own ends): one task per level, the same floats
+  // whatever the thread count.
+  tbb::parallel_for(0, v.nz, [&](int k) {
     const float* u = v.wind_u_m_per_s.data() + std::size_t(k) * layer;
     const float* vv = v.wind_v_m_per_s.data() + std::size_t(k) * layer;
     for (int j = 0; j < ny; ++j) {
@@ -249,7 +252,7 @@ std::vector<float> trajectoryEnds(const ExtinctionVolumes& v, double seconds, do
         ends[2 * (std::size_t(k) * layer + c) + 1] = float(j + ey);
       }
     }
-  }
+  });
   return ends;
 }
 
@@ -320,13 +323,13 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
       for (std::size_t i = 0; i < n; ++i) dst[offset + i] += weight * src[i];
       return;
     }
-    for (int k = 0; k < nz; ++k) {
+    tbb::parallel_for(0, nz, [&](int k) {  // per level, as trajectoryEnds
       const float* level = src.data() + std::size_t(k) * layer;
       for (std::size_t c = 0; c < layer; ++c) {
         const std::size_t i = std::size_t(k) * layer + c;
         dst[offset + i] += weight * bilinear(level, a.nx, a.ny, ends[2 * i], ends[2 * i + 1]);
       }
-    }
+    });
   };
   const auto mix = [&](const std::vector<float>& va, int nza, const std::vector<float>& vb, int nzb,
                        std::vector<float>& dst) {
