@@ -253,7 +253,7 @@ int runAnimate(const AnimateOptions& o) {
   applyColourOptions(o.display, o.view, s.output.image);
   engine::Session session(dataset, s);
   session.setTimeBlend(spec.interpolation == scene::TimeInterpolation::Linear ? engine::TimeBlend::Linear
-                                                                               : engine::TimeBlend::Motion);
+                                                                              : engine::TimeBlend::Motion);
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
   const auto [first, last] = frameRangeFor(o.frames, o.chunk, plan.frameCount());
 

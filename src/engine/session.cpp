@@ -111,10 +111,10 @@ void Session::update() {
       lighting::reconstructionOf(scene_.quality, glm::dvec2(prepared_.frame.voxel_size_m));
   render_settings_.reconstruction = reconstruction;  // the CPU references' filter is the upload's
   // A blend's key names its kind (dataset.h TimeBlend): the two make different volumes.
-  const std::string content =
-      b.weight == 0.0 ? dataset_->identity(b.first)
-                      : fmt::format("{}+{}@{:.17g}{}", dataset_->identity(b.first), b.second, b.weight,
-                                    time_blend_ == TimeBlend::Linear ? "" : "|motion");
+  const std::string content = b.weight == 0.0
+                                  ? dataset_->identity(b.first)
+                                  : fmt::format("{}+{}@{:.17g}{}", dataset_->identity(b.first), b.second, b.weight,
+                                                time_blend_ == TimeBlend::Linear ? "" : "|motion");
   const volume::Detail detail = lighting::detailOf(scene_.quality);
   const std::string key =
       content +
@@ -139,7 +139,8 @@ void Session::update() {
       const auto a = timesteps_->get(b.first);
       std::shared_ptr<const ExtinctionVolumes> v = a;
       if (b.weight > 0.0)
-        v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *timesteps_->get(b.second), b.weight, time_blend_));
+        v = std::make_shared<const ExtinctionVolumes>(
+            blendVolumes(*a, *timesteps_->get(b.second), b.weight, time_blend_));
       slices = std::make_unique<VolumeSlices>(std::move(v));
     }
     stats_.load_ms = msSince(t0);
