@@ -10,6 +10,7 @@
 //       --benchmark_repetitions=5 --benchmark_report_aggregates_only=true   (one line)
 // NEPHELE_BENCH_SIZE=tiny: 100 × 100 × 16 (seconds).
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -61,8 +62,13 @@ const Pair& pair() {
   return p;
 }
 
-void BM_Blend(benchmark::State& state, engine::TimeBlend blend) {
+// `threads`: 0 = TBB's default (every core), 1 = the serial blend of before.
+void BM_Blend(benchmark::State& state, engine::TimeBlend blend, int threads) {
   const Pair& p = pair();
+  const tbb::global_control limit(
+      tbb::global_control::max_allowed_parallelism,
+      threads > 0 ? std::size_t(threads)
+                  : tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   double w = 0.3;
   for (auto _ : state) {
     ExtinctionVolumes m = engine::blendVolumes(p.a, p.b, w, blend);
@@ -73,8 +79,19 @@ void BM_Blend(benchmark::State& state, engine::TimeBlend blend) {
   state.counters["motion"] = engine::blendHasMotion(p.a, p.b) && blend == engine::TimeBlend::Motion ? 1.0 : 0.0;
 }
 
-BENCHMARK_CAPTURE(BM_Blend, linear, engine::TimeBlend::Linear)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
-BENCHMARK_CAPTURE(BM_Blend, motion, engine::TimeBlend::Motion)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+// Wall time (UseRealTime) next to the process CPU time: the motion blend runs its levels on TBB.
+BENCHMARK_CAPTURE(BM_Blend, linear, engine::TimeBlend::Linear, 0)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Blend, motion, engine::TimeBlend::Motion, 0)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Blend, motion_one_thread, engine::TimeBlend::Motion, 1)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 }  // namespace
 
