@@ -14,14 +14,24 @@
 //   chunks    one zstd frame per timestep: uint16 ice codes (nx*ny*nz_t), then uint16 water
 //             codes, x fastest (quantize.h); optionally one zstd frame of float32 lat then lon
 //             (the geolocation of mass points); optionally one zstd frame of float32 terrain
-//             height above MSL [m] at the mass points (x fastest; issue 14), static in time
+//             height above MSL [m] at the mass points (x fastest; issue 14), static in time;
+//             optionally, after a timestep's chunk, its wind chunk: one zstd frame of int16 U
+//             codes (nx*ny*nz_t), then int16 V codes, x fastest, 0.01 m/s per code (quantize.h
+//             quantiseWind): the horizontal wind the motion blend moves the timestep along
+//             (engine::blendVolumes, TimeBlend::Motion; docs/animation.md)
 //   index     UTF-8 JSON: grid, georeference, optics settings used, inputs, quantisation, and
 //             per timestep: time, provenance, nz_t, maxima (the decoding scales) and the chunk's
-//             offset, sizes and XXH64 (checksum.h) of the compressed bytes.
+//             offset, sizes and XXH64 (checksum.h) of the compressed bytes, and the same for
+//             its wind chunk under the key "wind" (absent or null: no wind).
 // Files written before issue 14 have no "terrain" key in the index's grid: they read as sea level
 // (an empty ExtinctionVolumes::terrain_height_m), as does a file whose model had no terrain.
+// Files written before the wind chunk (issue 13 follow-up) have no "wind" key: they read without
+// U, V (the motion blend falls back to the cross-fade), as before. The version stays 1: readers
+// before it look up the index's keys by name and ignore "wind", so they read such files as
+// windless files, correctly.
 // Each timestep is cropped to its own nz_t (just above its highest condensate); the reader pads
-// every timestep to the file's nz (the largest nz_t) with zeros, so all volumes share one grid.
+// every timestep to the file's nz (the largest nz_t) with zeros, so all volumes share one grid
+// (the wind too: calm air above nz_t, where there is no condensate to move).
 //
 // Writing goes to a temporary file next to the target that is renamed over the target only by
 // commit(); a writer destroyed without commit() (an exception, a failed conversion) removes the
@@ -64,6 +74,12 @@ struct TimestepInfo {
   std::uint64_t chunk_bytes = 0;  ///< compressed
   std::uint64_t raw_bytes = 0;    ///< decompressed
   std::uint64_t chunk_xxh64 = 0;
+  /// The wind chunk (U, V codes, quantize.h quantiseWind); wind_chunk_bytes 0: no wind stored.
+  std::uint64_t wind_chunk_offset = 0;
+  std::uint64_t wind_chunk_bytes = 0;  ///< compressed
+  std::uint64_t wind_raw_bytes = 0;    ///< decompressed: 2 * 2 bytes * nx * ny * nz
+  std::uint64_t wind_chunk_xxh64 = 0;
+  bool hasWind() const { return wind_chunk_bytes > 0; }
 };
 
 struct WriterOptions {
@@ -93,6 +109,8 @@ class NphWriter {
 
   /// Quantises, compresses and writes one timestep. Its nx, ny, dz_m and z_bottom_m must match
   /// the metadata (UsageError otherwise); values must be finite and non-negative (InputError).
+  /// U, V (wind_u_m_per_s, wind_v_m_per_s) are stored when both are there (one value per voxel;
+  /// UsageError for another non-zero count), a non-finite wind as calm (logged).
   void append(const ExtinctionVolumes& volumes);
   /// Writes the index and header, flushes, and renames the temporary file to `path`.
   void commit();
@@ -126,7 +144,8 @@ class NphReader {
   const TimestepInfo& timestep(std::size_t t) const;
   std::uint64_t fileBytes() const;
 
-  /// Reads, verifies and decodes timestep t, padded to nz() layers. Thread-safe (pread).
+  /// Reads, verifies and decodes timestep t, padded to nz() layers, with its U, V where the file
+  /// stores them (the timestep's wind chunk, read and checked as its chunk). Thread-safe (pread).
   /// InputError names the file and the chunk on truncation, checksum or decompression errors.
   ExtinctionVolumes read(std::size_t t) const;
   /// The same timestep without decoding (see QuantisedVolumes); same checks as read().
@@ -136,7 +155,10 @@ class NphReader {
   /// read()'s floats bit for bit (dequantise). Same checks as read().
   std::unique_ptr<ExtinctionSlices> readSlices(std::size_t t) const;
   /// Timestep t as read() returns it without its volumes (ice_per_m, water_per_m empty): grid,
-  /// georeference, terrain, time, provenance and maxima. Reads no chunk.
+  /// georeference, terrain, time, provenance and maxima. Reads no chunk, so no wind either; nor
+  /// does readSlices() (its 4 bytes per voxel would be 12 with the wind's floats): its one-shot
+  /// frames blend nothing, but their detail noise (volume/detail.h) stays world-fixed where read()'s
+  /// is advected by the stored wind.
   ExtinctionVolumes readHeader(std::size_t t) const;
 
  private:

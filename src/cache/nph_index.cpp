@@ -68,17 +68,29 @@ json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timestep
   j["quantisation"] = {{"kind", "linear-uint16"},
                        {"decode", "value_per_m = code * max_per_m / 65535"},
                        {"max_abs_error", "max_per_m / 131070 + max_per_m * 2^-24"}};
+  bool any_wind = false;
+  for (const auto& t : timesteps) any_wind = any_wind || t.hasWind();
+  if (any_wind) {
+    j["quantisation"]["wind"] = {{"kind", "linear-int16"},
+                                 {"decode", "u_m_per_s = code * 0.01"},
+                                 {"max_abs_error", "0.005 m/s + 2^-24 relative, |u| <= 327.67 m/s (clamped)"}};
+  }
   j["optics"] = std::move(optics);
   j["inputs"] = m.inputs;
   json steps = json::array();
   for (const auto& t : timesteps) {
-    steps.push_back({{"time_utc", geo::isoOrEmpty(t.time_utc)},
-                     {"source_file", t.source_file},
-                     {"source_time_index", t.source_time_index},
-                     {"nz", t.nz},
-                     {"max_ice_per_m", t.max_ice_per_m},
-                     {"max_water_per_m", t.max_water_per_m},
-                     {"chunk", chunkJson({t.chunk_offset, t.chunk_bytes, t.raw_bytes, t.chunk_xxh64})}});
+    json step = {{"time_utc", geo::isoOrEmpty(t.time_utc)},
+                 {"source_file", t.source_file},
+                 {"source_time_index", t.source_time_index},
+                 {"nz", t.nz},
+                 {"max_ice_per_m", t.max_ice_per_m},
+                 {"max_water_per_m", t.max_water_per_m},
+                 {"chunk", chunkJson({t.chunk_offset, t.chunk_bytes, t.raw_bytes, t.chunk_xxh64})}};
+    // Only where stored: a windless file's index is byte for byte what it was before the key.
+    if (t.hasWind()) {
+      step["wind"] = chunkJson({t.wind_chunk_offset, t.wind_chunk_bytes, t.wind_raw_bytes, t.wind_chunk_xxh64});
+    }
+    steps.push_back(std::move(step));
   }
   j["timesteps"] = std::move(steps);
   return j;
@@ -121,6 +133,14 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
       t.chunk_bytes = c.bytes;
       t.raw_bytes = c.raw_bytes;
       t.chunk_xxh64 = c.xxh64;
+      // Optional: files before the wind chunk (issue 13 follow-up) have no U, V.
+      if (s.contains("wind") && !s.at("wind").is_null()) {
+        const ChunkRef w = chunkFromJson(s.at("wind"));
+        t.wind_chunk_offset = w.offset;
+        t.wind_chunk_bytes = w.bytes;
+        t.wind_raw_bytes = w.raw_bytes;
+        t.wind_chunk_xxh64 = w.xxh64;
+      }
       d.timesteps.push_back(std::move(t));
     }
   } catch (const std::exception& e) {  // nlohmann::json errors, bad checksum text
@@ -148,6 +168,12 @@ DecodedIndex decodeIndex(const std::string& file, const std::string& text) {
     if (t.nz < 0 || t.nz > d.nz || t.raw_bytes != expected) {
       throw InputError(fmt::format("{}: chunk {} ({}): nz {} / {} bytes do not fit the {}x{}x{} grid", file, n,
                                    geo::isoOrEmpty(t.time_utc), t.nz, t.raw_bytes, m.nx, m.ny, d.nz));
+    }
+    // U and V codes, int16 each: as many bytes as the extinction's two uint16 volumes.
+    if (t.hasWind() && t.wind_raw_bytes != expected) {
+      throw InputError(fmt::format("{}: wind chunk {} ({}): {} bytes do not fit nz {} of the {}x{} grid, expected {} "
+                                   "(int16 U and V)",
+                                   file, n, geo::isoOrEmpty(t.time_utc), t.wind_raw_bytes, t.nz, m.nx, m.ny, expected));
     }
   }
   return d;

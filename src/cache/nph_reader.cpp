@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/limits.h"
+#include "volume/detail.h"
 
 namespace nph::cache {
 
@@ -152,11 +153,17 @@ NphReader::NphReader(std::filesystem::path path) : state_(std::make_unique<State
   }
   s.index = decodeIndex(s.name(), text);
   {
-    // read() holds two uint16 code volumes and two float volumes of the padded grid at once.
+    // read() holds two uint16 code volumes and two float volumes of the padded grid at once; with
+    // a wind chunk, two more float volumes (U, V) and, while decoding them, their int16 codes.
     const NphMetadata& m = s.index.metadata;
-    const std::uint64_t per_voxel_bytes = 2 * sizeof(std::uint16_t) + 2 * sizeof(float);
+    bool wind = false;
+    for (const TimestepInfo& t : s.index.timesteps) wind = wind || t.hasWind();
+    const std::uint64_t per_voxel_bytes =
+        2 * sizeof(std::uint16_t) + 2 * sizeof(float) + (wind ? 2 * sizeof(std::int16_t) + 2 * sizeof(float) : 0);
     const std::uint64_t budget = limits::memoryBudgetBytesFromEnv();
-    limits::requireProductWithin(s.name(), "bytes to read one timestep (nx x ny x nz x 12)",
+    limits::requireProductWithin(s.name(),
+                                 wind ? "bytes to read one timestep with its wind (nx x ny x nz x 24)"
+                                      : "bytes to read one timestep (nx x ny x nz x 12)",
                                  {std::uint64_t(m.nx), std::uint64_t(m.ny), std::uint64_t(s.index.nz), per_voxel_bytes},
                                  budget, "raise NEPHELE_IO_MEMORY_BUDGET_MB");
   }
@@ -254,6 +261,9 @@ ExtinctionVolumes NphReader::readHeader(std::size_t t) const {
   v.source_time_index = info.source_time_index;
   v.max_ice_per_m = info.max_ice_per_m;
   v.max_water_per_m = info.max_water_per_m;
+  // The clock the detail noise is advected by (volume/detail.h), set as the model route's builder
+  // sets it; it moves the noise only with a wind (read()), so windless files render as before.
+  v.detail_clock_s = volume::detailClock_s(v.time_utc);
   return v;
 }
 
@@ -295,6 +305,28 @@ ExtinctionVolumes NphReader::read(std::size_t t) const {
   std::vector<std::uint16_t>().swap(q.ice_codes);
   v.water_per_m.resize(v.voxelCount());
   dequantise(q.water_codes, q.max_water_per_m, v.water_per_m);
+  std::vector<std::uint16_t>().swap(q.water_codes);
+  const TimestepInfo& info = timestep(t);
+  if (info.hasWind()) {
+    const State& s = *state_;
+    const std::vector<std::byte> raw =
+        s.readBlock({info.wind_chunk_offset, info.wind_chunk_bytes, info.wind_raw_bytes, info.wind_chunk_xxh64},
+                    fmt::format("wind chunk {} (timestep {})", t, geo::isoOrEmpty(info.time_utc)));
+    const std::size_t layer = std::size_t(v.nx) * std::size_t(v.ny);
+    const std::size_t stored = layer * std::size_t(info.nz);
+    // decodeIndex matched wind_raw_bytes to nz_t; re-checked at the copy as readQuantised does.
+    if (raw.size() != 2 * stored * sizeof(std::int16_t) || info.nz > v.nz) {
+      throw InputError(fmt::format("{}: wind chunk {} holds {} bytes, expected {} for {}x{}x{} voxels", s.name(), t,
+                                   raw.size(), 2 * stored * sizeof(std::int16_t), v.nx, v.ny, info.nz));
+    }
+    std::vector<std::int16_t> codes(2 * stored);
+    if (stored > 0) std::memcpy(codes.data(), raw.data(), raw.size());  // no null data() to memcpy
+    // Padded like β: calm above nz_t (nph_cache.h).
+    v.wind_u_m_per_s.assign(v.voxelCount(), 0.0f);
+    v.wind_v_m_per_s.assign(v.voxelCount(), 0.0f);
+    dequantiseWind(std::span(codes).first(stored), std::span(v.wind_u_m_per_s).first(stored));
+    dequantiseWind(std::span(codes).subspan(stored), std::span(v.wind_v_m_per_s).first(stored));
+  }
   return v;
 }
 

@@ -172,6 +172,27 @@ void NphWriter::append(const ExtinctionVolumes& v) {
   quantise(v.ice_per_m, max_ice, std::span(codes).first(n));
   quantise(v.water_per_m, max_water, std::span(codes).subspan(n));
   const ChunkRef ref = s.writeChunk(codes.data(), codes.size() * sizeof(std::uint16_t));
+  std::vector<std::uint16_t>().swap(codes);
+
+  // U, V for the motion blend (engine::blendVolumes; docs/animation.md "Between two timesteps"):
+  // its own chunk after the timestep's, so that the reader checks and decodes it like the
+  // extinction and a file without it reads as before (nph_cache.h).
+  const std::size_t nu = v.wind_u_m_per_s.size(), nv = v.wind_v_m_per_s.size();
+  if ((nu != 0 && nu != n) || (nv != 0 && nv != n)) {
+    throw UsageError(fmt::format("{}: timestep {}: {} U / {} V values for {}x{}x{} voxels", s.path.string(),
+                                 geo::isoOrEmpty(v.time_utc), nu, nv, v.nx, v.ny, v.nz));
+  }
+  ChunkRef wind;
+  if (nu == n && nv == n) {
+    std::vector<std::int16_t> uv(2 * n);
+    const std::size_t calm = quantiseWind(v.wind_u_m_per_s, std::span(uv).first(n)) +
+                             quantiseWind(v.wind_v_m_per_s, std::span(uv).subspan(n));
+    if (calm > 0) {
+      log::warn("{}: timestep {}: {} non-finite U/V values stored as calm (0 m/s)", s.path.string(),
+                geo::isoOrEmpty(v.time_utc), calm);
+    }
+    wind = s.writeChunk(uv.data(), uv.size() * sizeof(std::int16_t));
+  }
 
   TimestepInfo info;
   info.time_utc = v.time_utc;
@@ -184,6 +205,10 @@ void NphWriter::append(const ExtinctionVolumes& v) {
   info.chunk_bytes = ref.bytes;
   info.raw_bytes = ref.raw_bytes;
   info.chunk_xxh64 = ref.xxh64;
+  info.wind_chunk_offset = wind.offset;
+  info.wind_chunk_bytes = wind.bytes;
+  info.wind_raw_bytes = wind.raw_bytes;
+  info.wind_chunk_xxh64 = wind.xxh64;
   s.timesteps.push_back(std::move(info));
 }
 

@@ -1,5 +1,6 @@
 #include "cache/quantize.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -27,6 +28,27 @@ void dequantise(std::span<const std::uint16_t> codes, float max_value, std::span
   if (codes.size() != out.size()) throw UsageError("dequantise: input and output sizes differ");
   const double scale = max_value > 0.0f ? double(max_value) / kQuantisationLevels : 0.0;
   for (std::size_t n = 0; n < codes.size(); ++n) out[n] = static_cast<float>(double(codes[n]) * scale);
+}
+
+std::size_t quantiseWind(std::span<const float> values, std::span<std::int16_t> out) {
+  if (values.size() != out.size()) throw UsageError("quantiseWind: input and output sizes differ");
+  std::size_t non_finite = 0;
+  for (std::size_t n = 0; n < values.size(); ++n) {
+    const double u = double(values[n]);
+    if (!std::isfinite(u)) {
+      out[n] = 0;
+      ++non_finite;
+      continue;
+    }
+    const double q = std::clamp(std::nearbyint(u / kWindStep_m_per_s), -kWindMaxCode, kWindMaxCode);
+    out[n] = static_cast<std::int16_t>(q);
+  }
+  return non_finite;
+}
+
+void dequantiseWind(std::span<const std::int16_t> codes, std::span<float> out) {
+  if (codes.size() != out.size()) throw UsageError("dequantiseWind: input and output sizes differ");
+  for (std::size_t n = 0; n < codes.size(); ++n) out[n] = static_cast<float>(double(codes[n]) * kWindStep_m_per_s);
 }
 
 }  // namespace nph::cache

@@ -13,6 +13,7 @@
 // Zero stays exactly zero (empty-space skipping in the renderer relies on it).
 // For the renderer this is an optical-depth error of at most dz * max / 131070 per layer, e.g.
 // 250 m * 0.05 /m / 131070 ≈ 1e-4: far below what is visible.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -29,5 +30,23 @@ inline double quantisationErrorBound(double max_value) {
 void quantise(std::span<const float> values, float max_value, std::span<std::uint16_t> out);
 /// Decodes `codes` with the scale of `max_value` into `out` (same length).
 void dequantise(std::span<const std::uint16_t> codes, float max_value, std::span<float> out);
+
+// Horizontal wind (U, V; issue 13 follow-up: the motion blend of docs/animation.md on the .nph
+// route). A fixed step instead of a per-volume scale, signed:
+//   q = round(u / 0.01 m/s)    clamped to [-32767, 32767], i.e. |u| <= 327.67 m/s (jet streams
+//                              peak near 100 m/s); a non-finite u (a broken file) -> 0, calm,
+//                              as volume/detail.h buildDetailWind reads it
+//   u' = q * 0.01 m/s          decoding
+// Error bound for |u| <= 327.67 m/s: 0.005 m/s from rounding, plus one float rounding of u'
+// (relative 2^-24: < 2e-5 m/s). Over an hour between timesteps that moves a trajectory of
+// engine::blendVolumes by at most 18 m, against model columns of 1-10 km.
+inline constexpr double kWindStep_m_per_s = 0.01;
+inline constexpr double kWindMaxCode = 32767.0;
+inline constexpr double kWindErrorBound_m_per_s = 0.5 * kWindStep_m_per_s + kWindMaxCode * kWindStep_m_per_s * 0x1p-24;
+
+/// Encodes `values` [m/s] into `out` (same length); returns how many were non-finite (stored as 0).
+std::size_t quantiseWind(std::span<const float> values, std::span<std::int16_t> out);
+/// Decodes `codes` into `out` [m/s] (same length).
+void dequantiseWind(std::span<const std::int16_t> codes, std::span<float> out);
 
 }  // namespace nph::cache

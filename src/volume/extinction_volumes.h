@@ -42,8 +42,8 @@ struct ExtinctionVolumes {
   /// Model fields that steer the procedural sub-grid detail (issue 13; volume/detail.h), resampled
   /// to this grid (same layout as the extinctions), each EMPTY when the source has none: then the
   /// detail uses the documented proxies of volume/detail.h. Carried from model files
-  /// (physics/volume_builder.h) and blended between timesteps; a .nph cache does not store them
-  /// (its format has no optional variable), so cached data always uses the proxies.
+  /// (physics/volume_builder.h) and blended between timesteps; a .nph cache stores only U, V (for
+  /// the motion blend, cache/nph_cache.h), so cached data uses the proxies for TKE, CLDFRA and W.
   std::vector<float> tke_m2_per_s2;   ///< turbulent kinetic energy (WRF TKE_PBL or QKE/2)
   std::vector<float> cloud_fraction;  ///< WRF CLDFRA, ICON clc/100, in [0, 1]
   std::vector<float> wind_w_m_per_s;  ///< vertical wind

@@ -258,6 +258,106 @@ std::string inputErrorOf(F&& fn) {
   return {};
 }
 
+/// `v` with a horizontal wind (U, V) per voxel: a jet-like profile in ±80 m/s with 4 decimals, so
+/// that values fall between the 0.01 m/s codes.
+ExtinctionVolumes withWind(ExtinctionVolumes v, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-80.0f, 80.0f);
+  v.wind_u_m_per_s.resize(v.voxelCount());
+  v.wind_v_m_per_s.resize(v.voxelCount());
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) {
+    v.wind_u_m_per_s[n] = u(rng);
+    v.wind_v_m_per_s[n] = u(rng);
+  }
+  return v;
+}
+
+// Issue 13 follow-up: U, V stored per timestep (int16 codes at 0.01 m/s, quantize.h) for the
+// motion blend; read back within the stated bound, padded calm above each timestep's nz_t like β;
+// out-of-range values clamped, non-finite ones calm. A timestep without wind reads without it.
+TEST_F(NphCacheTest, WindRoundTripsWithinItsStepAndPadsCalm) {
+  const NphMetadata m = smallMetadata();
+  ExtinctionVolumes low = withWind(randomVolumes(m, 4, 1, 0.01f), 11);
+  low.wind_u_m_per_s[0] = 400.0f;                                   // beyond the int16 range: clamped
+  low.wind_v_m_per_s[0] = -1.0e6f;                                  // ditto, negative
+  low.wind_u_m_per_s[1] = std::numeric_limits<float>::quiet_NaN();  // broken: calm
+  low.wind_v_m_per_s[1] = std::numeric_limits<float>::infinity();
+  low.wind_u_m_per_s[2] = 0.005f;  // float 0.005 is just below half a step: 0
+  const ExtinctionVolumes high = withWind(randomVolumes(m, 9, 2, 2e-5f), 12);
+  const ExtinctionVolumes calm = randomVolumes(m, 6, 3, 1.0f);                 // no wind
+  const ExtinctionVolumes empty = withWind(randomVolumes(m, 0, 4, 1.0f), 14);  // cropped to nothing
+  const fs::path file = writeFile(dir_ / "windy.nph", m, {low, high, calm, empty});
+  NphReader r(file);
+  ASSERT_EQ(r.timestepCount(), 4u);
+  EXPECT_TRUE(r.timestep(0).hasWind());
+  EXPECT_TRUE(r.timestep(1).hasWind());
+  EXPECT_FALSE(r.timestep(2).hasWind());
+  EXPECT_TRUE(r.timestep(3).hasWind());
+  EXPECT_EQ(r.nz(), 9);
+  for (std::size_t t : {0u, 1u, 3u}) {
+    const ExtinctionVolumes& in = t == 0 ? low : t == 1 ? high : empty;
+    const ExtinctionVolumes out = r.read(t);
+    ASSERT_EQ(out.wind_u_m_per_s.size(), out.voxelCount());
+    ASSERT_EQ(out.wind_v_m_per_s.size(), out.voxelCount());
+    for (int k = 0; k < out.nz; ++k) {
+      for (int j = 0; j < out.ny; ++j) {
+        for (int i = 0; i < out.nx; ++i) {
+          const std::size_t q = out.index(i, j, k);
+          if (k >= in.nz) {  // padding above the cropped top: calm
+            ASSERT_EQ(out.wind_u_m_per_s[q], 0.0f);
+            ASSERT_EQ(out.wind_v_m_per_s[q], 0.0f);
+            continue;
+          }
+          const std::size_t p = in.index(i, j, k);
+          if (t == 0 && p < 3) continue;  // the special values, below
+          ASSERT_LE(std::abs(double(out.wind_u_m_per_s[q]) - double(in.wind_u_m_per_s[p])), kWindErrorBound_m_per_s);
+          ASSERT_LE(std::abs(double(out.wind_v_m_per_s[q]) - double(in.wind_v_m_per_s[p])), kWindErrorBound_m_per_s);
+        }
+      }
+    }
+    // β is unchanged by the wind beside it
+    EXPECT_EQ(out.ice_per_m, r.readSlices(t)->materialise().ice_per_m);
+  }
+  const ExtinctionVolumes first = r.read(0);
+  EXPECT_EQ(first.wind_u_m_per_s[0], 327.67f);
+  EXPECT_EQ(first.wind_v_m_per_s[0], -327.67f);
+  EXPECT_EQ(first.wind_u_m_per_s[1], 0.0f);
+  EXPECT_EQ(first.wind_v_m_per_s[1], 0.0f);
+  EXPECT_EQ(first.wind_u_m_per_s[2], 0.0f);
+  // the timestep written without wind reads without it, as does readHeader (no chunk read)
+  EXPECT_TRUE(r.read(2).wind_u_m_per_s.empty());
+  EXPECT_TRUE(r.read(2).wind_v_m_per_s.empty());
+  EXPECT_TRUE(r.readHeader(0).wind_u_m_per_s.empty());
+  // the model route's noise clock, from the time
+  EXPECT_GT(r.readHeader(0).detail_clock_s, 0.0);
+
+  // a wrong count is the caller's error; U without V is no wind the blend could use: not stored
+  ExtinctionVolumes odd = low;
+  odd.wind_v_m_per_s.pop_back();
+  NphWriter w(dir_ / "odd.nph", m);
+  EXPECT_THROW(w.append(odd), UsageError);
+  odd.wind_v_m_per_s.clear();
+  w.append(odd);
+  w.commit();
+  NphReader u_only(dir_ / "odd.nph");
+  EXPECT_FALSE(u_only.timestep(0).hasWind());
+  EXPECT_TRUE(u_only.read(0).wind_u_m_per_s.empty());
+}
+
+// A file written without wind (every file before the wind chunk) has no "wind" key at all and reads
+// without U, V: the linear blend, as before.
+TEST_F(NphCacheTest, FileWithoutWindHasNoWindKeyAndReadsWithoutWind) {
+  const NphMetadata m = smallMetadata();
+  const fs::path file = writeFile(dir_ / "still.nph", m, {randomVolumes(m, 3, 5, 0.1f), randomVolumes(m, 2, 6, 0.1f)});
+  EXPECT_EQ(readAll(file).find("\"wind\""), std::string::npos);
+  NphReader r(file);
+  for (std::size_t t = 0; t < r.timestepCount(); ++t) {
+    EXPECT_FALSE(r.timestep(t).hasWind());
+    EXPECT_TRUE(r.read(t).wind_u_m_per_s.empty());
+    EXPECT_TRUE(r.read(t).wind_v_m_per_s.empty());
+  }
+}
+
 TEST_F(NphCacheTest, FlippedByteInAChunkNamesFileAndChunk) {
   const NphMetadata m = smallMetadata();
   const fs::path file = writeFile(dir_ / "s.nph", m, {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 4, 2, 0.01f)});
@@ -274,6 +374,30 @@ TEST_F(NphCacheTest, FlippedByteInAChunkNamesFileAndChunk) {
   const std::string msg = inputErrorOf([&] { (void)r.read(1); });
   EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
   EXPECT_NE(msg.find("chunk 1"), std::string::npos) << msg;
+}
+
+// A corrupt wind chunk is the reader's usual error, naming the file and the wind chunk; the other
+// timestep, and the extinction of this one (readSlices), still read.
+TEST_F(NphCacheTest, FlippedByteInAWindChunkNamesFileAndChunk) {
+  const NphMetadata m = smallMetadata();
+  const fs::path file = writeFile(
+      dir_ / "w.nph", m, {withWind(randomVolumes(m, 4, 1, 0.01f), 1), withWind(randomVolumes(m, 4, 2, 0.01f), 2)});
+  std::uint64_t offset = 0;
+  {
+    NphReader r(file);
+    ASSERT_TRUE(r.timestep(1).hasWind());
+    offset = r.timestep(1).wind_chunk_offset + r.timestep(1).wind_chunk_bytes / 2;
+  }
+  std::string bytes = readAll(file);
+  bytes[offset] = static_cast<char>(bytes[offset] ^ 0x20);
+  writeAll(file, bytes);
+  NphReader r(file);
+  EXPECT_NO_THROW((void)r.read(0));
+  EXPECT_NO_THROW((void)r.readSlices(1));
+  const std::string msg = inputErrorOf([&] { (void)r.read(1); });
+  EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
+  EXPECT_NE(msg.find("wind chunk 1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("corrupt"), std::string::npos) << msg;
 }
 
 TEST_F(NphCacheTest, TruncatedAndForeignFilesAreInputErrors) {
@@ -308,7 +432,7 @@ TEST_F(NphCacheTest, TruncatedAndForeignFilesAreInputErrors) {
 }
 
 TEST_F(NphCacheTest, EveryFlippedByteAndEveryTruncationIsDetected) {
-  // Every byte of a .nph file is covered by a checksum (header, chunks, geolocation, index) or
+  // Every byte of a .nph file is covered by a checksum (header, chunks, wind, geolocation, index) or
   // by the size check, so any single corrupted byte or any truncation must be an InputError
   // (never a crash, never silently wrong data).
   NphMetadata m = smallMetadata();
@@ -317,7 +441,7 @@ TEST_F(NphCacheTest, EveryFlippedByteAndEveryTruncationIsDetected) {
   m.georef.lat_deg.resize(6);
   m.georef.lon_deg.resize(6);
   const fs::path good =
-      writeFile(dir_ / "small.nph", m, {randomVolumes(m, 2, 1, 0.01f), randomVolumes(m, 3, 2, 0.02f)});
+      writeFile(dir_ / "small.nph", m, {randomVolumes(m, 2, 1, 0.01f), withWind(randomVolumes(m, 3, 2, 0.02f), 2)});
   const std::string bytes = readAll(good);
   const fs::path bad = dir_ / "bad.nph";
   auto openAndReadAll = [&] {

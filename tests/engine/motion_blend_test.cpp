@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
+#include "cache/nph_cache.h"
+#include "cache/quantize.h"
 #include "engine/dataset.h"
 #include "engine_test_support.h"
 #include "geo/utc_time.h"
@@ -250,6 +253,99 @@ TEST(MotionBlend, TheHalfWayVolumeOfAModelFileIsCloserToTheModelsOwn) {
               motion, motion / linear);
   EXPECT_GT(linear, 0.0);
   EXPECT_LT(motion, 0.8 * linear);
+}
+
+TEST(MotionBlend, TheNphRouteMovesAsTheModelFileDoes) {
+  // Issue 13 follow-up: the .nph cache keeps U, V (cache/nph_cache.h), so `nephele convert` then
+  // `animate` moves the timesteps as the model file's route does. The coarse storm with the
+  // steering wind (nephele-gen wrf --case storm --times 2 --steering-wind), both timesteps
+  // converted as `nephele render` does, written with the cache's writer as `nephele convert`
+  // writes them, read back, and blended at w = ½ on both routes. They differ by the quantisation
+  // only: β by ≤ max/131070 per timestep (quantize.h), U, V by ≤ 0.005 m/s, which moves a
+  // trajectory of w·Δt = 30 min by ≤ 9 m, ~1e-3 of a 10-km column. Bound per voxel: the β error,
+  // plus, for the trajectory's error, its length in columns times the largest step of β between
+  // neighbouring columns (bilinear reads are Lipschitz with it), ×4 for the fixed-point solve's
+  // midpoint wind and both axes. Against the cross-fade the .nph route's blend must also stay
+  // the motion blend: its column error from the model route's at most 1 % of the cross-fade's.
+  const std::string wrf = (engineTestDir() / "wrfout_storm_steering_2.nc").string();
+  datagen::WrfHurricaneSpec spec = datagen::coarseStormSpec();
+  spec.ntimes = 2;
+  spec.steering_wind_only = true;
+  datagen::writeWrfHurricane(spec, wrf);
+  const auto model = engine::Dataset::open(wrf);
+  const ExtinctionVolumes a = model->load(0), b = model->load(1);
+  ASSERT_TRUE(engine::blendHasMotion(a, b));
+  ASSERT_EQ(a.z_bottom_m, b.z_bottom_m);  // sea level: one grid, as convert's
+
+  const std::filesystem::path nph = engineTestDir() / "storm_steering_2.nph";
+  {
+    cache::NphMetadata meta;
+    meta.nx = a.nx;
+    meta.ny = a.ny;
+    meta.dz_m = a.dz_m;
+    meta.z_bottom_m = a.z_bottom_m;
+    meta.georef = a.georef;
+    meta.terrain_height_m = a.terrain_height_m;
+    cache::NphWriter writer(nph, meta);
+    writer.append(a);
+    writer.append(b);
+    writer.commit();
+  }
+  const auto cached = engine::Dataset::open(nph.string());
+  const ExtinctionVolumes ca = cached->load(0), cb = cached->load(1);
+  ASSERT_TRUE(engine::blendHasMotion(ca, cb));
+
+  const ExtinctionVolumes want = engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Motion);
+  const ExtinctionVolumes got = engine::blendVolumes(ca, cb, 0.5, engine::TimeBlend::Motion);
+  const ExtinctionVolumes fade = engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Linear);
+  ASSERT_EQ(got.nx, want.nx);
+  ASSERT_EQ(got.ny, want.ny);
+  ASSERT_GE(got.nz, want.nz);  // padded to the larger nz_t
+
+  const auto largestStep = [](const ExtinctionVolumes& v, const std::vector<float>& f) {
+    double s = 0.0;
+    for (int k = 0; k < v.nz; ++k)
+      for (int j = 0; j < v.ny; ++j)
+        for (int i = 0; i < v.nx; ++i) {
+          const double x = f[v.index(i, j, k)];
+          if (i + 1 < v.nx) s = std::max(s, std::abs(double(f[v.index(i + 1, j, k)]) - x));
+          if (j + 1 < v.ny) s = std::max(s, std::abs(double(f[v.index(i, j + 1, k)]) - x));
+        }
+    return s;
+  };
+  const double dt = b.time_utc->secondsSince(*a.time_utc);
+  const double columns = cache::kWindErrorBound_m_per_s * 0.5 * dt / std::min(a.georef.dx_m, a.georef.dy_m);
+  double worst_ratio = 0.0;
+  for (const bool ice : {true, false}) {
+    const auto field = [&](const ExtinctionVolumes& v) -> const std::vector<float>& {
+      return ice ? v.ice_per_m : v.water_per_m;
+    };
+    const double max_a = double(ice ? a.max_ice_per_m : a.max_water_per_m);
+    const double max_b = double(ice ? b.max_ice_per_m : b.max_water_per_m);
+    const double quantised = 0.5 * cache::quantisationErrorBound(max_a) + 0.5 * cache::quantisationErrorBound(max_b);
+    const double moved = 4.0 * columns * std::max(largestStep(a, field(a)), largestStep(b, field(b)));
+    const double bound = quantised + moved + 0x1p-22 * std::max(max_a, max_b);  // the blend's float sums
+    double worst = 0.0;
+    for (int k = 0; k < got.nz; ++k)
+      for (int j = 0; j < got.ny; ++j)
+        for (int i = 0; i < got.nx; ++i) {
+          const double w = k < want.nz ? double(field(want)[want.index(i, j, k)]) : 0.0;
+          worst = std::max(worst, std::abs(double(field(got)[got.index(i, j, k)]) - w));
+        }
+    std::printf("[ nph      ] %s: max |nph - model| %.3g /m, bound %.3g (quantisation %.3g, trajectory %.3g)\n",
+                ice ? "ice" : "water", worst, bound, quantised, moved);
+    EXPECT_LE(worst, bound) << (ice ? "ice" : "water");
+    worst_ratio = std::max(worst_ratio, worst / bound);
+  }
+  // On the model route's own grid, per column optical depth, (the .nph route's padding is zeros.)
+  ExtinctionVolumes got_cropped = got;
+  got_cropped.nz = want.nz;
+  got_cropped.ice_per_m.resize(want.voxelCount());
+  got_cropped.water_per_m.resize(want.voxelCount());
+  const double nph_error = meanColumnError(got_cropped, want), fade_error = meanColumnError(fade, want);
+  std::printf("[ nph      ] mean |tau| per column from the model route's motion blend: .nph %.3g, cross-fade %.3g\n",
+              nph_error, fade_error);
+  EXPECT_LT(nph_error, 0.01 * fade_error);
 }
 
 }  // namespace
