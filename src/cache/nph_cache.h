@@ -17,8 +17,9 @@
 //             height above MSL [m] at the mass points (x fastest; issue 14), static in time;
 //             optionally, after a timestep's chunk, its wind chunk: one zstd frame of int16 U
 //             codes (nx*ny*nz_t), then int16 V codes, x fastest, 0.01 m/s per code (quantize.h
-//             quantiseWind): the horizontal wind the motion blend moves the timestep along
-//             (engine::blendVolumes, TimeBlend::Motion; docs/animation.md)
+//             quantiseWind), differenced along x, zigzag coded and split in byte planes
+//             (quantize.h packWindCodes): the horizontal wind the motion blend moves the timestep
+//             along (engine::blendVolumes, TimeBlend::Motion; docs/animation.md)
 //   index     UTF-8 JSON: grid, georeference, optics settings used, inputs, quantisation, and
 //             per timestep: time, provenance, nz_t, maxima (the decoding scales) and the chunk's
 //             offset, sizes and XXH64 (checksum.h) of the compressed bytes, and the same for

@@ -71,7 +71,7 @@ json encodeIndex(const NphMetadata& m, const std::vector<TimestepInfo>& timestep
   bool any_wind = false;
   for (const auto& t : timesteps) any_wind = any_wind || t.hasWind();
   if (any_wind) {
-    j["quantisation"]["wind"] = {{"kind", "linear-int16"},
+    j["quantisation"]["wind"] = {{"kind", "linear-int16, x-differenced, zigzag, byte planes"},
                                  {"decode", "u_m_per_s = code * 0.01"},
                                  {"max_abs_error", "0.005 m/s + 2^-24 relative, |u| <= 327.67 m/s (clamped)"}};
   }

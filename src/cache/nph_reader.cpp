@@ -320,7 +320,7 @@ ExtinctionVolumes NphReader::read(std::size_t t) const {
                                    raw.size(), 2 * stored * sizeof(std::int16_t), v.nx, v.ny, info.nz));
     }
     std::vector<std::int16_t> codes(2 * stored);
-    if (stored > 0) std::memcpy(codes.data(), raw.data(), raw.size());  // no null data() to memcpy
+    unpackWindCodes(raw, std::size_t(v.nx), codes);
     // Padded like β: calm above nz_t (nph_cache.h).
     v.wind_u_m_per_s.assign(v.voxelCount(), 0.0f);
     v.wind_v_m_per_s.assign(v.voxelCount(), 0.0f);

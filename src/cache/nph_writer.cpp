@@ -191,7 +191,9 @@ void NphWriter::append(const ExtinctionVolumes& v) {
       log::warn("{}: timestep {}: {} non-finite U/V values stored as calm (0 m/s)", s.path.string(),
                 geo::isoOrEmpty(v.time_utc), calm);
     }
-    wind = s.writeChunk(uv.data(), uv.size() * sizeof(std::int16_t));
+    std::vector<std::byte> packed(uv.size() * sizeof(std::int16_t));
+    packWindCodes(uv, std::size_t(v.nx), packed);
+    wind = s.writeChunk(packed.data(), packed.size());
   }
 
   TimestepInfo info;

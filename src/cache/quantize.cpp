@@ -51,4 +51,33 @@ void dequantiseWind(std::span<const std::int16_t> codes, std::span<float> out) {
   for (std::size_t n = 0; n < codes.size(); ++n) out[n] = static_cast<float>(double(codes[n]) * kWindStep_m_per_s);
 }
 
+void packWindCodes(std::span<const std::int16_t> codes, std::size_t row, std::span<std::byte> out) {
+  if (out.size() != 2 * codes.size() || row == 0 || codes.size() % row != 0) {
+    throw UsageError("packWindCodes: sizes do not fit");
+  }
+  const std::size_t n = codes.size();
+  for (std::size_t q = 0; q < n; ++q) {
+    const auto before = static_cast<std::uint16_t>(q % row == 0 ? 0 : codes[q - 1]);
+    const auto d = static_cast<std::uint16_t>(static_cast<std::uint16_t>(codes[q]) - before);  // mod 2^16
+    // zigzag: the sign bit (bit 15) to bit 0
+    const auto z = static_cast<std::uint16_t>(static_cast<std::uint16_t>(d << 1) ^ ((d & 0x8000u) ? 0xffffu : 0u));
+    out[q] = static_cast<std::byte>(z >> 8);
+    out[n + q] = static_cast<std::byte>(z & 0xffu);
+  }
+}
+
+void unpackWindCodes(std::span<const std::byte> packed, std::size_t row, std::span<std::int16_t> codes) {
+  if (packed.size() != 2 * codes.size() || row == 0 || codes.size() % row != 0) {
+    throw UsageError("unpackWindCodes: sizes do not fit");
+  }
+  const std::size_t n = codes.size();
+  for (std::size_t q = 0; q < n; ++q) {
+    const auto z = static_cast<std::uint16_t>((std::to_integer<unsigned>(packed[q]) << 8) |
+                                              std::to_integer<unsigned>(packed[n + q]));
+    const auto d = static_cast<std::uint16_t>((z >> 1) ^ ((z & 1u) ? 0xffffu : 0u));
+    const auto before = static_cast<std::uint16_t>(q % row == 0 ? 0 : codes[q - 1]);
+    codes[q] = static_cast<std::int16_t>(static_cast<std::uint16_t>(before + d));
+  }
+}
+
 }  // namespace nph::cache

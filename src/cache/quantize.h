@@ -49,4 +49,15 @@ std::size_t quantiseWind(std::span<const float> values, std::span<std::int16_t> 
 /// Decodes `codes` into `out` [m/s] (same length).
 void dequantiseWind(std::span<const std::int16_t> codes, std::span<float> out);
 
+// The wind chunk's bytes (before zstd): the codes in rows of `row` (nx) values, each code replaced
+// by its difference from the one before it in the row (0 before the first), modulo 2^16, zigzag
+// coded (0, -1, 1, -2, ... -> 0, 1, 2, 3, ...), then all high bytes followed by all low bytes. A
+// bijection; a wind smooth along x leaves mostly small numbers and a high-byte plane of near-zeros,
+// which zstd packs to about half the plain codes' size (the coarse storm: 407 kB -> 202 kB a
+// timestep; docs/conversion.md).
+/// Packs `codes` into `out` (2 bytes per code).
+void packWindCodes(std::span<const std::int16_t> codes, std::size_t row, std::span<std::byte> out);
+/// Inverts packWindCodes.
+void unpackWindCodes(std::span<const std::byte> packed, std::size_t row, std::span<std::int16_t> codes);
+
 }  // namespace nph::cache

@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <random>
 #include <vector>
+
+#include "core/error.h"
 
 namespace nph::cache {
 namespace {
@@ -46,6 +49,29 @@ TEST(Quantise, EmptyVolumeEncodesToZero) {
     EXPECT_EQ(q[n], 0);
     EXPECT_EQ(back[n], 0.0f);
   }
+}
+
+// The wind chunk's packing (packWindCodes) is a bijection: every int16, in rows, both neighbours
+// of every wrap-around of the difference, comes back exactly; a row that rises by one code a
+// column leaves a high-byte plane of zeros (what zstd then packs away).
+TEST(Quantise, WindPackingIsExactAndSmoothRowsLeaveEmptyHighBytes) {
+  std::vector<std::int16_t> codes;
+  for (int c = -32768; c <= 32767; ++c) codes.push_back(static_cast<std::int16_t>(c));
+  for (int c = 0; c < 256; ++c) codes.push_back(static_cast<std::int16_t>(c % 2 == 0 ? -32768 : 32767));
+  std::vector<std::byte> packed(2 * codes.size());
+  std::vector<std::int16_t> back(codes.size(), 7);
+  packWindCodes(codes, 256, packed);
+  unpackWindCodes(packed, 256, back);
+  EXPECT_EQ(back, codes);
+  // a smooth row: codes 100, 101, ... : differences 100 (first), then 1 -> zigzag 2: high bytes 0
+  std::vector<std::int16_t> smooth(64);
+  for (std::size_t i = 0; i < smooth.size(); ++i) smooth[i] = static_cast<std::int16_t>(100 + i);
+  std::vector<std::byte> p(2 * smooth.size());
+  packWindCodes(smooth, smooth.size(), p);
+  for (std::size_t i = 0; i < smooth.size(); ++i) EXPECT_EQ(p[i], std::byte{0}) << i;
+  EXPECT_EQ(p[smooth.size()], std::byte{200});            // zigzag(100)
+  EXPECT_EQ(p[smooth.size() + 1], std::byte{2});          // zigzag(1)
+  EXPECT_THROW(packWindCodes(smooth, 5, p), UsageError);  // 64 codes are no whole rows of 5
 }
 
 }  // namespace
