@@ -88,7 +88,12 @@ void describeNph(const std::string& path, const InfoOptions& o) {
   out(fmt::format("  geolocation   {}\n", m.georef.lat_deg.empty() ? "absent" : "lat/lon per column"));
   out(fmt::format("  terrain [m]   {}\n",
                   m.terrain_height_m.empty() ? std::string("absent (sea level)") : rangeText(m.terrain_height_m)));
-  out(fmt::format("  variables     ice_per_m, water_per_m [1/m] (16-bit, linear per timestep)\n"));
+  std::size_t windy = 0;
+  for (std::size_t t = 0; t < r.timestepCount(); ++t) windy += r.timestep(t).hasWind() ? 1 : 0;
+  out(fmt::format(
+      "  variables     ice_per_m, water_per_m [1/m] (16-bit, linear per timestep){}\n",
+      windy == 0 ? std::string()
+                 : fmt::format("; wind U, V [m/s] (int16, 0.01 m/s) in {} of {} timesteps", windy, r.timestepCount())));
   out(fmt::format("  optics        {}\n", opticsText(m.optics_json)));
   out(fmt::format("  inputs        {}\n", fmt::join(m.inputs, ", ")));
   out(fmt::format("  created by    {}\n", m.created_by));
