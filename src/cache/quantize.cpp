@@ -56,13 +56,17 @@ void packWindCodes(std::span<const std::int16_t> codes, std::size_t row, std::sp
     throw UsageError("packWindCodes: sizes do not fit");
   }
   const std::size_t n = codes.size();
-  for (std::size_t q = 0; q < n; ++q) {
-    const auto before = static_cast<std::uint16_t>(q % row == 0 ? 0 : codes[q - 1]);
-    const auto d = static_cast<std::uint16_t>(static_cast<std::uint16_t>(codes[q]) - before);  // mod 2^16
-    // zigzag: the sign bit (bit 15) to bit 0
-    const auto z = static_cast<std::uint16_t>(static_cast<std::uint16_t>(d << 1) ^ ((d & 0x8000u) ? 0xffffu : 0u));
-    out[q] = static_cast<std::byte>(z >> 8);
-    out[n + q] = static_cast<std::byte>(z & 0xffu);
+  for (std::size_t start = 0; start < n; start += row) {
+    std::uint16_t before = 0;
+    for (std::size_t q = start; q < start + row; ++q) {
+      const auto code = static_cast<std::uint16_t>(codes[q]);
+      const auto d = static_cast<std::uint16_t>(code - before);  // mod 2^16
+      before = code;
+      // zigzag: the sign bit (bit 15) to bit 0
+      const auto z = static_cast<std::uint16_t>(static_cast<std::uint16_t>(d << 1) ^ ((d & 0x8000u) ? 0xffffu : 0u));
+      out[q] = static_cast<std::byte>(z >> 8);
+      out[n + q] = static_cast<std::byte>(z & 0xffu);
+    }
   }
 }
 
@@ -71,12 +75,15 @@ void unpackWindCodes(std::span<const std::byte> packed, std::size_t row, std::sp
     throw UsageError("unpackWindCodes: sizes do not fit");
   }
   const std::size_t n = codes.size();
-  for (std::size_t q = 0; q < n; ++q) {
-    const auto z = static_cast<std::uint16_t>((std::to_integer<unsigned>(packed[q]) << 8) |
-                                              std::to_integer<unsigned>(packed[n + q]));
-    const auto d = static_cast<std::uint16_t>((z >> 1) ^ ((z & 1u) ? 0xffffu : 0u));
-    const auto before = static_cast<std::uint16_t>(q % row == 0 ? 0 : codes[q - 1]);
-    codes[q] = static_cast<std::int16_t>(static_cast<std::uint16_t>(before + d));
+  for (std::size_t start = 0; start < n; start += row) {
+    std::uint16_t before = 0;
+    for (std::size_t q = start; q < start + row; ++q) {
+      const auto z = static_cast<std::uint16_t>((std::to_integer<unsigned>(packed[q]) << 8) |
+                                                std::to_integer<unsigned>(packed[n + q]));
+      const auto d = static_cast<std::uint16_t>((z >> 1) ^ ((z & 1u) ? 0xffffu : 0u));
+      before = static_cast<std::uint16_t>(before + d);
+      codes[q] = static_cast<std::int16_t>(before);
+    }
   }
 }
 
