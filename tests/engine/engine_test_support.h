@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "cache/nph_cache.h"
 #include "core/error.h"
 #include "engine/dataset.h"
 #include "support/scratch_dir.h"
@@ -25,6 +26,22 @@ namespace nph::test {
 inline std::filesystem::path engineTestDir() {
   static const ScratchDir dir = ScratchDir::forProcess("engine");
   return dir.path();
+}
+
+/// `steps` (converted model timesteps on one grid) written to the .nph `file` with the cache's writer,
+/// the first timestep's grid and terrain as the file's, as `nephele convert` writes them.
+inline void writeNphOf(const std::filesystem::path& file, const std::vector<ExtinctionVolumes>& steps) {
+  const ExtinctionVolumes& first = steps.at(0);
+  cache::NphMetadata meta;
+  meta.nx = first.nx;
+  meta.ny = first.ny;
+  meta.dz_m = first.dz_m;
+  meta.z_bottom_m = first.z_bottom_m;
+  meta.georef = first.georef;
+  meta.terrain_height_m = first.terrain_height_m;
+  cache::NphWriter writer(file, meta);
+  for (const ExtinctionVolumes& v : steps) writer.append(v);
+  writer.commit();
 }
 
 /// A tiny 3-timestep hurricane (hourly, drifting and intensifying), written once per process.

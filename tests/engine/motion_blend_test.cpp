@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cache/nph_cache.h"
 #include "cache/quantize.h"
 #include "engine/dataset.h"
 #include "engine_test_support.h"
@@ -278,19 +277,7 @@ TEST(MotionBlend, TheNphRouteMovesAsTheModelFileDoes) {
   ASSERT_EQ(a.z_bottom_m, b.z_bottom_m);  // sea level: one grid, as convert's
 
   const std::filesystem::path nph = engineTestDir() / "storm_steering_2.nph";
-  {
-    cache::NphMetadata meta;
-    meta.nx = a.nx;
-    meta.ny = a.ny;
-    meta.dz_m = a.dz_m;
-    meta.z_bottom_m = a.z_bottom_m;
-    meta.georef = a.georef;
-    meta.terrain_height_m = a.terrain_height_m;
-    cache::NphWriter writer(nph, meta);
-    writer.append(a);
-    writer.append(b);
-    writer.commit();
-  }
+  writeNphOf(nph, {a, b});
   const auto cached = engine::Dataset::open(nph.string());
   const ExtinctionVolumes ca = cached->load(0), cb = cached->load(1);
   ASSERT_TRUE(engine::blendHasMotion(ca, cb));

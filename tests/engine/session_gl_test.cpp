@@ -4,7 +4,6 @@
 
 #include <memory>
 
-#include "cache/nph_cache.h"
 #include "engine/session.h"
 #include "engine_test_support.h"
 #include "scene/scene_file.h"
@@ -153,20 +152,7 @@ TEST_F(SessionTest, ReleaseAfterUploadReadsTheCacheByLayerForTheSameFrame) {
   // The tiny storm's first two timesteps as a .nph cache.
   const auto model = engine::Dataset::open(tinyStormFile());
   const std::string file = (engineTestDir() / "session-release.nph").string();
-  {
-    const ExtinctionVolumes v0 = model->load(0), v1 = model->load(1);
-    cache::NphMetadata m;
-    m.nx = v0.nx;
-    m.ny = v0.ny;
-    m.dz_m = v0.dz_m;
-    m.z_bottom_m = v0.z_bottom_m;
-    m.georef = v0.georef;
-    m.terrain_height_m = v0.terrain_height_m;
-    cache::NphWriter w(file, m);
-    w.append(v0);
-    w.append(v1);
-    w.commit();
-  }
+  writeNphOf(file, {model->load(0), model->load(1)});
   const auto ds = engine::Dataset::open(file);
   ASSERT_TRUE(ds->loadHeader(0).has_value()) << "a .nph cache gives its header from the index";
   scene::SceneDescription s = tinyScene();
