@@ -34,6 +34,7 @@ struct ConvertOptions {
   std::string preset = "default";
   std::vector<std::string> radii;
   bool no_number_concentrations = false;
+  bool no_wind = false;
   bool no_icon_cloud_cover = false;
   bool no_icon_condensate = false;
   double dz_m = 250.0;
@@ -177,6 +178,10 @@ int runConvert(const ConvertOptions& o) {
                       first_georef.proj_definition, first_georef.dx_m, first_georef.x0, first_georef.y0));
     }
     ExtinctionVolumes volumes = physics::buildExtinctionVolumes(ts, optics, vertical);
+    if (o.no_wind) {  // a smaller file that animates with the cross-fade (docs/animation.md)
+      volumes.wind_u_m_per_s.clear();
+      volumes.wind_v_m_per_s.clear();
+    }
     ts = io::ModelTimestep{};  // release the model fields before compressing
     seconds_optics += secondsSince(t0);
 
@@ -239,6 +244,9 @@ void addConvertCommand(CLI::App& app, Action& run) {
                   "classes: cloud rain ice snow graupel hail (repeatable)");
   sub->add_flag("--no-number-concentrations", o->no_number_concentrations,
                 "use the fixed radii even where the file has number concentrations");
+  sub->add_flag("--no-wind", o->no_wind,
+                "leave out U, V (about 2.5x smaller; animate then cross-fades between timesteps instead of "
+                "moving them along the wind)");
   sub->add_flag("--no-icon-cloud-cover-fix", o->no_icon_cloud_cover,
                 "ICON: do not raise CLC where condensate exists (Muth 2026 §3.3.1, eq. 3.1)");
   sub->add_flag("--no-icon-condensate-fix", o->no_icon_condensate,

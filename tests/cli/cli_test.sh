@@ -101,6 +101,16 @@ case $case in
     # time order across files: the first file's 12:00 comes first, the second file's 18:00 later
     grep -A1 "timesteps     8" "$out/stdout" | grep -q "2026-09-01T12:00:00Z" || fail "not time-ordered: $stdout"
     expect_out "7 2026-09-01T19:00:00Z"
+    expect_out "wind U, V"  # kept for the motion blend (docs/animation.md) ...
+    for wind in windy calm; do
+      run "$nephele" convert "$data/wrfout_lambert_thompson.nc" -o "$out/$wind.nph" --no-progress \
+        $([ $wind = calm ] && echo --no-wind)
+      expect_rc 0
+    done
+    run "$nephele" info "$out/calm.nph"
+    expect_rc 0; expect_out "timesteps     6"
+    if grep -q "wind U, V" "$out/stdout"; then fail "--no-wind kept the wind: $stdout"; fi  # ... unless left out
+    [ "$(stat -c %s "$out/calm.nph")" -lt "$(stat -c %s "$out/windy.nph")" ] || fail "--no-wind file not smaller"
     ;;
   mixed-grids)  # Lambert and Mercator storms have the same size but not the same grid
     run "$nephele" convert "$data/wrfout_lambert_wsm3.nc" "$data/wrfout_mercator_wsm3.nc" -o "$out/m.nph"
