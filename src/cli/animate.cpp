@@ -48,6 +48,13 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+/// --interpolation's values: the scene file's names (scene/animation_spec.h), in one table.
+std::vector<std::string> interpolationNames() {
+  std::vector<std::string> names;
+  for (const auto& entry : scene::kTimeInterpolationNames) names.emplace_back(entry.first);
+  return names;
+}
+
 struct AnimateOptions {
   std::string scene;
   std::string output_dir;
@@ -226,11 +233,7 @@ int runAnimate(const AnimateOptions& o) {
   if (o.duration_s && o.speed) throw UsageError("give either --duration or --speed, not both");
   if (o.duration_s) spec.duration_s = *o.duration_s, spec.speed.reset();
   if (o.speed) spec.speed = *o.speed, spec.duration_s.reset();
-  if (!o.interpolation.empty()) {
-    spec.interpolation = o.interpolation == "step"     ? scene::TimeInterpolation::Step
-                         : o.interpolation == "linear" ? scene::TimeInterpolation::Linear
-                                                       : scene::TimeInterpolation::Motion;
-  }
+  if (!o.interpolation.empty()) spec.interpolation = scene::timeInterpolationNamed(o.interpolation);
   if (!o.keyframes.empty()) spec.keyframes = scene::loadCameraKeyframes(o.keyframes);
 
   std::vector<std::string> exts;
@@ -252,8 +255,7 @@ int runAnimate(const AnimateOptions& o) {
   if (o.passes) s.output.passes = true;
   applyColourOptions(o.display, o.view, s.output.image);
   engine::Session session(dataset, s);
-  session.setTimeBlend(spec.interpolation == scene::TimeInterpolation::Linear ? engine::TimeBlend::Linear
-                                                                              : engine::TimeBlend::Motion);
+  session.setTimeBlend(engine::timeBlendFor(spec.interpolation));
   const engine::AnimationPlan plan(spec, *dataset, session.scene(), session.prepared());
   const auto [first, last] = frameRangeFor(o.frames, o.chunk, plan.frameCount());
 
@@ -440,7 +442,7 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_option("--interpolation", opts->interpolation,
                   "motion (blend timesteps carried along the wind; the default), linear (cross-fade) or step "
                   "(hold each)")
-      ->check(CLI::IsMember({"motion", "linear", "step"}));
+      ->check(CLI::IsMember(interpolationNames()));
   cmd->add_option("--keyframes", opts->keyframes, "camera keyframe file (JSON; replaces the scene's)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--gl", opts->gl, "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa")->capture_default_str();

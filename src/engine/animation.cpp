@@ -201,4 +201,8 @@ AnimationFrame AnimationPlan::frame(std::int64_t k) const {
   return f;
 }
 
+TimeBlend timeBlendFor(scene::TimeInterpolation interpolation) {
+  return interpolation == scene::TimeInterpolation::Motion ? TimeBlend::Motion : TimeBlend::Linear;
+}
+
 }  // namespace nph::engine

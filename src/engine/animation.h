@@ -87,4 +87,9 @@ class AnimationPlan {
   std::vector<double> key_fov_, key_near_, key_far_;
 };
 
+/// How a Session blends fractional time for a scene's interpolation (dataset.h TimeBlend): motion
+/// for Motion; Linear and Step cross-fade (Step never asks for a fractional time: AnimationPlan
+/// holds each timestep).
+TimeBlend timeBlendFor(scene::TimeInterpolation interpolation);
+
 }  // namespace nph::engine

@@ -106,8 +106,8 @@ inline constexpr TimeBlend kDefaultTimeBlend = TimeBlend::Motion;
 /// bottoms may differ: missing layers count as zeros). UsageError otherwise.
 /// w is clamped to [0, 1]; w = 0 and w = 1 return a and b exactly. Ice, water and the detail
 /// fields (volume/detail.h) are blended alike; the detail clock is the blend of both clocks.
-ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w,
-                               TimeBlend blend = TimeBlend::Linear);
+/// `blend` has no default: the Session's (kDefaultTimeBlend) is the one callers should think of.
+ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolumes& b, double w, TimeBlend blend);
 /// Whether TimeBlend::Motion moves anything between a and b (both carry U, V and a time, b later
 /// than a); false: it is the linear blend.
 bool blendHasMotion(const ExtinctionVolumes& a, const ExtinctionVolumes& b);

@@ -110,18 +110,26 @@ void Session::update() {
   const volume::Reconstruction reconstruction =
       lighting::reconstructionOf(scene_.quality, glm::dvec2(prepared_.frame.voxel_size_m));
   render_settings_.reconstruction = reconstruction;  // the CPU references' filter is the upload's
-  // A blend's key names its kind (dataset.h TimeBlend): the two make different volumes.
-  const std::string content = b.weight == 0.0
-                                  ? dataset_->identity(b.first)
-                                  : fmt::format("{}+{}@{:.17g}{}", dataset_->identity(b.first), b.second, b.weight,
-                                                time_blend_ == TimeBlend::Linear ? "" : "|motion");
+  // A blend's key names its kind (dataset.h TimeBlend) only where the kinds make different
+  // volumes: without U, V or times the motion blend is the linear one bit for bit
+  // (blendHasMotion), so switching the setting on such data re-blends and re-lights nothing.
+  // Whether a pair moves is learnt when it is first blended (pair_moves_); a pair not learnt yet
+  // has never been uploaded, so its key differs from volume_key_ whichever suffix it gets.
+  const std::string pair = fmt::format("{}+{}", dataset_->identity(b.first), b.second);
+  const auto contentKey = [&] {
+    if (b.weight == 0.0) return dataset_->identity(b.first);
+    const auto learnt = pair_moves_.find(pair);
+    const bool moves = learnt == pair_moves_.end() || learnt->second;
+    return fmt::format("{}@{:.17g}{}", pair, b.weight, time_blend_ == TimeBlend::Motion && moves ? "|motion" : "");
+  };
+  std::string content = contentKey();
   const volume::Detail detail = lighting::detailOf(scene_.quality);
-  const std::string key =
-      content +
+  const std::string filters =
       (reconstruction == volume::Reconstruction::Trilinear
            ? ""
            : fmt::format("|{}", volume::kReconstructionNames[std::size_t(reconstruction)])) +
       (detail == volume::Detail::None ? "" : fmt::format("|detail={}", volume::kDetailNames[std::size_t(detail)]));
+  std::string key = content + filters;
   std::vector<std::size_t> pinned{b.first};
   if (b.weight > 0.0) pinned.push_back(b.second);
   timesteps_->prefetch(pinned, direction_);  // the worker reads ahead while this frame is built
@@ -133,14 +141,20 @@ void Session::update() {
     // (issue 19, memory); otherwise the decoded volumes of the cache, kept for re-use (a model
     // file's timestep converted once by the constructor stays there until the upload).
     std::unique_ptr<ExtinctionSlices> slices;
-    if (release_after_upload_ && reads_by_layer_ && b.weight == 0.0) {
+    // With the detail on the upload decodes the whole timestep anyway (the controls, the wind
+    // that advects the noise): the layer route, whose header has no U, V, would lose the wind.
+    if (release_after_upload_ && reads_by_layer_ && b.weight == 0.0 && detail == volume::Detail::None) {
       slices = dataset_->loadSlices(b.first);
     } else {
       const auto a = timesteps_->get(b.first);
       std::shared_ptr<const ExtinctionVolumes> v = a;
-      if (b.weight > 0.0)
-        v = std::make_shared<const ExtinctionVolumes>(
-            blendVolumes(*a, *timesteps_->get(b.second), b.weight, time_blend_));
+      if (b.weight > 0.0) {
+        const auto second = timesteps_->get(b.second);
+        pair_moves_[pair] = blendHasMotion(*a, *second);
+        content = contentKey();
+        key = content + filters;
+        v = std::make_shared<const ExtinctionVolumes>(blendVolumes(*a, *second, b.weight, time_blend_));
+      }
       slices = std::make_unique<VolumeSlices>(std::move(v));
     }
     stats_.load_ms = msSince(t0);

@@ -11,6 +11,7 @@
 //   render / dispatch → ray cast with the camera given.
 // All calls must come from the thread whose GL context was current at construction.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -126,8 +127,9 @@ class Session {
   TimeBlend time_blend_ = kDefaultTimeBlend;
   int direction_ = 0;
   bool release_after_upload_ = false;
-  bool reads_by_layer_ = false;  ///< the dataset gives headers and layers cheaply (a .nph cache)
-  std::string volume_key_;       // identity of the uploaded volume
+  bool reads_by_layer_ = false;             ///< the dataset gives headers and layers cheaply (a .nph cache)
+  std::string volume_key_;                  // identity of the uploaded volume
+  std::map<std::string, bool> pair_moves_;  // "identity+second" -> blendHasMotion (update's key)
   std::optional<render::VolumeTextures> textures_;
   std::shared_ptr<const render::NoiseTexture> noise_;  ///< the detail noise tile, generated on first use
   render::DeepLightMap dlm_;

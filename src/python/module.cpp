@@ -27,6 +27,7 @@
 #include <fmt/ranges.h>
 
 #include "core/error.h"
+#include "engine/animation.h"
 #include "engine/dataset.h"
 #include "engine/quick_look.h"
 #include "engine/scene_render.h"
@@ -34,6 +35,7 @@
 #include "io/model_fields.h"
 #include "io/model_file.h"
 #include "render/gl/context.h"
+#include "scene/animation_spec.h"
 #include "scene/georeference.h"
 #include "scene/output_image.h"
 #include "scene/scene_file.h"
@@ -490,6 +492,8 @@ class PyRenderer {
     if (!data) data = engine::Dataset::open(scene_.data->path);
     context_ = gl::createHeadlessContext(gl);
     session_ = std::make_unique<engine::Session>(std::move(data), scene_);
+    // A fractional time blends as `nephele animate` would: the scene's animation.interpolation.
+    session_->setTimeBlend(engine::timeBlendFor(scene::parseAnimation(scene_).interpolation));
     timestep_ = std::size_t(session_->time());
   }
   ~PyRenderer() { close(); }

@@ -134,6 +134,15 @@ std::vector<CameraKeyframe> loadCameraKeyframes(const std::string& path) {
   return keys;
 }
 
+TimeInterpolation timeInterpolationNamed(std::string_view name) {
+  std::string list;
+  for (const auto& [n, value] : kTimeInterpolationNames) {
+    if (n == name) return value;
+    list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
+  }
+  throw UsageError(fmt::format("interpolation \"{}\": expected one of {}", name, list));
+}
+
 AnimationSpec parseAnimation(const SceneDescription& scene) {
   AnimationSpec a;
   if (scene.animation_json.empty()) return a;
@@ -156,10 +165,7 @@ AnimationSpec parseAnimation(const SceneDescription& scene) {
   if ((a.duration_s && *a.duration_s <= 0.0) || (a.speed && *a.speed <= 0.0)) {
     o.fail(o.at(a.speed ? "speed" : "duration_s"), "expected a positive number");
   }
-  a.interpolation = o.choice("interpolation", TimeInterpolation::Motion,
-                             {{"motion", TimeInterpolation::Motion},
-                              {"linear", TimeInterpolation::Linear},
-                              {"step", TimeInterpolation::Step}});
+  a.interpolation = o.choice("interpolation", kTimeInterpolationNames.front().second, kTimeInterpolationNames);
   if (o.get("sun_follows_clock")) a.sun_follows_clock = o.boolean("sun_follows_clock", false);
   a.sun_step_s = o.number("sun_step_s", 0.0, 0.0, 86400.0);
   a.keyframes = parseKeyframes(o, "camera_keyframes");

@@ -3,10 +3,12 @@
 // `nephele animate` renders — a time range of the data, a frame rate, how fast model time runs,
 // camera keyframes and whether the sun follows the clock. Parsed as strictly as the rest of the
 // scene file; evaluated per frame by engine/animation.h.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "scene/scene_file.h"
@@ -40,6 +42,13 @@ enum class TimeInterpolation {
   Motion   ///< fractional time blends both timesteps carried along their winds (engine/dataset.h
            ///< TimeBlend::Motion; the cross-fade where the data has no U, V or no times)
 };
+
+/// The names of TimeInterpolation, in one table for the scene files' "interpolation" and
+/// `nephele animate --interpolation` (the first is the default).
+inline constexpr std::array<std::pair<std::string_view, TimeInterpolation>, 3> kTimeInterpolationNames{
+    {{"motion", TimeInterpolation::Motion}, {"linear", TimeInterpolation::Linear}, {"step", TimeInterpolation::Step}}};
+/// The interpolation named `name` (kTimeInterpolationNames); UsageError listing the names otherwise.
+TimeInterpolation timeInterpolationNamed(std::string_view name);
 
 struct CameraKeyframe {
   double at_s = 0.0;  ///< video time of the keyframe

@@ -133,8 +133,10 @@ class Object {
     if (!v) return std::nullopt;
     return Object(*v, at(key), file_, base_);
   }
-  template <class E>
-  E choice(std::string_view key, E def, std::initializer_list<std::pair<const char*, E>> options) {
+  /// The value whose name is the key's string (`options`: pairs of name and value, a braced list
+  /// or a table such as animation_spec.h kTimeInterpolationNames); `def` when the key is absent.
+  template <class E, class Options = std::initializer_list<std::pair<const char*, E>>>
+  E choice(std::string_view key, E def, const Options& options) {
     const auto s = optString(key);
     if (!s) return def;
     std::string list;

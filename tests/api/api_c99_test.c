@@ -403,6 +403,13 @@ int main(int argc, char** argv) {
   EXPECT(NPH_OK, r, api->get_parameter(r, "exposure_ev", &value));
   CHECK(value == 0.5);
   EXPECT(NPH_OK, r, api->set_parameter(r, "exposure_ev", 0.0));
+  EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
+  CHECK(value == 1.0); /* motion-compensated by default, as scene files */
+  EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_parameter(r, "time_interpolation", 2));
+  EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 0));
+  EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
+  CHECK(value == 0.0);
+  EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 1));
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->get_parameter(r, "jitter", NULL));
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->get_parameter(r, "nope", &value));
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_time(r, NAN));

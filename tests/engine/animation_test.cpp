@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
+
 #include "core/error.h"
 #include "engine/animation.h"
 #include "engine/dataset.h"
@@ -71,6 +73,16 @@ TEST(AnimationSection, IsParsedStrictly) {
             scene::TimeInterpolation::Linear);
   EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "interpolation": "motion" })")).interpolation,
             scene::TimeInterpolation::Motion);
+  // One name table for scene files and `nephele animate --interpolation`, one mapping to the
+  // Session's blend.
+  for (const auto& [name, value] : scene::kTimeInterpolationNames) {
+    EXPECT_EQ(scene::timeInterpolationNamed(name), value);
+    EXPECT_EQ(scene::parseAnimation(sceneWith(fmt::format(R"({{ "interpolation": "{}" }})", name))).interpolation,
+              value);
+    EXPECT_EQ(engine::timeBlendFor(value),
+              value == scene::TimeInterpolation::Motion ? engine::TimeBlend::Motion : engine::TimeBlend::Linear);
+  }
+  EXPECT_THROW((void)scene::timeInterpolationNamed("cubic"), UsageError);
   ASSERT_EQ(a.keyframes.size(), 2u);
   EXPECT_EQ(a.keyframes[1].at_s, 1.5);
   const auto fails = [](const std::string& section, const std::string& expected) {
@@ -193,7 +205,7 @@ TEST_F(PlanFixture, CameraKeyframesAreHitExactly) {
 TEST(Blend, HalfwayIsTheMeanOfTwoRealTimesteps) {
   const auto ds = engine::Dataset::open(tinyStormFile());
   const ExtinctionVolumes a = ds->load(0), b = ds->load(1);
-  const ExtinctionVolumes m = engine::blendVolumes(a, b, 0.5);
+  const ExtinctionVolumes m = engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Linear);
   ASSERT_EQ(m.nz, std::max(a.nz, b.nz));
   const std::size_t layer = std::size_t(a.nx) * std::size_t(a.ny);
   std::size_t differing = 0;
@@ -207,8 +219,8 @@ TEST(Blend, HalfwayIsTheMeanOfTwoRealTimesteps) {
     differing += ai != bi ? 1 : 0;
   }
   EXPECT_GT(differing, m.ice_per_m.size() / 10) << "the storm must change between timesteps";
-  EXPECT_EQ(engine::blendVolumes(a, b, 0.0).ice_per_m, a.ice_per_m);
-  EXPECT_EQ(engine::blendVolumes(a, b, 1.0).water_per_m, b.water_per_m);
+  EXPECT_EQ(engine::blendVolumes(a, b, 0.0, engine::TimeBlend::Linear).ice_per_m, a.ice_per_m);
+  EXPECT_EQ(engine::blendVolumes(a, b, 1.0, engine::TimeBlend::Linear).water_per_m, b.water_per_m);
 }
 
 TEST(Blend, ARisingCloudTopIsBlendedOnTheUnionOfTheColumns) {
@@ -224,7 +236,7 @@ TEST(Blend, ARisingCloudTopIsBlendedOnTheUnionOfTheColumns) {
   ASSERT_EQ(a.dz_m, c.dz_m);
   EXPECT_GT(c.z_bottom_m + c.dz_m * c.nz, a.z_bottom_m + a.dz_m * a.nz + 1000.0)
       << "the column of timestep 2 must reach at least 1 km higher than timestep 0's";
-  const ExtinctionVolumes m = engine::blendVolumes(a, c, 0.25);
+  const ExtinctionVolumes m = engine::blendVolumes(a, c, 0.25, engine::TimeBlend::Linear);
   EXPECT_EQ(m.z_bottom_m, std::min(a.z_bottom_m, c.z_bottom_m));
   EXPECT_DOUBLE_EQ(m.z_bottom_m + m.dz_m * m.nz, std::max(a.z_bottom_m + a.dz_m * a.nz, c.z_bottom_m + c.dz_m * c.nz));
   // The optical depth of every column is the blend of the two timesteps' (zeros above a's top).

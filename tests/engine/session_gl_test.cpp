@@ -8,6 +8,7 @@
 #include "engine_test_support.h"
 #include "scene/scene_file.h"
 #include "support/gl_fixture.h"
+#include "volume/detail.h"
 
 namespace nph::test {
 namespace {
@@ -35,6 +36,36 @@ double meanAlpha(const scene::RgbaImage& img) {
   double sum = 0.0;
   for (std::size_t i = 3; i < img.rgba.size(); i += 4) sum += double(img.rgba[i]);
   return sum / double(img.rgba.size() / 4);
+}
+
+// Without U, V the motion blend is the linear one bit for bit (blendHasMotion), so the key does not
+// tell them apart: switching the setting re-blends and re-lights nothing.
+TEST_F(SessionTest, SwitchingTheBlendOnDataWithoutWindKeepsTheVolume) {
+  const auto ds = engine::Dataset::open(tinyStormFile());
+  std::vector<ExtinctionVolumes> still{ds->load(0), ds->load(1)};
+  std::vector<std::string> times;
+  for (ExtinctionVolumes& v : still) {
+    v.wind_u_m_per_s.clear();
+    v.wind_v_m_per_s.clear();
+    times.push_back(nph::geo::isoOrEmpty(v.time_utc));
+  }
+  ASSERT_FALSE(engine::blendHasMotion(still[0], still[1]));
+  engine::Session session(std::make_shared<ScriptedDataset>(still, times), tinyScene());
+  session.setTimeBlend(engine::TimeBlend::Motion);
+  session.setTime(0.5);
+  const auto motion = session.render(session.prepared().camera);
+  EXPECT_TRUE(session.stats().volume_changed);
+  session.setTimeBlend(engine::TimeBlend::Linear);
+  const auto linear = session.render(session.prepared().camera);
+  EXPECT_FALSE(session.stats().volume_changed) << "one volume: nothing to re-blend";
+  EXPECT_FALSE(session.stats().dlm_rebuilt) << "one volume: nothing to re-light";
+  EXPECT_EQ(motion.cloud_layer.rgba, linear.cloud_layer.rgba);
+  session.setTime(0.25);  // a new weight of the same pair: the blend is learnt, the key still plain
+  (void)session.render(session.prepared().camera);
+  EXPECT_TRUE(session.stats().volume_changed);
+  session.setTimeBlend(engine::TimeBlend::Motion);
+  (void)session.render(session.prepared().camera);
+  EXPECT_FALSE(session.stats().volume_changed);
 }
 
 TEST_F(SessionTest, HalfwayFrameIsTheFrameOfTheCpuBlendedVolume) {
@@ -155,21 +186,28 @@ TEST_F(SessionTest, ReleaseAfterUploadReadsTheCacheByLayerForTheSameFrame) {
   writeNphOf(file, {model->load(0), model->load(1)});
   const auto ds = engine::Dataset::open(file);
   ASSERT_TRUE(ds->loadHeader(0).has_value()) << "a .nph cache gives its header from the index";
-  scene::SceneDescription s = tinyScene();
-  s.data->path = file;
-  engine::Session keeping(ds, s), releasing(ds, s);
-  releasing.setReleaseAfterUpload(true);
-  for (const double t : {1.0, 0.5, 0.0}) {
-    keeping.setTime(t);
-    releasing.setTime(t);
-    const auto a = keeping.render(keeping.prepared().camera);
-    const auto b = releasing.render(releasing.prepared().camera);
-    EXPECT_TRUE(releasing.stats().volume_changed);
-    EXPECT_EQ(releasing.volumeTextures().identity(), keeping.volumeTextures().identity());
-    EXPECT_GT(meanAlpha(a.cloud_layer), 0.01) << "the storm must be in view";
-    expectSameImage(b.cloud_layer, a.cloud_layer, "cloud layer");
-    expectSameImage(b.frame, a.frame, "frame");
-    EXPECT_EQ(releasing.prefetchStats().bytes, 0u) << "nothing decoded is kept after the upload";
+  // With the sub-grid detail on, the noise is advected by the file's wind (volume/detail.h
+  // DetailFlow): the one-shot route must read the wind too (it decodes the whole timestep then).
+  ASSERT_TRUE(engine::blendHasMotion(ds->load(0), ds->load(1))) << "the cache keeps U, V";
+  for (const int detail : {int(volume::Detail::None), int(volume::Detail::Full)}) {
+    SCOPED_TRACE(volume::kDetailNames[std::size_t(detail)]);
+    scene::SceneDescription s = tinyScene();
+    s.data->path = file;
+    s.quality.detail = detail;
+    engine::Session keeping(ds, s), releasing(ds, s);
+    releasing.setReleaseAfterUpload(true);
+    for (const double t : {1.0, 0.5, 0.0}) {
+      keeping.setTime(t);
+      releasing.setTime(t);
+      const auto a = keeping.render(keeping.prepared().camera);
+      const auto b = releasing.render(releasing.prepared().camera);
+      EXPECT_TRUE(releasing.stats().volume_changed);
+      EXPECT_EQ(releasing.volumeTextures().identity(), keeping.volumeTextures().identity());
+      EXPECT_GT(meanAlpha(a.cloud_layer), 0.01) << "the storm must be in view";
+      expectSameImage(b.cloud_layer, a.cloud_layer, "cloud layer");
+      expectSameImage(b.frame, a.frame, "frame");
+      EXPECT_EQ(releasing.prefetchStats().bytes, 0u) << "nothing decoded is kept after the upload";
+    }
   }
 }
 

@@ -164,7 +164,8 @@ TEST(SeriesBlend, TimestepsCroppedDifferentlyBlendOnTheUnionOfTheirColumns) {
     b.ice_per_m[i] = float(10 * (i + 1));  // 10..80
   }
   for (const bool swapped : {false, true}) {
-    const ExtinctionVolumes m = swapped ? engine::blendVolumes(b, a, 0.5) : engine::blendVolumes(a, b, 0.5);
+    const ExtinctionVolumes m = swapped ? engine::blendVolumes(b, a, 0.5, engine::TimeBlend::Linear)
+                                        : engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Linear);
     ASSERT_EQ(m.nz, 6);
     EXPECT_EQ(m.z_bottom_m, 0.0);
     // out layer k, column c: 0.5 a[k] (k < 4) + 0.5 b[k - 2] (k >= 2)
@@ -178,7 +179,8 @@ TEST(SeriesBlend, TimestepsCroppedDifferentlyBlendOnTheUnionOfTheirColumns) {
   }
   // Bottoms off the dz lattice are still refused, naming both grids.
   ExtinctionVolumes off = ExtinctionVolumes::zeros(2, 1, 4, 1000.0, 250.0, 100.0);
-  expectError<UsageError>([&] { (void)engine::blendVolumes(a, off, 0.5); }, {"different grids", "from 100 m"});
+  expectError<UsageError>([&] { (void)engine::blendVolumes(a, off, 0.5, engine::TimeBlend::Linear); },
+                          {"different grids", "from 100 m"});
 }
 
 }  // namespace
