@@ -47,7 +47,10 @@ uniform bool u_only_overflowed;      // retry pass of the overflow rule
 uniform int u_step_growth;           // adaptive step: at most this many Δ per run (1: fixed step)
 // Counts for DlmStats (issue 19): fine steps marched outside the empty-space skip, those of them
 // in runs of m ≥ 2, and the runs — one atomic add each per texel.
-layout(std430, binding = SSBO_DLM_MARCH_STATS) buffer MarchStats { uint u_marched_steps, u_run_steps, u_runs; };
+// u_cut_short: texels whose march ended before u_steps — the driver's loop limiter (llvmpipe ends
+// a shader's loops after 65 535 iterations per SIMD group; docs/rendering.md "llvmpipe's loop
+// limit"); the light function beyond the cut is missing. Counted, never silent.
+layout(std430, binding = SSBO_DLM_MARCH_STATS) buffer MarchStats { uint u_marched_steps, u_run_steps, u_runs, u_cut_short; };
 uniform float u_growth_budget;       // the bound of the adaptive step's difference per ray (above)
 
 // The step factor T + (1 − T)·CP(θ/4) of one fine step Δ through extinction β.
@@ -246,6 +249,7 @@ void main() {
     Pcur = Pend;
 #endif
   }
+  if (n < u_steps) atomicAdd(u_cut_short, 1u);  // the loop exits only through its condition
   atomicAdd(u_marched_steps, uint(marched));
   atomicAdd(u_run_steps, uint(inRuns));
   atomicAdd(u_runs, uint(runs));

@@ -57,6 +57,11 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = IMAGE_CLOUD_LAYER) uniform image2D u_cloud_layer;
 layout(rgba32f, binding = IMAGE_FRAME) uniform image2D u_frame;
 layout(r32ui, binding = IMAGE_SAMPLE_COUNT) uniform uimage2D u_sample_count;  // statistics: samples per ray
+// Rays whose march ended without its exit condition (render/raycast/cloud_renderer.h raysCutShort):
+// Mesa's llvmpipe ends every loop of a shader once one SIMD group has taken 65 535 back-edges
+// in all its loops together (gallivm LP_MAX_TGSI_LOOP_ITERATIONS; docs/accuracy.md "Seventeenth
+// session"), so a long march with a small step loses the cloud behind its cut, silently. Counted.
+layout(std430, binding = SSBO_RAYCAST_STATS) buffer RaycastStats { uint raycastCutShort; };
 // Compositing passes (issue 15; scene/passes.h), written when u_write_passes: the frame is
 // C + T_acc·(ground + sky), so a compositor can rebuild it or lay the clouds over its own map.
 layout(rgba32f, binding = IMAGE_PASS_GROUND) uniform image2D u_pass_ground;  // ground radiance, shadow matte
@@ -600,6 +605,8 @@ void main() {
       }
       t += step_m;
     }
+    // Neither end reached: the loop limiter ended it (a loop exits only through its condition).
+    if (t < span.y && Tacc > u_min_transmittance) atomicAdd(raycastCutShort, 1u);
   }
   // Aerial perspective of the cloud layer, taken at its opacity-weighted mean depth d̄ (before the
   // renormalisation below, which rescales C and α but not where the cloud is):

@@ -32,6 +32,12 @@ SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& sce
               st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
   }
   log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
+  if (const std::uint64_t cut = session.renderer().raysCutShort()) {
+    log::warn("{} rays were cut short by the GL driver's loop limit (Mesa llvmpipe ends a shader's loops after "
+              "65 535 iterations): the clouds behind each cut are missing. Raise quality step_voxels, keep "
+              "empty_space_skipping on, or render on a GPU (docs/rendering.md \"llvmpipe's loop limit\")",
+              cut);
+  }
   {  // issue 19's memory accounting: on llvmpipe GL storage is process memory
     const render::VolumeTextures& vt = session.volumeTextures();
     const glm::ivec3 n = vt.frame().voxels;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -47,6 +48,55 @@ TEST_F(DlmTest, EmptyVolumeIsFullSunWithOneNodePerTexel) {
   }
   EXPECT_EQ(dlm.stats().max_nodes_used, 1);
   EXPECT_EQ(dlm.stats().unbounded_texels, 0);
+}
+
+// llvmpipe's loop limit (docs/rendering.md "llvmpipe's loop limit"): a light march of ~32 000
+// steps is ended by the driver once a SIMD group has made 65 535 loop iterations, and the light
+// function beyond the cut is missing. The march counts it (DlmStats::cut_short). Closed form: the
+// light below a homogeneous slab under a zenith sun, exp(−β·H·(1 − CP)), as the test below. Every
+// texel inside the slab has it (within 0.02) or is counted — on any driver; with the default step
+// none is cut, and on llvmpipe the tiny step is, so the count is exercised there.
+TEST_F(DlmTest, MarchesTheDriverCutShortAreCounted) {
+  const double beta = 2e-4, dz = 250.0;
+  const int nz = 64;  // 16 km: optical depth 3.2
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, nz, float(beta));
+  const auto frame = volume::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "tall slab");
+  const bool llvmpipe = std::string_view(reinterpret_cast<const char*>(glGetString(GL_RENDERER))).find("llvmpipe") !=
+                        std::string_view::npos;
+  for (const double step : {0.5, 0.002}) {
+    render::DeepLightMap dlm;
+    lighting::DlmSettings s = centralOnly();
+    s.epsilon = 0.005;
+    s.step_voxels = step;  // 0.002: 0.5 m, 32 000 steps through the slab
+    ASSERT_TRUE(dlm.build(tex, {0, 0, -1}, s));
+    const auto cp = lighting::forwardFractions(s);
+    const double continuum = std::exp(-beta * nz * dz * (1 - cp.central));
+    const auto& ls = dlm.lightSpace();
+    const auto rb = dlm.readBack();
+    int inside = 0, short_of_it = 0;
+    for (int b = 0; b < ls.texels.y; ++b) {
+      for (int a = 0; a < ls.texels.x; ++a) {
+        const glm::dvec3 centre = ls.rayStart(a, b);
+        const glm::dvec3 lo = frame.min_m() + frame.voxel_size_m, hi = frame.max_m() - frame.voxel_size_m;
+        if (centre.x < lo.x || centre.x > hi.x || centre.y < lo.y || centre.y > hi.y) continue;  // the slab's sides
+        ++inside;
+        const auto& nodes = rb.nodes[std::size_t(b * ls.texels.x + a)];
+        const double below = lighting::evaluateLightFunction(nodes.data(), int(nodes.size()), ls.depth_m);
+        if (std::abs(below - continuum) > 0.02) ++short_of_it;
+      }
+    }
+    std::printf("[ dlm      ] step %.3f voxels, %d steps: %lld marches counted cut short, %d of %d inner texels "
+                "off the closed form %.4f\n",
+                step, dlm.stats().steps, static_cast<long long>(dlm.stats().cut_short), short_of_it, inside, continuum);
+    ASSERT_GT(inside, 4);
+    EXPECT_LE(short_of_it, dlm.stats().cut_short) << "every texel off the closed form is counted";
+    if (step == 0.5) {
+      EXPECT_EQ(dlm.stats().cut_short, 0) << "the default step is within any driver's reach";
+    } else if (llvmpipe) {
+      EXPECT_GT(short_of_it, 0) << "llvmpipe cuts this march: the count is exercised";
+    }
+  }
 }
 
 // Homogeneous slab, sun at zenith. With the zero-padded trilinear rule β(z) is a trapezoid: β between

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <numbers>
 #include <optional>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -343,6 +344,73 @@ namespace {
 // decision that flips on a pixel whose transmittance crosses the threshold within rounding, which
 // changes it by at most ~T_min·L ≈ 1e-2 (not seen here) — hence max 1e-3 would be too tight in
 // general but mean 1e-5 is not.
+// Mesa's llvmpipe ends every loop of a shader once a SIMD group has made 65 535 loop iterations in
+// all (docs/rendering.md "llvmpipe's loop limit"): a march of ~13 000 steps through a thin slab is
+// cut there and loses the cloud behind the cut. The eye pass counts every march that ended before
+// either of its ends (CloudRenderer::raysCutShort), so the loss is never silent. Closed form: a
+// homogeneous slab of height H seen from above, α = 1 − exp(−β·H/cos θ) for the ray θ off the
+// nadir. Every pixel is that α (within 3 % of τ: the half-voxel zero border at the faces) or is
+// counted — on any driver; on llvmpipe this march is cut, so the count is exercised there.
+TEST_F(RaycastTest, MarchesTheDriverCutShortAreCounted) {
+  const int nz = 64;
+  const float beta = 2e-5f;
+  const ExtinctionVolumes v = homogeneousSlab(32, 32, nz, beta);  // 96 km wide, 16 km high
+  const scene::Sun sun{120.0, 60.0};
+  const double height_m = nz * v.dz_m;
+  const double tanHalf = std::tan(glm::radians(15.0));  // renderLookingDown: 30° field of view, 33 × 33
+  const bool llvmpipe = std::string_view(reinterpret_cast<const char*>(glGetString(GL_RENDERER))).find("llvmpipe") !=
+                        std::string_view::npos;
+  for (const double step : {0.5, 0.005}) {
+    render::RenderSettings rs;
+    rs.atmosphere = false;
+    rs.jitter = false;
+    rs.empty_space_skipping = false;
+    rs.step_voxels = step;  // 0.005: 12 800 steps down the slab
+    rs.step_growth_max = 1.0;
+    Rendered r;
+    r.frame = volume::frameOf(v, 1.0);
+    auto tex = render::VolumeTextures::upload(v, r.frame, "cut-short-test");
+    render::DeepLightMap dlm;
+    dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
+    scene::Camera cam;
+    const glm::dvec3 c = 0.5 * (r.frame.min_m() + r.frame.max_m());
+    cam.position_m = {c.x, c.y, 50000.0};
+    cam.target_m = {c.x, c.y, 0.0};
+    cam.up = {0.0, 1.0, 0.0};
+    cam.vertical_fov_deg = 30.0;
+    cam.width = cam.height = 33;
+    render::CloudRenderer renderer;
+    r.out = renderer.render(tex, dlm, cam, sun, rs);
+    const std::uint64_t cut = renderer.raysCutShort();
+    std::uint64_t incomplete = 0;
+    double worstComplete = 0.0;
+    for (int j = 0; j < 33; ++j) {
+      for (int i = 0; i < 33; ++i) {
+        const double x = (2.0 * (i + 0.5) / 33.0 - 1.0) * tanHalf, y = (2.0 * (j + 0.5) / 33.0 - 1.0) * tanHalf;
+        const double tau = double(beta) * height_m * std::sqrt(1.0 + x * x + y * y);  // H / cos θ
+        const double alpha = r.out.cloud_layer.rgba[4 * (std::size_t(j) * 33 + std::size_t(i)) + 3];
+        const double tauSeen = -std::log(1.0 - alpha);
+        ASSERT_LE(tauSeen, 1.03 * tau) << i << ", " << j;
+        if (tauSeen < 0.97 * tau) {
+          ++incomplete;
+        } else {
+          worstComplete = std::max(worstComplete, std::abs(tauSeen / tau - 1.0));
+        }
+      }
+    }
+    std::printf("[ raycast  ] step %.3f voxels: %llu rays counted cut short, %llu short of the closed form, "
+                "the rest within %.2f %% of τ\n",
+                step, static_cast<unsigned long long>(cut), static_cast<unsigned long long>(incomplete),
+                100.0 * worstComplete);
+    EXPECT_EQ(incomplete, cut) << "every march short of the closed form is counted, and only those";
+    if (step == 0.5) {
+      EXPECT_EQ(cut, 0u) << "128 steps are within any driver's reach";
+    } else if (llvmpipe) {
+      EXPECT_GT(cut, 0u) << "llvmpipe cuts this march: the count is exercised";
+    }
+  }
+}
+
 TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   const ExtinctionVolumes v = generatedHurricane();
   const auto frame = volume::frameOf(v, 8.0);

@@ -240,7 +240,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   }
   const std::uint32_t zero = 0;
   glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  const std::uint32_t noCounts[3] = {0, 0, 0};
+  const std::uint32_t noCounts[4] = {0, 0, 0, 0};
   if (march_stats_.size() == 0) march_stats_ = gl::Buffer::create(sizeof(noCounts)).label("DLM march counts");
   march_stats_.upload(0, sizeof(noCounts), noCounts);
 
@@ -364,11 +364,18 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   ++stats_.builds;
   stats_.rebuilt = true;
   computeStats(pass1, pass2, pass3);
-  std::uint32_t marchCounts[3] = {0, 0, 0};
+  std::uint32_t marchCounts[4] = {0, 0, 0, 0};
   march_stats_.download(0, sizeof(marchCounts), marchCounts);
   stats_.marched_steps = marchCounts[0];
   stats_.run_steps = marchCounts[1];
   stats_.runs = marchCounts[2];
+  stats_.cut_short = marchCounts[3];
+  if (stats_.cut_short > 0) {
+    log::warn("deep light map: {} texels' marches were cut short by the GL driver's loop limit (Mesa llvmpipe ends a "
+              "shader's loops after 65 535 iterations): their light beyond the cut is missing; raise quality "
+              "dlm_step_voxels or render on a GPU (docs/rendering.md \"llvmpipe's loop limit\")",
+              stats_.cut_short);
+  }
   stats_.light_cache_ms = bake;
   log::debug(
       "DLM built: {}x{} texels ({} in pass 1), {} steps of {:.1f} m, scatter map {}x{}x{}, mean {:.2f} nodes, {} "

@@ -51,6 +51,9 @@ struct DlmStats {
   /// The march of passes 1 and 3 (with overflow retries): fine steps Δ outside the empty-space
   /// skip, those of them taken in runs of the adaptive step (DlmSettings::step_growth_max), runs.
   std::int64_t marched_steps = 0, run_steps = 0, runs = 0;
+  /// Texels (passes 1 and 3, counted per march) whose march the driver's loop limiter ended
+  /// before the far side (llvmpipe; docs/rendering.md "llvmpipe's loop limit"). 0 on a GPU.
+  std::int64_t cut_short = 0;
   glm::ivec3 light_cache_texels{0};  ///< the light cache's size (0 without one; DlmSettings::light_cache_voxels)
   double light_cache_ms = 0.0;       ///< its bake, wall time incl. glFinish
   bool rebuilt = false;
@@ -126,7 +129,7 @@ class DeepLightMap {
 
   gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_, light_cache_bake_;
   gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_, light_cache_;
-  gl::Buffer march_stats_;  ///< SSBO_DLM_MARCH_STATS: 3 uint counters (DlmStats::marched_steps …)
+  gl::Buffer march_stats_;  ///< SSBO_DLM_MARCH_STATS: 4 uint counters (DlmStats::marched_steps …)
   DlmBaseline baseline_;
   lighting::LightSpace light_space_;
   gl::UniformBuffer<gl::LightSpaceBlock> light_space_block_;  // light_space_ for the GLSL passes

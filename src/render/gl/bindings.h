@@ -44,7 +44,7 @@
   X(IMAGE_SCATTER_RUNS, 2)      /* iimage3D r32i: flat runs of the scatter map (scatter_runs.comp) */ \
   X(UNIT_SCATTER_RUNS, 6)       /* isampler3D: the same, read by pass 3 */                      \
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
-  X(SSBO_DLM_MARCH_STATS, 5)    /* uint[3]: steps marched, in runs, runs (adaptive step, issue 19) */ \
+  X(SSBO_DLM_MARCH_STATS, 5)    /* uint[4]: steps marched, in runs, runs (issue 19), marches cut short */ \
   X(IMAGE_LIGHT_CACHE, 0)       /* image3D r16f: the map's sunlight baked per world cell (light_cache.comp) */ \
   X(UNIT_LIGHT_CACHE, 19)       /* sampler3D: the same, read by the eye pass (issue 19) */      \
   X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down): eye pass; all passes when packed only (issue 19) */ \
@@ -69,6 +69,7 @@
   X(IMAGE_CLOUD_LAYER, 0)       /* image2D rgba32f: premultiplied cloud layer */                \
   X(IMAGE_FRAME, 1)             /* image2D rgba32f: clouds over the lit ground */               \
   X(IMAGE_SAMPLE_COUNT, 2)      /* uimage2D r32ui: volume samples per ray (statistics) */       \
+  X(SSBO_RAYCAST_STATS, 7)      /* uint[1]: marches the driver's loop limiter ended (llvmpipe) */ \
   X(IMAGE_PASS_GROUND, 3)       /* image2D rgba32f: passes: ground radiance, shadow matte */    \
   X(IMAGE_PASS_SKY, 4)          /* image2D rgba32f: passes: sky radiance, cloud depth Z [m] */   \
   X(IMAGE_LOW_CLOUD_GUIDE, 5)   /* image2D rg32f: reduced-resolution clouds: (α·mean depth, march end) [m] */ \

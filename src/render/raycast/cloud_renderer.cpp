@@ -328,6 +328,11 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   p.use();
   volume.bind();
   dlm.bindForLookup();
+  // The count of marches llvmpipe's loop limiter ended (clouds.comp raycastCutShort), per frame.
+  if (raycast_stats_.id() == 0) raycast_stats_ = gl::Buffer::create(sizeof(std::uint32_t)).label("ray cast stats");
+  const std::uint32_t zero = 0;
+  glClearNamedBufferData(raycast_stats_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_RAYCAST_STATS, raycast_stats_.id());
   if (f.radiance_volume) {
     radiance_volume_->bind();
     const glm::vec3 boxMin(volume.frame().min_m());
@@ -455,6 +460,13 @@ void CloudRenderer::bindImages(int role) const {
   const GLuint skyImage = passes_ ? sky_pass_tex_.id() : frame_tex_.id();
   glBindImageTexture(gl::binding::IMAGE_PASS_GROUND, groundImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_PASS_SKY, skyImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+}
+
+std::uint64_t CloudRenderer::raysCutShort() const {
+  if (raycast_stats_.id() == 0) return 0;
+  std::uint32_t cut = 0;
+  raycast_stats_.download(0, sizeof(cut), &cut);
+  return cut;
 }
 
 std::uint64_t CloudRenderer::sampleCount() const {

@@ -158,6 +158,12 @@ class CloudRenderer {
   void setPasses(bool on) { passes_ = on; }
   bool passes() const { return passes_; }
   std::uint64_t sampleCount() const;
+  /// Rays of the last dispatch whose march the GL driver ended before either of its ends (the
+  /// volume's far side or early termination): Mesa's llvmpipe stops every loop of a shader once a
+  /// SIMD group has made 65 535 loop iterations in all (docs/rendering.md "llvmpipe's loop
+  /// limit"), so a long march with a small step loses what lies behind the cut. 0 on drivers
+  /// without such a limit. A read-back (it waits for the dispatch).
+  std::uint64_t raysCutShort() const;
   /// Benchmark/test baseline (EyePassBaseline); the default is the fast path.
   void setBaseline(const EyePassBaseline& baseline) { baseline_ = baseline; }
   /// The features the next dispatch() with `volume`, `dlm` and `settings` compiles the eye pass for.
@@ -204,6 +210,7 @@ class CloudRenderer {
   scene::WorldRect basemap_rect_;
   std::optional<GlobeMapping> globe_;
   gl::Texture globe_table_, globe_basemap_, sample_count_tex_;
+  gl::Buffer raycast_stats_;  // uint: rays the loop limiter cut (raysCutShort)
   bool count_samples_ = false;
   bool basemap_lights_ = false, far_basemap_lights_ = false, globe_lights_ = false;  // A = city lights
   gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
