@@ -11,7 +11,7 @@
 // Output transform (u_display): 0 = linear radiance (sun radiance 1) times 2^exposure, for hosts
 // that blend in linear light (enable GL_FRAMEBUFFER_SRGB on an sRGB target for display);
 // 1 = display-referred like `nephele render`'s PNG (scene/output_image.h): un-premultiply,
-// exposure, ACES fitted tone curve (Narkowicz 2016), sRGB encode (IEC 61966-2-1), re-premultiply —
+// exposure and white balance, ACES fitted tone curve (Narkowicz 2016), sRGB encode (IEC 61966-2-1), re-premultiply —
 // glsl/common/display.glsl, the very source the PNG writer compiles as C++; the frei0r test
 // compares both paths code for code.
 //
@@ -21,7 +21,7 @@
 #include "common/display.glsl"
 layout(binding = UNIT_COMPOSITE_LAYER) uniform sampler2D u_layer;
 uniform vec4 u_viewport;  // x, y, width, height of the host viewport [pixels]
-uniform float u_exposure_scale;  // 2^exposure_ev
+uniform vec3 u_exposure_scale;  // 2^exposure_ev × the white balance's gain (scene/white_balance.h)
 uniform int u_display;
 uniform int u_select;
 

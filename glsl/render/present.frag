@@ -5,7 +5,7 @@
 // row; the window's is the bottom one, hence the flipped v.
 #include "common/display.glsl"
 layout(binding = UNIT_PRESENT_FRAME) uniform sampler2D u_frame;  // linear RGB, alpha 1
-uniform float u_exposure_scale;                 // 2^exposure_ev
+uniform vec3 u_exposure_scale;  // 2^exposure_ev × the white balance's gain (scene::radianceScale)
 uniform int u_tone_curve;                       // kToneCurve* (scene::ToneCurve)
 in vec2 v_uv;
 out vec4 o_colour;

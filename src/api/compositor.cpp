@@ -14,15 +14,16 @@ Compositor::Compositor()
 
 void Compositor::draw(const gl::Texture& layer, const CompositeSettings& s) const {
   gl::DebugGroup group("nephele composite");
-  program_.set("u_exposure_scale", float(std::exp2(s.exposure_ev)));
+  program_.set("u_exposure_scale",
+               glm::vec3(std::exp2(s.exposure_ev) * scene::whiteBalanceGain(s.white_balance_k, s.white_balance_duv)));
   program_.set("u_display", s.display ? 1 : 0);
   program_.set("u_select", int(Select::Rgba));
   drawTriangle(layer, /*blend=*/true);
 }
 
-void Compositor::copy(const gl::Texture& source, Select select, double scale) const {
+void Compositor::copy(const gl::Texture& source, Select select, glm::dvec3 scale) const {
   gl::DebugGroup group("nephele pass copy");
-  program_.set("u_exposure_scale", float(scale));
+  program_.set("u_exposure_scale", glm::vec3(scale));
   program_.set("u_display", 0);
   program_.set("u_select", int(select));
   drawTriangle(source, /*blend=*/false);

@@ -10,7 +10,10 @@ namespace nph::api {
 
 struct CompositeSettings {
   double exposure_ev = scene::kDefaultExposureEv;  ///< radiance scale 2^ev
-  bool display = false;                            ///< ACES + sRGB like `nephele render`'s PNG, else linear
+  /// A camera's white balance [K] (scene/white_balance.h): radiance × its gain; neutral by default.
+  double white_balance_k = scene::kNeutralWhiteBalanceK;
+  double white_balance_duv = 0.0;  ///< its tint (scene/white_balance.h)
+  bool display = false;            ///< ACES + sRGB like `nephele render`'s PNG, else linear
 };
 
 class Compositor {
@@ -22,8 +25,8 @@ class Compositor {
   /// What a packed pass texture's channels are (glsl/api/composite.frag u_select).
   enum class Select { Rgba = 0, RgbOpaque = 1, AlphaAsGrey = 2 };
   /// Copies `source` (row 0 = top) into the bound draw framebuffer over the current viewport,
-  /// replacing it (no blending), RGB times `scale`, linear (no display transform).
-  void copy(const gl::Texture& source, Select select, double scale) const;
+  /// replacing it (no blending), RGB times `scale` (per channel), linear (no display transform).
+  void copy(const gl::Texture& source, Select select, glm::dvec3 scale) const;
   /// A GL object that exists only in the context the compositor was created in: glIsVertexArray
   /// on it tells whether that context is current (vertex arrays are never shared).
   GLuint contextProbe() const { return vertex_array_.id(); }

@@ -197,15 +197,16 @@ void Renderer::passToTexture(scene::Pass pass, unsigned texture, int level) {
   GlStateGuard guard;
   intoHostTarget(texture, level, "pass_to_texture target", [&] {
     const auto& r = session_->renderer();
-    const double exposure = std::exp2(composite_.exposure_ev);
+    const glm::dvec3 exposure = std::exp2(composite_.exposure_ev) *
+                                scene::whiteBalanceGain(composite_.white_balance_k, composite_.white_balance_duv);
     using Select = Compositor::Select;
     switch (pass) {
       case scene::Pass::Beauty: return compositor_.copy(r.frame(), Select::Rgba, exposure);
       case scene::Pass::Cloud: return compositor_.copy(r.cloudLayer(), Select::Rgba, exposure);
       case scene::Pass::Ground: return compositor_.copy(r.groundPass(), Select::RgbOpaque, exposure);
       case scene::Pass::Sky: return compositor_.copy(r.skyPass(), Select::RgbOpaque, exposure);
-      case scene::Pass::Shadow: return compositor_.copy(r.groundPass(), Select::AlphaAsGrey, 1.0);
-      case scene::Pass::Depth: return compositor_.copy(r.skyPass(), Select::AlphaAsGrey, 1.0);
+      case scene::Pass::Shadow: return compositor_.copy(r.groundPass(), Select::AlphaAsGrey, glm::dvec3(1.0));
+      case scene::Pass::Depth: return compositor_.copy(r.skyPass(), Select::AlphaAsGrey, glm::dvec3(1.0));
     }
   });
 }

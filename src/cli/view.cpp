@@ -201,8 +201,8 @@ class Viewer {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fbw, fbh);
     present_.use();
-    const double ev = scene::imageOptionsFor(session_.scene().output, session_.sun().elevation_deg).exposure_ev;
-    present_.set("u_exposure_scale", float(std::exp2(ev)));
+    present_.set("u_exposure_scale",
+                 scene::radianceScale(scene::imageOptionsFor(session_.scene().output, session_.sun().elevation_deg)));
     present_.set("u_tone_curve", int(session_.scene().output.image.tone_curve));
     glBindTextureUnit(gl::binding::UNIT_PRESENT_FRAME, session_.renderer().frame().id());
     glBindSampler(gl::binding::UNIT_PRESENT_FRAME, sampler_.id());

@@ -434,9 +434,9 @@ py::array frameArray(const engine::SceneFrame& frame, const std::vector<std::uin
   const scene::RgbaImage& img = cloud_layer ? frame.out.cloud_layer : frame.out.frame;
   if (dtype == "uint8") return imageArray(codes, img.height, img.width, 4);
   std::vector<float> linear = img.rgba;
-  const auto exposure = static_cast<float>(std::exp2(frame.options.exposure_ev));
+  const glm::vec3 scale = scene::radianceScale(frame.options);  // 2^exposure × the white balance
   for (std::size_t i = 0; i < linear.size(); ++i) {
-    if (i % 4 != 3) linear[i] *= exposure;
+    if (i % 4 != 3) linear[i] *= scale[int(i % 4)];
   }
   return imageArray(linear, img.height, img.width, 4);
 }

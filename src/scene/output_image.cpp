@@ -119,10 +119,16 @@ float applyToneCurve(float c, ToneCurve curve) {
 
 float linearToSrgb(float l) { return display::f32::linearToSrgb(l); }
 
+glm::vec3 radianceScale(const ImageOutputOptions& o) {
+  // At the neutral white balance the gain is 1 in every channel, exactly (scene/white_balance.h):
+  // the scale is then 2^exposure_ev, as it was before the white balance existed.
+  return glm::vec3(std::exp2(o.exposure_ev) * whiteBalanceGain(o.white_balance_k, o.white_balance_duv));
+}
+
 std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOptions& o) {
   checkImage(img, "<image>");
   if (img.rgba.empty()) throw InputError("a depth-only image has no colour to encode: write it as .exr");
-  const auto scale = static_cast<float>(std::exp2(o.exposure_ev));
+  const glm::vec3 scale = radianceScale(o);
   const std::size_t n = std::size_t(img.width) * std::size_t(img.height);
   std::vector<std::uint8_t> out(4 * n);
   auto code = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
@@ -138,7 +144,7 @@ std::vector<std::uint8_t> encodeSrgb8(const RgbaImage& img, const ImageOutputOpt
       if (img.content == ImageContent::Data) {
         v = std::isfinite(src[c]) ? src[c] : 0.0f;  // a matte: stored as it is
       } else if (alphaCode > 0) {
-        v = linearToSrgb(applyToneCurve(scale * src[c] / alpha, o.tone_curve));
+        v = linearToSrgb(applyToneCurve(scale[c] * src[c] / alpha, o.tone_curve));
       }
       out[4 * p + std::size_t(c)] = code(v);
     }
@@ -150,7 +156,7 @@ std::vector<float> encodeDisplay(const RgbaImage& img, const ImageOutputOptions&
   checkImage(img, "<image>");
   if (img.rgba.empty()) throw InputError("a depth-only image has no colour to encode: write it as .exr");
   const auto display = DisplayOutput::open(o.ocio_config, o.display, o.view);
-  const auto scale = static_cast<float>(std::exp2(o.exposure_ev));
+  const glm::vec3 scale = radianceScale(o);
   const std::size_t n = std::size_t(img.width) * std::size_t(img.height);
   std::vector<float> rgb(3 * n), out(4 * n);
   for (std::size_t p = 0; p < n; ++p) {
@@ -158,7 +164,7 @@ std::vector<float> encodeDisplay(const RgbaImage& img, const ImageOutputOptions&
     const float alpha = std::isfinite(src[3]) ? std::clamp(src[3], 0.0f, 1.0f) : 0.0f;
     out[4 * p + 3] = alpha;
     // Straight colour, as the legacy path (α = 0: black, never seen)
-    for (std::size_t c = 0; c < 3; ++c) rgb[3 * p + c] = alpha > 0.0f ? scale * src[c] / alpha : 0.0f;
+    for (std::size_t c = 0; c < 3; ++c) rgb[3 * p + c] = alpha > 0.0f ? scale[int(c)] * src[c] / alpha : 0.0f;
   }
   display->apply(rgb.data(), n);
   for (std::size_t p = 0; p < n; ++p) {
@@ -212,13 +218,19 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
   };
   // Z when asked for, and always with the passes (scene/passes.h) or alone (a depth pass).
   const bool depth = !img.depth_m.empty() && (o.write_depth || img.rgba.empty() || !img.layers.empty());
+  // Radiance channels R, G, B carry the exposure and the white balance's gain; a luminance (Y) the
+  // exposure alone; alpha, mattes and Z nothing.
+  const glm::vec3 scale = radianceScale(o);
   const auto exposure = static_cast<float>(std::exp2(o.exposure_ev));
-  const float colourScale = img.content == ImageContent::Data ? 1.0f : exposure;
+  auto radianceGain = [&](const std::string& channel) {
+    return channel == "R" ? scale[0] : channel == "G" ? scale[1] : channel == "B" ? scale[2] : exposure;
+  };
   std::vector<Channel> channels;
   if (!img.rgba.empty()) {
     for (int c = 0; c < 4; ++c) {
-      channels.push_back(
-          {std::string(1, "RGBA"[c]), OIIO::TypeDesc::HALF, img.rgba.data() + c, 4, c < 3 ? colourScale : 1.0f});
+      const std::string name(1, "RGBA"[c]);
+      channels.push_back({name, OIIO::TypeDesc::HALF, img.rgba.data() + c, 4,
+                          c < 3 && img.content != ImageContent::Data ? radianceGain(name) : 1.0f});
     }
   }
   if (depth) channels.push_back({"Z", OIIO::TypeDesc::FLOAT, img.depth_m.data(), 1, 1.0f});
@@ -226,7 +238,7 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
     for (std::size_t c = 0; c < l.channels.size(); ++c) {
       const bool alpha = l.channels[c] == "A";
       channels.push_back({l.name + "." + l.channels[c], OIIO::TypeDesc::HALF, l.values.data() + c, l.channels.size(),
-                          l.radiance && !alpha ? exposure : 1.0f});
+                          l.radiance && !alpha ? radianceGain(l.channels[c]) : 1.0f});
     }
   }
   const std::size_t n = std::size_t(img.width) * std::size_t(img.height);

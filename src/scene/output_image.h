@@ -8,7 +8,8 @@
 // or interrupted write never leaves a partial file under the final name.
 //
 // 8-bit pipeline per pixel (Muth 2026 §3.4.10 does the same: un-premultiply, then tone-map):
-//   c_lin = 2^exposure_ev · C_premult / α          (straight colour; α = 0 -> black)
+//   c_lin = 2^exposure_ev · g(T) · C_premult / α   (straight colour; α = 0 -> black; g(T) the white
+//                                                   balance's per-channel gain, scene/white_balance.h)
 //   c_disp = curve(c_lin)                           (per channel, into [0, 1])
 //   code = round(255 · sRGB_encode(c_disp)),  alpha code = round(255 · clamp(α, 0, 1))
 // Tone curves:
@@ -24,6 +25,10 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/white_balance.h"
 
 namespace nph::scene {
 
@@ -104,7 +109,19 @@ struct ImageOutputOptions {
   std::string display{};
   std::string view{};
   std::string ocio_config{};  ///< empty: scene::defaultOcioConfig()
+  /// A camera's white balance [K] (scene/white_balance.h; issue 14, nineteenth session): the
+  /// radiance times the gain g(T) of that temperature, EXR and PNG alike, with the exposure and
+  /// before the tone curve. kNeutralWhiteBalanceK (the default) is no change, bit for bit. A grade,
+  /// not physics: scene key output.white_balance_k.
+  double white_balance_k = kNeutralWhiteBalanceK;
+  /// Its tint, Duv (scene/white_balance.h): negative adds green, positive magenta; 0: none.
+  double white_balance_duv = 0.0;
 };
+
+/// What every writer multiplies linear radiance by, per channel: 2^exposure_ev times the white
+/// balance's gain (float, as the images are). The GPU paths (glsl/render/present.frag,
+/// glsl/api/composite.frag) take it as their u_exposure_scale.
+glm::vec3 radianceScale(const ImageOutputOptions& options);
 
 /// The 8-bit straight-alpha sRGB codes of `image` (RGBA interleaved), as writePng stores them
 /// when options.display is empty.

@@ -289,6 +289,10 @@ SceneDescription parseSceneText(std::string_view text, const std::string& name, 
       }
       out.exposure = ExposureMode(it - kExposureModeNames.begin());
     }
+    // A camera's white balance (scene/white_balance.h): a grade on the radiance, neutral by default.
+    out.image.white_balance_k =
+        o->number("white_balance_k", kNeutralWhiteBalanceK, kMinWhiteBalanceK, kMaxWhiteBalanceK);
+    out.image.white_balance_duv = o->number("white_balance_duv", 0.0, -kMaxWhiteBalanceDuv, kMaxWhiteBalanceDuv);
     if (const auto curve = o->optString("tone_curve")) {
       try {
         out.image.tone_curve = toneCurveFromName(*curve);

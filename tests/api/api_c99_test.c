@@ -410,6 +410,20 @@ int main(int argc, char** argv) {
   EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
   CHECK(value == 0.0);
   EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 1));
+  /* the camera's white balance (scene/white_balance.h): 6504 K is neutral, 2500-25000 K accepted */
+  EXPECT(NPH_OK, r, api->get_parameter(r, "white_balance_k", &value));
+  CHECK(value == 6504.0);
+  EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_parameter(r, "white_balance_k", 2000.0));
+  CHECK(strstr(api->last_error(r), "white_balance_k") != NULL);
+  EXPECT(NPH_OK, r, api->set_parameter(r, "white_balance_k", 8000.0));
+  EXPECT(NPH_OK, r, api->get_parameter(r, "white_balance_k", &value));
+  CHECK(value == 8000.0);
+  EXPECT(NPH_OK, r, api->set_parameter(r, "white_balance_k", 6504.0));
+  EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_parameter(r, "white_balance_duv", -0.05));
+  EXPECT(NPH_OK, r, api->set_parameter(r, "white_balance_duv", -0.005));
+  EXPECT(NPH_OK, r, api->get_parameter(r, "white_balance_duv", &value));
+  CHECK(value == -0.005);
+  EXPECT(NPH_OK, r, api->set_parameter(r, "white_balance_duv", 0.0));
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->get_parameter(r, "jitter", NULL));
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->get_parameter(r, "nope", &value));
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_time(r, NAN));

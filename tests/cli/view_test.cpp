@@ -1,6 +1,7 @@
 // `nephele view` without interaction (issue 5): under xvfb-run, --frames 3 --screenshot renders
 // three full-resolution frames in a GLFW window and writes what the window shows; the picture
-// must be non-trivial (clouds and ground) and match `nephele render` of the same scene and camera.
+// must be non-trivial (clouds and ground) and match `nephele render` of the same scene and camera
+// (the flat view with a white balance of 8000 K, the globe neutral).
 // Tolerance: the same ray caster on the same llvmpipe produces the same linear frame; the viewer
 // applies exposure, tone curve and sRGB in GLSL (glsl/render/present.frag), `render` in C++
 // (scene/output_image.cpp), so an 8-bit code may differ by one where a value sits on a rounding
@@ -53,10 +54,13 @@ TEST_P(ViewTest, ScreenshotMatchesRender) {
   std::ofstream(scene) << fmt::format(R"({{"data": {{"path": "{}", "timestep": 1}},
     "camera": {{"preset": "{}", "fov_deg": 40{}}}, "sun": {{"azimuth_deg": 140, "elevation_deg": 35}},
     "basemap": {{"path": "/usr/share/marble/data/maps/earth/bluemarble/bluemarble.jpg", "margin": 0.4, "pixels_long_side": 512}},
-    "quality": {{"preset": "draft"}}, "output": {{"width": 200, "height": 120}},
+    "quality": {{"preset": "draft"}}, "output": {{"width": 200, "height": 120{}}},
     "height_exaggeration": 8, "view": "{}"}})",
                                       data, GetParam() == "globe" ? "overview" : "oblique",
-                                      GetParam() == "globe" ? ", \"distance_scale\": 3" : "", GetParam());
+                                      GetParam() == "globe" ? ", \"distance_scale\": 3" : "",
+                                      // The flat view with a warm white balance (scene/white_balance.h): the
+                                      // viewer's GLSL gain and the writer's C++ one must agree too.
+                                      GetParam() == "globe" ? "" : ", \"white_balance_k\": 8000", GetParam());
   const std::string view = file("view.png"), render = file("render.png");
   const std::string nephele = NEPHELE_EXECUTABLE;
   ASSERT_EQ(std::system(fmt::format("xvfb-run -a '{}' view '{}' --width 200 --height 120 --frames 3 --screenshot '{}'",
