@@ -97,9 +97,11 @@ enum class TimeBlend {
 };
 /// Names in the order of the enum values (messages, docs).
 inline constexpr std::array<std::string_view, 2> kTimeBlendNames{"linear", "motion"};
-/// What a Session blends with unless told otherwise: motion-compensated, which is the linear blend
-/// where the data has no wind (docs/animation.md "Between two timesteps": measured).
-inline constexpr TimeBlend kDefaultTimeBlend = TimeBlend::Motion;
+/// What a Session blends with unless told otherwise: the cross-fade. Motion moves every level with
+/// its own wind, so a tower in a sheared wind (6 m/s at its base, 24 m/s at its top: the alpine
+/// life cycle) or a cloud that does not move with the air (orographic, a new cell) is smeared
+/// across the interval (docs/animation.md "Between two timesteps": measured, pictures).
+inline constexpr TimeBlend kDefaultTimeBlend = TimeBlend::Linear;
 
 /// The volume at weight w between timesteps a and b, on the union of both columns: the grids must
 /// agree horizontally and in dz, and their bottoms must lie on one dz lattice (layer counts and
