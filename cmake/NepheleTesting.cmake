@@ -54,3 +54,26 @@ function(nephele_add_gtest target)
     "endif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${props_file}")
 endfunction()
+
+# nephele_sanitize_host_tests(<test>... [DLOPEN_DIRS <dir>...])
+# Tests whose script runs a program we did not build (ffmpeg, gst-launch-1.0, melt, python3) that
+# loads our instrumented plugin or module. In the sanitizer build (NEPHELE_SANITIZE, make
+# test-sanitize) that host must have the ASan runtime loaded before anything else, so the test
+# preloads clang's shared runtime (the build links it, CMakeLists.txt) into everything the script
+# starts. The hosts' own leaks are not ours: LeakSanitizer is off in these tests (detect_leaks=0);
+# the library's leaks are checked where our own executables host it (api.c99, api.soak,
+# api.batch_osmesa, cli.*). DLOPEN_DIRS go on LD_LIBRARY_PATH, for a library that our code
+# dlopen()s by name and finds through its own RUNPATH: ASan's dlopen interceptor becomes the
+# caller, so the loader searches the runtime's RUNPATH instead (upstream, google/sanitizers#1219,
+# LLVM bug 27790). Elsewhere this does nothing. docs/reliability.md, "Session 19 run".
+function(nephele_sanitize_host_tests)
+  cmake_parse_arguments(PARSE_ARGV 0 arg "" "" "DLOPEN_DIRS")
+  if(NEPHELE_SANITIZE)
+    set(env "LD_PRELOAD=${NEPHELE_SANITIZE_PRELOAD}" "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1")
+    if(arg_DLOPEN_DIRS)
+      string(REPLACE ";" ":" dirs "${arg_DLOPEN_DIRS}")
+      list(APPEND env "LD_LIBRARY_PATH=${dirs}")
+    endif()
+    set_property(TEST ${arg_UNPARSED_ARGUMENTS} APPEND PROPERTY ENVIRONMENT ${env})
+  endif()
+endfunction()

@@ -17,6 +17,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
@@ -93,6 +94,28 @@ const nph_api_v1* api() {
     return t;
   }();
   return table;
+}
+
+// The host's GetProcAddress as the C API types it (nph_get_proc_address_fn: returns nph_gl_proc).
+// libnephele calls what it is given through that type, so handing it the context's own
+// void* (*)(const char*) cast to it (as this plugin did until session 19) is a call through a
+// pointer to another function type: undefined behaviour ([expr.call]; UBSan's -fsanitize=function
+// aborted api.frei0r and both frei0r host tests under `make test-sanitize`). One trampoline of the
+// API's type per backend: a headless backend has one GetProcAddress per process, which the
+// trampoline calls with the type it has. A distinct function per backend also keeps libnephele's
+// "entry points loaded from this GetProcAddress" check (api.cpp, loadEntryPoints) per backend.
+using ContextProc = void* (*)(const char*);
+std::atomic<ContextProc> g_egl_proc{nullptr}, g_osmesa_proc{nullptr};
+nph_gl_proc eglContextProc(const char* name) { return reinterpret_cast<nph_gl_proc>(g_egl_proc.load()(name)); }
+nph_gl_proc osmesaContextProc(const char* name) { return reinterpret_cast<nph_gl_proc>(g_osmesa_proc.load()(name)); }
+/// The API's GetProcAddress for `context`; nullptr for a backend without one here (renderer_create
+/// then refuses it, naming the field).
+nph_get_proc_address_fn apiProcAddress(const nph::gl::Context& context) {
+  switch (context.info().backend) {
+    case nph::gl::Backend::Egl: g_egl_proc = context.getProcAddress(); return &eglContextProc;
+    case nph::gl::Backend::OSMesa: g_osmesa_proc = context.getProcAddress(); return &osmesaContextProc;
+    default: return nullptr;
+  }
 }
 
 class Instance {
@@ -178,7 +201,7 @@ class Instance {
     }
     api()->dataset_timestep_count(dataset_, &timesteps_);
     nph_renderer_desc desc = NPH_RENDERER_DESC_INIT;
-    desc.get_proc_address = reinterpret_cast<nph_get_proc_address_fn>(context_->getProcAddress());
+    desc.get_proc_address = apiProcAddress(*context_);
     desc.quality_preset = p.quality.c_str();
     if (api()->renderer_create(dataset_, &desc, &renderer_) != NPH_OK) {
       report("renderer_create", dataset_);

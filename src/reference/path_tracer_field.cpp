@@ -14,7 +14,7 @@ namespace nph::reference {
 
 ExtinctionField::ExtinctionField(const ExtinctionVolumes& volumes, const volume::VolumeFrame& frame,
                                  volume::Reconstruction reconstruction)
-    : v_(volumes), frame_(frame), sampler_(volumes, frame, reconstruction) {
+    : frame_(frame), sampler_(volumes, frame, reconstruction) {
   const std::size_t n = volumes.voxelCount();
   if (n == 0 || frame.voxels != glm::ivec3(volumes.nx, volumes.ny, volumes.nz)) {
     throw UsageError("ExtinctionField: frame does not match the volume (" + std::to_string(volumes.nx) + "x" +

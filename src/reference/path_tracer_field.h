@@ -55,7 +55,6 @@ class ExtinctionField {
   const ExtinctionVolumes& volumes() const { return sampler_.voxels(); }
 
  private:
-  const ExtinctionVolumes& v_;
   volume::VolumeFrame frame_;
   volume::ExtinctionSampler sampler_;
 };

@@ -10,8 +10,12 @@ set -euo pipefail
 xvfb=$1 embed=$2 plugin=$3 diff=$4 golden=$5 work=$6
 out=$work/embed-glfw
 rm -rf "$out" && mkdir -p "$out"
+# NEPHELE_TEST_GLFW_PRELOAD: the sanitizer build's LD_PRELOAD for the example alone, not for
+# xvfb-run and Xvfb (tests/support/CMakeLists.txt, keep_libraries_mapped.c).
+preload=()
+[ -z "${NEPHELE_TEST_GLFW_PRELOAD:-}" ] || preload=(env "LD_PRELOAD=$NEPHELE_TEST_GLFW_PRELOAD")
 # -a alone starts probing at :99 like the other Xvfb tests; under ctest -j two probes can pick the
 # same number, so start ours elsewhere.
 NEPHELE_LOG=warn "$xvfb" -a -n $((200 + $$ % 700)) -s "-screen 0 640x480x24" \
-  "$embed" "$work/storm.nph" --plugin "$plugin" --size 320x180 --time 1 --frames 3 --screenshot "$out/frame.ppm"
+  "${preload[@]}" "$embed" "$work/storm.nph" --plugin "$plugin" --size 320x180 --time 1 --frames 3 --screenshot "$out/frame.ppm"
 "$diff" "$out/frame.ppm" "$golden" 24 0.5 embed_glfw
