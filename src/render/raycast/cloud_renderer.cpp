@@ -112,6 +112,11 @@ void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::
   basemap_lights_ = !city_lights.empty();
 }
 
+void CloudRenderer::setAtmosphere(const atmosphere::Parameters& parameters) {
+  atmosphere_parameters_ = parameters;
+  atmosphere_.reset();  // the tables of the new air are built by the next frame that wants them
+}
+
 void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
                                   const std::vector<float>& city_lights) {
   far_basemap_ = gl::Texture();
@@ -369,7 +374,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
       ground_m /= double(terrain.height_m.size());
     }
     const glm::dvec3 e =
-        atmosphere::horizontalIrradiance(atmosphere::Parameters::earth(), ground_m, glm::radians(sun.elevation_deg));
+        atmosphere::horizontalIrradiance(atmosphere_parameters_, ground_m, glm::radians(sun.elevation_deg));
     b.below_radiance = glm::vec3(s.ground_albedo / std::numbers::pi * sun.colour * sun.intensity * e);
   }
   b.octaves = s.octaves.octaves;
@@ -396,7 +401,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   b.atmosphere = s.atmosphere ? 1u : 0u;
   b.write_passes = passes_ ? 1u : 0u;
   if (s.atmosphere) {
-    if (!atmosphere_) atmosphere_ = std::make_unique<AtmosphereLuts>();
+    if (!atmosphere_) atmosphere_ = std::make_unique<AtmosphereLuts>(atmosphere_parameters_);
     // The sky-view table serves the flat view (its observer at the camera's altitude above the
     // plane z = 0); the globe marches every ray instead (glsl/atmosphere/sky.glsl).
     if (!globe_) atmosphere_->updateSkyView(view.position_m.z, sun.toSun());

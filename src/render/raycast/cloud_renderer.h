@@ -172,6 +172,12 @@ class CloudRenderer {
   std::size_t programCount() const { return programs_.size(); }
   /// The atmosphere's tables (nullptr until a frame with RenderSettings::atmosphere ran).
   const AtmosphereLuts* atmosphere() const { return atmosphere_.get(); }
+  /// The air the frames are seen through (RenderSettings::atmosphere): the Earth's by default; a
+  /// test atmosphere (tests/atmosphere/homogeneous_atmosphere.h) puts a rendered frame against a
+  /// closed form. Its tables are rebuilt on the next frame; the ground's light from below
+  /// (horizontalIrradiance) uses the same parameters.
+  void setAtmosphere(const atmosphere::Parameters& parameters);
+  const atmosphere::Parameters& atmosphereParameters() const { return atmosphere_parameters_; }
   /// Bytes of the ray caster's own GL textures (basemaps, globe tables, output targets and passes;
   /// not the atmosphere's small tables): issue 19's memory accounting.
   std::size_t textureBytes() const;
@@ -217,6 +223,7 @@ class CloudRenderer {
   gl::UniformBuffer<gl::GlobeBlock> globe_block_;      // globe.glsl's mapping
   gl::UniformBuffer<gl::TerrainBlock> terrain_block_;  // the ground's height field, the far basemap
   std::unique_ptr<AtmosphereLuts> atmosphere_;         // built on the first frame that wants it
+  atmosphere::Parameters atmosphere_parameters_ = atmosphere::Parameters::earth();  // atmosphere_'s
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
   std::unique_ptr<RadianceVolume> radiance_volume_;  // built on the first frame that wants it
   RadianceVolumeSettings radiance_volume_settings_;
