@@ -103,6 +103,18 @@ Number detailColumnCoverage(Number beta_per_m, vec2 d_columns, Number column_m) 
          exp(-d2 / (Number(2.0) * kDetailCoverageSigma * kDetailCoverageSigma));
 }
 
+// The mass correction between columns (volume/detail.h "Mass", twentieth session): c_J holds over
+// the core of column J and blends to its neighbours across a band of ±kDetailCorrectionBand columns
+// at each face, so a face is no step (the seams thin anvil edges showed, docs/detail.md). `g` is the
+// continuous column index (column centres at integers); the result is the bilinear weights' (fx, fy)
+// between the columns floor(g) and floor(g) + 1 on each axis: 0 or 1 in the cores, ½ on the face,
+// a smoothstep between. solveDetailCorrection solves c with these same weights at the measured rays.
+#define kDetailCorrectionBand Number(0.25)
+vec2 detailCorrectionBlend(vec2 g) {
+  vec2 f = g - floor(g);
+  return smoothstep(vec2(Number(0.5) - kDetailCorrectionBand), vec2(Number(0.5) + kDetailCorrectionBand), f);
+}
+
 // The shape factor s ∈ [0, 1] from the coverage and the noise term m (detailModulation).
 Number detailShape(Number coverage, Number m, Number amplitude) {
   return smoothstep(kDetailShapeThreshold - kDetailShapeWidth, kDetailShapeThreshold + kDetailShapeWidth,

@@ -18,7 +18,8 @@
 //   Number columnExtinctionAt(vec2 column_uv, Number w): β_ice + β_water at a column's centre
 //     (column_uv, a voxel centre horizontally) and height w (uvw units), linear in height, 0 outside
 //     the grid (GL_LINEAR with the zero border);
-//   Number detailCorrectionAt(vec2 uv): the per-column mass correction (GL_NEAREST, clamp to edge).
+//   Number detailCorrectionTexel(ivec2 column): column's mass correction c_J, the nearest column's
+//     outside the grid (1 where the correction is not applied).
 //
 // Written in the GLSL subset that also compiles as C++ (core/glsl_cpp.h).
 
@@ -57,10 +58,22 @@ vec4 detailAdvectedNoiseAt(vec3 p_m, vec3 o_a, vec3 o_b, vec3 period_m, bool sec
   return mix(detailNoiseAt(qb), detailNoiseAt(qa), u_detail_flow.z);
 }
 
+// The mass correction at a horizontal position (uv, the volume's texture coordinates): c of the
+// column, blended with its neighbours' across the band at its faces (detail.glsl
+// detailCorrectionBlend) — four texels, weighted here so that the CPU twin and the GPU agree.
+Number detailCorrectionAt(vec2 uv) {
+  vec2 g = uv * vec2(Number(u_voxels.x), Number(u_voxels.y)) - Number(0.5);
+  ivec2 c0 = ivec2(floor(g));
+  vec2 f = detailCorrectionBlend(g);
+  Number low = mix(detailCorrectionTexel(c0), detailCorrectionTexel(c0 + ivec2(1, 0)), f.x);
+  Number high = mix(detailCorrectionTexel(c0 + ivec2(0, 1)), detailCorrectionTexel(c0 + ivec2(1, 1)), f.x);
+  return mix(low, high, f.y);
+}
+
 // (β_ice, β_water) of the detailed field β(x + d)·ρ(x + d)·s·c at a world position (detail.glsl):
 // the controls and the wind at x, the displacement d from the noise at x / 2P, β at the displaced
 // point, the density factor and the shape's noise term from the noise there, the shape's coverage
-// at x + 3d, the column's mass correction at x. Every noise read is advected: at x − u(x)·τ per
+// at x + 3d, the columns' mass correction at x. Every noise read is advected: at x − u(x)·τ per
 // phase (the wind read once, at x, so the whole stencil of one sample moves together).
 vec2 detailedExtinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);

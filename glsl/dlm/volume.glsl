@@ -22,7 +22,7 @@ layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
 layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels), a lower bound of β (volume/occupancy.h)
 layout(binding = UNIT_DETAIL_CONTROLS) uniform sampler3D u_detail_controls;  // RGBA8 (turbulence, convective, fraction, core)
 layout(binding = UNIT_DETAIL_NOISE) uniform sampler3D u_detail_noise;        // RGBA8 periodic noise tile, GL_REPEAT
-layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction
+layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction (texelFetch)
 layout(binding = UNIT_DETAIL_WIND) uniform sampler3D u_detail_wind;  // RG32F horizontal wind [m/s] advecting the noise
 // The packed texture (issue 19; render/dlm/volume_textures.h hasPacked): RGBA16F (β_ice, β_water in
 // units of u_packed_beta_unit_per_m, τ_up, τ_down) per voxel, GL_LINEAR, GL_CLAMP_TO_EDGE. With
@@ -145,7 +145,9 @@ float columnExtinctionAt(vec2 column_uv, float w) {
   vec3 t = vec3(column_uv, w);
   return (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
 }
-float detailCorrectionAt(vec2 uv) { return texture(u_detail_correction, uv).r; }
+float detailCorrectionTexel(ivec2 column) {
+  return texelFetch(u_detail_correction, clamp(column, ivec2(0), textureSize(u_detail_correction, 0) - 1), 0).r;
+}
 vec2 detailWindAt(vec3 uvw) { return texture(u_detail_wind, uvw).rg; }
 #include "common/detail_field.glsl"
 

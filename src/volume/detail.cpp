@@ -239,26 +239,104 @@ double massSampleCount(const std::vector<glm::ivec2>& ranges, const MassPattern&
   return steps * 4.0 * double(pattern.rays_per_axis * pattern.rays_per_axis);
 }
 
-std::vector<float> solveDetailCorrection(const HalfColumnMasses& m) {
-  const int nx = m.nx, ny = m.ny, hx = 2 * nx;
-  std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0), detailed(plain.size(), 0.0);
+double RayMasses::plainOf(int i, int j) const {
+  double sum = 0.0;
+  for (int b = 0; b < rays_per_column; ++b)
+    for (int a = 0; a < rays_per_column; ++a) sum += plain[index(i, j, a, b)];
+  return sum;
+}
+
+double RayMasses::detailedOf(int i, int j) const {
+  double sum = 0.0;
+  for (int b = 0; b < rays_per_column; ++b)
+    for (int a = 0; a < rays_per_column; ++a) sum += detailed[index(i, j, a, b)];
+  return sum;
+}
+
+namespace {
+/// detail.glsl's blend weights at continuous column index g: the 2 × 2 columns floor(g) + (0|1)
+/// and their bilinear weights, in float as the shaders compute them.
+struct CorrectionStencil {
+  glm::ivec2 base{0};
+  double w[4] = {0.0, 0.0, 0.0, 0.0};  // (0,0), (1,0), (0,1), (1,1)
+};
+CorrectionStencil correctionStencil(const glm::dvec2& g) {
+  CorrectionStencil s;
+  s.base = glm::ivec2(glm::floor(g));
+  const glm::dvec2 f(detail_f32::detailCorrectionBlend(glm::vec2(g)));
+  s.w[0] = (1.0 - f.x) * (1.0 - f.y);
+  s.w[1] = f.x * (1.0 - f.y);
+  s.w[2] = (1.0 - f.x) * f.y;
+  s.w[3] = f.x * f.y;
+  return s;
+}
+}  // namespace
+
+double correctionAt(const std::vector<float>& c, int nx, int ny, const glm::dvec2& g) {
+  const CorrectionStencil s = correctionStencil(g);
+  double sum = 0.0;
+  for (int q = 0; q < 4; ++q) {
+    const int i = std::clamp(s.base.x + q % 2, 0, nx - 1), j = std::clamp(s.base.y + q / 2, 0, ny - 1);
+    sum += s.w[q] * double(c[std::size_t(j) * std::size_t(nx) + std::size_t(i)]);
+  }
+  return sum;
+}
+
+std::vector<float> solveDetailCorrection(const RayMasses& m) {
+  const int nx = m.nx, ny = m.ny, R = m.rays_per_column;
+  const std::size_t columns = std::size_t(nx) * std::size_t(ny);
+  std::vector<double> plain(columns, 0.0), detailed(columns, 0.0);
   double maxPlain = 0.0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const std::size_t J = std::size_t(j) * std::size_t(nx) + std::size_t(i);
-      for (int q = 0; q < 4; ++q) {
-        const std::size_t h = std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2);
-        plain[J] += m.plain[h];
-        detailed[J] += m.detailed[h];
-      }
+      plain[J] = m.plainOf(i, j);
+      detailed[J] = m.detailedOf(i, j);
       maxPlain = std::max(maxPlain, plain[J]);
     }
-  std::vector<float> c(plain.size(), 1.0f);
-  for (std::size_t J = 0; J < plain.size(); ++J) {
-    if (!(plain[J] > 1e-6 * maxPlain) || !(detailed[J] > 0.0)) continue;  // no cloud: left at 1
-    c[J] = float(std::clamp(plain[J] / detailed[J], kMinCorrection, kMaxCorrection));
+  // The stencil of every ray position within a column (the same in every column).
+  std::vector<CorrectionStencil> stencils;
+  for (int b = 0; b < R; ++b)
+    for (int a = 0; a < R; ++a) {
+      CorrectionStencil s = correctionStencil(glm::dvec2((a + 0.5) / R - 0.5, (b + 0.5) / R - 0.5));
+      stencils.push_back(s);  // base relative to the column: (−1|0, −1|0)
+    }
+  std::vector<double> c(columns, 1.0);
+  std::vector<std::size_t> active;
+  for (std::size_t J = 0; J < columns; ++J) {
+    if (!(plain[J] > 1e-6 * maxPlain) || !(detailed[J] > 0.0)) continue;        // no cloud: left at 1
+    c[J] = std::clamp(plain[J] / detailed[J], kMinCorrection, kMaxCorrection);  // the start: no blend
+    active.push_back(J);
   }
-  return c;
+  // Gauss–Seidel: c_J = (P_J − Σ_r d_r·Σ_{K≠J} w_K c_K) / Σ_r d_r·w_J, clamped. Each footprint's own
+  // weight is ≥ ½·½ at its rays, and its neighbours' share lies in a quarter column of band, so the
+  // sweeps contract; 1e-7 relative is reached in a few dozen on the storms (docs/detail.md).
+  for (int sweep = 0; sweep < 200; ++sweep) {
+    double change = 0.0;
+    for (const std::size_t J : active) {
+      const int i = int(J % std::size_t(nx)), j = int(J / std::size_t(nx));
+      double own = 0.0, others = 0.0;
+      for (int b = 0; b < R; ++b)
+        for (int a = 0; a < R; ++a) {
+          const double d = m.detailed[m.index(i, j, a, b)];
+          if (d == 0.0) continue;
+          const CorrectionStencil& s = stencils[std::size_t(b) * std::size_t(R) + std::size_t(a)];
+          for (int q = 0; q < 4; ++q) {
+            if (s.w[q] == 0.0) continue;
+            const int ki = std::clamp(i + s.base.x + q % 2, 0, nx - 1),
+                      kj = std::clamp(j + s.base.y + q / 2, 0, ny - 1);
+            const std::size_t K = std::size_t(kj) * std::size_t(nx) + std::size_t(ki);
+            (K == J ? own : others) += d * s.w[q] * (K == J ? 1.0 : c[K]);
+          }
+        }
+      if (!(own > 0.0)) continue;
+      const double next = std::clamp((plain[J] - others) / own, kMinCorrection, kMaxCorrection);
+      change = std::max(change, std::abs(next - c[J]) / c[J]);
+      c[J] = next;
+    }
+    if (change < 1e-7) break;
+  }
+  return std::vector<float>(c.begin(), c.end());
 }
 
 glm::dvec3 detailDisplacement(const glm::dvec4& nd, double turbulence, const glm::dvec3& reach_m, const NoiseStats& s) {

@@ -114,27 +114,46 @@ DetailControls buildDetailControls(const ExtinctionVolumes& volumes);
 
 /// Mass correction (issue 13 "mass preserving"). The density factor moves extinction inside a
 /// column, the displacement moves it across column faces, and the shape (detail.glsl detailShape)
-/// erodes it at the visible edge, so the detailed field is multiplied by a factor c_J per model
-/// column J, constant over the column's footprint: c_J = P_J / D_J, the plain and the uncorrected
-/// detailed optical mass of the footprint, measured on vertical rays (MassPattern below), clamped
-/// to [kMinCorrection, kMaxCorrection]; columns without plain mass stay at 1. The mass the
-/// shape removes at the visible edge goes back into the rest of the footprint, most of it optically
-/// thick and invisible. Every footprint with plain mass is corrected, also one whose plain mass is
-/// only a neighbour's reconstruction ramp (the square face the shape removes): its remaining cloud,
+/// erodes it at the visible edge, so the detailed field is multiplied by a correction c(x, y): c_J
+/// over the core of model column J, blended to the neighbouring columns' across a band of
+/// ±kCorrectionBand columns at each face (detail.glsl detailCorrectionBlend, a smoothstep), so that a
+/// face is no step. The c_J are solved so that every footprint J with plain mass keeps it: on the
+/// measured vertical rays r (MassPattern below), Σ_{r∈J} d_r·c(x_r) = P_J, with d_r the uncorrected
+/// detailed mass of ray r, c(x_r) = Σ_K w_K(x_r)·c_K and P_J the footprint's plain mass — a sparse
+/// linear system, solved by Gauss–Seidel sweeps with each c_J clamped to
+/// [kMinCorrection, kMaxCorrection]; columns without plain mass stay at 1. The mass the shape
+/// removes at the visible edge goes back into the rest of the footprint, most of it optically thick
+/// and invisible. Every footprint with plain mass is corrected, also one whose plain mass is only a
+/// neighbour's reconstruction ramp (the square face the shape removes): its remaining cloud,
 /// between the cloudy neighbour and the eroded edge, carries the ramp's mass.
-/// Why constant per column and not bilinear between column centres (as before): a bilinear factor
-/// couples each footprint to its 8 neighbours, and the diagonal neighbours of an isolated thick
-/// column (footprint τ = 1/64 of the column's from the trilinear corner, of which the shape leaves
-/// a sliver) need ×40 where the axis neighbours need ≈ ×1 — no bilinear field does both (measured
-/// on the coarse storm: the axis neighbours then hit the range's floor, 20 footprints off by 30 %
-/// and more). Constant per column it is exact for the measured rays and independent per column; its
-/// steps at the column faces lie inside optically thick cloud or within the shape's soft edge band.
+/// History: a bilinear factor between column centres (until the ninth session) couples each
+/// footprint to its 8 neighbours over the whole footprint, and the diagonal neighbours of an
+/// isolated thick column (footprint τ = 1/64 of the column's from the trilinear corner, of which the
+/// shape leaves a sliver) need ×40 where the axis neighbours need ≈ ×1 — no bilinear field does both
+/// (the axis neighbours then hit the range's floor, 20 footprints off by 30 % and more). A constant
+/// c_J per column (ninth to nineteenth session) is exact and independent per column, but where an
+/// anvil's edge is optically thin its steps at the faces show as straight seams (docs/detail.md
+/// "Seams at column faces"). The band keeps each column's core its own and couples only a quarter
+/// column either side of a face.
 /// Measured by the GPU (glsl/render/detail_mass.comp) for rendering and by ExtinctionSampler for
 /// the CPU twin, same pattern (kMassPattern).
-struct HalfColumnMasses {
-  int nx = 0, ny = 0;                   ///< model columns (the arrays hold 2nx × 2ny, x fastest)
-  std::vector<double> plain, detailed;  ///< Σ β·Δz over the half-column's rays (any common unit)
+struct RayMasses {
+  int nx = 0, ny = 0;                   ///< model columns
+  int rays_per_column = 0;              ///< rays per column and axis (2 × MassPattern::rays_per_axis)
+  std::vector<double> plain, detailed;  ///< Σ β·Δz along each ray (any common unit), x fastest
+  /// The index of ray (a, b) of column (i, j) in plain and detailed.
+  std::size_t index(int i, int j, int a, int b) const {
+    const std::size_t row = std::size_t(nx) * std::size_t(rays_per_column);
+    return (std::size_t(j) * std::size_t(rays_per_column) + std::size_t(b)) * row +
+           std::size_t(i) * std::size_t(rays_per_column) + std::size_t(a);
+  }
+  /// The footprint's plain and detailed masses (sums over its rays).
+  double plainOf(int i, int j) const;
+  double detailedOf(int i, int j) const;
 };
+/// Half-width of the band at a column face over which c blends between the two columns [columns]
+/// (detail.glsl kDetailCorrectionBand).
+inline constexpr double kCorrectionBand = 0.25;
 /// Rays per half-column and axis, and the vertical step in layers, of the exhaustive measurement
 /// (until the eleventh session: every half-column, the whole grown box).
 inline constexpr int kMassRaysPerAxis = 2;
@@ -172,8 +191,12 @@ std::vector<glm::ivec2> massStepRanges(const ExtinctionVolumes& volumes, int fil
 double massSampleCount(const std::vector<glm::ivec2>& ranges, const MassPattern& pattern);
 /// Range of the correction: the shape leaves a ramp-only diagonal footprint a sliver of its mass.
 inline constexpr double kMinCorrection = 1.0 / 64.0, kMaxCorrection = 64.0;
-/// c per model column (nx × ny, x fastest).
-std::vector<float> solveDetailCorrection(const HalfColumnMasses& masses);
+/// c per model column (nx × ny, x fastest), as above.
+std::vector<float> solveDetailCorrection(const RayMasses& masses);
+/// The correction at continuous column index g (column centres at integers) from the c_J of
+/// solveDetailCorrection: detail.glsl's blend (detail_field.glsl detailCorrectionAt), the nearest
+/// column's c outside the grid.
+double correctionAt(const std::vector<float>& c, int nx, int ny, const glm::dvec2& g);
 
 /// detail.glsl's functions (compiled as C++ in float, as the GPU runs them).
 glm::dvec3 detailDisplacement(const glm::dvec4& nd, double turbulence, const glm::dvec3& reach_m, const NoiseStats& s);

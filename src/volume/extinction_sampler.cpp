@@ -30,7 +30,7 @@ ExtinctionSampler::ExtinctionSampler(const ExtinctionVolumes& volumes, const Vol
   controls_ = std::make_shared<const DetailControls>(buildDetailControls(volumes));  // from the data
   wind_ = std::make_shared<const DetailWind>(buildDetailWind(volumes));
   flow_ = volume::detailFlow(volumes.detail_clock_s, !wind_->empty());
-  correction_ = solveDetailCorrection(measureHalfColumnMasses(kMassPattern));
+  correction_ = solveDetailCorrection(measureRayMasses(kMassPattern));
 }
 
 ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
@@ -93,10 +93,9 @@ struct DetailField {
               j = int(std::floor(column_uv.y * Number(u_voxels.y)));
     return Number(s.columnAt(i, j, double(w) * double(u_voxels.z) - 0.5));
   }
-  Number detailCorrectionAt(vec2 uv) const {
+  Number detailCorrectionTexel(ivec2 column) const {
     if (!correction) return Number(1.0);
-    const int i = std::clamp(int(std::floor(uv.x * Number(u_voxels.x))), 0, u_voxels.x - 1),
-              j = std::clamp(int(std::floor(uv.y * Number(u_voxels.y))), 0, u_voxels.y - 1);
+    const int i = std::clamp(column.x, 0, u_voxels.x - 1), j = std::clamp(column.y, 0, u_voxels.y - 1);
     return (*correction)[std::size_t(j) * std::size_t(u_voxels.x) + std::size_t(i)];
   }
 #include "../glsl/common/detail_field.glsl"
@@ -128,34 +127,32 @@ double ExtinctionSampler::columnAt(int i, int j, double gz) const {
   return b;
 }
 
-// The measurement of glsl/render/detail_mass.comp: per half-column, rays_per_axis² vertical rays at
-// the centres of a regular sub-grid, midpoint rule on the pattern's lattice over the footprint's
-// step range (massStepRanges; the whole grown box without occupied_only).
-HalfColumnMasses ExtinctionSampler::measureHalfColumnMasses(const MassPattern& pattern) const {
-  HalfColumnMasses m;
+// The measurement of glsl/render/detail_mass.comp: per vertical ray, (2·rays_per_axis)² per
+// column at the centres of a regular sub-grid, midpoint rule on the pattern's lattice over the
+// footprint's step range (massStepRanges; the whole grown box without occupied_only).
+RayMasses ExtinctionSampler::measureRayMasses(const MassPattern& pattern) const {
+  RayMasses m;
   m.nx = f_.voxels.x;
   m.ny = f_.voxels.y;
-  const int hx = 2 * m.nx, hy = 2 * m.ny, rays = pattern.rays_per_axis;
-  m.plain.assign(std::size_t(hx) * std::size_t(hy), 0.0);
+  m.rays_per_column = 2 * pattern.rays_per_axis;
+  const int R = m.rays_per_column, rx = R * m.nx, ry = R * m.ny;
+  m.plain.assign(std::size_t(rx) * std::size_t(ry), 0.0);
   m.detailed.assign(m.plain.size(), 0.0);
   const int reach = reachVoxels(r_) + detail_.reach_voxels;
   const double g0 = -double(reach), step = pattern.step_layers;
   const std::vector<glm::ivec2> ranges = massStepRanges(*v_, reachVoxels(r_), reach, pattern);
-  tbb::parallel_for(0, hy, [&](int l) {
-    for (int h = 0; h < hx; ++h) {
-      const glm::ivec2 range = ranges[std::size_t(l / 2) * std::size_t(m.nx) + std::size_t(h / 2)];
+  tbb::parallel_for(0, ry, [&](int l) {
+    for (int h = 0; h < rx; ++h) {
+      const glm::ivec2 range = ranges[std::size_t(l / R) * std::size_t(m.nx) + std::size_t(h / R)];
       double p = 0.0, d = 0.0;
-      for (int b = 0; b < rays; ++b)
-        for (int a = 0; a < rays; ++a) {
-          const double gx = 0.5 * (double(h) + (a + 0.5) / rays), gy = 0.5 * (double(l) + (b + 0.5) / rays);
-          for (int k = range.x; k < range.y; ++k) {
-            const glm::dvec3 w = f_.worldFromGrid({gx, gy, g0 + (k + 0.5) * step});
-            p += plainAt(w).total();
-            d += detailedAt(w, false).total();
-          }
-        }
-      m.plain[std::size_t(l) * std::size_t(hx) + std::size_t(h)] = p;
-      m.detailed[std::size_t(l) * std::size_t(hx) + std::size_t(h)] = d;
+      const double gx = (h + 0.5) / R, gy = (l + 0.5) / R;
+      for (int k = range.x; k < range.y; ++k) {
+        const glm::dvec3 w = f_.worldFromGrid({gx, gy, g0 + (k + 0.5) * step});
+        p += plainAt(w).total();
+        d += detailedAt(w, false).total();
+      }
+      m.plain[std::size_t(l) * std::size_t(rx) + std::size_t(h)] = p;
+      m.detailed[std::size_t(l) * std::size_t(rx) + std::size_t(h)] = d;
     }
   });
   return m;

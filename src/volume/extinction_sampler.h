@@ -45,9 +45,9 @@ class ExtinctionSampler {
   const DetailFlow& detailFlow() const { return flow_; }
   /// The wind advecting the noise (empty without detail or without U, V).
   const DetailWind& wind() const { return wind_ ? *wind_ : kNoWind; }
-  /// The plain and the uncorrected detailed masses on half-columns, measured with `pattern`
+  /// The plain and the uncorrected detailed masses along vertical rays, measured with `pattern`
   /// (volume/detail.h; the correction in use is solved from kMassPattern's).
-  HalfColumnMasses measureHalfColumnMasses(const MassPattern& pattern = kMassPattern) const;
+  RayMasses measureRayMasses(const MassPattern& pattern = kMassPattern) const;
   /// The detail's shape coverage at a world position (glsl/common/detail_field.glsl detailCoverageAt).
   double coverageAt(const glm::dvec3& world_m) const;
   /// β_ice + β_water of column (i, j) at the continuous level index gz (voxel centres at integers),

@@ -1008,7 +1008,7 @@ BENCHMARK(BM_DetailCost)
     ->Iterations(3);
 
 // Issue 13, "a cheaper mass measurement" (docs/detail.md): the detail's GPU mass measurement
-// (VolumeTextures::measureHalfColumnMasses, glsl/render/detail_mass.comp) with the exhaustive
+// (VolumeTextures::measureRayMasses, glsl/render/detail_mass.comp) with the exhaustive
 // pattern of the tenth session against cheaper ones (volume/detail.h MassPattern: only the occupied
 // footprints and layers, fewer rays, a coarser step), coarse storm, detail full, the filter of the
 // second argument. Timed: the measurement alone (compile, range upload, dispatch, read-back), in
@@ -1042,7 +1042,7 @@ void BM_DetailMass(benchmark::State& state) {
   const render::RenderSettings rs;
   render::RenderOutput out[kVariants];
   std::vector<float> c[kVariants];
-  volume::HalfColumnMasses exhaustive;
+  volume::RayMasses exhaustive;
   double samples[kVariants], uploadMs[kVariants];
   for (int k = 0; k < kVariants; ++k) {
     const volume::MassPattern& p = variants[k].pattern;
@@ -1055,7 +1055,7 @@ void BM_DetailMass(benchmark::State& state) {
     render::DeepLightMap dlm;
     dlm.build(*tex.back(), -sun.toSun(), lighting::DlmSettings{});
     out[k] = renderer.render(*tex.back(), dlm, camera, sun, rs);
-    const volume::HalfColumnMasses m = tex.back()->measureHalfColumnMasses(v, p);
+    const volume::RayMasses m = tex.back()->measureRayMasses(v, p);
     if (k == 0) exhaustive = m;
     c[k] = volume::solveDetailCorrection(m);
     const int filterReach = volume::reachVoxels(r);
@@ -1063,21 +1063,20 @@ void BM_DetailMass(benchmark::State& state) {
         volume::massStepRanges(v, filterReach, filterReach + tex.back()->detail().reach_voxels, p), p);
   }
   // Footprints with plain mass and their optical depth (exhaustive pattern, data metres).
-  const int nx = v.nx, ny = v.ny, hx = 2 * nx;
+  const int nx = v.nx, ny = v.ny;
   std::vector<double> plain(std::size_t(nx) * std::size_t(ny), 0.0);
   double maxPlain = 0.0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       double& P = plain[std::size_t(j) * std::size_t(nx) + std::size_t(i)];
-      for (int q = 0; q < 4; ++q)
-        P += exhaustive.plain[std::size_t(2 * j + q / 2) * std::size_t(hx) + std::size_t(2 * i + q % 2)];
+      P = exhaustive.plainOf(i, j);
       maxPlain = std::max(maxPlain, P);
     }
   const double tauPerSum = volume::kMassStepLayers * frame.voxel_size_m.z / frame.height_exaggeration /
                            double(4 * volume::kMassRaysPerAxis * volume::kMassRaysPerAxis);
   Series series[kVariants];
   const int rounds = interleavedCasts<kVariants>(
-      state, series, [&](int k) { (void)tex[std::size_t(k)]->measureHalfColumnMasses(v, variants[k].pattern); });
+      state, series, [&](int k) { (void)tex[std::size_t(k)]->measureRayMasses(v, variants[k].pattern); });
   std::fprintf(stderr, "detail mass measurement, coarse storm %dx%dx%d voxels, %s, detail full, %d rounds on %s\n",
                v.nx, v.ny, v.nz, cubic ? "cubic" : "trilinear", rounds, ctx->info().renderer.c_str());
   auto& counters = state.counters;

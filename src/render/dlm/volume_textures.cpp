@@ -240,12 +240,12 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   if (t.detail_.on()) {
-    const volume::HalfColumnMasses masses = t.measureHalfColumnMasses(*whole, o.mass);
+    const volume::RayMasses masses = t.measureRayMasses(*whole, o.mass);
     const std::vector<float> c = volume::solveDetailCorrection(masses);
     maxScale = float(volume::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
     t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
     glTextureSubImage2D(t.correction_.id(), 0, 0, 0, n.x, n.y, GL_RED, GL_FLOAT, c.data());
-    t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // constant per column (volume/detail.h)
+    t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // texelFetch, blended in the shader (volume/detail.h)
   }
   t.occupancy_ = t.detail_.on()
                      ? volume::buildOccupancy(src, o.brick_voxels, reconstruction, t.detail_.reach_voxels, maxScale)
@@ -266,13 +266,14 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
   return t;
 }
 
-volume::HalfColumnMasses VolumeTextures::measureHalfColumnMasses(const ExtinctionVolumes& v,
-                                                                 const volume::MassPattern& pattern) const {
-  volume::HalfColumnMasses m;
+volume::RayMasses VolumeTextures::measureRayMasses(const ExtinctionVolumes& v,
+                                                   const volume::MassPattern& pattern) const {
+  volume::RayMasses m;
   m.nx = frame_.voxels.x;
   m.ny = frame_.voxels.y;
-  const glm::ivec2 h(2 * m.nx, 2 * m.ny);
-  auto image = gl::Texture::create2D(GL_RG32F, h.x, h.y).label("detail half-column masses");
+  m.rays_per_column = 2 * pattern.rays_per_axis;
+  const glm::ivec2 h(m.rays_per_column * m.nx, m.rays_per_column * m.ny);
+  auto image = gl::Texture::create2D(GL_RG32F, h.x, h.y).label("detail ray masses");
   // The step range per model column (volume/detail.h massStepRanges), as the CPU twin marches it.
   const int filterReach = volume::reachVoxels(reconstruction_);
   const std::vector<glm::ivec2> ranges =

@@ -108,11 +108,10 @@ class VolumeTextures {
   /// UNIT_FAR_TERRAIN, and the packed texture (or a 1-texel zero) to UNIT_PACKED_VOLUME.
   void bind() const;
 
-  /// The plain and the uncorrected detailed half-column masses of a detailed upload, measured on the
-  /// GPU with `pattern` (glsl/render/detail_mass.comp; volume/detail.h); `volumes` are the ones
-  /// uploaded (for the pattern's step ranges). Binds the textures.
-  volume::HalfColumnMasses measureHalfColumnMasses(const ExtinctionVolumes& volumes,
-                                                   const volume::MassPattern& pattern) const;
+  /// The plain and the uncorrected detailed masses along the vertical rays of a detailed upload,
+  /// measured on the GPU with `pattern` (glsl/render/detail_mass.comp; volume/detail.h); `volumes`
+  /// are the ones uploaded (for the pattern's step ranges). Binds the textures.
+  volume::RayMasses measureRayMasses(const ExtinctionVolumes& volumes, const volume::MassPattern& pattern) const;
 
  private:
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, far_terrain_tex_, controls_, zero_rgba_,
