@@ -1,6 +1,7 @@
 #include "engine/dataset.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
@@ -256,6 +257,76 @@ std::vector<float> trajectoryEnds(const ExtinctionVolumes& v, double seconds, do
   return ends;
 }
 
+/// Half-width (columns) of the window over which steeringWinds averages.
+constexpr int kSteeringWindow = 2;
+
+/// The wind a cloud column moves with (docs/animation.md "Clouds move as columns"): per column, the
+/// horizontal wind averaged over its levels weighted by the cloud in them — β_a + β_b on the blend's
+/// grid (layers: a's layer ka at oa + ka, b's kb at ob + kb) — and over the (2·kSteeringWindow + 1)²
+/// columns around it; where that window holds no cloud, the plain mean over the levels. Returned
+/// as a volume of v's grid holding only U, V: that wind at every level, so that trajectoryEnds
+/// moves all levels of a column alike.
+/// Why: a convective cell moves as a whole with a mean of the winds over its depth (the steering
+/// wind; Bunkers et al. 2000, Wea. Forecasting 15, the 0–6 km mean), not each level with its own
+/// wind. Moving each level with its own wind shears a tower in a wind that grows with height (6 m/s
+/// at its base, 24 m/s at its top) into slanted streaks between the timesteps, where the model shows
+/// an upright tower at both (the alpine life cycle, docs/animation.md). Weighted by the cloud, an
+/// anvil column moves with the anvil's wind and a tower's with its depth's.
+ExtinctionVolumes steeringWinds(const ExtinctionVolumes& v, int offset, const ExtinctionVolumes& a, int oa,
+                                const ExtinctionVolumes& b, int ob) {
+  const int nx = v.nx, ny = v.ny;
+  const std::size_t layer = std::size_t(nx) * std::size_t(ny);
+  const auto beta = [&](const ExtinctionVolumes& w, int k, std::size_t c) {
+    if (k < 0 || k >= w.nz) return 0.0;
+    double sum = 0.0;
+    for (const std::vector<float>* f : {&w.ice_per_m, &w.water_per_m}) {
+      if (!f->empty()) sum += double((*f)[std::size_t(k) * layer + c]);
+    }
+    return sum;
+  };
+  // Per column: Σβ·u, Σβ·v, Σβ, Σu, Σv over the levels.
+  std::vector<std::array<double, 5>> column(layer, {0.0, 0.0, 0.0, 0.0, 0.0});
+  tbb::parallel_for(std::size_t(0), layer, [&](std::size_t c) {
+    std::array<double, 5>& s = column[c];
+    for (int k = 0; k < v.nz; ++k) {
+      const double u = double(v.wind_u_m_per_s[std::size_t(k) * layer + c]);
+      const double w = double(v.wind_v_m_per_s[std::size_t(k) * layer + c]);
+      const int level = offset + k;  // on the blend's grid
+      const double m = beta(a, level - oa, c) + beta(b, level - ob, c);
+      s[0] += m * u;
+      s[1] += m * w;
+      s[2] += m;
+      s[3] += u;
+      s[4] += w;
+    }
+  });
+  ExtinctionVolumes out;  // the grid and the wind only: what trajectoryEnds reads
+  out.nx = nx;
+  out.ny = ny;
+  out.nz = v.nz;
+  out.wind_u_m_per_s.resize(v.wind_u_m_per_s.size());
+  out.wind_v_m_per_s.resize(v.wind_v_m_per_s.size());
+  tbb::parallel_for(0, ny, [&](int j) {
+    for (int i = 0; i < nx; ++i) {
+      std::array<double, 5> s{0.0, 0.0, 0.0, 0.0, 0.0};
+      for (int q = std::max(j - kSteeringWindow, 0); q <= std::min(j + kSteeringWindow, ny - 1); ++q)
+        for (int p = std::max(i - kSteeringWindow, 0); p <= std::min(i + kSteeringWindow, nx - 1); ++p) {
+          const std::array<double, 5>& t = column[std::size_t(q) * std::size_t(nx) + std::size_t(p)];
+          for (int n = 0; n < 5; ++n) s[std::size_t(n)] += t[std::size_t(n)];
+        }
+      const std::size_t c = std::size_t(j) * std::size_t(nx) + std::size_t(i);
+      const std::array<double, 5>& own = column[c];
+      const float u = float(s[2] > 0.0 ? s[0] / s[2] : own[3] / double(v.nz));
+      const float w = float(s[2] > 0.0 ? s[1] / s[2] : own[4] / double(v.nz));
+      for (int k = 0; k < v.nz; ++k) {
+        out.wind_u_m_per_s[std::size_t(k) * layer + c] = u;
+        out.wind_v_m_per_s[std::size_t(k) * layer + c] = w;
+      }
+    }
+  });
+  return out;
+}
+
 }  // namespace
 
 bool blendHasMotion(const ExtinctionVolumes& a, const ExtinctionVolumes& b) {
@@ -312,8 +383,10 @@ ExtinctionVolumes blendVolumes(const ExtinctionVolumes& a, const ExtinctionVolum
   if (motion) {
     const volume::VolumeFrame frame = volume::frameOf(a);
     const double dt = b.time_utc->secondsSince(*a.time_utc);
-    from_a = trajectoryEnds(a, -w * dt, frame.voxel_size_m.x, frame.voxel_size_m.y);
-    to_b = trajectoryEnds(b, (1.0 - w) * dt, frame.voxel_size_m.x, frame.voxel_size_m.y);
+    // Each column moves as one, with its cloud-weighted wind (steeringWinds).
+    from_a = trajectoryEnds(steeringWinds(a, oa, a, oa, b, ob), -w * dt, frame.voxel_size_m.x, frame.voxel_size_m.y);
+    to_b =
+        trajectoryEnds(steeringWinds(b, ob, a, oa, b, ob), (1.0 - w) * dt, frame.voxel_size_m.x, frame.voxel_size_m.y);
   }
   // `src` weighted by `weight` into dst from dst's layer `offset` on, read at `ends` (or in place).
   const auto addMoved = [&](const std::vector<float>& src, int nz, const std::vector<float>& ends, float weight,

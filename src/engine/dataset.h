@@ -89,19 +89,19 @@ enum class TimeBlend {
   /// time before the cross-fade (semi-Lagrangian trajectories, Staniforth & Côté 1991),
   ///   β(x, w) = (1−w)·β_a(x − d_a) + w·β_b(x + d_b),
   /// d_a ≈ w·Δt·u_a (backward from the frame to timestep a), d_b ≈ (1−w)·Δt·u_b (forward to
-  /// timestep b), each a midpoint trajectory iterated twice, per level, sampled bilinearly in the
-  /// horizontal. Falls back to Linear (the same volume bit for bit) where it has no motion: Δt
+  /// timestep b), each a midpoint trajectory iterated twice, sampled bilinearly in the horizontal.
+  /// u is each column's cloud-weighted wind over its levels (and the columns around it), so a cloud
+  /// column moves as one: a tower in a wind sheared with height stays upright (docs/animation.md
+  /// "Clouds move as columns"). Falls back to Linear (the same volume bit for bit) where it has no motion: Δt
   /// unknown or ≤ 0 (a timestep without a time), or either timestep without U, V (a .nph cache,
   /// a host volume).
   Motion
 };
 /// Names in the order of the enum values (messages, docs).
 inline constexpr std::array<std::string_view, 2> kTimeBlendNames{"linear", "motion"};
-/// What a Session blends with unless told otherwise: the cross-fade. Motion moves every level with
-/// its own wind, so a tower in a sheared wind (6 m/s at its base, 24 m/s at its top: the alpine
-/// life cycle) or a cloud that does not move with the air (orographic, a new cell) is smeared
-/// across the interval (docs/animation.md "Between two timesteps": measured, pictures).
-inline constexpr TimeBlend kDefaultTimeBlend = TimeBlend::Linear;
+/// What a Session blends with unless told otherwise: motion-compensated, which is the linear blend
+/// where the data has no wind (docs/animation.md "Between two timesteps": measured).
+inline constexpr TimeBlend kDefaultTimeBlend = TimeBlend::Motion;
 
 /// The volume at weight w between timesteps a and b, on the union of both columns: the grids must
 /// agree horizontally and in dz, and their bottoms must lie on one dz lattice (layer counts and

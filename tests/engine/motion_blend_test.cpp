@@ -22,9 +22,12 @@ constexpr double kDt = 3600.0;  // s between the timesteps
 constexpr double kSigma = 3.0;  // the cell's Gaussian radius [columns]
 constexpr double kPeak = 0.02;  // /m: 500 m of it is τ = 10, optically thick
 
-/// Per level, the displacement of the air over Δt in columns: a cell carried to the north-east, one
-/// carried the other way a level up (non-integer halves: 2.5, 1.5 columns), and a calm top level.
-const double kShift[kNz][2] = {{6.0, -4.0}, {-5.0, 3.0}, {0.0, 0.0}};
+/// Per level, the displacement of the air over Δt in columns: a wind that turns and changes with
+/// height (a sheared column). The cloud column moves as one with the cloud-weighted mean of them
+/// (engine/dataset.cpp steeringWinds): with the same cell at every level, their plain mean.
+const double kWind[kNz][2] = {{10.0, -6.0}, {-4.0, 2.0}, {6.0, -2.0}};
+const double kShift[2] = {(kWind[0][0] + kWind[1][0] + kWind[2][0]) / 3.0,
+                          (kWind[0][1] + kWind[1][1] + kWind[2][1]) / 3.0};  // (4, −2) columns
 const double kCentre[2] = {22.3, 19.6};  // timestep a's cell centre, ≥ 5σ from every edge at a and b
 
 double cell(double x, double y, double cx, double cy) {
@@ -32,8 +35,9 @@ double cell(double x, double y, double cx, double cy) {
   return kPeak * std::exp(-0.5 * r2 / (kSigma * kSigma));
 }
 
-/// The cell of every level moved by `share` of its displacement, with the level's uniform wind;
-/// water ½ and TKE 10·(the ice), cloud fraction β/peak, W 1 m/s: every field carries the same shape.
+/// The cell of every level moved by `share` of the column's displacement, each level with its own
+/// uniform wind; water ½ and TKE 10·(the ice), cloud fraction β/peak, W 1 m/s: every field carries
+/// the same shape.
 ExtinctionVolumes carriedCell(double share, const char* time) {
   ExtinctionVolumes v = ExtinctionVolumes::zeros(kNx, kNy, kNz, kDx, 500.0, 1000.0);
   if (time) v.time_utc = geo::UtcTime::parse(time);
@@ -43,14 +47,14 @@ ExtinctionVolumes carriedCell(double share, const char* time) {
     for (int j = 0; j < kNy; ++j) {
       for (int i = 0; i < kNx; ++i) {
         const std::size_t n = v.index(i, j, k);
-        const float beta = float(cell(i, j, kCentre[0] + share * kShift[k][0], kCentre[1] + share * kShift[k][1]));
+        const float beta = float(cell(i, j, kCentre[0] + share * kShift[0], kCentre[1] + share * kShift[1]));
         v.ice_per_m[n] = beta;
         v.water_per_m[n] = 0.5f * beta;
         v.tke_m2_per_s2[n] = 10.0f * beta;
         v.cloud_fraction[n] = float(double(beta) / kPeak);
         v.wind_w_m_per_s[n] = 1.0f;
-        v.wind_u_m_per_s[n] = float(kShift[k][0] * kDx / kDt);
-        v.wind_v_m_per_s[n] = float(kShift[k][1] * kDx / kDt);
+        v.wind_u_m_per_s[n] = float(kWind[k][0] * kDx / kDt);
+        v.wind_v_m_per_s[n] = float(kWind[k][1] * kDx / kDt);
       }
     }
   }
@@ -73,7 +77,7 @@ double worstError(const std::vector<float>& f, int k, double share, double scale
   double worst = 0.0;
   for (int j = 0; j < kNy; ++j) {
     for (int i = 0; i < kNx; ++i) {
-      const double want = scale * cell(i, j, kCentre[0] + share * kShift[k][0], kCentre[1] + share * kShift[k][1]);
+      const double want = scale * cell(i, j, kCentre[0] + share * kShift[0], kCentre[1] + share * kShift[1]);
       worst =
           std::max(worst, std::abs(double(f[(std::size_t(k) * kNy + std::size_t(j)) * kNx + std::size_t(i)]) - want));
     }
@@ -81,16 +85,21 @@ double worstError(const std::vector<float>& f, int k, double share, double scale
   return worst;
 }
 
-TEST(MotionBlend, ACellCarriedByAUniformWindIsOneCellHalfWay) {
+// A cloud column in a sheared wind: the same cell at three levels whose winds differ (10, −6),
+// (−4, 2), (6, −2) columns per Δt; b is the column moved as one by their cloud-weighted mean
+// (4, −2). At w = ½ every level is the cell moved by (2, −1), exactly on columns: the column stays
+// upright (bound: float rounding and the window's edge, 10⁻⁴ of the peak), for ice, water, TKE and
+// cloud fraction; each level's optical mass within 10⁻⁵; the peak stays. Moving each level with
+// its own wind (the eighteenth session's blend) put the levels (5, −3), (−2, 1) and (3, −1) columns
+// away — a tower sheared into a slanted streak (docs/animation.md "Clouds move as columns"). The
+// cross-fade misses by two half-weight cells 4.5 columns apart (0.24 of the peak).
+TEST(MotionBlend, ACloudColumnMovesAsOneWithItsCloudWeightedWind) {
   const ExtinctionVolumes a = timestepA(), b = timestepB();
   ASSERT_TRUE(engine::blendHasMotion(a, b));
   const ExtinctionVolumes m = engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Motion);
   const ExtinctionVolumes lin = engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Linear);
   ASSERT_EQ(m.nz, kNz);
-  // Both timesteps read at half a displacement: (3, −2) columns exactly at level 0, (2.5, 1.5) at
-  // level 1 (bilinear reads half-way between columns). Bound: the bilinear interpolation error of
-  // the Gaussian, ≤ h²/8·(max|f_xx| + max|f_yy|) = peak/(4σ²) = 2.8 % of the peak.
-  const double bound = kPeak / (4.0 * kSigma * kSigma);
+  const double bound = 1e-4 * kPeak;
   for (int k = 0; k < kNz; ++k) {
     SCOPED_TRACE(k);
     EXPECT_LT(worstError(m.ice_per_m, k, 0.5, 1.0), bound);
@@ -98,22 +107,21 @@ TEST(MotionBlend, ACellCarriedByAUniformWindIsOneCellHalfWay) {
     EXPECT_LT(worstError(m.tke_m2_per_s2, k, 0.5, 10.0), 10.0 * bound);
     EXPECT_LT(worstError(m.cloud_fraction, k, 0.5, 1.0 / kPeak), bound / kPeak);
     // Mass: the level's optical mass (Σβ over its columns) is a's — the weights sum to 1 and a
-    // uniform translation inside the domain keeps every bilinear read's total; float rounding only.
+    // uniform translation inside the domain keeps every read's total; float rounding only.
     EXPECT_NEAR(levelMass(m.ice_per_m, k), levelMass(a.ice_per_m, k), 1e-5 * levelMass(a.ice_per_m, k));
     EXPECT_NEAR(levelMass(m.water_per_m, k), levelMass(a.water_per_m, k), 1e-5 * levelMass(a.water_per_m, k));
+    // The cross-fade fails the same check.
+    EXPECT_GT(worstError(lin.ice_per_m, k, 0.5, 1.0), 0.2 * kPeak);
   }
-  // The peak stays: one opaque cell, not two half-weight ghosts.
-  EXPECT_NEAR(m.max_ice_per_m, kPeak, bound);
-  // The cross-fade fails the same check on the moving levels by far (two half-weight cells 7.2 and
-  // 5.8 columns apart: half-way between them 0.49 and 0.63 of the peak), and passes on the calm one.
-  EXPECT_GT(worstError(lin.ice_per_m, 0, 0.5, 1.0), 0.3 * kPeak);
-  EXPECT_GT(worstError(lin.ice_per_m, 1, 0.5, 1.0), 0.3 * kPeak);
-  EXPECT_LT(worstError(lin.ice_per_m, 2, 0.5, 1.0), 1e-7);
-  // At w = ¼ the cell is a quarter of the way (level 0: (1.5, −1) columns).
+  // The peak stays (up to the lattice's nearest point to the centre, ½ column: peak/(4σ²)): one
+  // opaque cell, not two half-weight ghosts.
+  EXPECT_NEAR(m.max_ice_per_m, kPeak, kPeak / (4.0 * kSigma * kSigma));
+  // At w = ¼ the column is a quarter of the way ((1, −0.5) columns: bilinear reads half-way between
+  // columns in y; bound the bilinear interpolation error of the Gaussian, peak/(4σ²)·¼ in y alone).
   const ExtinctionVolumes q = engine::blendVolumes(a, b, 0.25, engine::TimeBlend::Motion);
-  for (int k = 0; k < kNz; ++k) EXPECT_LT(worstError(q.ice_per_m, k, 0.25, 1.0), bound) << k;
-  // The wind is carried as well (uniform per level: unchanged), and the detail clock is blended.
-  EXPECT_FLOAT_EQ(m.wind_u_m_per_s[m.index(20, 20, 1)], float(kShift[1][0] * kDx / kDt));
+  for (int k = 0; k < kNz; ++k) EXPECT_LT(worstError(q.ice_per_m, k, 0.25, 1.0), kPeak / (8.0 * kSigma * kSigma)) << k;
+  // Each level's own wind is carried as it is (uniform per level: unchanged).
+  EXPECT_FLOAT_EQ(m.wind_u_m_per_s[m.index(20, 20, 1)], float(kWind[1][0] * kDx / kDt));
 }
 
 TEST(MotionBlend, TheEndsAreTheTimestepsExactly) {
@@ -252,6 +260,33 @@ TEST(MotionBlend, TheHalfWayVolumeOfAModelFileIsCloserToTheModelsOwn) {
               motion, motion / linear);
   EXPECT_GT(linear, 0.0);
   EXPECT_LT(motion, 0.8 * linear);
+}
+
+// The same against a storm whose wind is sheared with height, as real model winds are: the alpine
+// life cycle (nephele-gen wrf --case alpine-storm --times 3; 30 levels instead of 50 for time): the
+// towers move with the 0–6 km mean wind (10.5 m/s) while the wind turns from 6 m/s at their bases
+// to 24 m/s at their tops, and the towers grow (12 UTC), mature (13) and collapse (14). The blend of
+// 12 and 14 UTC at w = ½ against 13 UTC, mean |Δτ| per column: the life cycle puts a floor under
+// every blend, and the motion blend, moving each column as one with its cloud-weighted wind, must
+// still come closer than the cross-fade (measured: 0.66 of its error; moving each level with its own
+// wind, on the 50-level file: 0.58 — it matches the columns' optical depth better while shearing
+// the towers into slanted streaks that the frames show, docs/animation.md "Clouds move as
+// columns"). Bound 0.9.
+TEST(MotionBlend, TheHalfWayVolumeOfAShearedStormIsCloserThanTheCrossFade) {
+  const std::string path = (engineTestDir() / "wrfout_alpine_3h.nc").string();
+  datagen::WrfHurricaneSpec spec = datagen::alpineStormSpec();
+  spec.nz = 30;
+  spec.ntimes = 3;
+  datagen::writeWrfHurricane(spec, path);
+  const auto ds = engine::Dataset::open(path);
+  const ExtinctionVolumes a = ds->load(0), truth = ds->load(1), b = ds->load(2);
+  ASSERT_TRUE(engine::blendHasMotion(a, b));
+  const double linear = meanColumnError(engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Linear), truth);
+  const double motion = meanColumnError(engine::blendVolumes(a, b, 0.5, engine::TimeBlend::Motion), truth);
+  std::printf("[ motion   ] alpine: mean |tau - tau(13 UTC)| per column: linear %.4f, motion %.4f (ratio %.3f)\n",
+              linear, motion, motion / linear);
+  EXPECT_GT(linear, 0.0);
+  EXPECT_LT(motion, 0.9 * linear);
 }
 
 TEST(MotionBlend, TheNphRouteMovesAsTheModelFileDoes) {
