@@ -127,9 +127,9 @@ typedef struct nph_api_v1 {
    * above mean sea level (times the height exaggeration). */
   nph_status (*world_bounds)(const nph_renderer* renderer, double min_m[3], double max_m[3]);
 
-  /* Fractional timestep index in [0, count-1] (clamped): a blend of the two neighbours, a
-   * cross-fade (parameter time_interpolation: 0, the default) or carried along their winds where
-   * both have U, V (1). */
+  /* Fractional timestep index in [0, count-1] (clamped): a blend of the two neighbours, carried
+   * along their winds where both have U, V (parameter time_interpolation: 1, the default), or a
+   * cross-fade (0). */
   nph_status (*set_time)(nph_renderer* renderer, double time_index);
   /* The host's camera: column-major 4x4 matrices as glUniformMatrix4fv takes them (world -> eye,
    * rigid; eye -> clip, OpenGL perspective) and the size of the image rendered (usually the

@@ -48,7 +48,7 @@ const Parameter kParameters[] = {
      [](const R& r) { return r.ground() ? 1.0 : 0.0; },
      [](R& r, double v) { r.ground() = v != 0.0; }},
     // set_time's fractional index between two timesteps (engine/dataset.h TimeBlend): 1 carries
-    // both along their winds, 0 cross-fades (the default, kDefaultTimeBlend).
+    // both along their winds (the default, kDefaultTimeBlend), 0 cross-fades.
     {"time_interpolation", 0, 1, true,
      [](const R& r) { return r.session().timeBlend() == engine::TimeBlend::Motion ? 1.0 : 0.0; },
      [](R& r, double v) { r.session().setTimeBlend(v != 0.0 ? engine::TimeBlend::Motion : engine::TimeBlend::Linear); }},

@@ -440,8 +440,8 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_option("--duration", opts->duration_s, "video length in seconds (replaces animation.duration_s)");
   cmd->add_option("--speed", opts->speed, "model seconds per video second (replaces animation.speed)");
   cmd->add_option("--interpolation", opts->interpolation,
-                  "linear (cross-fade; the default), motion (blend timesteps carried along the wind: for clouds "
-                  "that move with their level's wind) or step (hold each)")
+                  "motion (blend timesteps carried along the wind; the default), linear (cross-fade) or step "
+                  "(hold each)")
       ->check(CLI::IsMember(interpolationNames()));
   cmd->add_option("--keyframes", opts->keyframes, "camera keyframe file (JSON; replaces the scene's)")
       ->check(CLI::ExistingFile);

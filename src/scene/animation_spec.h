@@ -46,7 +46,7 @@ enum class TimeInterpolation {
 /// The names of TimeInterpolation, in one table for the scene files' "interpolation" and
 /// `nephele animate --interpolation` (the first is the default).
 inline constexpr std::array<std::pair<std::string_view, TimeInterpolation>, 3> kTimeInterpolationNames{
-    {{"linear", TimeInterpolation::Linear}, {"motion", TimeInterpolation::Motion}, {"step", TimeInterpolation::Step}}};
+    {{"motion", TimeInterpolation::Motion}, {"linear", TimeInterpolation::Linear}, {"step", TimeInterpolation::Step}}};
 /// The interpolation named `name` (kTimeInterpolationNames); UsageError listing the names otherwise.
 TimeInterpolation timeInterpolationNamed(std::string_view name);
 
@@ -59,9 +59,9 @@ struct AnimationSpec {
   TimePoint from;  ///< default: the first timestep
   TimePoint to;    ///< default: the last timestep
   FrameRate fps;
-  std::optional<double> duration_s;                                          ///< video length; or
-  std::optional<double> speed;                                               ///< model seconds per video second
-  TimeInterpolation interpolation = kTimeInterpolationNames.front().second;  ///< linear (docs/animation.md)
+  std::optional<double> duration_s;  ///< video length; or
+  std::optional<double> speed;       ///< model seconds per video second
+  TimeInterpolation interpolation = TimeInterpolation::Motion;
   /// The sun at each frame's UTC time (default: when sun.from_time without sun.time_utc).
   std::optional<bool> sun_follows_clock;
   double sun_step_s = 0.0;  ///< the sun's clock moves in steps of this many model seconds (0: every frame)

@@ -404,12 +404,12 @@ int main(int argc, char** argv) {
   CHECK(value == 0.5);
   EXPECT(NPH_OK, r, api->set_parameter(r, "exposure_ev", 0.0));
   EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
-  CHECK(value == 0.0); /* the cross-fade by default, as scene files */
+  CHECK(value == 1.0); /* motion-compensated by default, as scene files */
   EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_parameter(r, "time_interpolation", 2));
-  EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 1));
-  EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
-  CHECK(value == 1.0);
   EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 0));
+  EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
+  CHECK(value == 0.0);
+  EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 1));
   /* the camera's white balance (scene/white_balance.h): 6504 K is neutral, 2500-25000 K accepted */
   EXPECT(NPH_OK, r, api->get_parameter(r, "white_balance_k", &value));
   CHECK(value == 6504.0);

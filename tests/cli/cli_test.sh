@@ -444,8 +444,8 @@ PY
     # timesteps of different heights, which stopped `animate` at frame 1 before blendVolumes padded
     # them onto one grid. An explicit camera: a preset frames the first volume it sees, the cropped
     # timestep 0 on one route and the padded grid on the other. The .nph route stores 16-bit quantised extinction, hence the tolerance:
-    # no pixel off by more than 16/255, at most 1 % of the pixels by more than 4/255. The motion
-    # blend (not the default): the .nph cache keeps U, V (0.01 m/s codes), so both routes move them.
+    # no pixel off by more than 16/255, at most 1 % of the pixels by more than 4/255. The default
+    # (motion) blend: the .nph cache keeps U, V (0.01 m/s codes), so both routes move the timesteps.
     "$gen" wrf --times 3 --anvil-rise 2 -o "$out/rising.nc" >/dev/null || fail "nephele-gen --anvil-rise failed"
     run "$nephele" convert "$out/rising.nc" -o "$out/rising.nph" --no-progress
     expect_rc 0
@@ -458,7 +458,7 @@ PY
   "quality": { "preset": "draft", "overrides": { "cloud_resolution": 1 } },
   "output": { "width": 96, "height": 54 },
   "height_exaggeration": 8,
-  "animation": { "from": 0, "to": 2, "fps": 4, "duration_s": 1.0, "interpolation": "motion" }
+  "animation": { "from": 0, "to": 2, "fps": 4, "duration_s": 1.0 }
 }
 JSON
       run "$nephele" animate "$out/$src.json" -o "$out/frames-$src" --no-progress

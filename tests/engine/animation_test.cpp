@@ -68,7 +68,7 @@ TEST(AnimationSection, IsParsedStrictly) {
   EXPECT_EQ(*a.to.utc, "2026-09-01T14:00:00Z");
   EXPECT_EQ(a.fps.text(), "60000/1001");
   EXPECT_EQ(a.interpolation, scene::TimeInterpolation::Step);
-  EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "fps": 25 })")).interpolation, scene::TimeInterpolation::Linear);
+  EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "fps": 25 })")).interpolation, scene::TimeInterpolation::Motion);
   EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "interpolation": "linear" })")).interpolation,
             scene::TimeInterpolation::Linear);
   EXPECT_EQ(scene::parseAnimation(sceneWith(R"({ "interpolation": "motion" })")).interpolation,

@@ -264,8 +264,8 @@ class Renderer:
     dataset, scene, gl, width, height, timestep: as for render(). Each render() call changes what
     it is given and keeps the rest from the previous call:
     time:    a timestep index (a fraction blends the two neighbouring timesteps, as `nephele
-             animate` does: the scene's animation.interpolation, by default a cross-fade), or an
-             ISO 8601 UTC time matching one of the dataset's times;
+             animate` does: the scene's animation.interpolation, by default carried along their
+             winds), or an ISO 8601 UTC time matching one of the dataset's times;
     camera:  a dict of the scene file's "camera" keys, replacing the camera section;
     sun:     a dict of the scene file's "sun" keys, replacing the sun section ({"from_time": true}
              follows the timestep's time; a fractional time takes the earlier timestep's);
