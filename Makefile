@@ -7,6 +7,7 @@
 #   make bench  deps + build + Google Benchmark suite, JSON/CSV into build/bench/
 #   make bench-accuracy  deps + build + `nephele-bench accuracy` (run time against error), into build/accuracy/
 #   make test-sanitize   clang build with ASan + UBSan (-Werror in CI) in build-sanitize/, unit + GL + CLI tests
+#   make test-sanitize-ci  the part of it CI runs (.ci/run): parsers, models, GL context, fuzz corpus
 #   make fuzz   the same clang build + a bounded libFuzzer campaign of each tests/fuzz target
 BUILD_DIR  ?= build
 BUILD_TYPE ?= RelWithDebInfo
@@ -21,7 +22,7 @@ ifeq ($(CI),true)
   CMAKE_ARGS += -DNEPHELE_WERROR=ON
 endif
 
-.PHONY: all deps build test test-blender test-sanitize fuzz demo bench bench-accuracy clean install
+.PHONY: all deps build test test-blender test-sanitize test-sanitize-ci fuzz demo bench bench-accuracy clean install
 all: build
 
 deps:
@@ -67,6 +68,39 @@ test-sanitize: deps
 	cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan-suppressions.txt UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure $(SANITIZE_TESTS) $(CTEST_ARGS)
+
+# The sanitizer job of CI (issue 17 item 6; .ci/run): the part of test-sanitize that fits CI's
+# time. clang with ASan + UBSan, -Werror always, built from nothing in build-sanitize-ci/ (no
+# coverage instrumentation, no engine, renderer or CLI: 172 of the 333 build steps), then the unit
+# and gl tests of what it builds: the readers of untrusted files (io, cache, scene, geo), the
+# physics and lighting models, core, the fuzz harness, and the GL context layer on all three
+# backends (EGL device, EGL surfaceless, OSMesa); then the saved fuzz corpus replayed and the
+# deterministic mutation campaign of the .nph reader and the scene parser under the sanitizers.
+# Measured from cold on the idle 2-core machine: about 9 minutes (docs/reliability.md, "The
+# sanitizer job in CI"). The whole selection (the renderer, engine, CLI, API, stress) is
+# `make test-sanitize`: about 2.5 hours on 2 cores.
+SANITIZE_CI_DIR     ?= build-sanitize-ci
+SANITIZE_CI_TARGETS ?= nephele_io_tests nephele_cache_tests nephele_scene_tests nephele_geo_tests \
+  nephele_physics_tests nephele_lighting_tests nephele_unit_core_tests nephele_unit_support_tests \
+  nephele_fuzz_support_tests nephele_gl_tests nephele_ocio_config \
+  nephele_fuzz_replay_nph nephele_fuzz_replay_scene nephele_fuzz_mutate_nph nephele_fuzz_mutate_scene
+SANITIZE_CI_TESTS   ?= ^(unit\.(Core|Case|ImageCompare|LargeBuffer|ScratchDir)|io\.|cache\.|scene\.|geo\.|physics\.|lighting\.|gl\.(egl-device|egl-surfaceless|osmesa)\.|fuzz\.FuzzHarness)
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan-suppressions.txt
+test-sanitize-ci: deps
+	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_CI_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
+	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
+	  -DNEPHELE_SANITIZE=ON -DNEPHELE_WERROR=ON -DNEPHELE_BUILD_BENCHMARKS=OFF $(CMAKE_ARGS)
+	cmake --build $(SANITIZE_CI_DIR) --target $(SANITIZE_CI_TARGETS)
+	cd $(SANITIZE_CI_DIR) && $(SANITIZE_ENV) \
+	  ctest --output-on-failure -j$(TEST_JOBS) -R '$(SANITIZE_CI_TESTS)' $(CTEST_ARGS)
+	$(SANITIZE_ENV) NEPHELE_LOG=error $(SANITIZE_CI_DIR)/tests/fuzz/nephele_fuzz_replay_nph tests/fuzz/corpus/nph
+	$(SANITIZE_ENV) NEPHELE_LOG=error $(SANITIZE_CI_DIR)/tests/fuzz/nephele_fuzz_replay_scene tests/fuzz/corpus/scene examples/scenes
+	cd $(SANITIZE_CI_DIR)/tests/fuzz && $(SANITIZE_ENV) NEPHELE_LOG=error NEPHELE_IO_MEMORY_BUDGET_MB=512 \
+	  ./nephele_fuzz_mutate_nph -seed=17 -runs=10000 $(CURDIR)/tests/fuzz/corpus/nph \
+	  $(CURDIR)/tests/geo/data/lambert_4x3x2_before_geo.nph
+	cd $(SANITIZE_CI_DIR)/tests/fuzz && $(SANITIZE_ENV) NEPHELE_LOG=error \
+	  ./nephele_fuzz_mutate_scene -seed=17 -runs=30000 $(CURDIR)/tests/fuzz/corpus/scene $(CURDIR)/examples/scenes
 
 # Fuzzing (issue 18): libFuzzer targets for the model loaders, the .nph reader and the scene
 # parser (tests/fuzz), clang with ASan + UBSan and coverage on every library, in build-sanitize/.
