@@ -51,7 +51,8 @@ test-blender: deps
 # The clang and sanitizer job (issue 17) in one build: clang++ with -fsanitize=address,undefined,
 # UB aborting the test (-fno-sanitize-recover), the shared sanitizer runtime. Runs the unit, gl and
 # cli labels: since session 19 that includes the api, cli, install, python and stress tests
-# (docs/reliability.md, "Session 19 run"). Programs we did not build or built without the
+# (docs/reliability.md, "Session 19 run"), and the interop label but Blender (OpenVDB and NanoVDB
+# export; session 21). Programs we did not build or built without the
 # sanitizers (ffmpeg, gst-launch-1.0, melt, python3, the install test's consumer) get the ASan
 # runtime preloaded by their tests (cmake/NepheleTesting.cmake, nephele_sanitize_host_tests).
 # Mesa's llvmpipe is not instrumented; LSan ignores what it allocates (tools/lsan-suppressions.txt).
@@ -59,7 +60,7 @@ test-blender: deps
 # is what this job's time goes to (asserts stay on: no NDEBUG).
 SANITIZE_DIR   ?= build-sanitize
 SANITIZE_FLAGS ?= -O1 -gline-tables-only
-SANITIZE_TESTS ?= -L "unit|gl|cli"
+SANITIZE_TESTS ?= -L "unit|gl|cli|interop" -LE blender
 test-sanitize: deps
 	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
