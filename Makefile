@@ -61,14 +61,14 @@ test-blender: deps
 SANITIZE_DIR   ?= build-sanitize
 SANITIZE_FLAGS ?= -O1 -gline-tables-only
 SANITIZE_TESTS ?= -L "unit|gl|cli|interop" -LE blender
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan-suppressions.txt
 test-sanitize: deps
 	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
 	  -DNEPHELE_SANITIZE=ON -DNEPHELE_FUZZ=ON -DNEPHELE_BUILD_BENCHMARKS=OFF $(CMAKE_ARGS)
 	cmake --build $(SANITIZE_DIR)
-	cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
-	  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan-suppressions.txt UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure $(SANITIZE_TESTS) $(CTEST_ARGS)
+	cd $(SANITIZE_DIR) && $(SANITIZE_ENV) ctest --output-on-failure $(SANITIZE_TESTS) $(CTEST_ARGS)
 
 # The sanitizer job of CI (issue 17 item 6; .ci/run): the part of test-sanitize that fits CI's
 # time. clang with ASan + UBSan, -Werror always, built from nothing in build-sanitize-ci/ (no
@@ -77,8 +77,8 @@ test-sanitize: deps
 # physics and lighting models, core, the fuzz harness, and the GL context layer on all three
 # backends (EGL device, EGL surfaceless, OSMesa); then the saved fuzz corpus replayed and the
 # deterministic mutation campaign of the .nph reader and the scene parser under the sanitizers.
-# Measured from cold on the idle 2-core machine: about 9 minutes (docs/reliability.md, "The
-# sanitizer job in CI"). The whole selection (the renderer, engine, CLI, API, stress) is
+# Measured from cold on the idle 2-core machine: about 8 minutes, 20 at load 7-9 (docs/reliability.md,
+# "The sanitizer job in CI"). The whole selection (the renderer, engine, CLI, API, stress) is
 # `make test-sanitize`: about 2.5 hours on 2 cores.
 SANITIZE_CI_DIR     ?= build-sanitize-ci
 SANITIZE_CI_TARGETS ?= nephele_io_tests nephele_cache_tests nephele_scene_tests nephele_geo_tests \
@@ -86,8 +86,6 @@ SANITIZE_CI_TARGETS ?= nephele_io_tests nephele_cache_tests nephele_scene_tests 
   nephele_fuzz_support_tests nephele_gl_tests nephele_ocio_config \
   nephele_fuzz_replay_nph nephele_fuzz_replay_scene nephele_fuzz_mutate_nph nephele_fuzz_mutate_scene
 SANITIZE_CI_TESTS   ?= ^(unit\.(Core|Case|ImageCompare|LargeBuffer|ScratchDir)|io\.|cache\.|scene\.|geo\.|physics\.|lighting\.|gl\.(egl-device|egl-surfaceless|osmesa)\.|fuzz\.FuzzHarness)
-SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan-suppressions.txt
 test-sanitize-ci: deps
 	CC=clang CXX=clang++ cmake -S . -B $(SANITIZE_CI_DIR) -G Ninja -DCMAKE_BUILD_TYPE=None \
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
