@@ -210,6 +210,9 @@ int deltaTrack(vec3 o, vec3 d, float tMax, float f, out float tHit, out vec2 bet
 // The invocation's tally run (see the header): the cell it belongs to (−1: none) and the 64-bit
 // two's-complement sums of its crossings' integers, per moment, as (low, high) word pairs.
 int g_runCell = -1;
+// Zeroed in main(): a global without an initializer is undefined in GLSL. llvmpipe happens to zero
+// it; NVIDIA's 580 driver does not, and the first run of every photon added garbage to the moments
+// (|GPU − CPU| 2–5·10⁷ on the H200, twenty-second session; docs/benchmarks.md "On an NVIDIA GPU").
 uint g_runLow[25], g_runHigh[25];
 
 // Adds the run to the SSBO's 64-bit moments of its cell and empties it: the low word's atomicAdd
@@ -323,6 +326,10 @@ vec3 photonEntry(uint i) {
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= uint(u_photons)) return;
+  for (int k = 0; k < kShCount; ++k) {
+    g_runLow[k] = 0u;
+    g_runHigh[k] = 0u;
+  }
   vec3 o, d;
   float weight;
   int order;

@@ -31,7 +31,12 @@ SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& sce
               st.compression_ratio, st.pass1_ms, st.pass2_ms, st.pass3_ms,
               st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
   }
-  log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
+  if (f.out.gpu_milliseconds > 0.01) {  // a real GPU's query (llvmpipe's answer ≈ 0)
+    log::info("ray cast {}x{} in {:.0f} ms (GPU {:.2f} ms)", f.out.frame.width, f.out.frame.height, f.out.milliseconds,
+              f.out.gpu_milliseconds);
+  } else {
+    log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
+  }
   if (const std::uint64_t cut = session.renderer().raysCutShort()) {
     log::warn("{} rays were cut short by the GL driver's loop limit (Mesa llvmpipe ends a shader's loops after "
               "65 535 iterations): the clouds behind each cut are missing. Raise quality step_voxels, keep "

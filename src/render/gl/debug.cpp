@@ -67,6 +67,10 @@ void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sever
       log::error("GL error in strict mode (debug build or NEPHELE_GL_DEBUG=strict): aborting");
       std::abort();
     }
+  } else if (type == GL_DEBUG_TYPE_PERFORMANCE) {
+    // Advice, not a fault: NVIDIA's driver reports every read-back of a GL_DYNAMIC_DRAW buffer (the
+    // passes' statistics) at medium severity — hundreds of lines per benchmark run at warn.
+    log::debug("GL {} {} (id {}): {}", sourceName(source), typeName(type), id, text);
   } else if (severity == GL_DEBUG_SEVERITY_HIGH || severity == GL_DEBUG_SEVERITY_MEDIUM) {
     log::warn("GL {} {} (id {}): {}", sourceName(source), typeName(type), id, text);
   } else if (verbose && type != GL_DEBUG_TYPE_PUSH_GROUP && type != GL_DEBUG_TYPE_POP_GROUP) {
