@@ -16,6 +16,6 @@ preload=()
 [ -z "${NEPHELE_TEST_GLFW_PRELOAD:-}" ] || preload=(env "LD_PRELOAD=$NEPHELE_TEST_GLFW_PRELOAD")
 # -a alone starts probing at :99 like the other Xvfb tests; under ctest -j two probes can pick the
 # same number, so start ours elsewhere.
-NEPHELE_LOG=warn "$xvfb" -a -n $((200 + $$ % 700)) -s "-screen 0 640x480x24" \
+NEPHELE_LOG=warn "$xvfb" -a -n $((200 + $$ % 700)) -s "-screen 0 640x480x24 -noreset" \
   "${preload[@]}" "$embed" "$work/storm.nph" --plugin "$plugin" --size 320x180 --time 1 --frames 3 --screenshot "$out/frame.ppm"
 "$diff" "$out/frame.ppm" "$golden" 24 0.5 embed_glfw

@@ -7,6 +7,7 @@
 // (scene/output_image.cpp), so an 8-bit code may differ by one where a value sits on a rounding
 // boundary (measured: 3 of 57 600 pixels at 320 × 180, by 1/255). Max 2/255, mean 1e-3.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -68,8 +69,11 @@ TEST_P(ViewTest, ScreenshotMatchesRender) {
   const char* preload = std::getenv("NEPHELE_TEST_GLFW_PRELOAD");
   const std::string env = preload != nullptr ? fmt::format("env 'LD_PRELOAD={}' ", preload) : "";
   ASSERT_EQ(
-      std::system(fmt::format("xvfb-run -a {}'{}' view '{}' --width 200 --height 120 --frames 3 --screenshot '{}'", env,
-                              nephele, scene, view)
+      // Server numbers from 1000 + pid % 1000 up (the other Xvfb tests start at 120 and 200), no
+      // reset when a client leaves (tests/gl/CMakeLists.txt).
+      std::system(fmt::format("xvfb-run -a -n {} -s '-screen 0 1280x1024x24 -noreset' {}'{}' view '{}' --width 200 "
+                              "--height 120 --frames 3 --screenshot '{}'",
+                              1000 + ::getpid() % 1000, env, nephele, scene, view)
                       .c_str()),
       0);
   ASSERT_EQ(std::system(fmt::format("'{}' render '{}' --gl auto -o '{}'", nephele, scene, render).c_str()), 0);

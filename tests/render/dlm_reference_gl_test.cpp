@@ -22,6 +22,7 @@ namespace nph::test {
 namespace {
 
 constexpr double kFloatSlack = 5e-4;
+constexpr double kFilterSlack = 0.01;  // a GPU's texture filter (softwareRasteriser)
 
 struct SunCase {
   const char* name;
@@ -58,6 +59,7 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const lighti
   reference::DlmReference ref8(v, frame, lsf, dlm.settings(), double(float(st.step_m)), st.steps, 8);
   Errors e;
   double minLight = 1.0;
+  const bool hardware = !softwareRasteriser();
   const auto& ls = dlm.lightSpace();
   for (int b = 0; b < ls.texels.y; ++b)
     for (int a = 0; a < ls.texels.x; ++a) {
@@ -75,7 +77,10 @@ Errors compare(const ExtinctionVolumes& v, const glm::dvec3& light, const lighti
         e.sum_gpu_vs_ref8 += std::abs(g - r8);
         ++e.samples;
       }
-      const double tol = (s.peripheral ? 2.0 : 1.0) * double(rb.texel_epsilon[t]) + kFloatSlack;
+      // + a GPU's 8-bit filter weights along the march: up to 0.0057 past the bound on the H200
+      // (softwareRasteriser; docs/benchmarks.md "On an NVIDIA GPU").
+      const double tol =
+          (s.peripheral ? 2.0 : 1.0) * double(rb.texel_epsilon[t]) + kFloatSlack + (hardware ? kFilterSlack : 0.0);
       if (texelErr > tol) {
         std::string dump;
         for (int n = 0; n <= st.steps; ++n) {
