@@ -317,9 +317,15 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
                 sc.name, vsSeparate.max, 100.0 * vsSeparate.differing, layer.max, packedVsCpu.max, separateVsCpu.max);
     EXPECT_GT(layer.coverage, 0.05) << sc.name << ": the view must see cloud";
     EXPECT_LE(layer.max, h.settings.min_transmittance + 1e-4) << sc.name;
-    EXPECT_LE(vsSeparate.max, 3) << sc.name;
-    EXPECT_LE(vsSeparate.differing, 0.005) << sc.name;
-    EXPECT_LE(packedVsCpu.max, std::max(separateVsCpu.max, 3)) << sc.name;
+    // On a GPU (softwareRasteriser false) the separate path's zero-border fade comes from the
+    // hardware filter's 8-bit weights, while the packed path computes it in float like the CPU:
+    // on the H200 the slab's thin edges put the separate path 200 straight-alpha levels off the CPU
+    // and the packed one 3. There the packed path is held to the CPU instead.
+    if (softwareRasteriser()) {
+      EXPECT_LE(vsSeparate.max, 3) << sc.name;
+      EXPECT_LE(vsSeparate.differing, 0.005) << sc.name;
+    }
+    EXPECT_LE(packedVsCpu.max, std::max(softwareRasteriser() ? separateVsCpu.max : 0, 3)) << sc.name;
   }
   const ExtinctionVolumes v = generatedHurricane();
   const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
