@@ -69,7 +69,7 @@ struct RenderOutput {
   scene::RgbaImage frame;                    ///< clouds composited over the lit ground, alpha 1
   std::optional<scene::FramePasses> passes;  ///< ground, sky, shadow matte, depth (setPasses(true))
   double milliseconds = 0.0;                 ///< wall time of the dispatches and the read-back
-  double gpu_milliseconds = 0.0;             ///< the dispatches' own GPU time (GL_TIME_ELAPSED); see gpuMs()
+  double gpu_milliseconds = 0.0;             ///< the dispatches' GPU time (GL_TIME_ELAPSED; ≈ 0 on llvmpipe)
 };
 
 /// The switches the eye pass is compiled for (issue 19, "Frame time"): glsl/render/clouds.comp and
@@ -165,8 +165,10 @@ class CloudRenderer {
   /// limit"), so a long march with a small step loses what lies behind the cut. 0 on drivers
   /// without such a limit. A read-back (it waits for the dispatch).
   std::uint64_t raysCutShort() const;
-  /// The GPU time of the last dispatch's ray-casting work in ms (a GL_TIME_ELAPSED query; waits for
-  /// it), once per dispatch, then 0. llvmpipe answers ≈ 0: its queries do not time compute work.
+  /// The GPU time of the last render()'s ray-casting dispatches in ms (a GL_TIME_ELAPSED query;
+  /// waits for it), once per render(), then 0. Only render() times itself: dispatch() runs in a
+  /// host's context (the plugin API), where a timer query of ours would nest inside the host's own
+  /// (GL_INVALID_OPERATION). llvmpipe answers ≈ 0: its queries do not time compute work.
   double lastGpuMs();
   /// Benchmark/test baseline (EyePassBaseline); the default is the fast path.
   void setBaseline(const EyePassBaseline& baseline) { baseline_ = baseline; }
@@ -223,6 +225,7 @@ class CloudRenderer {
   gl::Buffer raycast_stats_;               // uint: rays the loop limiter cut (raysCutShort)
   std::optional<gl::GpuTimer> gpu_timer_;  // the last dispatch's GPU time (lastGpuMs)
   bool gpu_timer_running_ = false;
+  bool time_gpu_ = false;  // render() only (lastGpuMs)
   bool count_samples_ = false;
   bool basemap_lights_ = false, far_basemap_lights_ = false, globe_lights_ = false;  // A = city lights
   gl::UniformBuffer<gl::RaycastBlock> raycast_block_;  // clouds.comp's view, light and switches
