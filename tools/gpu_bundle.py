@@ -15,7 +15,7 @@ Use it only for libraries the run never calls (GDAL's database drivers, OpenImag
 DICOM plug-ins for a run that writes PNG and EXR): a call does nothing and returns 0 (the static
 registrations OpenImageIO's plug-ins make at load time run harmlessly).
 """
-import argparse, os, re, shutil, subprocess, sys
+import argparse, functools, os, re, shutil, subprocess, sys
 
 SYSTEM = re.compile(r"^(libc|libm|libstdc\+\+|libgcc_s|libdl|libpthread|librt|ld-linux-x86-64|libEGL|libGLX|"
                     r"libGLdispatch|libOpenGL|libGL)\.so")
@@ -25,6 +25,7 @@ def run(*cmd):
     return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
 
 
+@functools.lru_cache(maxsize=None)  # asked once per importer and stub
 def needed(path):
     return re.findall(r"\(NEEDED\)\s+Shared library: \[(.+?)\]", run("readelf", "-d", path))
 
@@ -121,10 +122,10 @@ def find_lib(so):
 def make_stub(so, original, imports, lib):
     defs = dynsyms(original, True)
     funcs, objs, versions = [], [], {}
-    for name, (ver_ref, kind, size) in defs.items():
+    for name, (ver_ref, kind, size) in defs.items():  # ver_ref: the original's own
         if name not in imports:
             continue
-        ver = imports[name] or defs[name][0]  # the version the importers ask for (aliases differ)
+        ver = imports[name] or ver_ref  # the version the importers ask for (aliases differ)
         if ver:
             versions.setdefault(ver, []).append(name)
         if kind in "TtWiI":
