@@ -3,7 +3,9 @@
 # "On an NVIDIA GPU"). Here: tools/gpu_prepare.sh; then, through the device tool, from the repo root
 # with .gpu and .gl carried: bash tools/gpu_bench.sh. Writes into $OUT (at most 8 files): summary.txt
 # (everything printed), frame.json (Google Benchmark), render-tests.txt, and the demo's 1080p frames.
-# Each step has its own time limit, so that a slow one leaves the rest their turn.
+# Each step has its own time limit, so that a slow one leaves the rest their turn. Environment:
+# GPU_BENCH_FILTER (the frame benchmarks to run), GPU_TEST_SECONDS (the render tests' time),
+# GPU_TEST_SUITES (a regex of the test suites to run; all by default).
 set -u
 out=${OUT:-/tmp/nephele-gpu-out}
 mkdir -p "$out"
@@ -59,7 +61,8 @@ time NEPHELE_LOG=warn timeout 45 "$b/bin/nephele_gl_benchmarks" --benchmark_min_
 
 step "render tests on the NVIDIA EGL device (GPU against the CPU twin, goldens), one process per suite"
 deadline=$(($(date +%s) + ${GPU_TEST_SECONDS:-150}))
-for suite in $("$b/bin/nephele_render_tests" --gtest_list_tests 2>/dev/null | grep -E '^[A-Za-z].*\.$'); do
+for suite in $("$b/bin/nephele_render_tests" --gtest_list_tests 2>/dev/null | grep -E '^[A-Za-z].*\.$' |
+               grep -E "${GPU_TEST_SUITES:-.}"); do
   left=$((deadline - $(date +%s)))
   [ "$left" -gt 5 ] || { echo "   $suite: not run (time)"; continue; }
   NEPHELE_LOG=error timeout "$left" "$b/bin/nephele_render_tests" --gtest_filter="$suite*" > "$work/suite.txt" 2>&1

@@ -278,6 +278,10 @@ int runAnimate(const AnimateOptions& o) {
     }
     return paths;
   };
+  // The cloud layer is copied to host memory only when a file takes it (issue 19: on a GPU the
+  // read-back is most of a frame's wall time, docs/benchmarks.md "Read-back").
+  render::ReadBack read_back;
+  read_back.cloud_layer = o.layer || s.output.wantsPasses();
   const auto complete = [&](std::int64_t k) {
     const auto outs = outputsOf(k);
     return std::all_of(outs.begin(), outs.end(), [](const auto& p) { return fs::exists(p.second); });
@@ -334,7 +338,7 @@ int runAnimate(const AnimateOptions& o) {
     try {
       session.setTime(f.time_index);
       session.setSun(f.sun);
-      out = session.render(f.camera);
+      out = session.render(f.camera, read_back);
     } catch (const Error& e) {
       const engine::TimeBracket b = engine::bracketTime(f.time_index, dataset->timestepCount());
       const std::string files = b.weight > 0.0 && dataset->sourceFile(b.first) != dataset->sourceFile(b.second)

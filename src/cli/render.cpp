@@ -82,7 +82,11 @@ int runRender(const RenderOptions& o) {
   if (!dataset) dataset = engine::Dataset::open(s.data->path);
 
   auto ctx = gl::createHeadlessContext(o.gl);
-  engine::writeSceneOutputs(s, engine::renderSceneFrame(dataset, s), o.layer);
+  // The cloud layer is copied to host memory only when a file takes it (issue 19: on a GPU the
+  // read-back is most of the frame's wall time, docs/benchmarks.md "Read-back").
+  render::ReadBack read_back;
+  read_back.cloud_layer = !o.layer.empty() || s.output.wantsPasses();
+  engine::writeSceneOutputs(s, engine::renderSceneFrame(dataset, s, read_back), o.layer);
   return kExitOk;
 }
 

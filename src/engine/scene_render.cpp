@@ -1,6 +1,7 @@
 #include "engine/scene_render.h"
 
 #include <filesystem>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -11,18 +12,20 @@
 
 namespace nph::engine {
 
-SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene) {
+SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene,
+                            const render::ReadBack& read_back) {
   Session session(std::move(dataset), scene);
   session.setReleaseAfterUpload(true);  // one frame: the decoded volume is not read after its upload
-  return renderSceneFrame(session, scene, session.prepared().camera);
+  return renderSceneFrame(session, scene, session.prepared().camera, read_back);
 }
 
-SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& scene, const scene::Camera& camera) {
+SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& scene, const scene::Camera& camera,
+                            const render::ReadBack& read_back) {
   if (session.sun().elevation_deg <= 0.0) {
     log::warn("the sun is {:.1f} deg below the horizon: the clouds are lit from below", -session.sun().elevation_deg);
   }
   SceneFrame f;
-  f.out = session.render(camera);
+  f.out = session.render(camera, read_back);
   const auto& st = session.deepLightMap().stats();
   if (session.stats().dlm_rebuilt) {
     log::info("deep light map: {}x{} texels, {} steps, {:.1f} nodes/texel (max {}), {:.1f} MB, {:.0f}x smaller than "
@@ -32,10 +35,12 @@ SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& sce
               st.unbounded_texels ? fmt::format(", {} texels over budget", st.unbounded_texels) : "");
   }
   if (f.out.gpu_milliseconds > 0.01) {  // a real GPU's query (llvmpipe's answer ≈ 0)
-    log::info("ray cast {}x{} in {:.0f} ms (GPU {:.2f} ms)", f.out.frame.width, f.out.frame.height, f.out.milliseconds,
-              f.out.gpu_milliseconds);
+    log::info("ray cast {}x{} in {:.0f} ms (GPU {:.2f} ms; set-up and submission {:.0f} ms, read-back {:.0f} ms)",
+              f.out.frame.width, f.out.frame.height, f.out.milliseconds, f.out.gpu_milliseconds,
+              f.out.submit_milliseconds, f.out.readback_milliseconds);
   } else {
-    log::info("ray cast {}x{} in {:.0f} ms", f.out.frame.width, f.out.frame.height, f.out.milliseconds);
+    log::info("ray cast {}x{} in {:.0f} ms (read-back {:.0f} ms)", f.out.frame.width, f.out.frame.height,
+              f.out.milliseconds, f.out.readback_milliseconds);
   }
   if (const std::uint64_t cut = session.renderer().raysCutShort()) {
     log::warn("{} rays were cut short by the GL driver's loop limit (Mesa llvmpipe ends a shader's loops after "
@@ -52,6 +57,10 @@ SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& sce
               double(session.deepLightMap().textureBytes()) / 1e6, double(session.renderer().textureBytes()) / 1e6);
   }
   const scene::FramePasses* passes = f.out.passes ? &*f.out.passes : nullptr;
+  if (scene.output.wantsPasses() && !read_back.cloud_layer) {
+    throw std::logic_error(
+        "renderSceneFrame: the scene's passes are made from the cloud layer, which was not read back");
+  }
   if (scene.output.wantsPasses()) f.image = scene::outputFrame(scene.output, f.out.frame, f.out.cloud_layer, passes);
   logMemoryPhase("output frame");
   f.options = scene::imageOptionsFor(scene.output, session.sun().elevation_deg);
@@ -78,6 +87,7 @@ void writeSceneOutputs(const scene::SceneDescription& s, const SceneFrame& f, co
     log::info("wrote {} ({} pass)", path, scene::passName(pass));
   }
   if (!layer_path.empty()) {
+    if (f.out.cloud_layer.rgba.empty()) throw std::logic_error("writeSceneOutputs: the cloud layer was not read back");
     scene::writeImage(f.out.cloud_layer, layer_path, f.options);
     log::info("wrote {} (premultiplied cloud layer)", layer_path);
   }

@@ -28,11 +28,15 @@ struct SceneFrame {
 /// Renders `scene` of `dataset` once (Session: its timestep, camera, sun, quality), logging the
 /// deep light map's and the ray cast's figures as `nephele render` does. Needs a current GL 4.5
 /// context on the calling thread.
-SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene);
+/// `read_back`: what the frame copies to host memory (`nephele render` skips the cloud layer when
+/// no file takes it).
+SceneFrame renderSceneFrame(std::shared_ptr<const Dataset> dataset, const scene::SceneDescription& scene,
+                            const render::ReadBack& read_back = {});
 /// The same with a session already made for `scene` (its time and sun set; only what changed
 /// since its last frame is rebuilt, session.h), ray casting `camera`: the Python module's
 /// persistent Renderer, whose frames thereby equal renderSceneFrame's.
-SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& scene, const scene::Camera& camera);
+SceneFrame renderSceneFrame(Session& session, const scene::SceneDescription& scene, const scene::Camera& camera,
+                            const render::ReadBack& read_back = {});
 
 /// Writes `frame` to the scene's output.paths and output.pass_files (folders created), and the
 /// premultiplied cloud layer to `layer_path` unless it is empty. IoError when a file cannot be written.

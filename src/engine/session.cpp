@@ -198,9 +198,9 @@ void Session::update() {
   stats_.dlm_reuses = dlm_.stats().reuses;
 }
 
-render::RenderOutput Session::render(const scene::Camera& camera) {
+render::RenderOutput Session::render(const scene::Camera& camera, const render::ReadBack& read_back) {
   update();
-  auto out = renderer_.render(*textures_, dlm_, camera, sun_, render_settings_);
+  auto out = renderer_.render(*textures_, dlm_, camera, sun_, render_settings_, read_back);
   stats_.raycast_ms = out.milliseconds;
   logMemoryPhase("ray cast and read-back");
   return out;

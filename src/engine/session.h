@@ -83,8 +83,9 @@ class Session {
   /// setStyle rebuild them (tests change single fields here).
   render::RenderSettings& renderSettings() { return render_settings_; }
 
-  /// Brings volume and DLM up to date, then ray casts `camera` and reads the images back.
-  render::RenderOutput render(const scene::Camera& camera);
+  /// Brings volume and DLM up to date, then ray casts `camera` and reads the images back
+  /// (`read_back`: the cloud layer or not, and how).
+  render::RenderOutput render(const scene::Camera& camera, const render::ReadBack& read_back = {});
   /// Brings volume and DLM up to date, then ray casts `view` into renderer().cloudLayer()/frame().
   void dispatch(const render::ViewRays& view, render::HostDepth depth = {});
 

@@ -29,12 +29,14 @@
 // BM_CloudResolution (issue 19 item 4): the clouds marched at 1/1, 1/2, 1/4 of the resolution.
 // BM_DetailCost (issue 13): cubic reconstruction and sub-grid detail against the plain frame.
 // BM_DetailMass (issue 13): the detail's mass measurement, exhaustive against cheaper patterns.
+// BM_ReadBack (issue 19): render()'s read-back paths, with and without the cloud layer.
 // Run: build/tests/bench/nephele_frame_benchmarks (part of make bench); docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -1144,6 +1146,76 @@ BENCHMARK(BM_DetailMass)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
+// Issue 19, twenty-third session: render()'s read-back. On the H200 render() took 110–142 ms of
+// wall time for 2.1 ms of GPU work (docs/benchmarks.md "On an NVIDIA GPU"). The same frame, read
+// back each way (render::ReadBack): glGetTextureImage into fresh vectors (direct, the former path
+// and llvmpipe's default) and through the renderer's pixel-pack buffer (pbo, a GPU's default),
+// each with the cloud layer and without it (_frame: what `nephele render` reads when no file
+// takes the layer). Interleaved in rotating order; medians of render()'s wall time and of its
+// parts (RenderOutput: set-up and submission, wait, read-back). The pbo images must equal
+// direct's bit for bit. (Half floats through the pack buffer, measured in the twenty-third
+// session on the H200: read-back 89 ms against 23 ms in float — the driver converts on the CPU;
+// docs/benchmarks.md "Read-back".)
+void BM_ReadBack(benchmark::State& state) {
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
+  lighting::DlmSettings ds = lighting::dlmSettingsFor(lighting::qualityPreset(lighting::Preset::Broadcast));
+  render::DeepLightMap dlm;
+  dlm.build(sc.tex, -sc.sun.toSun(), ds);
+  using Path = render::ReadBack::Path;
+  struct Variant {
+    const char* name;
+    render::ReadBack read_back;
+  };
+  constexpr int kVariants = 4;
+  const Variant variants[kVariants] = {{"direct", {true, Path::Direct}},
+                                       {"pbo", {true, Path::PixelBuffer}},
+                                       {"direct_frame", {false, Path::Direct}},
+                                       {"pbo_frame", {false, Path::PixelBuffer}}};
+  render::CloudRenderer renderer;
+  const render::RenderSettings rs;
+  render::RenderOutput out[kVariants];
+  for (int k = 0; k < kVariants; ++k)
+    out[k] = renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs, variants[k].read_back);  // compiles, warms up
+  Series series[kVariants];
+  std::vector<double> submit[kVariants], wait[kVariants], copy[kVariants], gpu[kVariants];
+  const int rounds = interleavedCasts<kVariants>(state, series, [&](int k) {
+    const render::RenderOutput o = renderer.render(sc.tex, dlm, sc.camera, sc.sun, rs, variants[k].read_back);
+    submit[k].push_back(o.submit_milliseconds);
+    wait[k].push_back(o.wait_milliseconds);
+    copy[k].push_back(o.readback_milliseconds);
+    gpu[k].push_back(o.gpu_milliseconds);
+  });
+  std::fprintf(stderr, "read-back, %s storm %dx%dx%d voxels, %dx%d pixels, broadcast light cache, %d rounds on %s\n",
+               sc.demo ? "demo" : "coarse", sc.v.nx, sc.v.ny, sc.v.nz, sc.width, sc.height, rounds,
+               sc.ctx->info().renderer.c_str());
+  auto& c = state.counters;
+  for (int k = 0; k < kVariants; ++k) {
+    const std::string name = variants[k].name;
+    // Against direct with the same images: bit-identical.
+    const render::RenderOutput& ref = out[variants[k].read_back.cloud_layer ? 0 : 2];
+    const long bits = differingFloats(out[k].frame.rgba, ref.frame.rgba) +
+                      differingFloats(out[k].cloud_layer.rgba, ref.cloud_layer.rgba);
+    const int levels = maxLevelDifference(out[k].frame, ref.frame);
+    c["ms_" + name] = median(series[k].wall);
+    c["readback_ms_" + name] = median(copy[k]);
+    c["speedup_" + name] = median(series[0].wall) / median(series[k].wall);
+    c["differing_floats_" + name] = double(bits);
+    c["max_levels_" + name] = levels;
+    std::fprintf(stderr,
+                 "  %-15s render() wall %7.1f ms (direct/this %5.2f×, CPU %7.1f ms): set-up and submission %6.1f, "
+                 "wait %6.1f, read-back %6.1f ms, GPU %6.2f ms; vs direct: %ld floats differ, max %d levels\n",
+                 variants[k].name, median(series[k].wall), median(series[0].wall) / median(series[k].wall),
+                 median(series[k].cpu), median(submit[k]), median(wait[k]), median(copy[k]), median(gpu[k]), bits,
+                 levels);
+  }
+}
+BENCHMARK(BM_ReadBack)
+    ->ArgNames({"scene", "width"})
+    ->Args({1, 960})  // coarse storm, 960 × 540: the read-back depends on the pixels, not the storm
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
+
 // On a real GPU (tools/gpu_bench.sh sets NEPHELE_BENCH_WIDTH=1920) the demo storm at that width too,
 // with more rounds: the frame-size runs above are sized for llvmpipe on a 2-core machine.
 const int kWideRuns = [] {
@@ -1156,10 +1228,11 @@ const int kWideRuns = [] {
   wide("BM_FrameVariants", BM_FrameVariants)->ArgNames({"scene", "width"})->Args({0, width});
   wide("BM_EyePassDefaults", BM_EyePassDefaults)->ArgNames({"scene", "width"})->Args({0, width});
   wide("BM_DetailCost", BM_DetailCost)->ArgNames({"scene", "width"})->Args({0, width});
+  wide("BM_ReadBack", BM_ReadBack)->ArgNames({"scene", "width"})->Args({0, width});
   wide("BM_MultipleScatteringCost", BM_MultipleScatteringCost)
       ->ArgNames({"scene", "width", "photons"})
       ->Args({0, width, 65536});
-  return 4;
+  return 5;
 }();
 
 }  // namespace

@@ -124,6 +124,57 @@ TEST_F(PassesTest, DepthOfAThickSlabIsItsTopAtAKnownDistance) {
 // the slab's vertical optical depth τ and 1 (the map carries the forward-scattered light too),
 // and it is 1 (within 2 %: the map's cone of forward scattering softens the shadow's edge over a
 // few km) where the sun reaches the ground past the slab.
+// Issue 19, twenty-third session: render()'s read-back paths (render::ReadBack) give the same
+// images. Through the pixel-pack buffer (a GPU's default), straight into vectors (llvmpipe's) and
+// by the driver's choice (Auto): the frame, the cloud layer and all four passes bit for bit.
+// Without the cloud layer: the layer empty, the frame and the passes unchanged.
+TEST_F(PassesTest, ReadBackPathsGiveTheSameImages) {
+  const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, 2e-3f);
+  const volume::VolumeFrame frame = volume::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "passes-test");
+  const scene::Sun sun{30.0, 40.0};
+  render::DeepLightMap dlm;
+  dlm.build(tex, -sun.toSun(), lighting::DlmSettings{});
+  scene::Camera camera;
+  const glm::dvec3 c = 0.5 * (frame.min_m() + frame.max_m());
+  camera.position_m = {c.x - 30000.0, c.y - 20000.0, 12000.0};  // oblique: sky, ground and cloud in view
+  camera.target_m = {c.x, c.y, 1000.0};
+  camera.up = {0.0, 0.0, 1.0};
+  camera.vertical_fov_deg = 60.0;
+  camera.width = 48;
+  camera.height = 27;
+  render::CloudRenderer renderer;
+  renderer.setPasses(true);
+  const render::RenderSettings rs;
+  using Path = render::ReadBack::Path;
+  const auto direct = renderer.render(tex, dlm, camera, sun, rs, {true, Path::Direct});
+  const std::size_t bytesBefore = renderer.textureBytes();
+  const auto pbo = renderer.render(tex, dlm, camera, sun, rs, {true, Path::PixelBuffer});
+  const auto frameOnly = renderer.render(tex, dlm, camera, sun, rs, {false, Path::PixelBuffer});
+  const auto automatic = renderer.render(tex, dlm, camera, sun, rs, {true, Path::Auto});
+  ASSERT_TRUE(direct.passes && pbo.passes && frameOnly.passes && automatic.passes);
+  const std::size_t n = std::size_t(camera.width) * std::size_t(camera.height);
+  ASSERT_EQ(direct.frame.rgba.size(), 4 * n);
+  ASSERT_EQ(direct.cloud_layer.rgba.size(), 4 * n);
+  // The pack buffer (four RGBA32F images) is counted in the renderer's memory.
+  EXPECT_EQ(renderer.textureBytes(), bytesBefore + 4 * 4 * n * sizeof(float));
+  // The scene must exercise the images: cloud in the layer, sky and ground in the passes.
+  EXPECT_GT(*std::max_element(direct.cloud_layer.rgba.begin(), direct.cloud_layer.rgba.end()), 0.05f);
+  EXPECT_GT(*std::max_element(direct.passes->sky_rgb.begin(), direct.passes->sky_rgb.end()), 0.0f);
+  EXPECT_GT(*std::max_element(direct.passes->ground_rgb.begin(), direct.passes->ground_rgb.end()), 0.0f);
+  for (const render::RenderOutput* o : {&pbo, &frameOnly, &automatic}) {
+    EXPECT_EQ(o->frame.rgba, direct.frame.rgba);
+    EXPECT_EQ(o->passes->ground_rgb, direct.passes->ground_rgb);
+    EXPECT_EQ(o->passes->sky_rgb, direct.passes->sky_rgb);
+    EXPECT_EQ(o->passes->shadow, direct.passes->shadow);
+    EXPECT_EQ(o->passes->depth_m, direct.passes->depth_m);
+  }
+  EXPECT_EQ(pbo.cloud_layer.rgba, direct.cloud_layer.rgba);
+  EXPECT_EQ(automatic.cloud_layer.rgba, direct.cloud_layer.rgba);
+  EXPECT_TRUE(frameOnly.cloud_layer.rgba.empty());
+  EXPECT_EQ(frameOnly.cloud_layer.width, 0);
+}
+
 TEST_F(PassesTest, ShadowMatteIsTheDeepLightMapGroundTransmittance) {
   const double beta = 5e-4;  // 2 km slab: τ = 1
   const ExtinctionVolumes v = homogeneousSlab(8, 8, 8, float(beta));

@@ -565,7 +565,10 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
     std::printf("[ raycast  ] 96x54 hurricane, %s: coverage %.2f, max |GPU-CPU| %.2e, mean %.2e\n",
                 std::string(name).c_str(), d.coverage, d.max, d.mean);
     EXPECT_GT(d.coverage, 0.1) << "the camera must see the storm";
-    EXPECT_LE(d.mean, 1e-5) << name;
+    // On a GPU the hardware filter's 8-bit weights (softwareRasteriser) add to the mean where a
+    // term reads a filtered texture: the H200 measured 4.0e-6 (single) … 1.21e-5 (radiance volume,
+    // 65 % of the layer from its trilinearly filtered moments), max 2.4e-3 for every model.
+    EXPECT_LE(d.mean, softwareRasteriser() ? 1e-5 : 3e-5) << name;
     EXPECT_LE(d.max, 0.02) << name;
     if (mc) {
       // The agreement must not be that of two zero terms: the volume's light is part of the picture.

@@ -28,10 +28,6 @@ class GlTest : public ::testing::Test {
 /// program is compiled on its own (FMA contraction may differ by an ulp), and float→unorm8 rounds
 /// the driver's way: the GPU-against-CPU tests widen their bounds there to the H200's measured
 /// figures with margin, and keep CI's strict bounds on llvmpipe.
-inline bool softwareRasteriser() {
-  const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const std::string_view name = r != nullptr ? r : "";
-  return name.find("llvmpipe") != std::string_view::npos || name.find("softpipe") != std::string_view::npos;
-}
+inline bool softwareRasteriser() { return gl::softwareRasteriser(); }
 
 }  // namespace nph::test

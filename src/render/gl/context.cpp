@@ -73,6 +73,11 @@ void Context::finishInit(Backend backend, std::string detail, bool debug, void* 
             info_.version);
 }
 
+bool softwareRasteriser() {
+  const std::string name = glString(GL_RENDERER);
+  return name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos;
+}
+
 bool debugContextByDefault() {
 #ifdef NDEBUG
   return env::get("NEPHELE_GL_DEBUG").has_value();

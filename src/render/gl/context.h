@@ -83,6 +83,11 @@ class Context {
 /// GLFW window).
 std::unique_ptr<Context> createContext(ContextOptions options = {});
 
+/// Whether the current context renders on the CPU (Mesa's llvmpipe or softpipe): its textures are
+/// host memory and its compute work runs inside the dispatch call, so choices measured on a GPU
+/// (render::ReadBack) may not pay there. Reads GL_RENDERER.
+bool softwareRasteriser();
+
 /// Debug contexts: on in debug builds, and whenever NEPHELE_GL_DEBUG is set.
 bool debugContextByDefault();
 

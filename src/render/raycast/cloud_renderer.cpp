@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <vector>
 
@@ -12,6 +13,9 @@
 
 #include "atmosphere/atmosphere.h"
 #include "core/error.h"
+#include "core/large_buffer.h"
+#include "core/log.h"
+#include "render/gl/context.h"
 #include "render/gl/debug.h"
 
 namespace nph::render {
@@ -243,7 +247,7 @@ std::size_t CloudRenderer::textureBytes() const {
        {&basemap_, &far_basemap_, &blank_, &cloud_tex_, &frame_tex_, &ground_pass_tex_, &sky_pass_tex_, &globe_table_,
         &globe_basemap_, &sample_count_tex_, &low_cloud_tex_, &low_guide_tex_})
     b += t->bytes();
-  return b;
+  return b + pack_buffer_.size();  // the read-back's pack buffer (a GPU's only)
 }
 
 EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const DeepLightMap& dlm,
@@ -503,8 +507,12 @@ std::uint64_t CloudRenderer::sampleCount() const {
 }
 
 RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
-                                   const scene::Sun& sun, const RenderSettings& s) {
-  const auto t0 = std::chrono::steady_clock::now();
+                                   const scene::Sun& sun, const RenderSettings& s, const ReadBack& read_back) {
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  const auto t0 = Clock::now();
   time_gpu_ = true;
   try {
     dispatch(volume, dlm, ViewRays::fromCamera(camera), sun, s, {}, /*finish=*/false);
@@ -513,30 +521,79 @@ RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLight
     throw;
   }
   time_gpu_ = false;
-  const int w = camera.width, h = camera.height;
+  const auto t1 = Clock::now();
+  glFinish();  // the read-back would wait here anyway; waiting first times it apart from the copy
+  const auto t2 = Clock::now();
   RenderOutput out;
+  readBack(out, camera.width, camera.height, read_back);
+  const auto t3 = Clock::now();
+  out.gpu_milliseconds = lastGpuMs();
+  out.submit_milliseconds = ms(t0, t1);
+  out.wait_milliseconds = ms(t1, t2);
+  out.readback_milliseconds = ms(t2, t3);
+  out.milliseconds = ms(t0, Clock::now());
+  log::debug("ray cast {}x{}: set-up and submission {:.1f} ms, wait {:.1f} ms, read-back {:.1f} ms", camera.width,
+             camera.height, out.submit_milliseconds, out.wait_milliseconds, out.readback_milliseconds);
+  return out;
+}
+
+void CloudRenderer::readBack(RenderOutput& out, int w, int h, const ReadBack& what) {
+  const std::size_t pixels = std::size_t(w) * std::size_t(h), floats = 4 * pixels;
+  struct Image {
+    const gl::Texture* texture;
+    std::vector<float>* values;
+  };
+  std::vector<float> ground, sky;  // Two RGBA textures hold four passes: (ground.rgb, shadow) and (sky.rgb, Z).
+  std::vector<Image> images{{&frame_tex_, &out.frame.rgba}};
+  if (what.cloud_layer) images.push_back({&cloud_tex_, &out.cloud_layer.rgba});
+  if (passes_) {
+    images.push_back({&ground_pass_tex_, &ground});
+    images.push_back({&sky_pass_tex_, &sky});
+  }
   for (auto* img : {&out.cloud_layer, &out.frame}) {
+    if (img == &out.cloud_layer && !what.cloud_layer) continue;
     img->width = w;
     img->height = h;
-    img->rgba.resize(std::size_t(w) * std::size_t(h) * 4);
   }
-  const auto bytes = static_cast<GLsizei>(out.frame.rgba.size() * sizeof(float));
-  glGetTextureImage(cloud_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.cloud_layer.rgba.data());
-  glGetTextureImage(frame_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, out.frame.rgba.data());
+  const bool direct =
+      what.path == ReadBack::Path::Direct || (what.path == ReadBack::Path::Auto && gl::softwareRasteriser());
+  if (direct) {
+    for (const Image& img : images) {
+      img.values->resize(floats);
+      glGetTextureImage(img.texture->id(), 0, GL_RGBA, GL_FLOAT, GLsizei(floats * sizeof(float)), img.values->data());
+    }
+  } else {
+    // Every image into one pack buffer (kept: an animation reads the same sizes every frame), then
+    // one map: the driver's copies overlap each other, and the host copies out of memory the
+    // driver chose instead of faulting the caller's fresh pages in under the driver's copy.
+    const std::size_t image_bytes = floats * sizeof(float), bytes = image_bytes * images.size();
+    if (pack_buffer_.size() < bytes)
+      pack_buffer_ = gl::Buffer::create(bytes, nullptr, GL_MAP_READ_BIT | GL_CLIENT_STORAGE_BIT).label("read-back");
+    GLint previous = 0;
+    glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &previous);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer_.id());
+    for (std::size_t i = 0; i < images.size(); ++i)
+      glGetTextureImage(images[i].texture->id(), 0, GL_RGBA, GL_FLOAT, GLsizei(image_bytes),
+                        reinterpret_cast<void*>(i * image_bytes));
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(previous));
+    const auto* mapped = static_cast<const std::uint8_t*>(
+        glMapNamedBufferRange(pack_buffer_.id(), 0, GLsizeiptr(bytes), GL_MAP_READ_BIT));
+    if (!mapped) throw GlError("cloud ray caster read-back: the pixel-pack buffer could not be mapped");
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      *images[i].values = hugePageFloats(floats);
+      std::memcpy(images[i].values->data(), mapped + i * image_bytes, image_bytes);
+    }
+    glUnmapNamedBuffer(pack_buffer_.id());
+  }
   if (passes_) {
-    // Two RGBA textures hold four passes: (ground.rgb, shadow) and (sky.rgb, Z).
-    std::vector<float> ground(out.frame.rgba.size()), sky(out.frame.rgba.size());
-    glGetTextureImage(ground_pass_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, ground.data());
-    glGetTextureImage(sky_pass_tex_.id(), 0, GL_RGBA, GL_FLOAT, bytes, sky.data());
     scene::FramePasses& p = out.passes.emplace();
     p.width = w;
     p.height = h;
-    const std::size_t n = std::size_t(w) * std::size_t(h);
-    p.ground_rgb.resize(3 * n);
-    p.sky_rgb.resize(3 * n);
-    p.shadow.resize(n);
-    p.depth_m.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    p.ground_rgb.resize(3 * pixels);
+    p.sky_rgb.resize(3 * pixels);
+    p.shadow.resize(pixels);
+    p.depth_m.resize(pixels);
+    for (std::size_t i = 0; i < pixels; ++i) {
       for (std::size_t c = 0; c < 3; ++c) {
         p.ground_rgb[3 * i + c] = ground[4 * i + c];
         p.sky_rgb[3 * i + c] = sky[4 * i + c];
@@ -546,9 +603,6 @@ RenderOutput CloudRenderer::render(const VolumeTextures& volume, const DeepLight
     }
   }
   gl::checkErrors("cloud ray caster read-back");
-  out.gpu_milliseconds = lastGpuMs();
-  out.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  return out;
 }
 
 }  // namespace nph::render

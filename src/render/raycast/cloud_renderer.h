@@ -70,6 +70,36 @@ struct RenderOutput {
   std::optional<scene::FramePasses> passes;  ///< ground, sky, shadow matte, depth (setPasses(true))
   double milliseconds = 0.0;                 ///< wall time of the dispatches and the read-back
   double gpu_milliseconds = 0.0;             ///< the dispatches' GPU time (GL_TIME_ELAPSED; ≈ 0 on llvmpipe)
+  /// render()'s wall time in its three parts (issue 19, docs/benchmarks.md "Read-back"): set-up and
+  /// submission of the dispatches (program look-up, uniform blocks, output targets), the wait for
+  /// them to finish, and the copy of the images into host memory.
+  double submit_milliseconds = 0.0, wait_milliseconds = 0.0, readback_milliseconds = 0.0;
+};
+
+/// What render() copies into host memory, and how (issue 19). On a GPU the read-back, not the ray
+/// cast, was most of a batch frame's wall time (docs/benchmarks.md "Read-back"): a caller that
+/// writes only the composited frame skips the cloud layer, and the copy goes through a pixel-pack
+/// buffer.
+struct ReadBack {
+  /// RenderOutput::cloud_layer; false leaves it empty (0 × 0) — the frame, and the passes when
+  /// setPasses(true), are always read.
+  bool cloud_layer = true;
+  enum class Path {
+    /// PixelBuffer on a GPU, Direct on a software rasteriser (gl::softwareRasteriser): each where
+    /// it measured faster, and the pack buffer is not a second host copy of the images on llvmpipe
+    Auto,
+    /// glGetTextureImage straight into freshly allocated vectors (the path before the
+    /// twenty-third session; on llvmpipe a memcpy out of the texture)
+    Direct,
+    /// all images into one pixel-pack buffer the renderer keeps (GL_PIXEL_PACK_BUFFER), mapped
+    /// once and copied into huge-page vectors (core/large_buffer.h): the driver streams the
+    /// texels into memory it owns instead of the caller's pageable pages. Bit-identical to Direct;
+    /// on the H200 1.5× faster for frame and layer at 1080p (34.8 → 23.3 ms), 2.7× for the frame
+    /// alone (24.2 → 8.9 ms). Half floats this way measured 3.8× slower there (the driver converts
+    /// on the CPU) and are not offered.
+    PixelBuffer,
+  };
+  Path path = Path::Auto;
 };
 
 /// The switches the eye pass is compiled for (issue 19, "Frame time"): glsl/render/clouds.comp and
@@ -133,7 +163,7 @@ class CloudRenderer {
   void setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
                      const std::vector<float>& city_lights = {});
   RenderOutput render(const VolumeTextures& volume, const DeepLightMap& dlm, const scene::Camera& camera,
-                      const scene::Sun& sun, const RenderSettings& settings);
+                      const scene::Sun& sun, const RenderSettings& settings, const ReadBack& read_back = {});
 
   /// Ray casts into cloudLayer() (premultiplied linear RGBA, row 0 = top) and frame() without
   /// reading back. Binds its own program, textures, image units and uniform buffers; the caller
@@ -185,7 +215,7 @@ class CloudRenderer {
   void setAtmosphere(const atmosphere::Parameters& parameters);
   const atmosphere::Parameters& atmosphereParameters() const { return atmosphere_parameters_; }
   /// Bytes of the ray caster's own GL textures (basemaps, globe tables, output targets and passes;
-  /// not the atmosphere's small tables): issue 19's memory accounting.
+  /// not the atmosphere's small tables) and of its read-back buffer: issue 19's memory accounting.
   std::size_t textureBytes() const;
   const gl::Texture& cloudLayer() const { return cloud_tex_; }
   const gl::Texture& frame() const { return frame_tex_; }
@@ -204,6 +234,8 @@ class CloudRenderer {
   void updateTerrainBlock(const VolumeTextures& volume, const RenderSettings& settings);
 
   const gl::Program& program(const EyePassFeatures& features);
+  /// Copies the frame, the cloud layer (when asked) and the passes (when on) into `out` (render()).
+  void readBack(RenderOutput& out, int width, int height, const ReadBack& what);
   /// Binds the output images of a pass (cloud layer, frame, sample counts, passes) for `role`
   /// (EyePassFeatures::cloud_pass).
   void bindImages(int role) const;
@@ -223,6 +255,7 @@ class CloudRenderer {
   std::optional<GlobeMapping> globe_;
   gl::Texture globe_table_, globe_basemap_, sample_count_tex_;
   gl::Buffer raycast_stats_;               // uint: rays the loop limiter cut (raysCutShort)
+  gl::Buffer pack_buffer_;                 // render()'s read-back on a GPU (ReadBack::Path::PixelBuffer)
   std::optional<gl::GpuTimer> gpu_timer_;  // the last dispatch's GPU time (lastGpuMs)
   bool gpu_timer_running_ = false;
   bool time_gpu_ = false;  // render() only (lastGpuMs)
