@@ -5,7 +5,8 @@
 # (everything printed), frame.json (Google Benchmark), render-tests.txt, and the demo's 1080p frames.
 # Each step has its own time limit, so that a slow one leaves the rest their turn. Environment:
 # GPU_BENCH_FILTER (the frame benchmarks to run), GPU_TEST_SECONDS (the render tests' time),
-# GPU_TEST_SUITES (a regex of the test suites to run; all by default).
+# GPU_TEST_SUITES (a regex of the test suites to run; all by default), GPU_ANIMATE=1 (nephele
+# animate's throughput with one and four writer threads).
 set -u
 out=${OUT:-/tmp/nephele-gpu-out}
 mkdir -p "$out"
@@ -50,6 +51,20 @@ step "nephele render demo-golden-hour.json, 1920 x 1080"
 time timeout 60 "$b/bin/nephele" render "$work/demo-golden-hour.json"
 cp "$work/hurricane.png" "$out/hurricane-nvidia.png" 2>/dev/null
 cp "$work/hurricane-golden-hour.png" "$out/hurricane-golden-hour-nvidia.png" 2>/dev/null
+
+if [ "${GPU_ANIMATE:-0}" = 1 ]; then  # nephele animate's throughput: 25 camera-only 1080p frames, PNG + EXR
+  sed -e 's|"view": "flat"|"view": "flat", "animation": { "from": 0, "to": 0, "fps": 24, "duration_s": 1.0, "camera_keyframes": [ { "at_s": 0, "preset": "overview", "fov_deg": 40, "distance_scale": 0.5 }, { "at_s": 1.0, "preset": "overview", "fov_deg": 40, "distance_scale": 0.45, "azimuth_deg": 190 } ] }|' \
+    "$work/demo.json" > "$work/anim.json"
+  for threads in 1 4 1 4; do
+    step "nephele animate, 25 frames 1920 x 1080, PNG + EXR, --write-threads $threads"
+    rm -rf "$work/seq"
+    time NEPHELE_LOG=debug timeout 120 "$b/bin/nephele" animate "$work/anim.json" -o "$work/seq" --format png,exr \
+      --write-threads "$threads" --no-progress > "$work/anim.txt" 2>&1
+    grep -E "^animate: [0-9]" "$work/anim.txt"
+    awk '/files written in/ { w += $(NF-1); n++ } / s \(load / { for (i = 1; i <= NF; i++) if ($i == "s" && $(i+1) == "(load") r += $(i-1) }
+         END { printf "   frames %d: render (to the hand-over) %.2f s in all, files written %.2f s in all\n", n, r, w / 1000 }' "$work/anim.txt"
+  done
+fi
 
 step "frame benchmark (old/new variants interleaved; the demo at 1920 x 1080 too)"
 time NEPHELE_BENCH_WIDTH=1920 NEPHELE_LOG=warn timeout 200 "$b/bin/nephele_frame_benchmarks" \

@@ -14,12 +14,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -73,10 +79,92 @@ struct AnimateOptions {
   bool no_prefetch = false;
   double prefetch_budget_mb = 2048.0;
   int lookahead = 2;
+  int write_threads = 0;  // 0: FrameWriter::automaticThreads()
   bool progress = false, no_progress = false;
   bool overwrite = false;
   std::string video;
   std::string video_codec = "prores4444";
+};
+
+/// Writes the frames' files on worker threads while the next frames render (issue 19): on a GPU a
+/// 1080p frame renders and reads back in ≈ 0.1 s while its PNG and EXR take ≈ 0.5 s to encode
+/// (docs/benchmarks.md "Read-back"), so written in line the encoders set the frame rate. At most
+/// `threads` frames wait or are being written (each holds its images); submit() blocks beyond that.
+/// A job's error is rethrown by the next submit() or by finish(); the jobs handed over before it
+/// still run, so every frame rendered before an error is written. The destructor (also on an
+/// exception of the render loop) waits for every job handed over.
+class FrameWriter {
+ public:
+  explicit FrameWriter(std::size_t threads) : capacity_(std::max<std::size_t>(threads, 1)) {
+    for (std::size_t i = 0; i < capacity_; ++i) workers_.emplace_back([this] { work(); });
+  }
+  FrameWriter(const FrameWriter&) = delete;
+  FrameWriter& operator=(const FrameWriter&) = delete;
+  ~FrameWriter() { stop(); }
+
+  /// A quarter of the hardware threads, 1 to 4: one on this 2-core VM (llvmpipe needs the cores
+  /// for the ray cast), four on a 16-core GPU machine.
+  static std::size_t automaticThreads() {
+    return std::clamp<std::size_t>(std::thread::hardware_concurrency() / 4, 1, 4);
+  }
+
+  void submit(std::function<void()> job) {
+    std::unique_lock lock(mutex_);
+    space_.wait(lock, [&] { return queue_.size() + running_ < capacity_ || error_; });
+    if (error_) std::rethrow_exception(error_);
+    queue_.push_back(std::move(job));
+    ready_.notify_one();
+  }
+  /// Waits for every job; rethrows the first error.
+  void finish() {
+    stop();
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      std::function<void()> job;
+      {
+        std::unique_lock lock(mutex_);
+        ready_.wait(lock, [&] { return !queue_.empty() || stopping_; });
+        if (queue_.empty()) return;
+        job = std::move(queue_.front());
+        queue_.pop_front();
+        ++running_;
+      }
+      try {
+        job();
+      } catch (...) {
+        const std::lock_guard lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+      }
+      job = nullptr;  // its images and its frame claim go now, not at the next job
+      {
+        const std::lock_guard lock(mutex_);
+        --running_;
+      }
+      space_.notify_all();
+    }
+  }
+  void stop() {
+    {
+      const std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    ready_.notify_all();
+    for (auto& t : workers_)
+      if (t.joinable()) t.join();
+  }
+
+  const std::size_t capacity_;
+  std::mutex mutex_;
+  std::condition_variable ready_, space_;
+  std::deque<std::function<void()>> queue_;
+  std::size_t running_ = 0;
+  bool stopping_ = false;
+  std::exception_ptr error_;
+  std::vector<std::thread> workers_;
 };
 
 /// A whole number ≥ 0 from `s` (all of it), or `def` when `s` is empty; -1 when it is not one.
@@ -313,16 +401,20 @@ int runAnimate(const AnimateOptions& o) {
 
   ProgressBar bar(todo.size(), o.progress || (!o.no_progress && ProgressBar::stderrIsTerminal()));
   const auto t_start = Clock::now();
-  double steady_s = 0.0;
+  double first_s = 0.0;  // the first frame rendered (programs compiled, first volume and DLM)
   std::uint64_t dlm_reused_frames = 0, volume_reused_frames = 0, stalls = 0;
+  const std::size_t write_threads =
+      o.write_threads > 0 ? std::size_t(o.write_threads) : FrameWriter::automaticThreads();
+  FrameWriter writer(write_threads);
   for (std::size_t i = 0; i < todo.size(); ++i) {
     const std::int64_t k = todo[i];
     // A frame is claimed before it is rendered (temp_files::Claim), so that two runs on one
     // folder share the frames instead of both rendering every one (issue #18).
-    temp_files::Claim claim;
-    if (!claim.tryAcquire(pathOf(".frame", k, ".claim"))) {
+    // Held until the frame's files are written (by the writer's job).
+    auto claim = std::make_unique<temp_files::Claim>();
+    if (!claim->tryAcquire(pathOf(".frame", k, ".claim"))) {
       ++rendered_elsewhere;
-      log::info("frame {}: claimed by process {}, left to it", k, claim.holder());
+      log::info("frame {}: claimed by process {}, left to it", k, claim->holder());
       bar.update(i + 1, fmt::format("frame {} (other run)", k));
       continue;
     }
@@ -334,45 +426,56 @@ int runAnimate(const AnimateOptions& o) {
     const engine::AnimationFrame f = plan.frame(k);
     const auto t0 = Clock::now();
     const std::string when = f.utc ? f.utc->iso8601() : fmt::format("timestep {:.4f}", f.time_index);
-    render::RenderOutput out;
+    auto out = std::make_shared<render::RenderOutput>();
     try {
       session.setTime(f.time_index);
       session.setSun(f.sun);
-      out = session.render(f.camera, read_back);
+      *out = session.render(f.camera, read_back);
     } catch (const Error& e) {
       const engine::TimeBracket b = engine::bracketTime(f.time_index, dataset->timestepCount());
       const std::string files = b.weight > 0.0 && dataset->sourceFile(b.first) != dataset->sourceFile(b.second)
                                     ? dataset->sourceFile(b.first) + " / " + dataset->sourceFile(b.second)
                                     : dataset->sourceFile(b.first);
       bar.finish();
+      writer.finish();  // the frames rendered before this one are written first
       throw InputError(fmt::format("frame {} ({}, timestep {:.4f} of {}): {} — frames written before it are kept; run "
                                    "again to resume",
                                    k, when, f.time_index, files, e.what()));
     }
     scene::ImageOutputOptions image = scene::imageOptionsFor(s.output, f.sun.elevation_deg);
     image.date_time = exrDateTime(f);
-    const scene::FramePasses* passes = out.passes ? &*out.passes : nullptr;
-    for (const auto& [pass, path] : outputsOf(k)) {
-      scene::writeImage(pass == scene::Pass::Beauty  ? scene::outputFrame(s.output, out.frame, out.cloud_layer, passes)
-                        : pass == scene::Pass::Cloud ? out.cloud_layer
-                                                     : scene::passImage(pass, out.frame, out.cloud_layer, *passes),
-                        path, image);
-    }
+    writer.submit([&s, k, out, image, paths = outputsOf(k),
+                   claim = std::shared_ptr<temp_files::Claim>(std::move(claim))] {
+      const auto w0 = Clock::now();
+      const scene::FramePasses* passes = out->passes ? &*out->passes : nullptr;
+      for (const auto& [pass, path] : paths) {
+        scene::writeImage(pass == scene::Pass::Beauty
+                              ? scene::outputFrame(s.output, out->frame, out->cloud_layer, passes)
+                          : pass == scene::Pass::Cloud ? out->cloud_layer
+                                                       : scene::passImage(pass, out->frame, out->cloud_layer, *passes),
+                          path, image);
+      }
+      log::debug("frame {}: files written in {:.0f} ms", k,
+                 std::chrono::duration<double, std::milli>(Clock::now() - w0).count());
+    });
     ++rendered;
     const engine::FrameStats& st = session.stats();
     dlm_reused_frames += st.dlm_rebuilt ? 0 : 1;
     volume_reused_frames += st.volume_changed ? 0 : 1;
     stalls += st.blocked_ms > 0.0 ? 1 : 0;
     const double frame_s = std::chrono::duration<double>(Clock::now() - t0).count();
-    if (i > 0) steady_s += frame_s;
+    if (first_s == 0.0) first_s = std::chrono::duration<double>(Clock::now() - t_start).count();
     log::info("frame {} ({}, timestep {:.4f}): {:.2f} s (load {:.0f} ms of which blocked {:.0f}, upload {:.0f}, DLM "
               "{}, ray cast {:.0f} ms)",
               k, when, f.time_index, frame_s, st.load_ms, st.blocked_ms, st.upload_ms,
               st.dlm_rebuilt ? fmt::format("{:.0f} ms", st.dlm_ms) : std::string("reused"), st.raycast_ms);
     bar.update(i + 1, fmt::format("frame {}", k));
   }
+  writer.finish();
   bar.finish();
   const double total_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+  // Sustained: the frames after the first over the time after it, the last files written.
+  const double steady_s = total_s - first_s;
   const auto pf = session.prefetchStats();
   std::printf("animate: rendered %lld frames, skipped %lld complete and %lld claimed by another run (frames %lld to "
               "%lld of %lld)\n",
@@ -456,6 +559,11 @@ void addAnimateCommand(CLI::App& app, Action& run) {
   cmd->add_option("--prefetch-budget-mb", opts->prefetch_budget_mb, "memory for decoded timesteps")
       ->capture_default_str();
   cmd->add_option("--lookahead", opts->lookahead, "timesteps decoded ahead of the current ones")->capture_default_str();
+  cmd->add_option("--write-threads", opts->write_threads,
+                  "threads that write frames' files while the next frames render (0: a quarter of the hardware "
+                  "threads, 1 to 4); at most this many rendered frames wait in memory")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
   cmd->add_flag("--progress", opts->progress, "progress bar with ETA on stderr even when it is not a terminal");
   cmd->add_flag("--no-progress", opts->no_progress, "no progress bar");
   cmd->add_flag("--overwrite", opts->overwrite, "render complete frames again instead of skipping them");

@@ -152,7 +152,8 @@ case $case in
     [ "$(ls "$out/one" | head -3 | tr '\n' ' ')" = "frame_000000.exr frame_000000.png frame_000001.exr " ] ||
       fail "unexpected names: $(ls "$out/one" | head -3)"
     [ "$(ls -A "$out/one" | wc -l)" = 40 ] || fail "expected 40 files (10 frames x png/exr x frame/layer): $(ls -A "$out/one")"
-    run "$nephele" animate "$out/scene.json" -o "$out/two" --format png,exr --layer --frames 0:4
+    # three writer threads here (the files of up to three frames written while the next renders)
+    run "$nephele" animate "$out/scene.json" -o "$out/two" --format png,exr --layer --frames 0:4 --write-threads 3
     expect_rc 0; expect_out "rendered 5 frames"
     run "$nephele" animate "$out/scene.json" -o "$out/two" --format png,exr --layer --frames 5:9 --no-prefetch
     expect_rc 0; expect_out "rendered 5 frames"
@@ -483,7 +484,9 @@ with open(path, 'r+b') as f:
     half = chunk['bytes'] // 2   # the chunk's second half lost (zeros), as a cut-off copy leaves it
     f.seek(chunk['offset'] + half); f.write(b'\0' * (chunk['bytes'] - half))
 PY
-    run "$nephele" animate "$out/scene.json" -o "$out/cut" --interpolation step --from 0 --to 5 --fps 1 --duration 5
+    # with writer threads too: the frames rendered before the error are written before it is reported
+    run "$nephele" animate "$out/scene.json" -o "$out/cut" --interpolation step --from 0 --to 5 --fps 1 --duration 5 \
+      --write-threads 3
     expect_rc 1; expect_err "frame 3"; expect_err "a.nph"; expect_err "chunk"
     [ "$(ls -A "$out/cut" | tr '\n' ' ')" = "frame_000000.png frame_000001.png frame_000002.png " ] ||
       fail "expected exactly frames 0-2 after the failure: $(ls -A "$out/cut")"
