@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/large_buffer.h"
 #include "core/limits.h"
 #include "volume/detail.h"
 
@@ -60,7 +61,7 @@ struct NphReader::State {
       throw InputError(fmt::format("{}: {} lies outside the file (offset {}, {} bytes, file {} bytes)", name(), what,
                                    c.offset, c.bytes, file_bytes));
     }
-    std::vector<std::byte> packed(c.bytes);
+    std::vector<std::byte> packed = hugePageVector<std::byte>(c.bytes);
     if (!readAt(fd, packed.data(), packed.size(), c.offset)) {
       throw InputError(
           fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(), what, c.bytes, c.offset));
@@ -80,7 +81,7 @@ struct NphReader::State {
                                        : std::to_string(frame_bytes),
                                    c.raw_bytes));
     }
-    std::vector<std::byte> raw(c.raw_bytes);
+    std::vector<std::byte> raw = hugePageVector<std::byte>(c.raw_bytes);
     const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
     if (ZSTD_isError(n) || n != raw.size()) {
       throw InputError(fmt::format("{}: {} does not decompress to {} bytes: {}", name(), what, raw.size(),
@@ -233,8 +234,8 @@ QuantisedVolumes NphReader::readQuantised(std::size_t t) const {
     throw InputError(fmt::format("{}: chunk {} holds {} bytes, expected {} for {}x{}x{} voxels", s.name(), t,
                                  raw.size(), 2 * stored * sizeof(std::uint16_t), m.nx, m.ny, info.nz));
   }
-  q.ice_codes.assign(padded, 0);  // layers above nz_t stay 0 (cropped, empty)
-  q.water_codes.assign(padded, 0);
+  q.ice_codes = hugePageVector<std::uint16_t>(padded);  // layers above nz_t stay 0 (cropped, empty)
+  q.water_codes = hugePageVector<std::uint16_t>(padded);
   // A timestep cropped to nothing (nz_t = 0) stores no voxels: raw is empty and its data() may be
   // null, which memcpy must not get even for 0 bytes (UBSan, make test-sanitize).
   if (stored > 0) {

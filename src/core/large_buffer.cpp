@@ -28,14 +28,6 @@ void adviseHugePages(void* data, std::size_t bytes) noexcept {
 #endif
 }
 
-std::vector<float> hugePageFloats(std::size_t n) {
-  std::vector<float> v;
-  v.reserve(n);
-  adviseHugePages(v.data(), n * sizeof(float));
-  v.resize(n);
-  return v;
-}
-
 bool reuseFreedMemoryForLargeBlocks() noexcept {
 #if defined(__GLIBC__)
   return mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, INT_MAX) == 1;

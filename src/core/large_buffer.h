@@ -20,9 +20,19 @@ inline constexpr std::size_t kHugePageAdviceMinBytes = std::size_t(4) << 20;
 /// whole 2 MiB-aligned pages. No-op for small ranges, on error, or where madvise is missing.
 void adviseHugePages(void* data, std::size_t bytes) noexcept;
 
-/// `n` floats, value-initialised (0) as std::vector does, the storage advised for huge pages
-/// before the zero-fill first touches it (reserve, advise, resize).
-std::vector<float> hugePageFloats(std::size_t n);
+/// `n` values, value-initialised (0) as std::vector does, the storage advised for huge pages
+/// before the zero-fill first touches it (reserve, advise, resize). For the large buffers a frame
+/// allocates fresh: the `.nph` chunk and its codes, the cached basemap, the read-back images (on
+/// this VM a first-touch page fault costs more than the zero-fill itself: docs/benchmarks.md).
+template <class T>
+std::vector<T> hugePageVector(std::size_t n) {
+  std::vector<T> v;
+  v.reserve(n);
+  adviseHugePages(v.data(), n * sizeof(T));
+  v.resize(n);
+  return v;
+}
+inline std::vector<float> hugePageFloats(std::size_t n) { return hugePageVector<float>(n); }
 
 /// For batch commands that allocate and free the same large buffers over and over (`nephele
 /// convert`: per timestep, the model fields, and per variable HDF5's chunk and inflate buffers):

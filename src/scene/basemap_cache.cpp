@@ -16,6 +16,7 @@
 
 #include "core/env.h"
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/log.h"
 #include "core/temp_files.h"
 
@@ -133,7 +134,7 @@ std::optional<LinearRgbImage> readEntry(const fs::path& path, const std::string&
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec || size > (std::uintmax_t(1) << 34)) return std::nullopt;
-  std::vector<char> in(size);
+  std::vector<char> in = hugePageVector<char>(size);
   if (!f.read(in.data(), std::streamsize(size))) return std::nullopt;
   std::size_t at = 0;
   char magic[8];
@@ -152,7 +153,7 @@ std::optional<LinearRgbImage> readEntry(const fs::path& path, const std::string&
       ZSTD_getFrameContentSize(in.data() + at, packed_bytes) != raw_bytes) {
     return std::nullopt;
   }
-  LinearRgbImage image{width, height, std::vector<float>(raw_bytes / sizeof(float)), (flags & 1u) != 0};
+  LinearRgbImage image{width, height, hugePageFloats(raw_bytes / sizeof(float)), (flags & 1u) != 0};
   // The frame carries its content checksum: ZSTD_decompress verifies it.
   const std::size_t n = ZSTD_decompress(image.rgb.data(), raw_bytes, in.data() + at, packed_bytes);
   if (ZSTD_isError(n) || n != raw_bytes) return std::nullopt;
