@@ -550,10 +550,11 @@ void CloudRenderer::readBack(RenderOutput& out, int w, int h, const ReadBack& wh
     images.push_back({&ground_pass_tex_, &ground});
     images.push_back({&sky_pass_tex_, &sky});
   }
-  for (auto* img : {&out.cloud_layer, &out.frame}) {
-    if (img == &out.cloud_layer && !what.cloud_layer) continue;
-    img->width = w;
-    img->height = h;
+  out.frame.width = w;
+  out.frame.height = h;
+  if (what.cloud_layer) {
+    out.cloud_layer.width = w;
+    out.cloud_layer.height = h;
   }
   const bool direct =
       what.path == ReadBack::Path::Direct || (what.path == ReadBack::Path::Auto && gl::softwareRasteriser());
@@ -579,11 +580,14 @@ void CloudRenderer::readBack(RenderOutput& out, int w, int h, const ReadBack& wh
     const auto* mapped = static_cast<const std::uint8_t*>(
         glMapNamedBufferRange(pack_buffer_.id(), 0, GLsizeiptr(bytes), GL_MAP_READ_BIT));
     if (!mapped) throw GlError("cloud ray caster read-back: the pixel-pack buffer could not be mapped");
+    struct Unmap {  // also when an allocation below throws: the next frame packs into the buffer again
+      GLuint id;
+      ~Unmap() { glUnmapNamedBuffer(id); }
+    } unmap{pack_buffer_.id()};
     for (std::size_t i = 0; i < images.size(); ++i) {
       *images[i].values = hugePageFloats(floats);
       std::memcpy(images[i].values->data(), mapped + i * image_bytes, image_bytes);
     }
-    glUnmapNamedBuffer(pack_buffer_.id());
   }
   if (passes_) {
     scene::FramePasses& p = out.passes.emplace();
