@@ -66,6 +66,10 @@ layout(std430, binding = SSBO_RAYCAST_STATS) buffer RaycastStats { uint raycastC
 // C + T_acc·(ground + sky), so a compositor can rebuild it or lay the clouds over its own map.
 layout(rgba32f, binding = IMAGE_PASS_GROUND) uniform image2D u_pass_ground;  // ground radiance, shadow matte
 layout(rgba32f, binding = IMAGE_PASS_SKY) uniform image2D u_pass_sky;        // sky radiance, cloud depth Z [m]
+#ifdef SPEC_MOTION_DEPTH  // temporal accumulation (glsl/render/temporal.comp): the layers and their depths
+layout(r32f, binding = IMAGE_MOTION_DEPTH) uniform image2D u_motion_depth;           // the cloud's mean depth
+layout(rgba32f, binding = IMAGE_TEMPORAL_BACKGROUND) uniform image2D u_background;  // (ground + sky, its depth)
+#endif
 layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // RGB linear albedo, A city lights, over u_basemap_min..max (world m)
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
 layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;  // (τ_up, τ_down) per voxel centre
@@ -106,6 +110,7 @@ layout(std140, binding = UBO_RAYCAST) uniform RaycastBlock {
   float u_step_growth_max;  // adaptive steps (adaptiveStep below): at most this × u_step_m; 1 = fixed
   vec2 u_subpixel;          // this sample's position in the pixel, [0, 1)² ((0.5, 0.5): the centre)
   uint u_sample_index;      // k of RenderSettings::samples_per_pixel (runningMean below)
+  uint u_jitter_index;      // k + RenderSettings::sample_offset: the jitter's (temporal accumulation)
 };
 
 // Compile-time specialisation per view (issue 19, "Frame time"; see glsl/dlm/volume.glsl for the
@@ -557,7 +562,7 @@ void main() {
   float depthSum = 0.0;  // Σ t·(opacity added): the cloud layer's mean depth for aerial perspective
   if (span.x < span.y) {
     // (each sample of a pixel its own offset; sample 0 the one a single sample always had)
-    float t = span.x + (u_jitter ? pixelHash(uvec2(px) + u_sample_index * uvec2(7919u, 6007u)) : 0.5) * u_step_m;
+    float t = span.x + (u_jitter ? pixelHash(uvec2(px) + u_jitter_index * uvec2(7919u, 6007u)) : 0.5) * u_step_m;
     bool adaptive = u_step_growth_max > 1.0;
     float pixelAngle = length(dirDx);  // radians between neighbouring pixels' rays
     while (t < span.y && Tacc > u_min_transmittance) {
@@ -753,6 +758,18 @@ void main() {
   }
   vec4 beauty = vec4(C + Tacc * (ground + sky), 1.0);
   imageStore(u_frame, px, first ? beauty : runningMean(imageLoad(u_frame, px), beauty));
+#ifdef SPEC_MOTION_DEPTH
+  // The temporal accumulation resolves the two layers of the frame apart, each reprojected with
+  // its own depth (glsl/render/temporal.comp): the cloud layer at the cloud's mean depth (0 where
+  // no cloud is seen), the background (ground + sky, behind the clouds) at the ground's or the
+  // host's distance, 0 for the sky (a point at infinity). Over several samples: the means, and the
+  // last sample's depths.
+  float background_m = min(VIEW_GLOBE ? tGround : float(tFlatGround), hostDistance);
+  vec4 background = vec4(ground + sky, background_m < kNoHit_m ? background_m : 0.0);
+  if (!first) background.rgb = runningMean(imageLoad(u_background, px), vec4(background.rgb, 0.0)).rgb;
+  imageStore(u_background, px, background);
+  imageStore(u_motion_depth, px, vec4(alpha > 0.0 ? meanDepth : 0.0));
+#endif
   if (WRITE_PASSES) {
     // Z: the cloud's transmittance-weighted mean depth along the camera's view axis (planar depth,
     // as Nuke and Cycles read a Z channel); kNoCloudDepth_m where no cloud is seen.

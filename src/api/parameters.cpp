@@ -52,6 +52,12 @@ const Parameter kParameters[] = {
     {"time_interpolation", 0, 1, true,
      [](const R& r) { return r.session().timeBlend() == engine::TimeBlend::Motion ? 1.0 : 0.0; },
      [](R& r, double v) { r.session().setTimeBlend(v != 0.0 ? engine::TimeBlend::Motion : engine::TimeBlend::Linear); }},
+    // Temporal accumulation for interactive hosts (render/raycast/temporal_accumulation.h): N > 0
+    // folds each frame's jitter into a reprojected history of up to N frames; 0 (the default)
+    // renders every frame on its own, as a render farm needs.
+    {"temporal_history", 0, 64, true,
+     [](const R& r) { return double(r.session().renderSettings().temporal_history); },
+     [](R& r, double v) { r.session().renderSettings().temporal_history = int(v); }},
 };
 // clang-format on
 

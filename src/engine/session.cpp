@@ -90,12 +90,16 @@ scene::Sun Session::sunFor(const scene::SunSpec& spec, std::size_t t) const {
 
 void Session::setQuality(const lighting::QualitySettings& quality) {
   scene_.quality = quality;
+  const int temporal = render_settings_.temporal_history;  // the host's, not a knob
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
+  render_settings_.temporal_history = temporal;
 }
 
 void Session::setStyle(const lighting::StyleSettings& style) {
   style_ = style;
+  const int temporal = render_settings_.temporal_history;  // the host's, not a knob
   render_settings_ = lighting::renderSettingsFor(scene_.quality, style_);
+  render_settings_.temporal_history = temporal;
 }
 
 void Session::update() {

@@ -80,8 +80,9 @@ class Session {
   void setStyle(const lighting::StyleSettings& style);
   const lighting::StyleSettings& style() const { return style_; }
   /// The ray caster's settings, lighting::renderSettingsFor(quality(), style()); setQuality and
-  /// setStyle rebuild them (tests change single fields here).
+  /// setStyle rebuild them, keeping the host's temporal_history (tests change single fields here).
   render::RenderSettings& renderSettings() { return render_settings_; }
+  const render::RenderSettings& renderSettings() const { return render_settings_; }
 
   /// Brings volume and DLM up to date, then ray casts `camera` and reads the images back
   /// (`read_back`: the cloud layer or not, and how).

@@ -83,6 +83,12 @@ struct RenderSettings : StyleSettings {
   /// the dispatch's samples into the mean the previous dispatches left (`nephele view` refines a
   /// still frame one sample at a time this way).
   int first_sample = 0;
+  /// Temporal accumulation for the interactive path (not a knob; issue 19 item 4; render/raycast/
+  /// temporal_accumulation.h): N > 0 gives each dispatch the next sample of the jitter and
+  /// sub-pixel sequence and folds it into a history of up to N frames, reprojected when the view
+  /// moves. 0: every dispatch stands alone (batch frames are a function of the frame alone).
+  /// `nephele view` while the camera moves, the plugin API's `temporal` parameter.
+  int temporal_history = 0;
   /// Reduced-resolution clouds (the knob `cloud_resolution`; issue 19 item 4): the eye pass marches
   /// the clouds at W/s × H/s for s = this divisor and a full-resolution pass upsamples them,
   /// guided by the full-resolution geometry (depth-aware upsampling, glsl/render/clouds.comp

@@ -410,6 +410,17 @@ int main(int argc, char** argv) {
   EXPECT(NPH_OK, r, api->get_parameter(r, "time_interpolation", &value));
   CHECK(value == 0.0);
   EXPECT(NPH_OK, r, api->set_parameter(r, "time_interpolation", 1));
+  /* temporal accumulation for interactive hosts: off by default, kept across a preset change */
+  EXPECT(NPH_OK, r, api->get_parameter(r, "temporal_history", &value));
+  CHECK(value == 0.0);
+  EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_parameter(r, "temporal_history", 65));
+  EXPECT(NPH_ERROR_INVALID_ARGUMENT, r, api->set_parameter(r, "temporal_history", 2.5));
+  EXPECT(NPH_OK, r, api->set_parameter(r, "temporal_history", 4));
+  EXPECT(NPH_OK, r, api->set_quality_preset(r, "draft"));
+  EXPECT(NPH_OK, r, api->get_parameter(r, "temporal_history", &value));
+  CHECK(value == 4.0);
+  EXPECT(NPH_OK, r, api->set_quality_preset(r, "broadcast"));
+  EXPECT(NPH_OK, r, api->set_parameter(r, "temporal_history", 0));
   /* the camera's white balance (scene/white_balance.h): 6504 K is neutral, 2500-25000 K accepted */
   EXPECT(NPH_OK, r, api->get_parameter(r, "white_balance_k", &value));
   CHECK(value == 6504.0);

@@ -1216,6 +1216,80 @@ BENCHMARK(BM_ReadBack)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
 
+// Issue 19 item 4, twenty-fourth session: the temporal accumulation of the interactive path
+// (RenderSettings::temporal_history; render/raycast/temporal_accumulation.h). The draft preset's
+// march (as `nephele view` draws while the camera moves: step 1 voxel, clouds at ½ resolution),
+// the camera orbiting the demo view's target by 0.1° per frame; each variant its own renderer (its
+// own history), the frames interleaved in rotating order: off (every frame on its own) and N = 4
+// (the viewer's). Reported: the frame's wall and CPU time (the dispatch with glFinish) and, after
+// the run, each variant's last frame against the same march at 16 samples per pixel of that camera
+// in 8-bit levels (levelStats). The three frames are written to the working directory as
+// temporal-{off,n4,converged}.png for docs/rendering.md.
+void BM_TemporalAccumulation(benchmark::State& state) {
+  const DemoScene sc{state.range(0) == 0, int(state.range(1)), int(state.range(1)) * 9 / 16};
+  const lighting::QualitySettings draft = lighting::qualityPreset(lighting::Preset::Draft);
+  render::DeepLightMap dlm;
+  dlm.build(sc.tex, -sc.sun.toSun(), lighting::dlmSettingsFor(draft));
+  const render::RenderSettings base = lighting::renderSettingsFor(draft, lighting::StyleSettings{});
+  constexpr int kVariants = 2;
+  const int histories[kVariants] = {0, 4};
+  const char* names[kVariants] = {"off", "n4"};
+  render::CloudRenderer renderers[kVariants];
+  render::RenderSettings rs[kVariants] = {base, base};
+  int frames[kVariants] = {0, 0};
+  const auto cameraAt = [&](int frame) {  // the demo camera turned about the vertical through its target
+    scene::Camera c = sc.camera;
+    const double a = glm::radians(0.1 * frame);
+    const glm::dvec3 d = c.position_m - c.target_m;
+    c.position_m =
+        c.target_m + glm::dvec3(d.x * std::cos(a) - d.y * std::sin(a), d.x * std::sin(a) + d.y * std::cos(a), d.z);
+    return c;
+  };
+  for (int k = 0; k < kVariants; ++k) {
+    rs[k].temporal_history = histories[k];
+    renderers[k].render(sc.tex, dlm, cameraAt(frames[k]++), sc.sun, rs[k]);  // compiles, warms up
+  }
+  Series series[kVariants];
+  const int rounds = interleavedCasts<kVariants>(state, series, [&](int k) {
+    renderers[k].dispatch(sc.tex, dlm, render::ViewRays::fromCamera(cameraAt(frames[k]++)), sc.sun, rs[k]);
+  });
+  // The last frames (one more each, read back) against the converged picture of their camera.
+  render::RenderOutput last[kVariants];
+  for (int k = 0; k < kVariants; ++k) last[k] = renderers[k].render(sc.tex, dlm, cameraAt(frames[k]), sc.sun, rs[k]);
+  render::RenderSettings converged = base;
+  converged.samples_per_pixel = 16;
+  render::CloudRenderer reference;
+  const render::RenderOutput truth = reference.render(sc.tex, dlm, cameraAt(frames[0]), sc.sun, converged);
+  std::fprintf(stderr,
+               "temporal accumulation, %s storm %dx%dx%d voxels, %dx%d pixels, draft march, orbit 0.1 deg per frame, "
+               "%d rounds on %s\n",
+               sc.demo ? "demo" : "coarse", sc.v.nx, sc.v.ny, sc.v.nz, sc.width, sc.height, rounds,
+               sc.ctx->info().renderer.c_str());
+  auto& c = state.counters;
+  for (int k = 0; k < kVariants; ++k) {
+    const LevelStats e = levelStats(last[k].frame, truth.frame);
+    const std::string name = names[k];
+    c["ms_" + name] = median(series[k].wall);
+    c["cpu_ms_" + name] = median(series[k].cpu);
+    c["levels_mean_" + name] = e.mean;
+    std::fprintf(stderr,
+                 "  %-4s frame wall %7.1f ms (this/off %.3f), CPU %7.1f ms (%.3f); last frame vs 16 spp: mean %.3f "
+                 "p99 %.0f max %d, %.2f %% > 2 levels\n",
+                 names[k], median(series[k].wall), median(series[k].wall) / median(series[0].wall),
+                 median(series[k].cpu), median(series[k].cpu) / median(series[0].cpu), e.mean, e.p99, e.max,
+                 100.0 * e.over2);
+    scene::writePng(last[k].frame, std::string("temporal-") + names[k] + ".png");
+  }
+  scene::writePng(truth.frame, "temporal-converged.png");
+}
+BENCHMARK(BM_TemporalAccumulation)
+    ->ArgNames({"scene", "width"})
+    ->Args({0, 640})  // demo storm, 640 × 360
+    ->Args({1, 640})  // coarse storm, 640 × 360
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(12);
+
 // On a real GPU (tools/gpu_bench.sh sets NEPHELE_BENCH_WIDTH=1920) the demo storm at that width too,
 // with more rounds: the frame-size runs above are sized for llvmpipe on a 2-core machine.
 const int kWideRuns = [] {

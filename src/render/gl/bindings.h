@@ -75,6 +75,19 @@
   X(IMAGE_LOW_CLOUD_GUIDE, 5)   /* image2D rg32f: reduced-resolution clouds: (α·mean depth, march end) [m] */ \
   X(UNIT_LOW_CLOUD_LAYER, 22)   /* sampler2D: the reduced-resolution cloud layer, read by the upsampling pass */ \
   X(UNIT_LOW_CLOUD_GUIDE, 23)   /* sampler2D: its (α·mean depth, march end), the upsampling's depth guide */ \
+  /* Temporal accumulation, glsl/render/temporal.comp (render/raycast/temporal_accumulation.cpp) */ \
+  X(IMAGE_MOTION_DEPTH, 6)      /* image2D r32f: clouds.comp's cloud mean depth along the ray [m] (0 = none) */ \
+  X(IMAGE_TEMPORAL_BACKGROUND, 7) /* image2D rgba32f: clouds.comp's background (ground + sky, its depth [m]; 0 = far) */ \
+  X(UNIT_TEMPORAL_BACKGROUND, 5) /* sampler2D: the same, read by the resolve */                 \
+  X(UNIT_TEMPORAL_HISTORY_COUNT, 6) /* sampler2D: the frames in the cloud layer's history */    \
+  X(IMAGE_TEMPORAL_COUNT_OUT, 5) /* image2D r32f: the same, written */                          \
+  X(UNIT_TEMPORAL_FRAME, 0)     /* sampler2D: this frame, linear RGB */                         \
+  X(UNIT_TEMPORAL_CLOUD, 1)     /* sampler2D: this frame's premultiplied cloud layer */         \
+  X(UNIT_TEMPORAL_DEPTH, 2)     /* sampler2D: the motion depth */                               \
+  X(UNIT_TEMPORAL_HISTORY_FRAME, 3) /* sampler2D: the resolved frame so far, (RGB, n) */        \
+  X(UNIT_TEMPORAL_HISTORY_CLOUD, 4) /* sampler2D: the resolved cloud layer so far */            \
+  X(IMAGE_TEMPORAL_FRAME_OUT, 3) /* image2D rgba32f: the resolved frame, (RGB, n) */            \
+  X(IMAGE_TEMPORAL_CLOUD_OUT, 4) /* image2D rgba32f: the resolved cloud layer */                \
   /* Atmosphere, glsl/atmosphere/ (render/atmosphere/atmosphere_luts.cpp) */                   \
   X(UBO_ATMOSPHERE, 4)          /* AtmosphereBlock (render/gl/uniform_blocks.h) */             \
   X(UNIT_TRANSMITTANCE_LUT, 10) /* sampler2D: transmittance to the top (r, mu) */              \

@@ -166,7 +166,9 @@ struct RaycastBlock {
   float step_growth_max = 1.0f;      ///< u_step_growth_max: adaptive steps up to this × Δ (1 = fixed)
   glm::vec2 subpixel{0.5f};          ///< u_subpixel: this sample's position inside the pixel [0, 1)²
   std::uint32_t sample_index = 0;    ///< u_sample_index: k of samples_per_pixel; k > 0 averages into the images
-  std::uint32_t pad = 0;             ///< to a multiple of 16 bytes (std140 block rounding)
+  /// u_jitter_index: the sample's index in the jitter and sub-pixel sequence, k + RenderSettings::
+  /// sample_offset (the temporal accumulation gives each frame its own; = sample_index without it)
+  std::uint32_t jitter_index = 0;
 };
 static_assert(offsetof(RaycastBlock, world_from_view) == 64 && offsetof(RaycastBlock, cam_pos_m) == 112 &&
               offsetof(RaycastBlock, step_m) == 124);
@@ -179,7 +181,8 @@ static_assert(offsetof(RaycastBlock, below_radiance) == 240 && offsetof(RaycastB
               offsetof(RaycastBlock, octaves) == 264 && offsetof(RaycastBlock, height_exaggeration) == 268);
 static_assert(offsetof(RaycastBlock, atmosphere) == 272 && offsetof(RaycastBlock, write_passes) == 276 &&
               offsetof(RaycastBlock, cloud_ms_model) == 280 && offsetof(RaycastBlock, step_growth_max) == 284);
-static_assert(offsetof(RaycastBlock, subpixel) == 288 && offsetof(RaycastBlock, sample_index) == 296);
+static_assert(offsetof(RaycastBlock, subpixel) == 288 && offsetof(RaycastBlock, sample_index) == 296 &&
+              offsetof(RaycastBlock, jitter_index) == 300);
 static_assert(sizeof(RaycastBlock) == 304, "std140 size of RaycastBlock, rounded to 16");
 inline constexpr BlockMember kRaycastMembers[] = {
     {"u_view_from_clip", offsetof(RaycastBlock, view_from_clip)},
@@ -214,7 +217,8 @@ inline constexpr BlockMember kRaycastMembers[] = {
     {"u_cloud_ms_model", offsetof(RaycastBlock, cloud_ms_model)},
     {"u_step_growth_max", offsetof(RaycastBlock, step_growth_max)},
     {"u_subpixel", offsetof(RaycastBlock, subpixel)},
-    {"u_sample_index", offsetof(RaycastBlock, sample_index)}};
+    {"u_sample_index", offsetof(RaycastBlock, sample_index)},
+    {"u_jitter_index", offsetof(RaycastBlock, jitter_index)}};
 
 /// glsl/render/globe.glsl `GlobeBlock`: the globe view's mapping (render/raycast/globe.h), read
 /// only when RaycastBlock::globe is set.

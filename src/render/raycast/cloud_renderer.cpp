@@ -245,9 +245,9 @@ std::size_t CloudRenderer::textureBytes() const {
   std::size_t b = 0;
   for (const gl::Texture* t :
        {&basemap_, &far_basemap_, &blank_, &cloud_tex_, &frame_tex_, &ground_pass_tex_, &sky_pass_tex_, &globe_table_,
-        &globe_basemap_, &sample_count_tex_, &low_cloud_tex_, &low_guide_tex_})
+        &globe_basemap_, &sample_count_tex_, &low_cloud_tex_, &low_guide_tex_, &motion_depth_tex_, &background_tex_})
     b += t->bytes();
-  return b + pack_buffer_.size();  // the read-back's pack buffer (a GPU's only)
+  return b + temporal_.textureBytes() + pack_buffer_.size();  // the read-back's pack buffer (a GPU's only)
 }
 
 EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const DeepLightMap& dlm,
@@ -272,6 +272,7 @@ const gl::Program& CloudRenderer::program(const EyePassFeatures& features) {
   if (baseline_.uniform_branches && features.cloud_pass != 0)
     defines.emplace_back("SPEC_CLOUD_PASS", std::to_string(features.cloud_pass));
   addRadianceVolumeDefine(defines, features.radiance_volume);
+  if (features.motion_depth) defines.emplace_back("SPEC_MOTION_DEPTH", "1");  // only when on: no other key changes
   if (baseline_.binary_search) defines.emplace_back("DLM_LOOKUP_BINARY_SEARCH", "1");
   if (baseline_.unclipped_steps) defines.emplace_back("ADAPTIVE_STEPS_UNCLIPPED", "1");
   if (baseline_.sky_half_transmittance) defines.emplace_back("SKY_HALF_TRANSMITTANCE", "1");
@@ -320,7 +321,25 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     sample_count_tex_ = gl::Texture::create2D(GL_R32UI, marched.x, marched.y).label("samples per ray");
     count_size_ = marched;
   }
-  const EyePassFeatures f = features(volume, dlm, s);
+  // Temporal accumulation (RenderSettings::temporal_history; render/raycast/temporal_accumulation.h):
+  // a fresh frame takes the next samples of the sequence and writes its reprojection depth.
+  const bool temporal = s.temporal_history > 0 && s.first_sample <= 0;
+  int sample_offset = 0;
+  if (temporal) {
+    // What the picture depends on besides the view: a change starts the history afresh.
+    const glm::dvec3 toSun = sun.toSun();
+    const std::string key = fmt::format(
+        "{}|{},{},{}|{}|{},{},{}|{},{},{}|{}|{},{}|{},{}|{}|{}|{}", volume.identity(), toSun.x, toSun.y, toSun.z,
+        sun.intensity, sun.colour.r, sun.colour.g, sun.colour.b, s.step_voxels, s.step_growth_max, s.min_transmittance,
+        int(s.multiple_scattering), s.g_ice, s.g_water, s.samples_per_pixel, divisor, s.atmosphere, s.terrain, passes_);
+    sample_offset = temporal_.begin(view, key);
+  }
+  if (temporal && (motion_depth_tex_.width() != w || motion_depth_tex_.height() != h)) {
+    motion_depth_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("cloud layer's mean depth");
+    background_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("background, its depth");
+  }
+  EyePassFeatures f = features(volume, dlm, s);
+  f.motion_depth = temporal;
   if (f.radiance_volume) {  // traced when the sun, the data or its settings change (its cache key)
     if (!radiance_volume_) radiance_volume_ = std::make_unique<RadianceVolume>();
     RadianceVolumeSettings rv = radiance_volume_settings_;
@@ -331,6 +350,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   EyePassFeatures lowFeatures = f, fullFeatures = f;
   lowFeatures.cloud_pass = 1;
   lowFeatures.passes = false;  // the full-resolution pass writes them
+  lowFeatures.motion_depth = false;
   fullFeatures.cloud_pass = 2;
   const gl::Program& p = program(divisor > 1 ? fullFeatures : f);
   const gl::Program* lowProgram = divisor > 1 ? &program(lowFeatures) : nullptr;
@@ -426,8 +446,9 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     bindImages(role);
     b.size = size;
     b.write_passes = passes_ && role != 1 ? 1u : 0u;
-    b.subpixel = subpixelPosition(k);
+    b.subpixel = subpixelPosition(k + sample_offset);
     b.sample_index = std::uint32_t(k);
+    b.jitter_index = std::uint32_t(k + sample_offset);
     raycast_block_.update(b);
     raycast_block_.bind();
     program.dispatchCovering({size.x, size.y, 1});
@@ -455,6 +476,10 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
       if (k + 1 < first + samples) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
   }
+  if (temporal) {
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    temporal_.resolve(frame_tex_, cloud_tex_, motion_depth_tex_, background_tex_, view, s.temporal_history);
+  }
   if (time_gpu_) {
     gpu_timer_->stop();
     gpu_timer_running_ = true;
@@ -472,6 +497,11 @@ void CloudRenderer::bindImages(int role) const {
   glBindImageTexture(gl::binding::IMAGE_CLOUD_LAYER, layer, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_FRAME, frame_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(gl::binding::IMAGE_SAMPLE_COUNT, sample_count_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  if (motion_depth_tex_ && role != 1) {
+    glBindImageTexture(gl::binding::IMAGE_MOTION_DEPTH, motion_depth_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(gl::binding::IMAGE_TEMPORAL_BACKGROUND, background_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_RGBA32F);
+  }
   if (role == 1)
     glBindImageTexture(gl::binding::IMAGE_LOW_CLOUD_GUIDE, low_guide_tex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_RG32F);

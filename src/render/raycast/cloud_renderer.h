@@ -24,6 +24,7 @@
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
 #include "render/raycast/globe.h"
+#include "render/raycast/temporal_accumulation.h"
 #include "scene/basemap.h"
 #include "scene/camera.h"
 #include "scene/output_image.h"
@@ -120,6 +121,9 @@ struct EyePassFeatures {
   /// clouds.comp SPEC_CLOUD_PASS): 0 march and composite, 1 the reduced march only, 2 the
   /// full-resolution pass over the upsampled clouds. Set by dispatch(), not by features().
   int cloud_pass = 0;
+  /// the reprojection depth for the temporal accumulation (clouds.comp SPEC_MOTION_DEPTH, defined
+  /// only when on). Set by dispatch() with RenderSettings::temporal_history > 0.
+  bool motion_depth = false;
   /// the Monte Carlo radiance volume's term and samplers (multiple_scattering = radiance_volume;
   /// clouds.comp SPEC_RADIANCE_VOLUME, defined only when on, in every baseline)
   bool radiance_volume = false;
@@ -225,6 +229,14 @@ class CloudRenderer {
   /// multiple_scattering = radiance_volume, rebuilt only when its key (volume identity, sun,
   /// settings) changes — with the deep light map; null before the first such frame.
   const RadianceVolume* radianceVolume() const { return radiance_volume_.get(); }
+  /// The temporal accumulation's history (RenderSettings::temporal_history): dispatch() starts it
+  /// afresh by itself when the volume, the sun, the size or the sampling settings change;
+  /// callers reset it for anything else that changes the picture.
+  void resetTemporalHistory() { temporal_.reset(); }
+  const TemporalAccumulation& temporal() const { return temporal_; }
+  /// The last temporal frame's cloud depth per pixel (R32F, row 0 = top; clouds.comp
+  /// SPEC_MOTION_DEPTH): the cloud layer's mean depth along the ray, 0 where no cloud is seen.
+  const gl::Texture& motionDepth() const { return motion_depth_tex_; }
   /// Its settings (photons, grid, seed); the phases are RenderSettings::g_ice, g_water.
   void setRadianceVolumeSettings(const RadianceVolumeSettings& settings) { radiance_volume_settings_ = settings; }
 
@@ -267,6 +279,9 @@ class CloudRenderer {
   std::unique_ptr<AtmosphereLuts> atmosphere_;         // built on the first frame that wants it
   atmosphere::Parameters atmosphere_parameters_ = atmosphere::Parameters::earth();  // atmosphere_'s
   glm::dvec3 globe_to_sun_{0.0, 0.0, 1.0};
+  TemporalAccumulation temporal_;  // RenderSettings::temporal_history
+  // its layers' inputs (clouds.comp SPEC_MOTION_DEPTH): the cloud's mean depth, the background
+  gl::Texture motion_depth_tex_, background_tex_;
   std::unique_ptr<RadianceVolume> radiance_volume_;  // built on the first frame that wants it
   RadianceVolumeSettings radiance_volume_settings_;
 };
