@@ -105,6 +105,7 @@ gl::Texture imageryTexture(const scene::LinearRgbImage& image, const std::vector
 
 void CloudRenderer::setBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
                                const std::vector<float>& city_lights) {
+  temporal_.reset();  // another ground under the clouds
   basemap_lights_ = false;
   if (image.width <= 0 || image.height <= 0) {
     basemap_ = gl::Texture();
@@ -123,6 +124,7 @@ void CloudRenderer::setAtmosphere(const atmosphere::Parameters& parameters) {
 
 void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scene::WorldRect& rect,
                                   const std::vector<float>& city_lights) {
+  temporal_.reset();
   far_basemap_ = gl::Texture();
   far_basemap_lights_ = false;
   if (image.width <= 0 || image.height <= 0) return;
@@ -134,6 +136,7 @@ void CloudRenderer::setFarBasemap(const scene::LinearRgbImage& image, const scen
 
 void CloudRenderer::setGlobe(const GlobeMapping& m, const scene::LinearRgbImage& equirect,
                              const glm::dvec3& to_sun_ecef, const std::vector<float>& city_lights) {
+  temporal_.reset();  // rays in ECEF from now on
   globe_ = m;
   globe_to_sun_ = to_sun_ecef;
   globe_table_ = gl::Texture::create2D(GL_RG32F, m.width, m.height).label("globe lon/lat -> world");
@@ -327,9 +330,11 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
   int sample_offset = 0;
   if (temporal) {
     // What the picture depends on besides the view: a change starts the history afresh.
+    // The map's key holds the volume's identity, the light's settings and the direction it was
+    // built for; the sun given here lights the ground and the sky as well.
     const glm::dvec3 toSun = sun.toSun();
     const std::string key = fmt::format(
-        "{}|{},{},{}|{}|{},{},{}|{},{},{}|{}|{},{}|{},{}|{}|{}|{}", volume.identity(), toSun.x, toSun.y, toSun.z,
+        "{}|{},{},{}|{}|{},{},{}|{},{},{}|{}|{},{}|{},{}|{}|{}|{}", dlm.cacheKey(), toSun.x, toSun.y, toSun.z,
         sun.intensity, sun.colour.r, sun.colour.g, sun.colour.b, s.step_voxels, s.step_growth_max, s.min_transmittance,
         int(s.multiple_scattering), s.g_ice, s.g_water, s.samples_per_pixel, divisor, s.atmosphere, s.terrain, passes_);
     sample_offset = temporal_.begin(view, key);

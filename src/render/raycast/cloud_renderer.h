@@ -230,8 +230,9 @@ class CloudRenderer {
   /// settings) changes — with the deep light map; null before the first such frame.
   const RadianceVolume* radianceVolume() const { return radiance_volume_.get(); }
   /// The temporal accumulation's history (RenderSettings::temporal_history): dispatch() starts it
-  /// afresh by itself when the volume, the sun, the size or the sampling settings change;
-  /// callers reset it for anything else that changes the picture.
+  /// afresh by itself when the deep light map's key (volume, sun direction, light settings), the
+  /// sun's intensity or colour, the sampling settings or the size change, and at a cut; the
+  /// basemaps and the globe reset it; callers reset it for anything else that changes the picture.
   void resetTemporalHistory() { temporal_.reset(); }
   const TemporalAccumulation& temporal() const { return temporal_; }
   /// The last temporal frame's cloud depth per pixel (R32F, row 0 = top; clouds.comp
