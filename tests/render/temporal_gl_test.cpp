@@ -77,8 +77,9 @@ double relativeRms(const scene::RgbaImage& a, const scene::RgbaImage& ref) {
   double d2 = 0.0, r2 = 0.0;
   for (std::size_t i = 0; i < ref.rgba.size(); ++i) {
     if (i % 4 == 3) continue;
-    d2 += (double(a.rgba[i]) - ref.rgba[i]) * (double(a.rgba[i]) - ref.rgba[i]);
-    r2 += double(ref.rgba[i]) * ref.rgba[i];
+    const double d = double(a.rgba[i]) - double(ref.rgba[i]), r = double(ref.rgba[i]);
+    d2 += d * d;
+    r2 += r * r;
   }
   return std::sqrt(d2 / r2);
 }
@@ -106,11 +107,11 @@ TEST_F(TemporalTest, StillViewIsTheMeanOfItsSamples) {
     maxFrame = std::max(maxFrame, double(std::abs(out.frame.rgba[i] - mean.frame.rgba[i])));
     maxLayer = std::max(maxLayer, double(std::abs(out.cloud_layer.rgba[i] - mean.cloud_layer.rgba[i])));
   }
-  EXPECT_LE(maxLayer, 1e-6 * peak);
+  EXPECT_LE(maxLayer, 1e-6 * double(peak));
   // The frame is recomposed from the two resolved layers, mean(C) + (1 − mean α)·mean(background),
   // where the samples' mean composite is mean(C + (1 − α)·background): they differ by the
   // covariance of α and the background over a pixel's samples, at edges only.
-  EXPECT_LE(maxFrame, 1e-3 * peak);
+  EXPECT_LE(maxFrame, 1e-3 * double(peak));
   // The scene has noise to average: one sample differs from eight.
   EXPECT_GT(relativeRms(one.frame, mean.frame), 1e-3);
 }
