@@ -23,10 +23,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = UNIT_TEMPORAL_CLOUD) uniform sampler2D u_cloud;            // this frame's premultiplied layer
 layout(binding = UNIT_TEMPORAL_DEPTH) uniform sampler2D u_depth;            // its mean depth [m], 0 = no cloud
 layout(binding = UNIT_TEMPORAL_BACKGROUND) uniform sampler2D u_background;  // (ground + sky, its depth [m]; 0 = far)
-layout(binding = UNIT_TEMPORAL_HISTORY_FRAME) uniform sampler2D u_history_background;  // (RGB, n), bilinear
+layout(binding = UNIT_TEMPORAL_HISTORY_BACKGROUND) uniform sampler2D u_history_background;  // (RGB, n), bilinear
 layout(binding = UNIT_TEMPORAL_HISTORY_CLOUD) uniform sampler2D u_history_cloud;       // premultiplied RGBA
 layout(binding = UNIT_TEMPORAL_HISTORY_COUNT) uniform sampler2D u_history_count;       // the cloud layer's n
-layout(rgba32f, binding = IMAGE_TEMPORAL_FRAME_OUT) uniform writeonly image2D u_background_out;
+layout(rgba32f, binding = IMAGE_TEMPORAL_BACKGROUND_OUT) uniform writeonly image2D u_background_out;
 layout(rgba32f, binding = IMAGE_TEMPORAL_CLOUD_OUT) uniform writeonly image2D u_cloud_out;
 layout(r32f, binding = IMAGE_TEMPORAL_COUNT_OUT) uniform writeonly image2D u_count_out;
 layout(rgba32f, binding = IMAGE_FRAME) uniform writeonly image2D u_frame_target;        // role 1: the renderer's frame

@@ -81,12 +81,11 @@
   X(UNIT_TEMPORAL_BACKGROUND, 5) /* sampler2D: the same, read by the resolve */                 \
   X(UNIT_TEMPORAL_HISTORY_COUNT, 6) /* sampler2D: the frames in the cloud layer's history */    \
   X(IMAGE_TEMPORAL_COUNT_OUT, 5) /* image2D r32f: the same, written */                          \
-  X(UNIT_TEMPORAL_FRAME, 0)     /* sampler2D: this frame, linear RGB */                         \
   X(UNIT_TEMPORAL_CLOUD, 1)     /* sampler2D: this frame's premultiplied cloud layer */         \
-  X(UNIT_TEMPORAL_DEPTH, 2)     /* sampler2D: the motion depth */                               \
-  X(UNIT_TEMPORAL_HISTORY_FRAME, 3) /* sampler2D: the resolved frame so far, (RGB, n) */        \
+  X(UNIT_TEMPORAL_DEPTH, 2)     /* sampler2D: the cloud layer's mean depth (IMAGE_MOTION_DEPTH) */ \
+  X(UNIT_TEMPORAL_HISTORY_BACKGROUND, 3) /* sampler2D: the resolved background so far, (RGB, n) */ \
   X(UNIT_TEMPORAL_HISTORY_CLOUD, 4) /* sampler2D: the resolved cloud layer so far */            \
-  X(IMAGE_TEMPORAL_FRAME_OUT, 3) /* image2D rgba32f: the resolved frame, (RGB, n) */            \
+  X(IMAGE_TEMPORAL_BACKGROUND_OUT, 3) /* image2D rgba32f: the resolved background, (RGB, n) */ \
   X(IMAGE_TEMPORAL_CLOUD_OUT, 4) /* image2D rgba32f: the resolved cloud layer */                \
   /* Atmosphere, glsl/atmosphere/ (render/atmosphere/atmosphere_luts.cpp) */                   \
   X(UBO_ATMOSPHERE, 4)          /* AtmosphereBlock (render/gl/uniform_blocks.h) */             \

@@ -70,12 +70,12 @@ void TemporalAccumulation::resolve(const gl::Texture& frame, const gl::Texture& 
   glBindTextureUnit(b::UNIT_TEMPORAL_DEPTH, cloud_depth.id());
   glBindTextureUnit(b::UNIT_TEMPORAL_BACKGROUND, background.id());
   const auto bindHistory = [&](int which) {
-    glBindTextureUnit(b::UNIT_TEMPORAL_HISTORY_FRAME, history_background_[which].id());
+    glBindTextureUnit(b::UNIT_TEMPORAL_HISTORY_BACKGROUND, history_background_[which].id());
     glBindTextureUnit(b::UNIT_TEMPORAL_HISTORY_CLOUD, history_cloud_[which].id());
     glBindTextureUnit(b::UNIT_TEMPORAL_HISTORY_COUNT, history_count_[which].id());
   };
   bindHistory(current_);
-  glBindImageTexture(b::IMAGE_TEMPORAL_FRAME_OUT, history_background_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+  glBindImageTexture(b::IMAGE_TEMPORAL_BACKGROUND_OUT, history_background_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                      GL_RGBA32F);
   glBindImageTexture(b::IMAGE_TEMPORAL_CLOUD_OUT, history_cloud_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(b::IMAGE_TEMPORAL_COUNT_OUT, history_count_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
