@@ -59,10 +59,11 @@ Number detailDensity(vec4 n1, vec4 n2, vec4 c, Number amplitude, vec2 statsS, ve
 
 // The second noise frame: rotated by 37° about z and 30° about x, scaled by 1.7 (incommensurate
 // with the first, so the sum of both has no common period at the tile size).
+#define kDetailSecondFrameScale Number(1.7)
 vec3 detailSecondFrame(vec3 q) {
   const Number cz = Number(0.79863551), sz = Number(0.60181502), cx = Number(0.86602540), sx = Number(0.5);
   vec3 r = vec3(cz * q.x - sz * q.y, sz * q.x + cz * q.y, q.z);
-  return Number(1.7) * vec3(r.x, cx * r.y - sx * r.z, sx * r.y + cx * r.z);
+  return kDetailSecondFrameScale * vec3(r.x, cx * r.y - sx * r.z, sx * r.y + cx * r.z);
 }
 
 // ---- Shape: the silhouette from a normalised, isotropic coverage (issue 13 "square pillars") ----

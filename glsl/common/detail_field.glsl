@@ -12,7 +12,8 @@
 //   vec3 volumeUvw(vec3 world_m) and bool insideGrownVolume(vec3 uvw);
 //   vec2 plainExtinctionAt(vec3 world_m): (β_ice, β_water) of the reconstruction alone [1/m];
 //   vec4 detailControlsAt(vec3 uvw): the RGBA8 controls in [0, 1] (GL_LINEAR, clamp to edge);
-//   vec4 detailNoiseAt(vec3 q): the noise tile at q tiles (GL_LINEAR, GL_REPEAT);
+//   vec4 detailNoiseAt(vec3 q, Number lod): the noise tile at q tiles, at mipmap level of detail lod
+//     (textureLod: GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR when magnified, GL_REPEAT);
 //   vec2 detailWindAt(vec3 uvw): the horizontal wind (U, V) [m/s] (GL_LINEAR, clamp to edge; 0
 //     where the volume has none);
 //   Number columnExtinctionAt(vec2 column_uv, Number w): β_ice + β_water at a column's centre
@@ -45,17 +46,37 @@ Number detailCoverageAt(vec3 world_m) {
   return coverage;
 }
 
+// Level of detail of the noise (issue 13: the "hairy fringe" of full detail seen from afar). The tile
+// holds octaves down to 4 texels per lattice cell; seen from far enough, a pixel covers many of them,
+// and the shape's smoothstep and the density turn the undersampled octaves into grain that crawls
+// with the jitter. A ray whose footprint is `footprint_m` wide reads the tile prefiltered to it:
+// the mipmap level where one texel spans the footprint, lod = log2(footprint · texels / period)
+// (the GL rule for a texture seen at that scale, OpenGL 4.5 §8.14.1; texels per tile
+// kDetailNoiseTexels = volume/noise.h kNoiseTexels). The levels are box means, so the noise keeps its
+// mean and the detail fades towards its own mean (ρ → 1, the shape → the coverage's round edge)
+// where it could not be resolved. 0 (footprint 0) is the full-resolution tile: the DLM passes and
+// the mass measurement read it so; the eye pass passes its ray's footprint (extinctionAtFootprint).
+#define kDetailNoiseTexels 64
+Number detailNoiseLod(Number footprint_m, Number period_m) {
+  if (!(footprint_m > Number(0.0))) return Number(0.0);
+  return max(log2(footprint_m * Number(kDetailNoiseTexels) / period_m), Number(0.0));
+}
+
 // The noise advected with the wind (volume/detail.h DetailFlow, the flow-map scheme): the tile at
 // (p + o_a) / period and (p + o_b) / period, o = −u·τ of each phase, blended by phase a's weight; `second`
 // reads the second, rotated frame (detail.glsl detailSecondFrame) at the same point. Without a
 // wind o_a = o_b = 0: both reads are the world-fixed tile's, bit for bit as before the advection.
-vec4 detailAdvectedNoiseAt(vec3 p_m, vec3 o_a, vec3 o_b, vec3 period_m, bool second) {
+// `footprint_m` sets the level of detail (detailNoiseLod; the second frame is 1.7× finer).
+vec4 detailAdvectedNoiseAt(vec3 p_m, vec3 o_a, vec3 o_b, vec3 period_m, bool second, Number footprint_m) {
   vec3 qa = (p_m + o_a) / period_m, qb = (p_m + o_b) / period_m;
+  Number period = min(period_m.x, min(period_m.y, period_m.z));
   if (second) {
     qa = detailSecondFrame(qa);
     qb = detailSecondFrame(qb);
+    period = period / kDetailSecondFrameScale;
   }
-  return mix(detailNoiseAt(qb), detailNoiseAt(qa), u_detail_flow.z);
+  Number lod = detailNoiseLod(footprint_m, period);
+  return mix(detailNoiseAt(qb, lod), detailNoiseAt(qa, lod), u_detail_flow.z);
 }
 
 // The mass correction at a horizontal position (uv, the volume's texture coordinates): c of the
@@ -74,21 +95,22 @@ Number detailCorrectionAt(vec2 uv) {
 // the controls and the wind at x, the displacement d from the noise at x / 2P, β at the displaced
 // point, the density factor and the shape's noise term from the noise there, the shape's coverage
 // at x + 3d, the columns' mass correction at x. Every noise read is advected: at x − u(x)·τ per
-// phase (the wind read once, at x, so the whole stencil of one sample moves together).
-vec2 detailedExtinctionAt(vec3 world_m) {
+// phase (the wind read once, at x, so the whole stencil of one sample moves together). The noise is
+// read prefiltered to `footprint_m` (detailNoiseLod; 0: full resolution).
+vec2 detailedExtinctionAt(vec3 world_m, Number footprint_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(Number(0.0));
   vec4 c = detailControlsAt(uvw);
   vec2 u = detailWindAt(uvw);
   vec3 oa = vec3(-u.x * u_detail_flow.x, -u.y * u_detail_flow.x, Number(0.0));
   vec3 ob = vec3(-u.x * u_detail_flow.y, -u.y * u_detail_flow.y, Number(0.0));
-  vec4 nd = detailAdvectedNoiseAt(world_m, oa, ob, Number(2.0) * u_noise_period_m, false);
+  vec4 nd = detailAdvectedNoiseAt(world_m, oa, ob, Number(2.0) * u_noise_period_m, false, footprint_m);
   vec3 d = detailDisplacement(nd, c.x, u_displacement_m, u_noise_stats_ra, vec2(u_noise_stats_gs.x, u_noise_stats_gs.y));
   vec3 q = world_m + d;
   vec2 beta = plainExtinctionAt(q);
   if (!(beta.x + beta.y > Number(0.0))) return beta;
-  vec4 n1 = detailAdvectedNoiseAt(q, oa, ob, u_noise_period_m, false);
-  vec4 n2 = detailAdvectedNoiseAt(q, oa, ob, u_noise_period_m, true);
+  vec4 n1 = detailAdvectedNoiseAt(q, oa, ob, u_noise_period_m, false, footprint_m);
+  vec4 n2 = detailAdvectedNoiseAt(q, oa, ob, u_noise_period_m, true, footprint_m);
   vec2 statsS = vec2(u_noise_stats_gs.z, u_noise_stats_gs.w), statsC = vec2(u_noise_stats_c.x, u_noise_stats_c.y);
   Number rho = detailDensity(n1, n2, c, u_detail_amplitude, statsS, statsC);
   Number m = detailModulation(n1, n2, c.y, statsS, statsC);

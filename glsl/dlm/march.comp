@@ -39,6 +39,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(r32ui, binding = IMAGE_DLM_COUNTS) uniform uimage2D u_counts;  // count | DLM_COUNT_UNBOUNDED: bound not kept
 layout(r32f, binding = IMAGE_DLM_TEXEL_EPSILON) uniform image2D u_texel_eps;  // ε this texel was compressed with
 uniform float u_step_m;
+// The detail's noise is read prefiltered to a map texel (glsl/common/detail_field.glsl
+// detailNoiseLod): a texel's ray stands for its whole texel, and octaves finer than it would only
+// alias into texel-to-texel streaks of light and shadow.
+float dlmTexelFootprint() { return min(u_ls_texel_m.x, u_ls_texel_m.y); }
 uniform int u_steps;                 // N: samples n = 0 … N
 uniform float u_central_fraction;    // CP(θ/4)
 uniform float u_optical_depth_scale; // f(light): height exaggeration keeps the data's τ (VolumeFrame)
@@ -129,7 +133,7 @@ void main() {
   int layer = u_ls_texels.x * u_ls_texels.y, idx = texel.y * u_ls_texels.x + texel.x;
   u_light_volume[idx] = Ic;
   for (int n = 0; n < u_steps; ++n) {
-    vec2 beta = extinctionAt(start + (float(n) + 0.5) * u_step_m * u_ls_w);
+    vec2 beta = extinctionAtFootprint(start + (float(n) + 0.5) * u_step_m * u_ls_w, dlmTexelFootprint());
     float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_step_m);
     Ic *= T + (1.0 - T) * u_central_fraction;
     u_light_volume[(n + 1) * layer + idx] = Ic;
@@ -227,7 +231,7 @@ void main() {
         }
       }
     }
-    vec2 beta = extinctionAt(p + 0.5 * float(m) * u_step_m * u_ls_w);
+    vec2 beta = extinctionAtFootprint(p + 0.5 * float(m) * u_step_m * u_ls_w, dlmTexelFootprint());
     float f = stepFactor(beta.x + beta.y);
 #ifdef PERIPHERAL
     float Pend = peripheralAt(vec3(uv, float(n + m) * u_step_m));

@@ -31,7 +31,9 @@ void main() {
   if (any(greaterThanEqual(cell, u_cells))) return;
   int k = u_slice;
   vec3 mid = worldFromLight(vec3(cellCentre(cell), float(k) * u_slice_m));
-  vec2 beta = extinctionAt(mid);
+  // (the detail's noise prefiltered to a scatter cell: detail_field.glsl detailNoiseLod)
+  vec2 cellSize = u_ls_texel_m * vec2(u_ls_texels) / vec2(u_cells);
+  vec2 beta = extinctionAtFootprint(mid, min(cellSize.x, cellSize.y));
   float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_slice_m);
   float Pprev = imageLoad(u_scatter_img, ivec3(cell, k - 1)).r;
   float P = Pprev;

@@ -10,7 +10,8 @@
 // u_detail ≠ 0, extinctionAt returns the detailed field β(x + d)·ρ(x + d)·s, d and ρ from the noise
 // tile (generated once by glsl/render/noise.comp) addressed in world metres and the RGBA8 controls at
 // data resolution, times the per-column mass correction (constant per column); the noise is
-// advected with the horizontal model wind between timesteps (u_detail_wind, u_detail_flow). u_reach_voxels
+// advected with the horizontal model wind between timesteps (u_detail_wind, u_detail_flow) and read
+// prefiltered to a footprint (extinctionAtFootprint; its mipmap chain, render/dlm/noise_texture.cpp). u_reach_voxels
 // then includes the displacement's reach and the occupancy maxima are × 2·max c (ρ ≤ 2), so
 // empty-space skipping stays conservative.
 #include "common/math.glsl"
@@ -140,7 +141,7 @@ vec2 plainExtinctionAt(vec3 world_m) {
 // The primitives glsl/common/detail_field.glsl reads the volume through (its CPU twin defines the
 // same on the voxels: volume/extinction_sampler.cpp).
 vec4 detailControlsAt(vec3 uvw) { return texture(u_detail_controls, uvw); }
-vec4 detailNoiseAt(vec3 q) { return texture(u_detail_noise, q); }
+vec4 detailNoiseAt(vec3 q, float lod) { return textureLod(u_detail_noise, q, lod); }
 float columnExtinctionAt(vec2 column_uv, float w) {
   vec3 t = vec3(column_uv, w);
   return (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
@@ -155,7 +156,15 @@ vec2 detailWindAt(vec3 uvw) { return texture(u_detail_wind, uvw).rg; }
 // glsl/common/detail_field.glsl when the detail is on). The CPU twin is ExtinctionSampler::at.
 vec2 extinctionAt(vec3 world_m) {
   if (!DETAIL_ON) return plainExtinctionAt(world_m);
-  return detailedExtinctionAt(world_m);
+  return detailedExtinctionAt(world_m, 0.0);
+}
+
+// The same field seen by a ray whose footprint is `footprint_m` wide there (the eye pass: distance ×
+// the angle between neighbouring pixels' rays): the detail's noise prefiltered to it
+// (detail_field.glsl detailNoiseLod); 0 reads the full-resolution noise, as extinctionAt.
+vec2 extinctionAtFootprint(vec3 world_m, float footprint_m) {
+  if (!DETAIL_ON) return plainExtinctionAt(world_m);
+  return detailedExtinctionAt(world_m, footprint_m);
 }
 
 // Max β of the occupancy brick containing `world_m`; in the shell around the box (the filter's

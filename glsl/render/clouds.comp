@@ -581,7 +581,8 @@ void main() {
       if (step_m > u_step_m) step_m = stepClippedAtBrick(p, w, dir, step_m);
 #endif
       vec4 packedSample = PACKED_VOLUME ? packedAt(w) : vec4(0.0);  // (β_ice, β_water, τ_up, τ_down)
-      vec2 beta = (PACKED_VOLUME ? packedSample.xy : extinctionAt(w)) * depthScale;
+      // (the detail's noise prefiltered to this ray's footprint, t × the pixel angle: no sub-pixel grain)
+      vec2 beta = (PACKED_VOLUME ? packedSample.xy : extinctionAtFootprint(w, t * pixelAngle)) * depthScale;
       ++samples;
       float b = beta.x + beta.y;
       if (b > 0.0) {

@@ -30,6 +30,6 @@ using glm::bvec2, glm::bvec3, glm::ivec2, glm::ivec3, glm::ivec4, glm::uvec2, gl
 using glm::clamp, glm::dot, glm::floor, glm::length, glm::max, glm::min, glm::mix, glm::normalize, glm::smoothstep;
 using uint = unsigned int;  // GLSL's 32-bit unsigned type (integer hashes, glsl/common/noise.glsl)
 using glm::exp;
-using std::asin, std::exp, std::log, std::pow, std::sqrt;
+using std::asin, std::exp, std::log, std::log2, std::pow, std::sqrt;
 
 }  // namespace nph::glsl

@@ -22,6 +22,8 @@ void marchSamples(const ExtinctionVolumes& volumes, const volume::VolumeFrame& f
   tbb::parallel_for(0, camera.height, [&](int y) {
     for (int x = 0; x < camera.width; ++x) {
       const glm::dvec3 dir = camera.rayDirection(x + 0.5, y + 0.5);
+      // the angle between neighbouring pixels' rays: the detail's footprint (clouds.comp pixelAngle)
+      const double pixelAngle = glm::length(camera.rayDirection(x + 1.5, y + 0.5) - dir);
       const glm::dvec3 o = camera.position_m;
       // Slab test against the grown box.
       double t0 = 0.0, t1 = 1e300;
@@ -43,7 +45,7 @@ void marchSamples(const ExtinctionVolumes& volumes, const volume::VolumeFrame& f
       const double depthScale = frame.opticalDepthScale(dir);  // the data's τ (VolumeFrame)
       for (double t = t0 + 0.5 * step; t < t1 && T > min_transmittance; t += step) {
         const glm::dvec3 p = o + t * dir;
-        const volume::ExtinctionSample b = sampler.at(p);
+        const volume::ExtinctionSample b = sampler.at(p, t * pixelAngle);
         const double bt = depthScale * b.total();
         if (bt <= 0.0) continue;
         const double Ts = std::exp(-bt * step);

@@ -33,8 +33,8 @@ ExtinctionSampler::ExtinctionSampler(const ExtinctionVolumes& volumes, const Vol
   correction_ = solveDetailCorrection(measureRayMasses(kMassPattern));
 }
 
-ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m) const {
-  return detail_.on() ? detailedAt(world_m, true) : plainAt(world_m);
+ExtinctionSample ExtinctionSampler::at(const glm::dvec3& world_m, double footprint_m) const {
+  return detail_.on() ? detailedAt(world_m, true, footprint_m) : plainAt(world_m);
 }
 
 namespace {
@@ -84,7 +84,7 @@ struct DetailField {
     return vec2(b.ice_per_m, b.water_per_m);
   }
   vec4 detailControlsAt(vec3 uvw) const { return vec4(controls.at(glm::dvec3(uvw) * glm::dvec3(u_voxels))); }
-  vec4 detailNoiseAt(vec3 q) const { return vec4(noise.sample(glm::dvec3(q))); }
+  vec4 detailNoiseAt(vec3 q, Number lod) const { return vec4(noise.sampleLod(glm::dvec3(q), double(lod))); }
   vec2 detailWindAt(vec3 uvw) const {
     return s.wind().empty() ? vec2(Number(0.0)) : vec2(s.wind().at(glm::dvec3(uvw) * glm::dvec3(u_voxels)));
   }
@@ -100,12 +100,13 @@ struct DetailField {
   }
 #include "../glsl/common/detail_field.glsl"
 };
+static_assert(kDetailNoiseTexels == kNoiseTexels, "detail_field.glsl's tile size is volume/noise.h's");
 }  // namespace f32
 }  // namespace
 
-ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool corrected) const {
+ExtinctionSample ExtinctionSampler::detailedAt(const glm::dvec3& world_m, bool corrected, double footprint_m) const {
   f32::DetailField field(*this, *controls_, corrected ? &correction_ : nullptr);
-  const glm::vec2 b = field.detailedExtinctionAt(glm::vec3(world_m));
+  const glm::vec2 b = field.detailedExtinctionAt(glm::vec3(world_m), float(footprint_m));
   return {double(b.x), double(b.y)};
 }
 

@@ -30,7 +30,10 @@ class ExtinctionSampler {
   /// the controls are built from `volumes` here (O(voxels)), the noise is volume/noise.h's.
   ExtinctionSampler(const ExtinctionVolumes& volumes, const VolumeFrame& frame,
                     Reconstruction reconstruction = Reconstruction::Trilinear, Detail detail = Detail::None);
-  ExtinctionSample at(const glm::dvec3& world_m) const;
+  /// `footprint_m`: the width of the ray's footprint there (the eye pass: distance × pixel angle);
+  /// the detail's noise is read prefiltered to it (glsl/common/detail_field.glsl detailNoiseLod;
+  /// 0, the default: full resolution, as the DLM passes and the mass measurement read it).
+  ExtinctionSample at(const glm::dvec3& world_m, double footprint_m = 0.0) const;
   /// β without the sub-grid detail (the reconstruction alone).
   ExtinctionSample plainAt(const glm::dvec3& world_m) const;
   const VolumeFrame& frame() const { return f_; }
@@ -57,7 +60,7 @@ class ExtinctionSampler {
  private:
   static inline const DetailWind kNoWind{};
   double fetch(const std::vector<float>& a, int i, int j, int k) const;
-  ExtinctionSample detailedAt(const glm::dvec3& world_m, bool corrected) const;
+  ExtinctionSample detailedAt(const glm::dvec3& world_m, bool corrected, double footprint_m = 0.0) const;
   std::shared_ptr<const ExtinctionVolumes> coefficients_;  ///< for CubicInterpolating
   const ExtinctionVolumes* v_;
   VolumeFrame f_;

@@ -27,22 +27,69 @@ glm::dvec4 NoiseVolume::texel(int i, int j, int k) const {
   return glm::dvec4(rgba[t], rgba[t + 1], rgba[t + 2], rgba[t + 3]) / 255.0;
 }
 
-glm::dvec4 NoiseVolume::sample(const glm::dvec3& q) const {
-  const glm::dvec3 c = q * double(kNoiseTexels) - 0.5;  // texel centres at integers
+namespace {
+
+// GL_LINEAR with GL_REPEAT on one level of size³ RGBA8 texels.
+glm::dvec4 sampleLevel(const std::vector<std::uint8_t>& rgba, int size, const glm::dvec3& q) {
+  const glm::dvec3 c = q * double(size) - 0.5;  // texel centres at integers
   const glm::dvec3 fl = glm::floor(c);
   const glm::dvec3 t = c - fl;
-  const auto wrap = [](double x) {
-    const long long n = kNoiseTexels;
-    return int(((static_cast<long long>(x) % n) + n) % n);
+  const auto wrap = [size](double x) {
+    const long long n = size;
+    return std::size_t(((static_cast<long long>(x) % n) + n) % n);
   };
+  const auto n = std::size_t(size);
   glm::dvec4 r(0.0);
   for (int dz = 0; dz < 2; ++dz)
     for (int dy = 0; dy < 2; ++dy)
       for (int dx = 0; dx < 2; ++dx) {
         const double w = (dx ? t.x : 1.0 - t.x) * (dy ? t.y : 1.0 - t.y) * (dz ? t.z : 1.0 - t.z);
-        r += w * texel(wrap(fl.x + dx), wrap(fl.y + dy), wrap(fl.z + dz));
+        const std::size_t i = 4 * ((wrap(fl.z + dz) * n + wrap(fl.y + dy)) * n + wrap(fl.x + dx));
+        r += w * glm::dvec4(rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]) / 255.0;
       }
   return r;
+}
+
+}  // namespace
+
+glm::dvec4 NoiseVolume::sample(const glm::dvec3& q) const { return sampleLevel(rgba, kNoiseTexels, q); }
+
+glm::dvec4 NoiseVolume::sampleLod(const glm::dvec3& q, double lod) const {
+  const auto level = [&](int k) -> glm::dvec4 {
+    return k == 0 ? sample(q) : sampleLevel(mips[std::size_t(k - 1)], kNoiseTexels >> k, q);
+  };
+  if (!(lod > 0.0)) return sample(q);
+  const int last = kNoiseLevels - 1;
+  if (lod >= double(last)) return level(last);
+  const int d1 = int(std::floor(lod));
+  const double f = lod - double(d1);
+  return (1.0 - f) * level(d1) + f * level(d1 + 1);
+}
+
+std::vector<std::uint8_t> noiseMipLevel(const std::vector<std::uint8_t>& finer, int finer_size) {
+  const auto n = std::size_t(finer_size), m = n / 2;
+  std::vector<std::uint8_t> out(4 * m * m * m);
+  for (std::size_t k = 0; k < m; ++k)
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t ch = 0; ch < 4; ++ch) {
+          unsigned sum = 0;
+          for (std::size_t d = 0; d < 8; ++d)
+            sum += finer[4 * (((2 * k + (d >> 2)) * n + 2 * j + ((d >> 1) & 1)) * n + 2 * i + (d & 1)) + ch];
+          out[4 * ((k * m + j) * m + i) + ch] = std::uint8_t((sum + 4) / 8);
+        }
+  return out;
+}
+
+std::vector<std::vector<std::uint8_t>> noiseMipChain(const std::vector<std::uint8_t>& level0) {
+  std::vector<std::vector<std::uint8_t>> chain;
+  chain.reserve(kNoiseLevels - 1);  // `finer` points into it
+  const std::vector<std::uint8_t>* finer = &level0;
+  for (int k = 1; k < kNoiseLevels; ++k) {
+    chain.push_back(noiseMipLevel(*finer, kNoiseTexels >> (k - 1)));
+    finer = &chain.back();
+  }
+  return chain;
 }
 
 namespace {
@@ -87,6 +134,7 @@ NoiseVolume compute() {
       }
   });
   v.stats = measure(v.rgba);
+  v.mips = noiseMipChain(v.rgba);
   return v;
 }
 

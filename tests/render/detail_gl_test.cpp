@@ -60,6 +60,24 @@ TEST_F(DetailTest, GpuNoiseTileMatchesTheCpuTwin) {
   // A GPU rounds the stores' float→unorm8 its own way: 3.2 % of the values one code apart on the
   // H200 (softwareRasteriser), still never more than one code.
   EXPECT_LE(double(differing), (softwareRasteriser() ? 1e-3 : 0.05) * double(cpu.size()));
+  // The mipmap chain (the detail's level of detail): made from the GPU's own level 0 by the CPU's
+  // rule (render/dlm/noise_texture.cpp), so a level differs from the CPU twin's only where the box
+  // of level-0 texels under it does — by one code at most.
+  int maxMipDiff = 0;
+  for (int k = 1; k < volume::kNoiseLevels; ++k) {
+    const int m = n >> k;
+    std::vector<std::uint8_t> level(std::size_t(4) * std::size_t(m) * std::size_t(m) * std::size_t(m));
+    glGetTextureImage(noise->texture().id(), k, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(level.size()), level.data());
+    const std::vector<std::uint8_t>& cpuLevel = volume::noiseVolume().mips[std::size_t(k - 1)];
+    ASSERT_EQ(level.size(), cpuLevel.size());
+    for (std::size_t i = 0; i < level.size(); ++i)
+      maxMipDiff = std::max(maxMipDiff, std::abs(int(level[i]) - int(cpuLevel[i])));
+  }
+  std::printf("[ detail   ] noise mipmap levels 1-%d: max |GPU-CPU| %d codes\n", volume::kNoiseLevels - 1, maxMipDiff);
+  EXPECT_LE(maxMipDiff, 1);
+  GLint minFilter = 0;
+  glGetTextureParameteriv(noise->texture().id(), GL_TEXTURE_MIN_FILTER, &minFilter);
+  EXPECT_EQ(minFilter, GL_LINEAR_MIPMAP_LINEAR);
   // The channels are real noise (gradient fBm spans about 0.3 … 0.7, Worley fBm more).
   const volume::NoiseStats& s = volume::noiseVolume().stats;
   for (const volume::NoiseTermStats* t : {&s.r, &s.g, &s.a}) EXPECT_GT(t->half_range, 0.15);
