@@ -300,13 +300,7 @@ vec4 flatGroundAlbedo(vec2 xy, vec2 dx, vec2 dy) {
   return vec4(u_ocean_albedo, 0.0);
 }
 
-// The ray through a pixel position (pixel units, row 0 at the top; centres at i + ½): the same ray
-// as scene::Camera::rayDirection.
-vec3 pixelRay(vec2 pixel) {
-  vec2 ndc = vec2(2.0 * pixel.x / float(u_size.x) - 1.0, 1.0 - 2.0 * pixel.y / float(u_size.y));
-  vec4 viewPoint = u_view_from_clip * vec4(ndc, 0.0, 1.0);
-  return normalize(u_world_from_view * normalize(viewPoint.xyz / viewPoint.w));
-}
+#include "render/pixel_ray.glsl"
 
 // Ray differentials (Igehy 1999, "Tracing ray differentials", §3: transfer to a surface): the
 // hit point at distance t along D on a surface of normal n moves by

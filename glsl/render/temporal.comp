@@ -43,12 +43,7 @@ uniform bool u_history_valid;         // false: the first frame after a reset (n
 uniform bool u_view_moved;            // false: the same view as the previous frame: no reprojection, no clamp
 uniform float u_max_history;          // N
 
-// The ray through a pixel position (row 0 at the top): clouds.comp pixelRay.
-vec3 pixelRay(vec2 pixel) {
-  vec2 ndc = vec2(2.0 * pixel.x / float(u_size.x) - 1.0, 1.0 - 2.0 * pixel.y / float(u_size.y));
-  vec4 viewPoint = u_view_from_clip * vec4(ndc, 0.0, 1.0);
-  return normalize(u_world_from_view * normalize(viewPoint.xyz / viewPoint.w));
-}
+#include "render/pixel_ray.glsl"
 
 // Where the surface this pixel shows lay in the previous frame, in pixels (row 0 at the top);
 // (−1, −1) when behind the previous eye. The point relative to the previous eye is

@@ -101,6 +101,10 @@ void TimestepCache::prefetch(const std::vector<std::size_t>& pinned, int directi
         if (direction > 0 ? edge + i >= count : i > edge) break;
         const std::size_t t = direction > 0 ? edge + i : edge - i;
         if (t < settings_.first_timestep || t > settings_.last_timestep) break;
+        // No timestep decoded yet: its size is unknown, so the budget cannot be checked. Read one
+        // step ahead only; its size is known once it is decoded, and the next prefetch() (every
+        // frame calls it) plans the rest within the budget.
+        if (timestep_bytes_ == 0 && i > 1) break;
         if (planned_count + 1 > std::max(settings_.max_timesteps, pinned.size()) ||
             planned_bytes + timestep_bytes_ > settings_.memory_budget_bytes) {
           ++stats_.over_budget;

@@ -22,6 +22,15 @@ std::shared_ptr<ScriptedDataset> scripted(std::size_t count) {
 
 constexpr std::size_t kStepBytes = 8 * 8 * 4 * 2 * sizeof(float);
 
+// Four steps of look-ahead in a budget that holds the pinned pair and one more.
+engine::PrefetchSettings pairAndOneAhead() {
+  engine::PrefetchSettings settings;
+  settings.lookahead = 4;
+  settings.memory_budget_bytes = 3 * kStepBytes;
+  settings.max_timesteps = 8;
+  return settings;
+}
+
 TEST(TimestepCache, ReadsAheadInThePlaybackDirectionSoPlaybackNeverWaits) {
   auto ds = scripted(6);
   engine::TimestepCache cache(ds);
@@ -46,6 +55,7 @@ TEST(TimestepCache, ReadsBackwardsWhenPlayingBackwards) {
   cache.prefetch({4, 5}, -1);
   (void)cache.get(5);
   (void)cache.get(4);
+  cache.prefetch({4, 5}, -1);  // as every frame does: now with a step's size known, two steps ahead
   cache.waitIdle();
   const auto before = cache.stats().misses;
   (void)cache.get(3);
@@ -55,10 +65,7 @@ TEST(TimestepCache, ReadsBackwardsWhenPlayingBackwards) {
 
 TEST(TimestepCache, MemoryBudgetBoundsTheReadAhead) {
   auto ds = scripted(8);
-  engine::PrefetchSettings settings;
-  settings.lookahead = 4;
-  settings.memory_budget_bytes = 3 * kStepBytes;  // the pinned pair + one ahead
-  settings.max_timesteps = 8;
+  const engine::PrefetchSettings settings = pairAndOneAhead();
   engine::TimestepCache cache(ds, settings);
   for (std::size_t t = 0; t + 1 < 7; ++t) {
     cache.prefetch({t, t + 1}, +1);
@@ -70,6 +77,26 @@ TEST(TimestepCache, MemoryBudgetBoundsTheReadAhead) {
   EXPECT_LE(cache.stats().peak_bytes, settings.memory_budget_bytes);
   EXPECT_GT(cache.stats().over_budget, 0u);
   EXPECT_GT(cache.stats().prefetched, 0u);
+}
+
+// Before any timestep is decoded the cache cannot know a step's size, so it cannot check the
+// budget: it reads one step ahead only (before, it planned every look-ahead step as 0 bytes and
+// decoded them all, over any budget, before trimming). Once a size is known the read-ahead plans
+// within the budget again.
+TEST(TimestepCache, ReadsOneStepAheadUntilAStepsSizeIsKnown) {
+  auto ds = scripted(8);
+  const engine::PrefetchSettings settings = pairAndOneAhead();
+  engine::TimestepCache cache(ds, settings);
+  cache.prefetch({0, 1}, +1);
+  cache.waitIdle();
+  EXPECT_EQ(ds->loads.load(), 1) << "one step read ahead while the size is unknown";
+  EXPECT_EQ(cache.stats().prefetched, 1u);
+  (void)cache.get(0);
+  (void)cache.get(1);
+  cache.prefetch({0, 1}, +1);  // sizes known: 2 is held, 3 would break the budget
+  cache.waitIdle();
+  EXPECT_EQ(ds->loads.load(), 3);
+  EXPECT_LE(cache.stats().peak_bytes, settings.memory_budget_bytes);
 }
 
 TEST(TimestepCache, PinnedTimestepsStayEvenOverBudget) {

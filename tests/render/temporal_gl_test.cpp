@@ -200,6 +200,17 @@ TEST_F(TemporalTest, ChangesOtherThanTheCameraStartAfresh) {
   r.render(s.tex, s.dlm, s.camera(200.0), other, taa);
   r.render(s.tex, s.dlm, wider, other, taa);
   EXPECT_EQ(r.temporal().frames(), 1);
+  // Turned off: the histories and the eye pass's extra layers are released (the renderer's bytes
+  // fall by 92 per pixel: 2 × (16 + 16 + 4) of history, 4 + 16 of the layers), and turned on again
+  // the history starts afresh.
+  const std::size_t on = r.textureBytes();
+  EXPECT_GT(r.temporal().textureBytes(), 0u);
+  r.render(s.tex, s.dlm, wider, other, {});
+  EXPECT_EQ(r.temporal().textureBytes(), 0u);
+  EXPECT_EQ(on - r.textureBytes(), std::size_t(92) * std::size_t(wider.width) * std::size_t(wider.height));
+  r.render(s.tex, s.dlm, wider, other, taa);
+  EXPECT_EQ(r.temporal().frames(), 1);
+  EXPECT_EQ(r.textureBytes(), on);
   // Off: no history kept, the frame as before (bit for bit the first sample's).
   render::CloudRenderer plain;
   const auto a = plain.render(s.tex, s.dlm, s.camera(200.0), s.sun, {});

@@ -339,6 +339,11 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
         int(s.multiple_scattering), s.g_ice, s.g_water, s.samples_per_pixel, divisor, s.atmosphere, s.terrain, passes_);
     sample_offset = temporal_.begin(view, key);
   }
+  if (s.temporal_history <= 0 && motion_depth_tex_) {  // turned off: its 92 bytes per pixel go
+    temporal_.release();
+    motion_depth_tex_ = {};
+    background_tex_ = {};
+  }
   if (temporal && (motion_depth_tex_.width() != w || motion_depth_tex_.height() != h)) {
     motion_depth_tex_ = gl::Texture::create2D(GL_R32F, w, h).label("cloud layer's mean depth");
     background_tex_ = gl::Texture::create2D(GL_RGBA32F, w, h).label("background, its depth");

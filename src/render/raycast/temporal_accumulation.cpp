@@ -96,6 +96,16 @@ void TemporalAccumulation::resolve(const gl::Texture& frame, const gl::Texture& 
   view_from_clip_ = view.view_from_clip;
 }
 
+void TemporalAccumulation::release() {
+  for (int i = 0; i < 2; ++i) {
+    history_background_[i] = {};
+    history_cloud_[i] = {};
+    history_count_[i] = {};
+  }
+  size_ = glm::ivec2(0);
+  valid_ = false;
+}
+
 std::size_t TemporalAccumulation::textureBytes() const {
   std::size_t b = 0;
   for (const gl::Texture* t : {&history_background_[0], &history_background_[1], &history_cloud_[0], &history_cloud_[1],

@@ -40,6 +40,8 @@ class TemporalAccumulation {
                const gl::Texture& background, const ViewRays& view, int max_history);
   /// Starts the history afresh at the next frame.
   void reset() { valid_ = false; }
+  /// Drops the histories (the accumulation turned off): textureBytes() 0 until the next begin().
+  void release();
   /// Frames in the history of the last resolve (1 after a reset), where nothing moved.
   int frames() const { return frames_; }
   /// Bytes of the history textures.
