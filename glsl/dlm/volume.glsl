@@ -154,18 +154,15 @@ vec2 detailWindAt(vec3 uvw) { return texture(u_detail_wind, uvw).rg; }
 
 // (β_ice, β_water) at a world position: the field every pass integrates (the detailed field of
 // glsl/common/detail_field.glsl when the detail is on). The CPU twin is ExtinctionSampler::at.
-vec2 extinctionAt(vec3 world_m) {
-  if (!DETAIL_ON) return plainExtinctionAt(world_m);
-  return detailedExtinctionAt(world_m, 0.0);
-}
-
-// The same field seen by a ray whose footprint is `footprint_m` wide there (the eye pass: distance ×
-// the angle between neighbouring pixels' rays): the detail's noise prefiltered to it
-// (detail_field.glsl detailNoiseLod); 0 reads the full-resolution noise, as extinctionAt.
+// `footprint_m`: the width of the ray there (the eye pass: distance × the angle between
+// neighbouring pixels' rays; the DLM: a map texel); the detail's noise is read prefiltered to it
+// (detail_field.glsl detailNoiseLod), 0 reads it at full resolution.
 vec2 extinctionAtFootprint(vec3 world_m, float footprint_m) {
   if (!DETAIL_ON) return plainExtinctionAt(world_m);
   return detailedExtinctionAt(world_m, footprint_m);
 }
+
+vec2 extinctionAt(vec3 world_m) { return extinctionAtFootprint(world_m, 0.0); }
 
 // Max β of the occupancy brick containing `world_m`; in the shell around the box (the filter's
 // reach), that of the nearest edge brick (whose dilated max bounds the fading shell); 0 beyond.
