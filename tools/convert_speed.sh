@@ -5,6 +5,8 @@
 # interleaved with the order rotated per round; wall and CPU (user + system) seconds and page faults
 # from GNU time, medians over the rounds, ratios to the raw read; then `cmp` of every variant's .nph
 # against the first's (the outputs must be byte-identical).
+# RAW_ENV=VAR=VALUE adds a second raw read under that environment ("raw_env"), e.g. the raw read on
+# huge pages too: RAW_ENV=GLIBC_TUNABLES=glibc.malloc.hugetlb=1.
 # Usage: tools/convert_speed.sh OUT_DIR ROUNDS WRFOUT LABEL=BUILD_DIR[@ENV=VALUE] [...]
 #   e.g. tools/convert_speed.sh /tmp/cs 3 wrfout.nc before=/tmp/old after=build \
 #        tunable=/tmp/old@GLIBC_TUNABLES=glibc.malloc.hugetlb=1
@@ -35,11 +37,16 @@ measure() {  # label round command...
   printf '%s\t%d\t%s\t%s\t%s\t%s\n' "$label" "$round" "$wall" "$(echo "$user + $sys" | bc -l)" "$faults" "$rss" >> "$runs"
 }
 all=("raw" "${variants[@]}")
+[ -n "${RAW_ENV:-}" ] && all=("raw" "raw_env" "${variants[@]}")
 for ((r = 0; r < rounds; ++r)); do
   for ((i = 0; i < ${#all[@]}; ++i)); do
     v=${all[$(((i + r) % ${#all[@]}))]}
     if [ "$v" = raw ]; then
       measure raw "$r" "$raw" "$input"
+      continue
+    fi
+    if [ "$v" = raw_env ]; then
+      measure raw_env "$r" env "$RAW_ENV" "$raw" "$input"
       continue
     fi
     label=${v%%=*}
@@ -57,10 +64,10 @@ rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 labels = list(dict.fromkeys(r["variant"] for r in rows))
 med = {l: {k: statistics.median(float(r[k]) for r in rows if r["variant"] == l)
            for k in ("wall_s", "cpu_s", "minor_faults", "max_rss_kb")} for l in labels}
-print(f"{'variant':<10} {'wall s':>8} {'CPU s':>8} {'wall/raw':>9} {'CPU/raw':>8} {'faults':>10} {'peak MB':>8}  (medians of {len(rows)//len(labels)})")
+print(f"{'variant':<14} {'wall s':>8} {'CPU s':>8} {'wall/raw':>9} {'CPU/raw':>8} {'faults':>10} {'peak MB':>8}  (medians of {len(rows)//len(labels)})")
 for l in labels:
     m = med[l]
-    print(f"{l:<10} {m['wall_s']:8.2f} {m['cpu_s']:8.2f} {m['wall_s']/med['raw']['wall_s']:9.2f} "
+    print(f"{l:<14} {m['wall_s']:8.2f} {m['cpu_s']:8.2f} {m['wall_s']/med['raw']['wall_s']:9.2f} "
           f"{m['cpu_s']/med['raw']['cpu_s']:8.2f} {m['minor_faults']:10.0f} {m['max_rss_kb']*1.024/1000:8.0f}")
 EOF
 firstlabel=${variants[0]%%=*}

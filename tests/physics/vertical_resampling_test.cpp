@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "physics/vertical_resampling.h"
@@ -166,6 +168,51 @@ TEST(VolumeBuilder, WholeTimestepWithGeoreference) {
   EXPECT_NEAR(double(v.water_per_m[v.index(0, 0, 8)]), beta, 1e-6 * beta);
   EXPECT_NEAR(double(v.max_water_per_m), beta, 1e-6 * beta);
   EXPECT_EQ(v.max_ice_per_m, 0.0f);
+}
+
+// The overload that takes the timestep over (`nephele convert`, issue 19) frees each model field
+// after its last stage and gives the const overload's volumes bit for bit, detail fields included.
+TEST(VolumeBuilder, GivenUpTimestepGivesTheSameVolumesAndFreesItsFields) {
+  io::ModelTimestep ts = twoColumns();
+  const std::size_t n = ts.voxelCount();
+  ts.pressure_pa.assign(n, 70000.0f);
+  ts.temperature_k.assign(n, 280.0f);
+  ts.water_vapour_kg_per_kg.assign(n, 0.005f);
+  for (auto h : {io::Hydrometeor::Cloud, io::Hydrometeor::Ice}) ts.q_kg_per_kg[h].assign(n, 0.0f);
+  ts.q_kg_per_kg[io::Hydrometeor::Cloud][ts.index(0, 0, 2)] = 5e-4f;
+  ts.q_kg_per_kg[io::Hydrometeor::Ice][ts.index(1, 0, 5)] = 2e-4f;
+  ts.number_per_kg[io::Hydrometeor::Ice].assign(n, 1e5f);
+  for (std::size_t m = 0; m < n; ++m) {
+    ts.tke_m2_per_s2.push_back(0.1f * float(m));
+    ts.cloud_fraction.push_back(float(m % 3) / 2.0f);
+    ts.wind_u_m_per_s.push_back(float(m) - 4.0f);
+    ts.wind_v_m_per_s.push_back(2.0f * float(m));
+    ts.wind_w_m_per_s.push_back(0.01f * float(m));
+  }
+  VerticalGridOptions o;
+  o.dz_m = 100.0;
+  const ExtinctionVolumes kept = buildExtinctionVolumes(ts, defaultOptics(), o);
+  const std::vector<float> heights = ts.height_m;
+  const ExtinctionVolumes given = buildExtinctionVolumes(std::move(ts), defaultOptics(), o);
+  EXPECT_EQ(given.nz, kept.nz);
+  EXPECT_EQ(given.ice_per_m, kept.ice_per_m);
+  EXPECT_EQ(given.water_per_m, kept.water_per_m);
+  EXPECT_EQ(given.tke_m2_per_s2, kept.tke_m2_per_s2);
+  EXPECT_EQ(given.cloud_fraction, kept.cloud_fraction);
+  EXPECT_EQ(given.wind_u_m_per_s, kept.wind_u_m_per_s);
+  EXPECT_EQ(given.wind_v_m_per_s, kept.wind_v_m_per_s);
+  EXPECT_EQ(given.wind_w_m_per_s, kept.wind_w_m_per_s);
+  EXPECT_GT(kept.max_ice_per_m, 0.0f);
+  EXPECT_FALSE(kept.wind_u_m_per_s.empty());
+  // What the overload left behind (the point of the test, not a use after move by mistake):
+  EXPECT_TRUE(ts.q_kg_per_kg.empty());
+  EXPECT_TRUE(ts.number_per_kg.empty());
+  EXPECT_EQ(ts.pressure_pa.capacity(), 0u);
+  EXPECT_EQ(ts.temperature_k.capacity(), 0u);
+  EXPECT_EQ(ts.water_vapour_kg_per_kg.capacity(), 0u);
+  EXPECT_EQ(ts.wind_u_m_per_s.capacity(), 0u);
+  EXPECT_EQ(ts.tke_m2_per_s2.capacity(), 0u);
+  EXPECT_EQ(ts.height_m, heights);  // not the optics' alone: kept
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -67,6 +68,43 @@ TEST(LargeBuffer, AdvisesTheKernelOnItsAlignedInterior) {
   if (mode.find("[never]") == std::string::npos && !mode.empty()) {
     EXPECT_NE(flags.find(" hg"), std::string::npos) << "MADV_HUGEPAGE not recorded: " << flags;
   }
+#endif
+}
+
+// reserveHugePageHeap (issue 19, convert speed): with every large block from the heap, the blocks
+// malloc hands out after the reserve lie in memory the kernel has been advised to back with huge
+// pages, and the reserve itself is not resident (it is never touched).
+TEST(LargeBuffer, ReservesTheHeapAboveItsTopForHugePages) {
+#if defined(__GLIBC__) && defined(__linux__)
+  ASSERT_TRUE(reuseFreedMemoryForLargeBlocks());
+  auto resident_kb = [] {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+      if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+    }
+    return 0L;
+  };
+  const long before_kb = resident_kb();
+  constexpr std::size_t kReserve = std::size_t(256) << 20;
+  ASSERT_EQ(reserveHugePageHeap(kReserve), kReserve);
+  EXPECT_LT(resident_kb() - before_kb, 8 * 1024) << "the reserve must not be touched";
+  EXPECT_EQ(reserveHugePageHeap(std::size_t(1) << 40), kHugePageHeapReserveBytes);  // capped
+  // A 64 MiB block now comes from the advised heap, as the model fields of `nephele convert` do.
+  void* block = std::malloc(std::size_t(64) << 20);
+  ASSERT_NE(block, nullptr);
+  constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
+  const std::uintptr_t inner = (reinterpret_cast<std::uintptr_t>(block) + kHugePage - 1) & ~(kHugePage - 1);
+  const std::string flags = vmFlagsAt(inner + kHugePage / 2);
+  const std::string mode = transparentHugePagesMode();
+  std::printf("[ thp ] mode \"%s\"; the block's mapping: %s\n", mode.c_str(), flags.c_str());
+  ASSERT_FALSE(flags.empty());
+  if (mode.find("[never]") == std::string::npos && !mode.empty()) {
+    EXPECT_NE(flags.find(" hg"), std::string::npos) << "the block is not in the advised heap: " << flags;
+  }
+  std::free(block);
+#else
+  EXPECT_EQ(reserveHugePageHeap(std::size_t(256) << 20), 0u);
 #endif
 }
 
