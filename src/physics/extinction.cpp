@@ -169,6 +169,15 @@ ModelLevelExtinction modelLevelExtinction(const io::ModelTimestep& ts, const Opt
               v.number_per_kg[f] = n_ptr[f] != nullptr ? double(n_ptr[f][m]) : std::numeric_limits<double>::quiet_NaN();
             }
             v.cloud_cover = clc != nullptr ? double(clc[m]) : std::numeric_limits<double>::quiet_NaN();
+            if (ts.model == io::ModelKind::Wrf &&
+                std::none_of(v.q_kg_per_kg.begin(), v.q_kg_per_kg.end(), [](double q) { return q > 0.0; })) {
+              // Clear air (most of a domain): no class contributes, so no density or radius is
+              // needed — voxelExtinction's own result, 0, without its work (issue 19, convert
+              // speed). ICON's corrections can make condensate from clc, so ICON always asks.
+              out.ice_per_m[m] = 0.0f;
+              out.water_per_m[m] = 0.0f;
+              continue;
+            }
             const VoxelExtinction e = voxelExtinction(v, s);
             out.ice_per_m[m] = static_cast<float>(e.ice_per_m);
             out.water_per_m[m] = static_cast<float>(e.water_per_m);
