@@ -1,6 +1,7 @@
 #include "core/large_buffer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <climits>
 #include <cstdint>
 #include <cstdlib>
@@ -30,9 +31,17 @@ void adviseHugePages(void* data, std::size_t bytes) noexcept {
 #endif
 }
 
+namespace {
+/// Whether reuseFreedMemoryForLargeBlocks has applied (reserveHugePageHeap needs it).
+std::atomic<bool> g_large_blocks_from_heap{false};
+}  // namespace
+
 bool reuseFreedMemoryForLargeBlocks() noexcept {
 #if defined(__GLIBC__)
-  return mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, INT_MAX) == 1;
+  // mallopt is glibc's; a replaced allocator (the sanitizers') refuses it with 0.
+  const bool applied = mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, INT_MAX) == 1;
+  if (applied) g_large_blocks_from_heap = true;
+  return applied;
 #else
   return false;
 #endif
@@ -40,6 +49,8 @@ bool reuseFreedMemoryForLargeBlocks() noexcept {
 
 std::size_t reserveHugePageHeap(std::size_t bytes) noexcept {
 #if defined(__GLIBC__) && defined(__linux__)
+  // Without it the block would be a fresh mmap, unmapped again by free(): nothing to gain.
+  if (!g_large_blocks_from_heap) return 0;
   bytes = std::min(bytes, kHugePageHeapReserveBytes);
   if (bytes < kHugePageAdviceMinBytes) return 0;
   void* block = std::malloc(bytes);  // a raw block on purpose: never touched

@@ -56,8 +56,9 @@ inline constexpr std::size_t kHugePageHeapReserveBytes = std::size_t(1536) << 20
 /// time. This is what GLIBC_TUNABLES=glibc.malloc.hugetlb=1 does for the whole heap, from inside
 /// the process: on `nephele convert` of the demo storm 198 k → 20 k page faults and 10–15 % less
 /// CPU (docs/benchmarks.md, "convert against a raw read"). Called again, it covers what the heap
-/// has grown since. At most kHugePageHeapReserveBytes; nothing where malloc refuses the block or
-/// without glibc. Returns the bytes advised.
+/// has grown since. At most kHugePageHeapReserveBytes; nothing unless reuseFreedMemoryForLargeBlocks
+/// has applied (glibc's own allocator; not under the sanitizers), nor where malloc refuses the
+/// block. Returns the bytes advised.
 std::size_t reserveHugePageHeap(std::size_t bytes) noexcept;
 
 /// Hands the heap's free pages back to the kernel (glibc's malloc_trim(0)): memory freed by a

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <utility>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -200,6 +201,10 @@ std::shared_ptr<const Dataset> Dataset::fromModelFields(std::string name, std::v
 
 ExtinctionVolumes convertModelTimestep(const io::ModelTimestep& fields) {
   return physics::buildExtinctionVolumes(fields, physics::defaultOptics(), physics::VerticalGridOptions{});
+}
+
+ExtinctionVolumes convertModelTimestep(io::ModelTimestep&& fields) {
+  return physics::buildExtinctionVolumes(std::move(fields), physics::defaultOptics(), physics::VerticalGridOptions{});
 }
 
 namespace {

@@ -79,6 +79,9 @@ class Dataset {
 /// One timestep of model fields converted as `nephele render FILE` converts it: the default
 /// optics (Nes 2008 eq. 5.3), the default vertical grid (cropped above the condensate).
 ExtinctionVolumes convertModelTimestep(const io::ModelTimestep& fields);
+/// The same from fields the caller gives up: each is freed after its last stage
+/// (physics::buildExtinctionVolumes(ModelTimestep&&); a model file read for one frame).
+ExtinctionVolumes convertModelTimestep(io::ModelTimestep&& fields);
 
 /// How a volume between two timesteps is made (issue 13; docs/animation.md "Between two timesteps").
 enum class TimeBlend {
