@@ -6,7 +6,9 @@ Usage: tools/render_phases.py SCENE ROUNDS BINARY [BINARY ...]
 Each round runs every binary once, in turn, with NEPHELE_LOG=debug, and takes the time between
 its log lines: "memory after start-up" -> "memory after scene preparation" (the basemaps read or
 warped, and uploaded) and "memory after basemap images dropped" -> "memory after volume load"
-(the .nph timestep read and decoded). Prints one line per run, then the medians per binary.
+(the .nph timestep read and decoded) and "memory after volume load" -> "memory after volume upload"
+(the voxel checks, column depths, occupancy and textures; a one-shot render of a .nph decodes its
+chunk there, a layer at a time). Prints one line per run, then the medians per binary.
 The first run of a new build warps its basemaps again (the cache is keyed by the binary): run a
 warm-up round first or read the medians.
 """
@@ -17,7 +19,8 @@ import sys
 import time
 
 PHASES = [("scene preparation", "memory after start-up", "memory after scene preparation"),
-          ("volume load", "memory after basemap images dropped", "memory after volume load")]
+          ("volume load", "memory after basemap images dropped", "memory after volume load"),
+          ("volume upload", "memory after volume load", "memory after volume upload")]
 
 
 def run(binary, scene):

@@ -7,7 +7,7 @@
 // stops changing once the neighbours are clear — instead of stopping at every slice centre.
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(r32f, binding = IMAGE_SCATTER_MAP) readonly uniform image3D u_scatter_img;
-layout(r32i, binding = IMAGE_SCATTER_RUNS) writeonly uniform iimage3D u_runs;
+layout(r16i, binding = IMAGE_SCATTER_RUNS) writeonly uniform iimage3D u_runs;
 uniform ivec3 u_cells;  // cells.x, cells.y, slices
 
 void main() {

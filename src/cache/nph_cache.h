@@ -151,13 +151,18 @@ class NphReader {
   ExtinctionVolumes read(std::size_t t) const;
   /// The same timestep without decoding (see QuantisedVolumes); same checks as read().
   QuantisedVolumes readQuantised(std::size_t t) const;
-  /// Timestep t kept in its 16-bit codes and decoded one layer at a time (volume/extinction_slices.h;
-  /// issue 19, memory): 4 bytes per voxel held instead of read()'s 8, and every layer decodes to
-  /// read()'s floats bit for bit (dequantise). Same checks as read().
+  /// Timestep t decoded one layer at a time straight from the file (volume/extinction_slices.h;
+  /// issue 19, memory): its chunk's zstd frame is decompressed as a stream while it is read, so
+  /// the source holds zstd's window and one layer's codes, not the timestep (read() holds 8 bytes
+  /// per voxel, its codes 4); every layer decodes to read()'s floats bit for bit (dequantise).
+  /// Layers read upwards cost one decode of the chunk per pass; going down rewinds it. The chunk
+  /// is checked here as read() checks it (bounds, XXH64 of its bytes, stated size) and again by
+  /// each pass that reaches its last layer (a file changed since: InputError). The source owns a
+  /// duplicate of the reader's descriptor and may outlive the reader; not thread-safe.
   std::unique_ptr<ExtinctionSlices> readSlices(std::size_t t) const;
   /// Timestep t as read() returns it without its volumes (ice_per_m, water_per_m empty): grid,
   /// georeference, terrain, time, provenance and maxima. Reads no chunk, so no wind either; nor
-  /// does readSlices() (its 4 bytes per voxel would be 12 with the wind's floats): its one-shot
+  /// does readSlices() (the wind's floats would be 8 bytes per voxel): its one-shot
   /// frames blend nothing, but their detail noise (volume/detail.h) stays world-fixed where read()'s
   /// is advected by the stored wind.
   ExtinctionVolumes readHeader(std::size_t t) const;

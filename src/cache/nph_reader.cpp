@@ -55,25 +55,22 @@ struct NphReader::State {
 
   std::string name() const { return path.string(); }
 
-  /// Reads, checksums and decompresses one block. `what` names it in errors.
-  std::vector<std::byte> readBlock(const ChunkRef& c, const std::string& what) const {
+  void checkInside(const ChunkRef& c, const std::string& what) const {
     if (c.offset < kHeaderBytes || c.offset + c.bytes > file_bytes || c.bytes > file_bytes) {
       throw InputError(fmt::format("{}: {} lies outside the file (offset {}, {} bytes, file {} bytes)", name(), what,
                                    c.offset, c.bytes, file_bytes));
     }
-    std::vector<std::byte> packed = hugePageVector<std::byte>(c.bytes);
-    if (!readAt(fd, packed.data(), packed.size(), c.offset)) {
-      throw InputError(
-          fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(), what, c.bytes, c.offset));
-    }
-    const std::uint64_t sum = xxh64(packed);
+  }
+  void checkSum(std::uint64_t sum, const ChunkRef& c, const std::string& what) const {
     if (sum != c.xxh64) {
       throw InputError(
           fmt::format("{}: {} is corrupt: XXH64 {} , expected {}", name(), what, toHex(sum), toHex(c.xxh64)));
     }
-    // The zstd frame states its decompressed size: compare before allocating raw_bytes, so a
-    // small file cannot make the reader allocate what its index claims.
-    const unsigned long long frame_bytes = ZSTD_getFrameContentSize(packed.data(), packed.size());
+  }
+  /// The zstd frame states its decompressed size (in its header, at the block's start): compared
+  /// before allocating raw_bytes, so a small file cannot make the reader allocate what its index claims.
+  void checkFrameSize(std::span<const std::byte> start, const ChunkRef& c, const std::string& what) const {
+    const unsigned long long frame_bytes = ZSTD_getFrameContentSize(start.data(), start.size());
     if (frame_bytes != c.raw_bytes) {
       throw InputError(fmt::format("{}: {} decompresses to {} bytes, the index says {}", name(), what,
                                    frame_bytes == ZSTD_CONTENTSIZE_UNKNOWN || frame_bytes == ZSTD_CONTENTSIZE_ERROR
@@ -81,6 +78,38 @@ struct NphReader::State {
                                        : std::to_string(frame_bytes),
                                    c.raw_bytes));
     }
+  }
+
+  /// Checks that block `c` lies inside the file, that its compressed bytes, read a piece at a
+  /// time, have the index's XXH64 and that its zstd frame states the index's decompressed size:
+  /// readBlock's checks without holding the block (readSlices decodes it as a stream).
+  void verifyBlock(const ChunkRef& c, const std::string& what) const {
+    checkInside(c, what);
+    std::vector<std::byte> piece(std::size_t(std::min<std::uint64_t>(c.bytes, 1u << 20)));
+    Xxh64Stream hash;
+    for (std::uint64_t at = 0; at < c.bytes;) {
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(piece.size(), c.bytes - at));
+      if (!readAt(fd, piece.data(), n, c.offset + at)) {
+        throw InputError(
+            fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(), what, c.bytes, c.offset));
+      }
+      if (at == 0) checkFrameSize(std::span<const std::byte>(piece.data(), n), c, what);
+      hash.update(std::span<const std::byte>(piece.data(), n));
+      at += n;
+    }
+    checkSum(hash.digest(), c, what);
+  }
+
+  /// Reads, checksums and decompresses one block. `what` names it in errors.
+  std::vector<std::byte> readBlock(const ChunkRef& c, const std::string& what) const {
+    checkInside(c, what);
+    std::vector<std::byte> packed = hugePageVector<std::byte>(c.bytes);
+    if (!readAt(fd, packed.data(), packed.size(), c.offset)) {
+      throw InputError(
+          fmt::format("{}: {} is truncated (expected {} bytes at offset {})", name(), what, c.bytes, c.offset));
+    }
+    checkSum(xxh64(packed), c, what);
+    checkFrameSize(packed, c, what);
     std::vector<std::byte> raw = hugePageVector<std::byte>(c.raw_bytes);
     const std::size_t n = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
     if (ZSTD_isError(n) || n != raw.size()) {
@@ -269,32 +298,186 @@ ExtinctionVolumes NphReader::readHeader(std::size_t t) const {
 }
 
 namespace {
-/// A timestep held as its codes (QuantisedVolumes), decoded a layer at a time with read()'s rule.
+/// One chunk's zstd frame decoded front to back while its compressed bytes are read from the file
+/// a piece at a time (issue 19, memory): it holds zstd's window (2 MiB at the writer's level 3)
+/// and one input piece (ZSTD_DStreamInSize, 128 KiB), never the chunk. readBlock's checks, spread
+/// over the read: decompression errors as they come; the content's length, zstd's own content
+/// checksum and the chunk's XXH64 when the frame ends (finish()). Not thread-safe.
+class ChunkStream {
+ public:
+  ChunkStream(int fd, std::string file, const ChunkRef& chunk, std::string what)
+      : fd_(fd), file_(std::move(file)), c_(chunk), what_(std::move(what)), in_(ZSTD_DStreamInSize()) {
+    if (!ds_) throw std::bad_alloc();
+    rewind();
+  }
+  /// Back to the frame's first byte.
+  void rewind() {
+    ZSTD_DCtx_reset(ds_.get(), ZSTD_reset_session_only);
+    read_ = produced_ = 0;
+    ended_ = false;
+    in_buf_ = {in_.data(), 0, 0};
+    hash_.reset();
+  }
+  /// The frame's next `bytes` of content into `into`, or decoded and dropped where `into` is null.
+  void read(std::byte* into, std::size_t bytes) {
+    std::size_t done = 0;
+    while (done < bytes) {
+      if (in_buf_.pos == in_buf_.size) fill();
+      std::byte* dst = into ? into + done : discard_.data();
+      ZSTD_outBuffer out{dst, into ? bytes - done : std::min(bytes - done, discard_.size()), 0};
+      const std::size_t r = ZSTD_decompressStream(ds_.get(), &out, &in_buf_);
+      if (ZSTD_isError(r)) fail(fmt::format("does not decompress: {}", ZSTD_getErrorName(r)));
+      done += out.pos;
+      produced_ += out.pos;
+      ended_ = r == 0;  // the frame decoded, its checksum checked, all flushed
+      const bool stuck = out.pos == 0 && in_buf_.pos == in_buf_.size && read_ == c_.bytes;
+      if ((r == 0 && done < bytes) || stuck)
+        fail(fmt::format("does not decompress to {} bytes: it ends after {}", c_.raw_bytes, produced_));
+    }
+  }
+  /// Reads the frame to its end and verifies it: its content ends at raw_bytes, zstd's content
+  /// checksum holds (ZSTD_decompressStream checks it as the frame ends), no byte follows the frame
+  /// in the chunk, and the compressed bytes' XXH64 is the index's.
+  void finish() {
+    if (produced_ != c_.raw_bytes) read(nullptr, c_.raw_bytes - produced_);
+    while (!ended_) {
+      std::byte extra{};
+      ZSTD_outBuffer out{&extra, 1, 0};
+      if (in_buf_.pos == in_buf_.size && read_ < c_.bytes) fill();
+      const std::size_t r = ZSTD_decompressStream(ds_.get(), &out, &in_buf_);
+      if (ZSTD_isError(r)) fail(fmt::format("does not decompress: {}", ZSTD_getErrorName(r)));
+      if (out.pos > 0) fail(fmt::format("decompresses to more than {} bytes", c_.raw_bytes));
+      ended_ = r == 0;
+      if (ended_) break;
+      if (in_buf_.pos == in_buf_.size && read_ == c_.bytes)
+        fail(fmt::format("is truncated: its zstd frame does not end within its {} bytes", c_.bytes));
+    }
+    if (in_buf_.pos != in_buf_.size || read_ != c_.bytes)
+      fail(fmt::format("holds bytes after its zstd frame (the index says {} bytes)", c_.bytes));
+    const std::uint64_t sum = hash_.digest();
+    if (sum != c_.xxh64) fail(fmt::format("is corrupt: XXH64 {} , expected {}", toHex(sum), toHex(c_.xxh64)));
+  }
+  std::size_t heldBytes() const { return ZSTD_sizeof_DStream(ds_.get()) + in_.size() + discard_.size(); }
+
+ private:
+  void fill() {
+    const std::size_t n = std::size_t(std::min<std::uint64_t>(in_.size(), c_.bytes - read_));
+    if (n == 0) return;
+    if (!readAt(fd_, in_.data(), n, c_.offset + read_))
+      fail(fmt::format("is truncated (expected {} bytes at offset {})", c_.bytes, c_.offset));
+    hash_.update(std::span<const std::byte>(in_.data(), n));
+    read_ += n;
+    in_buf_ = {in_.data(), n, 0};
+  }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw InputError(fmt::format("{}: {} {}", file_, what_, why));
+  }
+
+  int fd_;
+  std::string file_;
+  ChunkRef c_;
+  std::string what_;
+  std::unique_ptr<ZSTD_DStream, decltype(&ZSTD_freeDStream)> ds_{ZSTD_createDStream(), ZSTD_freeDStream};
+  std::vector<std::byte> in_;
+  std::vector<std::byte> discard_ = std::vector<std::byte>(64 * 1024);
+  ZSTD_inBuffer in_buf_{};
+  std::uint64_t read_ = 0;      // compressed bytes read from the file
+  std::uint64_t produced_ = 0;  // content bytes decoded
+  bool ended_ = false;          // ZSTD_decompressStream returned 0: the frame is complete
+  Xxh64Stream hash_;
+};
+
+/// A timestep decoded a layer at a time straight from its chunk in the file (issue 19, memory):
+/// two streams over the one zstd frame, one at the ice codes' layer k and one at the water codes'
+/// (which starts by decoding and dropping the ice codes), so no code of the timestep is held
+/// beyond the layer being read, and every layer decodes with read()'s rule (dequantise) to
+/// read()'s floats bit for bit. Layers read in increasing k cost one decode of the frame (1.5 with
+/// the skip); a lower k than the last one rewinds both streams. The chunk is verified when its
+/// last stored layer is read (ChunkStream::finish) and, by its XXH64, when the source is made.
+/// Owns a duplicate of the reader's descriptor, so it outlives the reader.
 class NphSlices final : public ExtinctionSlices {
  public:
-  NphSlices(ExtinctionVolumes header, QuantisedVolumes codes) : header_(std::move(header)), q_(std::move(codes)) {}
+  NphSlices(ExtinctionVolumes header, int fd, const std::string& file, const ChunkRef& chunk, const std::string& what,
+            int stored_nz, float max_ice_per_m, float max_water_per_m)
+      : header_(std::move(header)),
+        fd_(fd),
+        layer_(std::size_t(header_.nx) * std::size_t(header_.ny)),
+        stored_nz_(stored_nz),
+        max_ice_(max_ice_per_m),
+        max_water_(max_water_per_m),
+        ice_(fd, file, chunk, what),
+        water_(fd, file, chunk, what),
+        codes_(2 * layer_) {}
+  ~NphSlices() override { ::close(fd_); }
+  NphSlices(const NphSlices&) = delete;
+  NphSlices& operator=(const NphSlices&) = delete;
+
   const ExtinctionVolumes& volumes() const override { return header_; }
   Slice slice(int k, std::vector<float>& scratch) const override {
-    const std::size_t layer = std::size_t(q_.nx) * std::size_t(q_.ny), base = std::size_t(k) * layer;
-    scratch.resize(2 * layer);
-    const std::span<float> ice(scratch.data(), layer), water(scratch.data() + layer, layer);
-    dequantise(std::span(q_.ice_codes).subspan(base, layer), q_.max_ice_per_m, ice);
-    dequantise(std::span(q_.water_codes).subspan(base, layer), q_.max_water_per_m, water);
+    if (k < 0 || k >= header_.nz)
+      throw UsageError(fmt::format("NphSlices::slice: layer {} asked for, the grid has {}", k, header_.nz));
+    scratch.resize(2 * layer_);
+    const std::span<float> ice(scratch.data(), layer_), water(scratch.data() + layer_, layer_);
+    if (k >= stored_nz_) {  // padding above the timestep's cropped top: code 0, β 0 (read() pads so)
+      std::fill(scratch.begin(), scratch.end(), 0.0f);
+      return {ice.data(), water.data()};
+    }
+    const std::size_t layerBytes = layer_ * sizeof(std::uint16_t);
+    if (k < next_ || next_ < 0) {  // from the frame's start; the water stream past the ice codes
+      ice_.rewind();
+      water_.rewind();
+      water_.read(nullptr, std::size_t(stored_nz_) * layerBytes);
+      next_ = 0;
+    }
+    for (; next_ < k; ++next_) {
+      ice_.read(nullptr, layerBytes);
+      water_.read(nullptr, layerBytes);
+    }
+    const std::span<std::uint16_t> iceCodes(codes_.data(), layer_), waterCodes(codes_.data() + layer_, layer_);
+    ice_.read(reinterpret_cast<std::byte*>(iceCodes.data()), layerBytes);
+    water_.read(reinterpret_cast<std::byte*>(waterCodes.data()), layerBytes);
+    if (++next_ == stored_nz_) water_.finish();  // the whole frame read: verified
+    dequantise(iceCodes, max_ice_, ice);
+    dequantise(waterCodes, max_water_, water);
     return {ice.data(), water.data()};
   }
   std::size_t heldBytes() const override {
-    return (q_.ice_codes.size() + q_.water_codes.size()) * sizeof(std::uint16_t);
+    return ice_.heldBytes() + water_.heldBytes() + codes_.size() * sizeof(std::uint16_t);
   }
 
  private:
   ExtinctionVolumes header_;
-  QuantisedVolumes q_;
+  int fd_;
+  std::size_t layer_;
+  int stored_nz_;
+  float max_ice_, max_water_;
+  mutable ChunkStream ice_, water_;
+  mutable std::vector<std::uint16_t> codes_;
+  mutable int next_ = -1;  // the next layer the streams stand at; −1: not positioned
 };
 }  // namespace
 
 std::unique_ptr<ExtinctionSlices> NphReader::readSlices(std::size_t t) const {
+  const State& s = *state_;
+  const TimestepInfo& info = timestep(t);
   ExtinctionVolumes header = readHeader(t);
-  return std::make_unique<NphSlices>(std::move(header), readQuantised(t));
+  const ChunkRef chunk{info.chunk_offset, info.chunk_bytes, info.raw_bytes, info.chunk_xxh64};
+  const std::string what = fmt::format("chunk {} (timestep {})", t, geo::isoOrEmpty(info.time_utc));
+  s.verifyBlock(chunk, what);
+  const std::size_t stored = std::size_t(header.nx) * std::size_t(header.ny) * std::size_t(info.nz);
+  if (info.raw_bytes != 2 * stored * sizeof(std::uint16_t) || info.nz > header.nz) {  // as readQuantised
+    throw InputError(fmt::format("{}: chunk {} holds {} bytes, expected {} for {}x{}x{} voxels", s.name(), t,
+                                 info.raw_bytes, 2 * stored * sizeof(std::uint16_t), header.nx, header.ny, info.nz));
+  }
+  const int fd = ::fcntl(s.fd, F_DUPFD_CLOEXEC, 0);
+  if (fd < 0) throw IoError(fmt::format("{}: cannot duplicate its descriptor: {}", s.name(), errnoText()));
+  try {
+    return std::make_unique<NphSlices>(std::move(header), fd, s.name(), chunk, what, info.nz, info.max_ice_per_m,
+                                       info.max_water_per_m);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
 }
 
 ExtinctionVolumes NphReader::read(std::size_t t) const {

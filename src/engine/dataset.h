@@ -55,7 +55,8 @@ class Dataset {
   /// Reads (and for model files converts) timestep t; thread-safe. InputError on bad data.
   virtual ExtinctionVolumes load(std::size_t t) const = 0;
   /// Timestep t read one layer at a time (volume/extinction_slices.h; issue 19, memory): a .nph
-  /// cache keeps its 16-bit codes (4 bytes per voxel) and decodes each layer as load() would;
+  /// cache decodes each layer from its file as load() would, holding no more than a layer
+  /// (cache::NphReader::readSlices streams the chunk);
   /// other datasets wrap load(t). For a one-shot upload that never needs the floats whole.
   virtual std::unique_ptr<ExtinctionSlices> loadSlices(std::size_t t) const;
   /// Timestep t's grid, georeference, terrain, time and maxima without its volumes, where that

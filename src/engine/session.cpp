@@ -141,7 +141,7 @@ void Session::update() {
     auto t0 = std::chrono::steady_clock::now();
     const double blocked0 = timesteps_->stats().blocked_ms;
     // A one-shot frame (setReleaseAfterUpload) of a single timestep of a .nph cache reads it
-    // layer by layer (its 16-bit codes, 4 bytes per voxel) and never holds its floats whole
+    // layer by layer from the file (a zstd stream) and never holds its floats or codes whole
     // (issue 19, memory); otherwise the decoded volumes of the cache, kept for re-use (a model
     // file's timestep converted once by the constructor stays there until the upload).
     std::unique_ptr<ExtinctionSlices> slices;

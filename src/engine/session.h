@@ -106,8 +106,8 @@ class Session {
   /// On in engine::renderSceneFrame(dataset, scene) (`nephele render`). Turning it on also drops
   /// prepared()'s basemap images and city lights (on the GPU since construction; nothing reads
   /// the CPU copies again). With a .nph dataset the frame's timestep (unblended) is then not
-  /// decoded at all: the upload reads its 16-bit codes a layer at a time (Dataset::loadSlices,
-  /// 4 bytes per voxel instead of 8, never the float volume whole).
+  /// decoded at all: the upload decodes it a layer at a time from the file (Dataset::loadSlices:
+  /// a zstd stream, no volume-sized buffer besides the texture).
   void setReleaseAfterUpload(bool on);
   /// The decoded-timestep cache: at most this many timesteps are kept (default 4, at least 2).
   void setCacheLimit(std::size_t timesteps);

@@ -24,36 +24,42 @@ double betaDz(const ExtinctionSlices::Slice& s, std::size_t c, double dz_m) {
 }  // namespace
 
 ColumnDepthSlices::ColumnDepthSlices(const ExtinctionVolumes& v)
-    : ColumnDepthSlices(std::make_unique<VolumeSlices>(v), VolumeSlices(v)) {}
+    : ColumnDepthSlices(std::make_unique<VolumeSlices>(v), VolumeSlices(v), {}) {}
 
-ColumnDepthSlices::ColumnDepthSlices(const ExtinctionSlices& slices) : ColumnDepthSlices(nullptr, slices) {}
+ColumnDepthSlices::ColumnDepthSlices(const ExtinctionSlices& slices) : ColumnDepthSlices(nullptr, slices, {}) {}
 
-ColumnDepthSlices::ColumnDepthSlices(std::unique_ptr<VolumeSlices> own, const ExtinctionSlices& slices)
+ColumnDepthSlices::ColumnDepthSlices(const ExtinctionSlices& slices,
+                                     const std::function<void(int, const ExtinctionSlices::Slice&)>& see)
+    : ColumnDepthSlices(nullptr, slices, see) {}
+
+ColumnDepthSlices::ColumnDepthSlices(std::unique_ptr<VolumeSlices> own, const ExtinctionSlices& slices,
+                                     const std::function<void(int, const ExtinctionSlices::Slice&)>& see)
     : own_(std::move(own)),
       src_(own_ ? own_.get() : &slices),
       dz_m_(slices.volumes().dz_m),
       total_(std::size_t(slices.volumes().nx) * std::size_t(slices.volumes().ny), 0.0),
-      above_(total_.size(), 0.0),
+      below_(total_.size(), 0.0),
       slice_(2 * total_.size()),
-      next_k_(slices.volumes().nz - 1) {
-  for (int k = next_k_; k >= 0; --k) {
+      next_k_(0) {
+  for (int k = 0; k < slices.volumes().nz; ++k) {
     const ExtinctionSlices::Slice s = src_->slice(k, scratch_);
+    if (see) see(k, s);
     for (std::size_t c = 0; c < total_.size(); ++c) total_[c] += betaDz(s, c, dz_m_);
   }
 }
 
 const std::vector<std::uint16_t>& ColumnDepthSlices::next(int k) {
-  if (k != next_k_ || k < 0) {
+  if (k != next_k_ || k >= src_->volumes().nz) {
     throw UsageError(fmt::format("ColumnDepthSlices::next: slice {} asked for, {} is next", k, next_k_));
   }
   beta_ = src_->slice(k, scratch_);
   for (std::size_t c = 0; c < total_.size(); ++c) {
     const double full = betaDz(beta_, c, dz_m_), half = 0.5 * full;
-    slice_[2 * c] = halfBits(above_[c] + half);
-    slice_[2 * c + 1] = halfBits(std::max(total_[c] - above_[c] - half, 0.0));
-    above_[c] += full;
+    slice_[2 * c] = halfBits(std::max(total_[c] - below_[c] - half, 0.0));
+    slice_[2 * c + 1] = halfBits(below_[c] + half);
+    below_[c] += full;
   }
-  --next_k_;
+  ++next_k_;
   return slice_;
 }
 
@@ -61,7 +67,7 @@ std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& v) {
   std::vector<std::uint16_t> rg(2 * v.voxelCount());
   ColumnDepthSlices slices(v);
   const std::size_t columns = std::size_t(v.nx) * std::size_t(v.ny);
-  for (int k = v.nz - 1; k >= 0; --k) {
+  for (int k = 0; k < v.nz; ++k) {
     const std::vector<std::uint16_t>& s = slices.next(k);
     std::copy(s.begin(), s.end(), rg.begin() + std::ptrdiff_t(2 * std::size_t(k) * columns));
   }

@@ -15,6 +15,7 @@
 // bring the grid back into the sky light and the two-stream term (issue 12/13: the power at the
 // column spacing of the coarse storm went from 2.2 to 14.1 with two_stream).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -42,30 +43,36 @@ struct ColumnDepths {
 ColumnDepths columnDepths(const ExtinctionVolumes& volumes,
                           volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear);
 
-/// The column depths slice by slice from the top (k = nz − 1 down to 0), for an upload that never
+/// The column depths slice by slice from the bottom (k = 0 up to nz − 1), for an upload that never
 /// holds them for the whole grid (render/dlm/volume_textures.cpp, issue 19's memory): per column
-/// τ_up = A + ½β·dz and τ_down = (T − A) − ½β·dz in double, A the sum above the voxel, T the
+/// τ_down = B + ½β·dz and τ_up = (T − B) − ½β·dz in double, B the sum below the voxel, T the
 /// column's total, then rounded to half; columnDepthsHalf is built from it, so both agree bit for
-/// bit. Holds two doubles per column.
+/// bit. Holds two doubles per column. Upwards, as a `.nph` timestep decodes its layers
+/// (cache::NphReader::readSlices streams the chunk's zstd frame from its first layer).
 class ColumnDepthSlices {
  public:
   explicit ColumnDepthSlices(const ExtinctionVolumes& volumes);  ///< one pass for the column totals
   /// The same over a source read layer by layer (volume/extinction_slices.h; `slices` must outlive
   /// this): a `.nph` upload that never holds the float volume whole.
   explicit ColumnDepthSlices(const ExtinctionSlices& slices);
+  /// The same, handing every layer of the totals' pass (k = 0 up) to `see` as well: one pass that
+  /// also checks the voxels (the packed upload; a `.nph` source decodes its chunk once per pass).
+  ColumnDepthSlices(const ExtinctionSlices& slices,
+                    const std::function<void(int k, const ExtinctionSlices::Slice& layer)>& see);
   /// Slice k's (τ_up, τ_down) half bits, interleaved, x fastest (2·nx·ny values): call for
-  /// k = nz − 1, nz − 2, …, 0 in turn (UsageError otherwise).
+  /// k = 0, 1, …, nz − 1 in turn (UsageError otherwise).
   const std::vector<std::uint16_t>& next(int k);
   /// The β of the layer the last next(k) read (valid until the next call): the packed upload
   /// writes it beside the depths without reading the layer again.
   const ExtinctionSlices::Slice& beta() const { return beta_; }
 
  private:
-  ColumnDepthSlices(std::unique_ptr<VolumeSlices> own, const ExtinctionSlices& slices);
+  ColumnDepthSlices(std::unique_ptr<VolumeSlices> own, const ExtinctionSlices& slices,
+                    const std::function<void(int, const ExtinctionSlices::Slice&)>& see);
   std::unique_ptr<VolumeSlices> own_;  // when constructed from ExtinctionVolumes
   const ExtinctionSlices* src_;
   double dz_m_;
-  std::vector<double> total_, above_;
+  std::vector<double> total_, below_;
   std::vector<std::uint16_t> slice_;
   std::vector<float> scratch_;
   ExtinctionSlices::Slice beta_;

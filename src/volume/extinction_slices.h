@@ -2,9 +2,11 @@
 // One timestep's extinctions read one horizontal layer at a time (issue 19, docs/benchmarks.md
 // "Memory"). The upload of a single frame (render/dlm/volume_textures.cpp) checks the voxels,
 // builds the occupancy and the column depths and writes the packed texture slice by slice, so
-// the float volume (8 bytes per voxel) never has to exist whole: a `.nph` timestep stays in its
-// 16-bit codes (4 bytes per voxel, cache::NphReader::readSlices) and is decoded a layer at a time
-// with the file's own rule (cache/quantize.h dequantise), the same floats NphReader::read makes.
+// the float volume (8 bytes per voxel) never has to exist whole: a `.nph` timestep is decoded a
+// layer at a time from its chunk as the file is read (cache::NphReader::readSlices: a zstd stream,
+// no code of the timestep held beyond the layer), with the file's own rule (cache/quantize.h
+// dequantise), the same floats NphReader::read makes. Sources read upwards at the cost of one
+// decode per pass; the upload's passes all go from k = 0 up.
 #include <memory>
 #include <vector>
 

@@ -51,4 +51,28 @@ OccupancyGrid buildOccupancy(const ExtinctionSlices& slices, int brick = 8,
                              Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
                              float max_scale = 1.0f);
 
+/// buildOccupancy fed a layer at a time, k = 0, 1, …, nz − 1, by a pass that reads the layers for
+/// something else too (the packed upload writes its texture in the same pass: a `.nph` source
+/// decodes its chunk once per pass). finish() gives what buildOccupancy gives.
+class OccupancyBuilder {
+ public:
+  /// `grid`: the volume's header (nx, ny, nz); the other arguments are buildOccupancy's.
+  OccupancyBuilder(const ExtinctionVolumes& grid, int brick = 8,
+                   Reconstruction reconstruction = Reconstruction::Trilinear, int extra_reach_voxels = 0,
+                   float max_scale = 1.0f);
+  /// Layer k (UsageError unless k is the next layer).
+  void add(int k, const ExtinctionSlices::Slice& layer);
+  /// The grid, once every layer is added (UsageError otherwise).
+  OccupancyGrid finish();
+
+ private:
+  glm::ivec3 n_;
+  Reconstruction reconstruction_;
+  int extra_reach_voxels_;
+  float max_scale_;
+  int next_k_ = 0;
+  OccupancyGrid g_;
+  std::vector<float> own_min_;  // the least voxel per brick, undilated
+};
+
 }  // namespace nph::volume

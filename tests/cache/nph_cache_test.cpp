@@ -152,11 +152,11 @@ TEST_F(NphCacheTest, RoundTripWithinDocumentedBoundAndPadsToCommonNz) {
   }
 }
 
-// Issue 19 (memory, docs/benchmarks.md "Memory"): readSlices keeps a timestep in its 16-bit codes
-// (4 bytes per voxel, half of read()'s floats) and decodes every layer, the padding above a
-// cropped timestep included, to read()'s floats bit for bit; readHeader is read() without the
-// volumes, and materialise() is read().
-TEST_F(NphCacheTest, LayersDecodeAsReadBitForBitFromHalfTheBytes) {
+// Issue 19 (memory, docs/benchmarks.md "Memory"): readSlices decodes a timestep a layer at a time
+// straight from its chunk (a zstd stream over the file) and decodes every layer, the padding above
+// a cropped timestep included, to read()'s floats bit for bit, in any order (upwards is one
+// decode; downwards rewinds); readHeader is read() without the volumes, and materialise() is read().
+TEST_F(NphCacheTest, LayersDecodeAsReadBitForBitInAnyOrder) {
   const NphMetadata m = smallMetadata();
   const std::vector<ExtinctionVolumes> steps = {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 9, 2, 2e-5f),
                                                 randomVolumes(m, 0, 3, 1.0f)};
@@ -166,7 +166,6 @@ TEST_F(NphCacheTest, LayersDecodeAsReadBitForBitFromHalfTheBytes) {
     const std::unique_ptr<ExtinctionSlices> slices = r.readSlices(t);
     const ExtinctionVolumes& header = slices->volumes();
     EXPECT_EQ(slices->whole(), nullptr) << "the floats are never held whole";
-    EXPECT_EQ(slices->heldBytes(), 4 * full.voxelCount());
     EXPECT_EQ(VolumeSlices(full).heldBytes(), 8 * full.voxelCount());
     EXPECT_TRUE(header.ice_per_m.empty() && header.water_per_m.empty());
     const ExtinctionVolumes read_header = r.readHeader(t);
@@ -186,15 +185,22 @@ TEST_F(NphCacheTest, LayersDecodeAsReadBitForBitFromHalfTheBytes) {
     }
     const std::size_t layer = std::size_t(full.nx) * std::size_t(full.ny);
     std::vector<float> scratch;
-    for (int k = full.nz - 1; k >= 0; --k) {  // any order: the upload reads from the top
+    std::vector<int> order;  // upwards, downwards (each step rewinds), then skipping about
+    for (int k = 0; k < full.nz; ++k) order.push_back(k);
+    for (int k = full.nz - 1; k >= 0; --k) order.push_back(k);
+    for (int k : {2, 2, 0, 5, 3, 8, 1}) order.push_back(std::min(k, full.nz - 1));
+    for (int k : order) {
       const ExtinctionSlices::Slice s = slices->slice(k, scratch);
       for (std::size_t c = 0; c < layer; ++c) {
         ASSERT_EQ(std::bit_cast<std::uint32_t>(s.ice[c]),
-                  std::bit_cast<std::uint32_t>(full.ice_per_m[std::size_t(k) * layer + c]));
+                  std::bit_cast<std::uint32_t>(full.ice_per_m[std::size_t(k) * layer + c]))
+            << "layer " << k;
         ASSERT_EQ(std::bit_cast<std::uint32_t>(s.water[c]),
-                  std::bit_cast<std::uint32_t>(full.water_per_m[std::size_t(k) * layer + c]));
+                  std::bit_cast<std::uint32_t>(full.water_per_m[std::size_t(k) * layer + c]))
+            << "layer " << k;
       }
     }
+    EXPECT_THROW((void)slices->slice(full.nz, scratch), UsageError);
     const ExtinctionVolumes again = slices->materialise();
     EXPECT_EQ(again.ice_per_m, full.ice_per_m);
     EXPECT_EQ(again.water_per_m, full.water_per_m);
@@ -241,6 +247,12 @@ std::string readAll(const fs::path& p) {
 void writeAll(const fs::path& p, const std::string& bytes) {
   std::ofstream f(p, std::ios::binary | std::ios::trunc);
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// The file offset of the middle of timestep t's chunk.
+std::uint64_t middleOfChunk(const fs::path& file, std::size_t t) {
+  const NphReader r(file);
+  return r.timestep(t).chunk_offset + r.timestep(t).chunk_bytes / 2;
 }
 
 /// The InputError message of `fn`, or a test failure.
@@ -361,11 +373,7 @@ TEST_F(NphCacheTest, FileWithoutWindHasNoWindKeyAndReadsWithoutWind) {
 TEST_F(NphCacheTest, FlippedByteInAChunkNamesFileAndChunk) {
   const NphMetadata m = smallMetadata();
   const fs::path file = writeFile(dir_ / "s.nph", m, {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 4, 2, 0.01f)});
-  std::uint64_t offset = 0;
-  {
-    NphReader r(file);
-    offset = r.timestep(1).chunk_offset + r.timestep(1).chunk_bytes / 2;
-  }
+  const std::uint64_t offset = middleOfChunk(file, 1);
   std::string bytes = readAll(file);
   bytes[offset] = static_cast<char>(bytes[offset] ^ 0x20);
   writeAll(file, bytes);
@@ -374,6 +382,70 @@ TEST_F(NphCacheTest, FlippedByteInAChunkNamesFileAndChunk) {
   const std::string msg = inputErrorOf([&] { (void)r.read(1); });
   EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
   EXPECT_NE(msg.find("chunk 1"), std::string::npos) << msg;
+}
+
+// readSlices holds no code of the timestep beyond one layer (issue 19, memory): zstd's window and
+// one input piece per stream, well under the 4 bytes per voxel the codes would take; and a second
+// source of the same timestep reads the same while the reader is gone (it owns its descriptor).
+TEST_F(NphCacheTest, LayeredReadHoldsLessThanTheCodes) {
+  NphMetadata m = smallMetadata();
+  m.nx = 256;
+  m.ny = 256;
+  m.georef.lat_deg.assign(std::size_t(m.nx) * std::size_t(m.ny), 30.0f);
+  m.georef.lon_deg.assign(std::size_t(m.nx) * std::size_t(m.ny), -80.0f);
+  const ExtinctionVolumes in = randomVolumes(m, 64, 7, 0.01f);
+  const fs::path file = writeFile(dir_ / "big.nph", m, {in});
+  std::unique_ptr<ExtinctionSlices> slices;
+  ExtinctionVolumes full;
+  {
+    NphReader r(file);
+    full = r.read(0);
+    slices = r.readSlices(0);
+  }
+  const std::size_t codes = 4 * full.voxelCount();  // 16.8 MB
+  EXPECT_LT(slices->heldBytes(), codes / 2) << "held " << slices->heldBytes() << " bytes";
+  const ExtinctionVolumes again = slices->materialise();
+  EXPECT_EQ(again.ice_per_m, full.ice_per_m);
+  EXPECT_EQ(again.water_per_m, full.water_per_m);
+}
+
+// The layered read checks the chunk as read() does, before any layer is decoded: a flipped byte
+// (XXH64) or a file cut inside the chunk is an InputError naming the file and the chunk.
+TEST_F(NphCacheTest, LayeredReadOfACorruptOrTruncatedChunkNamesFileAndChunk) {
+  const NphMetadata m = smallMetadata();
+  const fs::path file = writeFile(dir_ / "s.nph", m, {randomVolumes(m, 4, 1, 0.01f), randomVolumes(m, 4, 2, 0.01f)});
+  const std::uint64_t offset = middleOfChunk(file, 1);
+  const std::string original = readAll(file);
+  std::string bytes = original;
+  bytes[offset] = static_cast<char>(bytes[offset] ^ 0x20);
+  writeAll(file, bytes);
+  {
+    NphReader r(file);
+    EXPECT_NO_THROW((void)r.readSlices(0)->materialise());
+    const std::string msg = inputErrorOf([&] { (void)r.readSlices(1); });
+    EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("chunk 1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("corrupt"), std::string::npos) << msg;
+  }
+  // The file changed under an open source: the pass that reads the last layer finds it.
+  writeAll(file, original);
+  {
+    NphReader r(file);
+    const std::unique_ptr<ExtinctionSlices> slices = r.readSlices(1);
+    writeAll(file, bytes);
+    const std::string msg = inputErrorOf([&] { (void)slices->materialise(); });
+    EXPECT_NE(msg.find("chunk 1"), std::string::npos) << msg;
+  }
+  // Cut inside the chunk after the reader opened it.
+  writeAll(file, original);
+  {
+    NphReader r(file);
+    fs::resize_file(file, offset);
+    const std::string msg = inputErrorOf([&] { (void)r.readSlices(1); });
+    EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("chunk 1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
+  }
 }
 
 // A corrupt wind chunk is the reader's usual error, naming the file and the wind chunk; the other

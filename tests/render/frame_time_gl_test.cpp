@@ -438,11 +438,13 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
 }
 
 // Memory (issue 19, docs/benchmarks.md "Memory"): `nephele render` uploads a .nph timestep from
-// its 16-bit codes a layer at a time (cache::NphReader::readSlices, Session::setReleaseAfterUpload)
-// and never holds the float volume whole. The layered upload must be the float upload bit for bit:
+// its chunk a layer at a time (cache::NphReader::readSlices, Session::setReleaseAfterUpload: a zstd
+// stream, one decode of the chunk per upward pass) and never holds the float volume whole. The
+// packed upload reads the layers in two upward passes (the checks with the column totals, then the
+// texture with the occupancy). The layered upload must be the float upload bit for bit:
 // the packed texels (β rounded to half, the column depths), the occupancy, the phases, the
 // identity and the texture bytes. The source here serves copies of the layers through its scratch
-// (whole() null), as the .nph one does; NphCacheTest.LayersDecodeAsReadBitForBitFromHalfTheBytes
+// (whole() null), as the .nph one does; NphCacheTest.LayersDecodeAsReadBitForBitInAnyOrder
 // checks that the .nph layers are read()'s floats. The cubic filter takes the materialised path.
 class CopiedLayers final : public ExtinctionSlices {
  public:
@@ -459,10 +461,14 @@ class CopiedLayers final : public ExtinctionSlices {
     scratch.insert(scratch.end(), full_->water_per_m.begin() + std::ptrdiff_t(base),
                    full_->water_per_m.begin() + std::ptrdiff_t(base + layer));
     ++layers_read;
+    if (k <= last_k || last_k < 0) ++passes;  // a stream would rewind here
+    last_k = k;
     return {scratch.data(), scratch.data() + layer};
   }
   std::size_t heldBytes() const override { return 0; }
   mutable int layers_read = 0;
+  mutable int passes = 0;  // runs of increasing layers
+  mutable int last_k = -1;
 
  private:
   ExtinctionVolumes header_;
@@ -476,7 +482,12 @@ TEST_F(LightCacheTest, LayeredUploadIsTheFloatUploadBitForBit) {
     const CopiedLayers layers(v);
     const auto floats = render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = r});
     const auto layered = render::VolumeTextures::upload(layers, frame, "hurricane-x8", {.reconstruction = r});
-    EXPECT_GE(layers.layers_read, 3 * v.nz) << "checks, column totals and packing read layers";
+    if (r == volume::Reconstruction::Trilinear) {
+      EXPECT_EQ(layers.layers_read, 2 * v.nz) << "checks with column totals, then texture with occupancy";
+      EXPECT_EQ(layers.passes, 2) << "each pass reads upwards";
+    } else {
+      EXPECT_GE(layers.layers_read, 2 * v.nz) << "the checks, then the materialised floats";
+    }
     EXPECT_EQ(layered.identity(), floats.identity());
     EXPECT_EQ(layered.bytes(), floats.bytes());
     EXPECT_EQ(layered.hasIce(), floats.hasIce());

@@ -322,14 +322,17 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
       // The flat runs of P per cell column (glsl/dlm/scatter_runs.comp), for pass 3's skipping.
       if (scatter_runs_map_.width() != cells.x || scatter_runs_map_.height() != cells.y ||
           scatter_runs_map_.depth() != cells.z) {
-        scatter_runs_map_ = gl::Texture::create3D(GL_R32I, cells.x, cells.y, cells.z).label("DLM scatter flat runs");
+        // Slice indices ≤ cells.z ≤ GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe, 16384 at most on
+        // GPUs): 16 bits hold them exactly, half the bytes of this transient map (issue 19, memory).
+        if (cells.z > 32767) throw UsageError(fmt::format("DLM: {} scatter slices exceed 16 bits", cells.z));
+        scatter_runs_map_ = gl::Texture::create3D(GL_R16I, cells.x, cells.y, cells.z).label("DLM scatter flat runs");
         scatter_runs_map_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
       }
       scatter_runs_.use();
       scatter_runs_.set("u_cells", cells);
       glBindImageTexture(gl::binding::IMAGE_SCATTER_MAP, scatter_map_.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32F);
       glBindImageTexture(gl::binding::IMAGE_SCATTER_RUNS, scatter_runs_map_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                         GL_R32I);
+                         GL_R16I);
       scatter_runs_.dispatchCovering({cells.x, cells.y, 1});
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }

@@ -71,16 +71,29 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
   }
   const glm::ivec3 n(header.nx, header.ny, header.nz);
   const std::size_t layer = std::size_t(n.x) * std::size_t(n.y);
+  // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
+  // depths in 8 bytes per voxel. Where it serves (the trilinear filter without sub-grid detail) a
+  // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
+  // (12 bytes per voxel more) are made only for the cubic filter and the detail, whose fetches need
+  // the zero border or displaced positions, and for VolumeStorage::Reference (the float baseline).
+  const bool packed = reconstruction == volume::Reconstruction::Trilinear && !t.detail_.on();
+  const bool separate = !packed || o.storage == VolumeStorage::Reference;
   // The voxel checks and which phases are present, a layer at a time (an absent phase reads 0).
-  {
+  const auto check = [&](int k, const ExtinctionSlices::Slice& s) {
+    checkVoxels(s.ice, layer, std::size_t(k) * layer, "ice_per_m");
+    checkVoxels(s.water, layer, std::size_t(k) * layer, "water_per_m");
+    t.has_ice_ = t.has_ice_ || anyPositive(s.ice, layer);
+    t.has_water_ = t.has_water_ || anyPositive(s.water, layer);
+  };
+  // The packed texture alone is read in two passes over the layers, upwards (a `.nph` source
+  // decodes its chunk once per pass, cache::NphReader::readSlices): the checks with the column
+  // totals, then the texture with the occupancy. Other paths check in a pass of their own.
+  std::optional<ColumnDepthSlices> depths;
+  if (packed && !separate) {
+    depths.emplace(data, check);
+  } else {
     std::vector<float> scratch;
-    for (int k = 0; k < n.z; ++k) {
-      const ExtinctionSlices::Slice s = data.slice(k, scratch);
-      checkVoxels(s.ice, layer, std::size_t(k) * layer, "ice_per_m");
-      checkVoxels(s.water, layer, std::size_t(k) * layer, "water_per_m");
-      t.has_ice_ = t.has_ice_ || anyPositive(s.ice, layer);
-      t.has_water_ = t.has_water_ || anyPositive(s.water, layer);
-    }
+    for (int k = 0; k < n.z; ++k) check(k, data.slice(k, scratch));
   }
   // cubic_interpolating (volume/spline_coefficients.h): from here on every texture, the column
   // depths, the detail's controls and the occupancy are made from the spline's coefficients, which
@@ -95,13 +108,6 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     coefficients.emplace(std::make_shared<const ExtinctionVolumes>(volume::splineCoefficientVolumes(*dataWhole)));
   }
   const ExtinctionSlices& src = coefficients ? *coefficients : data;
-  // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
-  // depths in 8 bytes per voxel. Where it serves (the trilinear filter without sub-grid detail) a
-  // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
-  // (12 bytes per voxel more) are made only for the cubic filter and the detail, whose fetches need
-  // the zero border or displaced positions, and for VolumeStorage::Reference (the float baseline).
-  const bool packed = reconstruction == volume::Reconstruction::Trilinear && !t.detail_.on();
-  const bool separate = !packed || o.storage == VolumeStorage::Reference;
   if (packed && separate) t.identity_ += "|reference";  // its DLM reads β in float: another map
   // The float volume whole, where a path reads the grid at once (the separate textures, the
   // detail's controls and mass): the source's own, or decoded here (a layer-by-layer source).
@@ -133,20 +139,23 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
   // 1e-3 /km), or coarser where the largest β would overflow the half's 65504. Clamp to edge, as
   // the column depths need; the zero border the extinction's trilinear filter fades to outside the
   // box is applied in the shader instead (glsl/dlm/volume.glsl packedTexel). Uploaded slice by
-  // slice from the top: an interleaved half slice and the column sums are the only transients. The
+  // slice from the bottom: an interleaved half slice and the column sums are the only transients. The
   // slice goes up as GL_HALF_FLOAT: the column depths are already the CPU twin's halves, and β is
   // rounded to half here once (glm::packHalf1x16, round to nearest), so the driver converts nothing.
+  // The occupancy (below) of the packed path is built in its texture's pass.
+  volume::OccupancyBuilder occupancy(header, o.brick_voxels, reconstruction);
   if (packed) {
     const float maxBeta = std::max({header.max_ice_per_m, header.max_water_per_m, 1e-30f});
     const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
     t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
+    if (!depths) depths.emplace(src);
     t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
     std::vector<std::uint16_t> slice(4 * std::size_t(n.x) * std::size_t(n.y));
-    ColumnDepthSlices depths(src);
     const std::uint16_t zero = glm::packHalf1x16(0.0f);
-    for (int k = n.z - 1; k >= 0; --k) {
-      const std::vector<std::uint16_t>& rg = depths.next(k);
-      const ExtinctionSlices::Slice& beta = depths.beta();  // layer k, as the depths read it
+    for (int k = 0; k < n.z; ++k) {
+      const std::vector<std::uint16_t>& rg = depths->next(k);
+      const ExtinctionSlices::Slice& beta = depths->beta();  // layer k, as the depths read it
+      occupancy.add(k, beta);
       for (std::size_t i = 0; i < slice.size() / 4; ++i) {
         slice[4 * i] = t.has_ice_ ? glm::packHalf1x16(beta.ice[i] * storedPerM) : zero;
         slice[4 * i + 1] = t.has_water_ ? glm::packHalf1x16(beta.water[i] * storedPerM) : zero;
@@ -247,7 +256,8 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     glTextureSubImage2D(t.correction_.id(), 0, 0, 0, n.x, n.y, GL_RED, GL_FLOAT, c.data());
     t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // texelFetch, blended in the shader (volume/detail.h)
   }
-  t.occupancy_ = t.detail_.on()
+  t.occupancy_ = packed ? occupancy.finish()
+                 : t.detail_.on()
                      ? volume::buildOccupancy(src, o.brick_voxels, reconstruction, t.detail_.reach_voxels, maxScale)
                      : volume::buildOccupancy(src, o.brick_voxels, reconstruction);
   {

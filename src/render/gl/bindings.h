@@ -41,7 +41,7 @@
   X(IMAGE_DLM_COUNTS, 1)        /* uimage2D r32ui */                                            \
   X(IMAGE_DLM_TEXEL_EPSILON, 2) /* image2D r32f: ε each texel was compressed with */            \
   X(IMAGE_SCATTER_MAP, 1)       /* image3D r32f, written by pass 2 (scatter.comp) */            \
-  X(IMAGE_SCATTER_RUNS, 2)      /* iimage3D r32i: flat runs of the scatter map (scatter_runs.comp) */ \
+  X(IMAGE_SCATTER_RUNS, 2)      /* iimage3D r16i: flat runs of the scatter map (scatter_runs.comp) */ \
   X(UNIT_SCATTER_RUNS, 6)       /* isampler3D: the same, read by pass 3 */                      \
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
   X(SSBO_DLM_MARCH_STATS, 5)    /* uint[4]: steps marched, in runs, runs (issue 19), marches cut short */ \

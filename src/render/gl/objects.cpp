@@ -79,6 +79,7 @@ std::size_t bytesPerTexel(GLenum internalFormat) {
     case GL_R8: return 1;
     case GL_R16F:
     case GL_R16:
+    case GL_R16I:
     case GL_RG8: return 2;
     case GL_R32F:
     case GL_R32UI:
