@@ -87,7 +87,7 @@ Fixture& fixture() {
   return *f;
 }
 
-enum Knob { Baseline, Epsilon, Texel, Step, NoSkip, NoScatter, ScatterCoarse, Nodes };
+enum Knob { Baseline, Epsilon, Texel, Step, NoSkip, NoScatter, ScatterCoarse, Nodes, ScatterSlices };
 
 void BM_DlmBuild(benchmark::State& state) {
   Fixture& fx = fixture();
@@ -104,6 +104,7 @@ void BM_DlmBuild(benchmark::State& state) {
     case NoScatter: s.peripheral = false; break;
     case ScatterCoarse: s.scatter_downsample = int(value); break;
     case Nodes: s.max_nodes = int(value); break;
+    case ScatterSlices: s.scatter_slice_steps = int(value); break;
   }
   render::DeepLightMap dlm;
   for (auto _ : state) {
@@ -131,10 +132,12 @@ void BM_DlmBuild(benchmark::State& state) {
   state.counters["nodes_mean"] = st.mean_nodes;
   state.counters["nodes_max"] = st.max_nodes_used;
   state.counters["MB"] = double(st.bytes) / 1e6;
+  state.counters["scatter_slices"] = st.scatter_cells.z;
   state.counters["compression"] = st.compression_ratio;
   state.counters["unbounded"] = st.unbounded_texels;
-  static const char* names[] = {"baseline",    "epsilon",        "texel_voxels",       "step_voxels",
-                                "no_skipping", "no_scatter_map", "scatter_downsample", "max_nodes"};
+  static const char* names[] = {"baseline",           "epsilon",     "texel_voxels",
+                                "step_voxels",        "no_skipping", "no_scatter_map",
+                                "scatter_downsample", "max_nodes",   "scatter_slice_steps"};
   state.SetLabel(knob == Baseline || knob == NoSkip || knob == NoScatter ? names[knob]
                                                                          : fmt::format("{}={:g}", names[knob], value));
 }
@@ -155,6 +158,9 @@ BENCHMARK(BM_DlmBuild)
     ->Args({ScatterCoarse, 2000})
     ->Args({ScatterCoarse, 8000})
     ->Args({Nodes, 8000})
+    ->Args({ScatterSlices, 16000})
+    ->Args({ScatterSlices, 64000})
+    ->Args({ScatterSlices, 256000})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
