@@ -62,8 +62,9 @@ struct ReferenceCache {
 
 const scene::RgbaImage& referenceFor(const Variant& v, const render::VolumeTextures& tex, const AccuracyScene& sc,
                                      ReferenceCache& cache) {
-  const std::string lightKey = fmt::format("{}/{}/{}/{}/{}", v.dlm.forward_angle_deg, v.dlm.cornette_shanks_g,
-                                           v.dlm.peripheral, v.dlm.scatter_downsample, v.dlm.scatter_slice_steps);
+  const std::string lightKey =
+      fmt::format("{}/{}/{}/{}/{}/{}", v.dlm.forward_angle_deg, v.dlm.cornette_shanks_g, v.dlm.peripheral,
+                  v.dlm.scatter_downsample, v.dlm.scatter_slice_steps, v.dlm.scatter_slice_cells);
   const std::string key = fmt::format("{}/ms{}", lightKey, int(v.render.multiple_scattering));
   if (auto it = cache.images.find(key); it != cache.images.end()) return it->second;
   std::unique_ptr<reference::DlmReference>& light = cache.lights[lightKey];

@@ -1,5 +1,6 @@
 #include "lighting/dlm_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -11,10 +12,20 @@ namespace nph::lighting {
 
 std::string DlmSettings::key() const {
   return fmt::format("eps={:.9g};step={:.9g};texel={:.9g};maxtex={};nodes={};dbl={};theta={:.9g};g={:.9g};per={};sd={};"
-                     "ss={};cache={:.9g};fi={:.9g};fw={:.9g};grow={};gb={:.9g}",
+                     "ss={};sc={:.9g};cache={:.9g};fi={:.9g};fw={:.9g};grow={};gb={:.9g}",
                      epsilon, step_voxels, texel_voxels, max_texels, max_nodes, max_epsilon_doublings,
                      forward_angle_deg, cornette_shanks_g, peripheral ? 1 : 0, scatter_downsample, scatter_slice_steps,
-                     light_cache_voxels, forward_peak_ice, forward_peak_water, step_growth_max, step_growth_budget);
+                     scatter_slice_cells, light_cache_voxels, forward_peak_ice, forward_peak_water, step_growth_max,
+                     step_growth_budget);
+}
+
+int scatterSliceSteps(const DlmSettings& s, const LightSpace& ls, double step_m) {
+  int steps = s.scatter_slice_steps;
+  const glm::dvec2 cell = ls.texelSize_m() * double(std::max(1, s.scatter_downsample));
+  const double want = s.scatter_slice_cells * std::min(cell.x, cell.y) / step_m;
+  // Bounded: a slice longer than the light's whole path is one slice (kMaxSteps in the builder).
+  if (want > double(steps) && std::isfinite(want)) steps = 2 * int(std::ceil(std::min(want, double(1 << 22)) / 2.0));
+  return steps;
 }
 
 ForwardFractions forwardFractions(const DlmSettings& s) {

@@ -41,9 +41,9 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const volume::Volum
 
   // Pass 2: scatter map, slice by slice (same geometry as render/dlm/deep_light_map.cpp).
   const int ds = std::max(1, settings.scatter_downsample);
-  cells_ = {(nu + ds - 1) / ds, (nv + ds - 1) / ds,
-            (steps + settings.scatter_slice_steps - 1) / settings.scatter_slice_steps + 1};
-  slice_m_ = step_m * settings.scatter_slice_steps;
+  const int sliceSteps = lighting::scatterSliceSteps(settings, ls_, step_m);  // as the GPU builder
+  cells_ = {(nu + ds - 1) / ds, (nv + ds - 1) / ds, (steps + sliceSteps - 1) / sliceSteps + 1};
+  slice_m_ = step_m * sliceSteps;
   scatter_.assign(std::size_t(cells_.x) * std::size_t(cells_.y) * std::size_t(cells_.z), 0.0);
   const glm::dvec2 extent = ls_.texelSize_m() * glm::dvec2(ls_.texels);
   auto cellCentre = [&](int x, int y) { return (glm::dvec2(x, y) + 0.5) * extent / glm::dvec2(cells_.x, cells_.y); };

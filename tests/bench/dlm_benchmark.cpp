@@ -87,7 +87,7 @@ Fixture& fixture() {
   return *f;
 }
 
-enum Knob { Baseline, Epsilon, Texel, Step, NoSkip, NoScatter, ScatterCoarse, Nodes, ScatterSlices };
+enum Knob { Baseline, Epsilon, Texel, Step, NoSkip, NoScatter, ScatterCoarse, Nodes, ScatterSlices, SliceCells };
 
 void BM_DlmBuild(benchmark::State& state) {
   Fixture& fx = fixture();
@@ -105,6 +105,7 @@ void BM_DlmBuild(benchmark::State& state) {
     case ScatterCoarse: s.scatter_downsample = int(value); break;
     case Nodes: s.max_nodes = int(value); break;
     case ScatterSlices: s.scatter_slice_steps = int(value); break;
+    case SliceCells: s.scatter_slice_cells = value; break;
   }
   render::DeepLightMap dlm;
   for (auto _ : state) {
@@ -135,9 +136,9 @@ void BM_DlmBuild(benchmark::State& state) {
   state.counters["scatter_slices"] = st.scatter_cells.z;
   state.counters["compression"] = st.compression_ratio;
   state.counters["unbounded"] = st.unbounded_texels;
-  static const char* names[] = {"baseline",           "epsilon",     "texel_voxels",
-                                "step_voxels",        "no_skipping", "no_scatter_map",
-                                "scatter_downsample", "max_nodes",   "scatter_slice_steps"};
+  static const char* names[] = {
+      "baseline",           "epsilon",   "texel_voxels",        "step_voxels",        "no_skipping", "no_scatter_map",
+      "scatter_downsample", "max_nodes", "scatter_slice_steps", "scatter_slice_cells"};
   state.SetLabel(knob == Baseline || knob == NoSkip || knob == NoScatter ? names[knob]
                                                                          : fmt::format("{}={:g}", names[knob], value));
 }
@@ -161,6 +162,8 @@ BENCHMARK(BM_DlmBuild)
     ->Args({ScatterSlices, 16000})
     ->Args({ScatterSlices, 64000})
     ->Args({ScatterSlices, 256000})
+    ->Args({SliceCells, 125})
+    ->Args({SliceCells, 500})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

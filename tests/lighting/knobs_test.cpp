@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "lighting/dlm_model.h"
 #include "lighting/knobs.h"
 #include "scene/scene_file.h"
 
@@ -213,6 +214,29 @@ TEST(Knobs, DocsTablesAreGeneratedFromTheTable) {
         << k.name;
     EXPECT_NE(apiParametersMarkdown().find(row), std::string::npos) << k.name;
   }
+}
+
+// scatterSliceSteps (lighting/dlm_model.h; docs/benchmarks.md "Scatter-map slice length"): the
+// setting's steps where scatter_slice_cells is 0 (the default) or asks for less; else the least
+// even number of steps whose slice spans that fraction of the scatter cell's narrower side; an
+// effective value given back is kept (the GPU builder reports it, the CPU reference reapplies it).
+TEST(DlmModel, ScatterSliceSpansTheAskedFractionOfTheCell) {
+  LightSpace ls;
+  ls.extent_m = {400e3, 300e3};
+  ls.texels = {100, 100};  // texels 4 km x 3 km: cells of 4 texels 16 km x 12 km
+  DlmSettings s;
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 4) << "the default is the steps alone";
+  s.scatter_slice_cells = 0.5;  // 6 km of 125 m steps: 48
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 48);
+  s.scatter_slice_cells = 0.13;  // 1.56 km: 12.48 steps -> 14, the next even number
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 14);
+  s.scatter_slice_cells = 0.01;  // 120 m: less than the 4 steps asked for
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 4);
+  s.scatter_slice_cells = 0.5;
+  s.scatter_slice_steps = scatterSliceSteps(s, ls, 125.0);
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 48) << "idempotent";
+  s.scatter_slice_steps = 64;
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 64) << "never shorter than the steps asked for";
 }
 
 }  // namespace

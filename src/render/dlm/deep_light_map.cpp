@@ -292,7 +292,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     // value is in settings().scatter_slice_steps.
     GLint max3D = 0;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
-    int sliceSteps = settings.scatter_slice_steps;
+    int sliceSteps = lighting::scatterSliceSteps(settings, light_space_, step_m_);
     while ((steps_ + sliceSteps - 1) / sliceSteps + 1 > max3D) sliceSteps += 2;
     settings_.scatter_slice_steps = sliceSteps;
     const glm::ivec3 cells(scatterCells, (steps_ + sliceSteps - 1) / sliceSteps + 1);
