@@ -2,7 +2,8 @@
 // Deep light map pass 2: the low-resolution light-aligned scatter map (Nes 2008 §5.3.3), built
 // slice by slice along the light — one dispatch per slice, each reading the previous one:
 //   P_k = P_{k−1}·[T + (1 − T)·CP(θ/4)] + avg4(I_c + P)_{k−1}·(1 − T)·(CP(θ/2) − CP(θ/4)),
-// T = exp(−β·L_slice) with β at the cell's centre between the two slices, I_c the pass-1 DLM
+// T = exp(−β̄·L_slice) with β̄ the mean of u_slice_samples samples evenly spaced between the two
+// slices' centres (one, at the middle, for Nes' short slices; lighting::scatterSliceSamples), I_c the pass-1 DLM
 // (central light) at the four neighbouring cells of the previous slice. Neighbours outside the
 // map see unshadowed sunlight (I_c = 1, P = 0). See lighting/dlm_model.h.
 #include "dlm/volume.glsl"
@@ -14,6 +15,7 @@ layout(r32f, binding = IMAGE_SCATTER_MAP) uniform image3D u_scatter_img;
 uniform ivec2 u_cells;
 uniform float u_slice_m;
 uniform int u_slice;                 // k ≥ 1; slice 0 is cleared to 0
+uniform int u_slice_samples;         // β samples per slice (lighting::scatterSliceSamples)
 uniform float u_central_fraction;    // CP(θ/4)
 uniform float u_optical_depth_scale; // f(light): height exaggeration keeps the data's τ (VolumeFrame)
 uniform float u_peripheral_fraction; // CP(θ/2) − CP(θ/4)
@@ -30,10 +32,14 @@ void main() {
   ivec2 cell = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(cell, u_cells))) return;
   int k = u_slice;
-  vec3 mid = worldFromLight(vec3(cellCentre(cell), float(k) * u_slice_m));
   // (the detail's noise prefiltered to a scatter cell: detail_field.glsl detailNoiseLod)
   vec2 cellSize = u_ls_texel_m * vec2(u_ls_texels) / vec2(u_cells);
-  vec2 beta = extinctionAtFootprint(mid, min(cellSize.x, cellSize.y));
+  vec2 beta = vec2(0.0);
+  for (int j = 0; j < u_slice_samples; ++j) {
+    float at = float(k) + (float(j) + 0.5) / float(u_slice_samples) - 0.5;  // k for one sample
+    beta += extinctionAtFootprint(worldFromLight(vec3(cellCentre(cell), at * u_slice_m)), min(cellSize.x, cellSize.y));
+  }
+  beta /= float(u_slice_samples);
   float T = exp(-(beta.x + beta.y) * u_optical_depth_scale * u_slice_m);
   float Pprev = imageLoad(u_scatter_img, ivec3(cell, k - 1)).r;
   float P = Pprev;

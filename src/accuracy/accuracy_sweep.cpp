@@ -161,6 +161,9 @@ std::vector<Variant> sweepVariants(bool quick) {
     off.dlm.peripheral = false;
     out.push_back(off);
   }
+  // The scatter map's slice length as a fraction of its cell width (issue 19; 0: 4 steps Δ).
+  model("scatter_slice_cells", quick ? L{0.0} : L{0.0, 0.125, 0.5, 1.0},  // 0.5: the default, for --knobs
+        [](lighting::DlmSettings& d, double x) { d.scatter_slice_cells = x; });
   model("forward_angle_deg", quick ? L{30.0} : L{10.0, 30.0, 40.0},
         [](lighting::DlmSettings& d, double x) { d.forward_angle_deg = x; });
   for (std::string_view p : lighting::kPresetNames) out.push_back(variantOf(lighting::qualityPreset(p)));

@@ -44,6 +44,7 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const volume::Volum
   const int sliceSteps = lighting::scatterSliceSteps(settings, ls_, step_m);  // as the GPU builder
   cells_ = {(nu + ds - 1) / ds, (nv + ds - 1) / ds, (steps + sliceSteps - 1) / sliceSteps + 1};
   slice_m_ = step_m * sliceSteps;
+  const int sliceSamples = lighting::scatterSliceSamples(sliceSteps);
   scatter_.assign(std::size_t(cells_.x) * std::size_t(cells_.y) * std::size_t(cells_.z), 0.0);
   const glm::dvec2 extent = ls_.texelSize_m() * glm::dvec2(ls_.texels);
   auto cellCentre = [&](int x, int y) { return (glm::dvec2(x, y) + 0.5) * extent / glm::dvec2(cells_.x, cells_.y); };
@@ -60,13 +61,20 @@ DlmReference::DlmReference(const ExtinctionVolumes& volumes, const volume::Volum
         return centralAtLight(p.x, p.y, sPrev) + at(xx, yy, k - 1);
       };
       const glm::dvec2 p = cellCentre(x, y);
-      const volume::ExtinctionSample e = sampler.at(ls_.worldFromLight({p.x, p.y, double(k) * slice_m_}));
-      const double beta = f * e.total();
+      // β averaged over the slice as the GPU's pass 2 (glsl/dlm/scatter.comp; one sample at k·S
+      // for short slices).
+      double ice = 0.0, total = 0.0;
+      for (int j = 0; j < sliceSamples; ++j) {
+        const double z = (double(k) + (double(j) + 0.5) / double(sliceSamples) - 0.5) * slice_m_;
+        const volume::ExtinctionSample e = sampler.at(ls_.worldFromLight({p.x, p.y, z}));
+        ice += e.ice_per_m;
+        total += e.total();
+      }
+      const double beta = f * total / double(sliceSamples);
       const double T = std::exp(-beta * slice_m_);
       const double around = 0.25 * (lightAt(x + 1, y) + lightAt(x - 1, y) + lightAt(x, y + 1) + lightAt(x, y - 1));
-      at(x, y, k) =
-          at(x, y, k - 1) * lighting::centralStepFactor(T, cp.centralAt(beta > 0.0 ? f * e.ice_per_m / beta : 0.0)) +
-          around * (1.0 - T) * cp.peripheral;
+      at(x, y, k) = at(x, y, k - 1) * lighting::centralStepFactor(T, cp.centralAt(total > 0.0 ? ice / total : 0.0)) +
+                    around * (1.0 - T) * cp.peripheral;
     });
   }
   // Pass 3: final = central + P (trilinear in the scatter map).

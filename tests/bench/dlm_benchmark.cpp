@@ -75,6 +75,7 @@ Fixture& fixture() {
     best.step_voxels = 0.125;
     best.texel_voxels = 0.5;
     best.max_nodes = 256;
+    best.scatter_slice_cells = 0.0;  // the finest slices (4 steps)
     render::DeepLightMap dlm;
     dlm.build(*fx->textures, fx->light, best);
     fx->bestMap = dlm.readBack();
@@ -104,7 +105,10 @@ void BM_DlmBuild(benchmark::State& state) {
     case NoScatter: s.peripheral = false; break;
     case ScatterCoarse: s.scatter_downsample = int(value); break;
     case Nodes: s.max_nodes = int(value); break;
-    case ScatterSlices: s.scatter_slice_steps = int(value); break;
+    case ScatterSlices:  // the steps alone (scatter_slice_cells off)
+      s.scatter_slice_steps = int(value);
+      s.scatter_slice_cells = 0.0;
+      break;
     case SliceCells: s.scatter_slice_cells = value; break;
   }
   render::DeepLightMap dlm;
@@ -162,8 +166,10 @@ BENCHMARK(BM_DlmBuild)
     ->Args({ScatterSlices, 16000})
     ->Args({ScatterSlices, 64000})
     ->Args({ScatterSlices, 256000})
+    ->Args({SliceCells, 0})
     ->Args({SliceCells, 125})
-    ->Args({SliceCells, 500})
+    ->Args({SliceCells, 250})
+    ->Args({SliceCells, 1000})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

@@ -217,7 +217,7 @@ TEST(Knobs, DocsTablesAreGeneratedFromTheTable) {
 }
 
 // scatterSliceSteps (lighting/dlm_model.h; docs/benchmarks.md "Scatter-map slice length"): the
-// setting's steps where scatter_slice_cells is 0 (the default) or asks for less; else the least
+// setting's steps where scatter_slice_cells is 0 or asks for less; else the least
 // even number of steps whose slice spans that fraction of the scatter cell's narrower side; an
 // effective value given back is kept (the GPU builder reports it, the CPU reference reapplies it).
 TEST(DlmModel, ScatterSliceSpansTheAskedFractionOfTheCell) {
@@ -225,9 +225,9 @@ TEST(DlmModel, ScatterSliceSpansTheAskedFractionOfTheCell) {
   ls.extent_m = {400e3, 300e3};
   ls.texels = {100, 100};  // texels 4 km x 3 km: cells of 4 texels 16 km x 12 km
   DlmSettings s;
-  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 4) << "the default is the steps alone";
-  s.scatter_slice_cells = 0.5;  // 6 km of 125 m steps: 48
-  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 48);
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 48) << "the default, half a cell: 6 km of 125 m steps";
+  s.scatter_slice_cells = 0.0;
+  EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 4) << "0: the steps alone";
   s.scatter_slice_cells = 0.13;  // 1.56 km: 12.48 steps -> 14, the next even number
   EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 14);
   s.scatter_slice_cells = 0.01;  // 120 m: less than the 4 steps asked for
@@ -237,6 +237,12 @@ TEST(DlmModel, ScatterSliceSpansTheAskedFractionOfTheCell) {
   EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 48) << "idempotent";
   s.scatter_slice_steps = 64;
   EXPECT_EQ(scatterSliceSteps(s, ls, 125.0), 64) << "never shorter than the steps asked for";
+  // One β sample per 16 steps of a slice (the slice's mean β), 1 for Nes' short slices, 64 at most.
+  EXPECT_EQ(scatterSliceSamples(4), 1);
+  EXPECT_EQ(scatterSliceSamples(16), 1);
+  EXPECT_EQ(scatterSliceSamples(18), 2);
+  EXPECT_EQ(scatterSliceSamples(48), 3);
+  EXPECT_EQ(scatterSliceSamples(1 << 20), 64);
 }
 
 }  // namespace

@@ -309,6 +309,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     bindForLookup();
     scatter_.set("u_cells", glm::ivec2(cells));
     scatter_.set("u_slice_m", float(sliceM));
+    scatter_.set("u_slice_samples", lighting::scatterSliceSamples(sliceSteps));
     scatter_.set("u_central_fraction", float(fractions_.central));
     scatter_.set("u_peripheral_fraction", float(fractions_.peripheral));
     scatter_.set("u_optical_depth_scale", float(depth_scale_));
