@@ -44,6 +44,7 @@
 #include "render/gl/context.h"
 #include "scene/animation_spec.h"
 #include "scene/colour_output.h"
+#include "scene/image_codec.h"
 #include "scene/output_image.h"
 #include "scene/passes.h"
 #include "scene/scene_file.h"
@@ -334,6 +335,7 @@ int runAnimate(const AnimateOptions& o) {
   if (!o.video.empty() && std::find(exts.begin(), exts.end(), ".png") == exts.end()) {
     throw UsageError("--video encodes the PNG sequence: add png to --format");
   }
+  scene::image_codec::modulePath(o.output_dir);  // a missing image codec stops the run before frame 0
   const auto dataset = quick_dataset       ? quick_dataset
                        : o.data.size() > 1 ? engine::Dataset::openSeries(o.data)
                                            : engine::Dataset::open(s.data->path);

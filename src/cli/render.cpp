@@ -14,6 +14,7 @@
 #include "engine/dataset.h"
 #include "engine/scene_render.h"
 #include "render/gl/context.h"
+#include "scene/image_codec.h"
 #include "scene/passes.h"
 #include "scene/scene_file.h"
 
@@ -79,6 +80,10 @@ int runRender(const RenderOptions& o) {
   if (s.output.paths.empty() && o.layer.empty() && s.output.pass_files.empty()) {
     throw UsageError("no output: give -o FILE.png/.exr or output.paths in the scene");
   }
+  // Before the render: a missing image codec module is an error now, not after the frame.
+  scene::image_codec::modulePath(!s.output.paths.empty() ? s.output.paths.front()
+                                 : !o.layer.empty()      ? o.layer
+                                                         : s.output.pass_files.front().second);
   if (!dataset) dataset = engine::Dataset::open(s.data->path);
 
   auto ctx = gl::createHeadlessContext(o.gl);

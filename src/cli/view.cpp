@@ -11,7 +11,6 @@
 // --screenshot PATH writes the window's last frame (8-bit sRGB PNG, what the window shows).
 #define GLFW_INCLUDE_NONE  // GL comes from the loader (render/gl/gl.h)
 #include <GLFW/glfw3.h>
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
@@ -36,6 +35,7 @@
 #include "render/gl/context.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
+#include "scene/image_codec.h"
 #include "scene/scene_file.h"
 
 namespace nph::cli {
@@ -238,16 +238,16 @@ class Viewer {
     glReadBuffer(GL_BACK);
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
     if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
-    auto out = OIIO::ImageOutput::create(path);
-    OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::UINT8);
-    const auto row = static_cast<OIIO::stride_t>(w) * 4;
-    // GL rows go bottom-up: start at the last row and step backwards.
-    if (!out || !out->open(path, spec) ||
-        !out->write_image(OIIO::TypeDesc::UINT8, px.data() + (std::size_t(h) - 1) * std::size_t(row), OIIO::AutoStride,
-                          -row) ||
-        !out->close()) {
-      throw IoError(fmt::format("{}: cannot write the screenshot: {}", path, out ? out->geterror() : OIIO::geterror()));
-    }
+    // GL rows go bottom-up: flip them, then write through the image codec module (loaded now).
+    const std::size_t row = std::size_t(w) * 4;
+    std::vector<unsigned char> flipped(px.size());
+    for (int y = 0; y < h; ++y)
+      std::copy_n(px.data() + std::size_t(h - 1 - y) * row, row, flipped.data() + std::size_t(y) * row);
+    scene::image_codec::WriteSpec spec;
+    spec.width = w;
+    spec.height = h;
+    spec.channels = 4;
+    scene::image_codec::write(path, path, spec, flipped.data(), scene::image_codec::Type::UInt8);
     log::info("wrote {} ({}x{})", path, w, h);
   }
 

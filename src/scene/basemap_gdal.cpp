@@ -10,7 +10,6 @@
 // GDAL's approximating transformer wraps the chain, as gdalwarp does, so PROJ runs only where a
 // row is not linear to within kApproxError_px (the hand-written code this replaces projected
 // 8-pixel cell corners for the same reason: PROJ costs ~0.3 µs a point).
-#include <OpenImageIO/imageio.h>
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
@@ -34,6 +33,7 @@
 #include "core/log.h"
 #include "scene/basemap.h"
 #include "scene/gdal_support.h"
+#include "scene/image_codec.h"
 
 namespace nph::scene {
 using namespace gdal_detail;
@@ -194,27 +194,18 @@ void describe(BasemapRaster::Impl& impl) {
 /// The pre-GDAL reader, for what GDAL cannot open: linear RGB of a float image OpenImageIO reads
 /// (EXR, HDR), or nullopt (integer images are GDAL's: PNG, JPEG, TIFF).
 std::optional<LinearRgbImage> loadWithOpenImageIo(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    (void)OIIO::geterror();
-    return std::nullopt;
-  }
-  const OIIO::ImageSpec spec = in->spec();
-  const bool linear = spec.format.basetype == OIIO::TypeDesc::HALF || spec.format.basetype == OIIO::TypeDesc::FLOAT ||
-                      spec.format.basetype == OIIO::TypeDesc::DOUBLE;
-  const int w = spec.width, h = spec.height, nc = spec.nchannels;
-  if (!linear || nc < 1 || nc > 4 || spec.depth > 1) return std::nullopt;
-  limits::requireProductWithin(path, "basemap width x height",
-                               {std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))},
-                               limits::kMaxBasemapPixels, "limits::kMaxBasemapPixels; downsample the image");
-  const std::size_t n = std::size_t(w) * std::size_t(h);
-  std::vector<float> raw(n * std::size_t(nc));
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data())) {
-    throw InputError(fmt::format("{}: cannot decode the basemap image: {}", path, in->geterror()));
-  }
-  LinearRgbImage img{w, h, std::vector<float>(n * 3)};
+  // Through the image codec module (scene/image_codec.h): OpenImageIO is loaded only here.
+  auto raw = image_codec::readFloat(path, [&](int w, int h) {
+    limits::requireProductWithin(path, "basemap width x height",
+                                 {std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))},
+                                 limits::kMaxBasemapPixels, "limits::kMaxBasemapPixels; downsample the image");
+  });
+  if (!raw) return std::nullopt;
+  const std::size_t n = std::size_t(raw->width) * std::size_t(raw->height);
+  const std::size_t nc = std::size_t(raw->channels);
+  LinearRgbImage img{raw->width, raw->height, std::vector<float>(n * 3)};
   for (std::size_t p = 0; p < n; ++p) {
-    for (std::size_t c = 0; c < 3; ++c) img.rgb[p * 3 + c] = raw[p * std::size_t(nc) + (nc >= 3 ? c : 0)];
+    for (std::size_t c = 0; c < 3; ++c) img.rgb[p * 3 + c] = raw->pixels[p * nc + (nc >= 3 ? c : 0)];
   }
   return img;
 }

@@ -1,6 +1,5 @@
 #include "scene/output_image.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -15,6 +14,7 @@
 #include "core/temp_files.h"
 #include "scene/colour_output.h"
 #include "scene/display_transform.h"
+#include "scene/image_codec.h"
 
 namespace nph::scene {
 
@@ -61,12 +61,12 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-/// Writes through OIIO to `<dir>/.<name>.partial-<pid>-XXXXXX<ext>` and renames onto `path`.
-/// The temporary is created exclusively first (temp_files.h): OIIO opens its file with
-/// O_CREAT|O_TRUNC, which followed a symlink planted under the old predictable name and
-/// overwrote another file.
-void writeAtomically(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels,
-                     OIIO::TypeDesc pixelType) {
+/// Writes through OpenImageIO (the image codec module, scene/image_codec.h) to
+/// `<dir>/.<name>.partial-<pid>-XXXXXX<ext>` and renames onto `path`. The temporary is created
+/// exclusively first (temp_files.h): OIIO opens its file with O_CREAT|O_TRUNC, which followed a
+/// symlink planted under the old predictable name and overwrote another file.
+void writeAtomically(const std::string& path, const image_codec::WriteSpec& spec, const void* pixels,
+                     image_codec::Type pixelType) {
   const fs::path final(path);
   const fs::path dir = final.has_parent_path() ? final.parent_path() : fs::path(".");
   temp_files::removeStale(dir, ".partial-");
@@ -80,19 +80,28 @@ void writeAtomically(const std::string& path, const OIIO::ImageSpec& spec, const
     fs::remove(tmp, ec);
     throw IoError(fmt::format("{}: cannot write the image: {}", path, why));
   };
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) fail(OIIO::geterror());
-  if (!out->open(tmp.string(), spec)) fail(out->geterror());
-  if (!out->write_image(pixelType, pixels)) {
-    const std::string why = out->geterror();
-    out->close();
-    fail(why);
+  try {
+    image_codec::write(tmp.string(), path, spec, pixels, pixelType);
+  } catch (const IoError&) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
   }
-  if (!out->close()) fail(out->geterror());
-  out.reset();
   std::error_code ec;
   fs::rename(tmp, final, ec);
   if (ec) fail(ec.message());
+}
+/// 8/16-bit RGBA with straight alpha: our data is straight already, so OIIO must not divide by
+/// alpha again (oiio:UnassociatedAlpha).
+image_codec::WriteSpec rgbaSpec(const RgbaImage& img, image_codec::Type type) {
+  image_codec::WriteSpec spec;
+  spec.width = img.width;
+  spec.height = img.height;
+  spec.channels = 4;
+  spec.format = type;
+  spec.alpha_channel = 3;
+  spec.integers = {{"oiio:UnassociatedAlpha", 1}};
+  return spec;
 }
 }  // namespace
 
@@ -180,29 +189,22 @@ void writePng(const RgbaImage& img, const std::string& path, const ImageOutputOp
     const auto display = DisplayOutput::open(o.ocio_config, o.display, o.view);
     const std::vector<float> v = encodeDisplay(img, o);
     const bool wide = display->hdr();  // PQ / HLG: 8 bits would band; PNG has 16
-    OIIO::ImageSpec spec(img.width, img.height, 4, wide ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
-    spec.alpha_channel = 3;
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    spec.attribute("oiio:ColorSpace", display->display() + " / " + display->view());
-    spec.attribute("Software", "nephele");
+    image_codec::WriteSpec spec = rgbaSpec(img, wide ? image_codec::Type::UInt16 : image_codec::Type::UInt8);
+    spec.text = {{"oiio:ColorSpace", display->display() + " / " + display->view()}, {"Software", "nephele"}};
     const float maxCode = wide ? 65535.0f : 255.0f;
     if (wide) {
       std::vector<std::uint16_t> codes(v.size());
       for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint16_t>(std::lround(v[i] * maxCode));
-      return writeAtomically(path, spec, codes.data(), OIIO::TypeDesc::UINT16);
+      return writeAtomically(path, spec, codes.data(), image_codec::Type::UInt16);
     }
     std::vector<std::uint8_t> codes(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) codes[i] = static_cast<std::uint8_t>(std::lround(v[i] * maxCode));
-    return writeAtomically(path, spec, codes.data(), OIIO::TypeDesc::UINT8);
+    return writeAtomically(path, spec, codes.data(), image_codec::Type::UInt8);
   }
   const std::vector<std::uint8_t> codes = encodeSrgb8(img, o);
-  OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
-  spec.alpha_channel = 3;
-  // Our data is straight already: tell OIIO not to divide by alpha again.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  spec.attribute("oiio:ColorSpace", img.content == ImageContent::Data ? "Linear" : "sRGB");
-  spec.attribute("Software", "nephele");
-  writeAtomically(path, spec, codes.data(), OIIO::TypeDesc::UINT8);
+  image_codec::WriteSpec spec = rgbaSpec(img, image_codec::Type::UInt8);
+  spec.text = {{"oiio:ColorSpace", img.content == ImageContent::Data ? "Linear" : "sRGB"}, {"Software", "nephele"}};
+  writeAtomically(path, spec, codes.data(), image_codec::Type::UInt8);
 }
 
 void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOptions& o) {
@@ -211,7 +213,7 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
   // layer's `name.C` (half). One part: Nuke, Fusion, Resolve and OIIO split it by the prefixes.
   struct Channel {
     std::string name;
-    OIIO::TypeDesc type;
+    image_codec::Type type;
     const float* src;  // first value
     std::size_t stride;
     float scale;
@@ -229,15 +231,15 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
   if (!img.rgba.empty()) {
     for (int c = 0; c < 4; ++c) {
       const std::string name(1, "RGBA"[c]);
-      channels.push_back({name, OIIO::TypeDesc::HALF, img.rgba.data() + c, 4,
+      channels.push_back({name, image_codec::Type::Half, img.rgba.data() + c, 4,
                           c < 3 && img.content != ImageContent::Data ? radianceGain(name) : 1.0f});
     }
   }
-  if (depth) channels.push_back({"Z", OIIO::TypeDesc::FLOAT, img.depth_m.data(), 1, 1.0f});
+  if (depth) channels.push_back({"Z", image_codec::Type::Float, img.depth_m.data(), 1, 1.0f});
   for (const ImageLayer& l : img.layers) {
     for (std::size_t c = 0; c < l.channels.size(); ++c) {
       const bool alpha = l.channels[c] == "A";
-      channels.push_back({l.name + "." + l.channels[c], OIIO::TypeDesc::HALF, l.values.data() + c, l.channels.size(),
+      channels.push_back({l.name + "." + l.channels[c], image_codec::Type::Half, l.values.data() + c, l.channels.size(),
                           l.radiance && !alpha ? radianceGain(l.channels[c]) : 1.0f});
     }
   }
@@ -247,23 +249,23 @@ void writeExr(const RgbaImage& img, const std::string& path, const ImageOutputOp
   for (std::size_t p = 0; p < n; ++p) {
     for (std::size_t c = 0; c < nc; ++c) px[p * nc + c] = channels[c].scale * channels[c].src[p * channels[c].stride];
   }
-  OIIO::ImageSpec spec(img.width, img.height, int(nc), OIIO::TypeDesc::HALF);
-  spec.channelnames.clear();
-  spec.channelformats.clear();
-  bool mixed = false;
-  for (const Channel& c : channels) {
-    spec.channelnames.push_back(c.name);
-    spec.channelformats.push_back(c.type);
-    mixed = mixed || c.type != OIIO::TypeDesc::HALF;
-  }
-  if (!mixed) spec.channelformats.clear();
+  image_codec::WriteSpec spec;
+  spec.width = img.width;
+  spec.height = img.height;
+  spec.channels = int(nc);
+  spec.format = image_codec::Type::Half;
   spec.alpha_channel = img.rgba.empty() ? -1 : 3;
   spec.z_channel = depth ? (img.rgba.empty() ? 0 : 4) : -1;
-  spec.attribute("compression", "zip");
-  spec.attribute("oiio:ColorSpace", "Linear");
-  spec.attribute("Software", "nephele");
-  if (!o.date_time.empty()) spec.attribute("DateTime", o.date_time);
-  writeAtomically(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
+  spec.text = {{"compression", "zip"}, {"oiio:ColorSpace", "Linear"}, {"Software", "nephele"}};
+  bool mixed = false;
+  for (const Channel& c : channels) {
+    spec.channel_names.push_back(c.name);
+    spec.channel_formats.push_back(c.type);
+    mixed = mixed || c.type != image_codec::Type::Half;
+  }
+  if (!mixed) spec.channel_formats.clear();
+  if (!o.date_time.empty()) spec.text.emplace_back("DateTime", o.date_time);
+  writeAtomically(path, spec, px.data(), image_codec::Type::Float);
 }
 
 void writeImage(const RgbaImage& img, const std::string& path, const ImageOutputOptions& o) {

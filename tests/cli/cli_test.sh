@@ -318,6 +318,34 @@ XML
     run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/none-out.png" --basemap "$out/missing.tif"
     expect_rc 1; expect_err "missing.tif"
     ;;
+  image-codec)  # OpenImageIO only in the module the first image write loads (scene/image_codec.h, issue 19)
+    module=${NEPHELE_TEST_IMAGE_CODEC:?the test sets NEPHELE_TEST_IMAGE_CODEC}
+    readelf -d "$nephele" | grep NEEDED >"$out/needed" || fail "readelf -d of nephele failed"
+    ! grep -q OpenImageIO "$out/needed" || fail "nephele links OpenImageIO: $(grep OpenImageIO "$out/needed")"
+    readelf -d "$module" | grep -q 'NEEDED.*OpenImageIO' || fail "the module $module does not link OpenImageIO"
+    # Nothing that writes no image needs the module: info runs with it missing.
+    NEPHELE_IMAGE_CODEC=/nonexistent/codec.so run "$nephele" info "$data/wrfout_lambert_thompson.nc"
+    expect_rc 0
+    # A render with the module missing: a clear error naming the image and the path tried, and the
+    # image already there is kept as it was.
+    printf 'earlier frame' >"$out/kept.png"
+    NEPHELE_IMAGE_CODEC=/nonexistent/codec.so run "$nephele" render "$data/wrfout_lambert_thompson.nc" \
+      -o "$out/kept.png" --width 32 --height 18
+    expect_rc 1; expect_err "kept.png: cannot write or read images"; expect_err "/nonexistent/codec.so"
+    expect_err "NEPHELE_IMAGE_CODEC"
+    ! grep -q "ray cast" "$out/stderr" || fail "the frame was rendered before the missing module was found"
+    # animate: stopped before frame 0, nothing written
+    NEPHELE_IMAGE_CODEC=/nonexistent/codec.so run "$nephele" animate "$data/wrfout_lambert_thompson.nc" \
+      -o "$out/frames" --width 32 --height 18
+    expect_rc 1; expect_err "cannot write or read images"
+    [ -z "$(ls -A "$out/frames" 2>/dev/null)" ] || fail "animate wrote frames: $(ls -A "$out/frames")"
+    [ "$(cat "$out/kept.png")" = "earlier frame" ] || fail "the image already written was changed"
+    ls -a "$out" | grep -q partial && fail "a partial file was left: $(ls -a "$out")"
+    # With the module: the same render writes the PNG.
+    run "$nephele" render "$data/wrfout_lambert_thompson.nc" -o "$out/kept.png" --width 32 --height 18
+    expect_rc 0
+    oiiotool --info "$out/kept.png" | grep -q "32 x  *18" || fail "the render wrote no 32 x 18 PNG"
+    ;;
   dem)  # --dem FILE: a user DEM through GDAL (docs/terrain.md "A user DEM"); a DEM in centimetres is refused
     # ESRI ASCII grids (GDAL's AAIGrid) in EPSG:4326 over the storm's region: 1500 m everywhere, and
     # the same in centimetres; one without its .prj (no CRS).

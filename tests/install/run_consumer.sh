@@ -10,6 +10,16 @@ cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
 headers=$(cd "$work/prefix/include" && find . -type f | sort)
 [ "$headers" = "./nephele/nephele.h" ] || { echo "installed headers other than nephele/nephele.h:"; echo "$headers"; exit 1; }
 if find "$work/prefix/lib" -name '*.a' | grep -q .; then echo "static libraries installed:"; find "$work/prefix/lib" -name '*.a'; exit 1; fi
+# OpenImageIO behind the image codec module (src/scene/image_codec.h): installed in <libdir>/nephele,
+# and the installed nephele writes its images through that one (not the build tree's).
+module=$(find "$work/prefix" -name nephele_image_codec.so -path '*/nephele/*')
+[ -n "$module" ] || { echo "nephele_image_codec.so not installed under <libdir>/nephele"; exit 1; }
+"$build/data_tools/nephele-gen" wrf --size tiny --times 1 -o "$work/storm.nc" > /dev/null
+NEPHELE_LOG=debug "$work/prefix/bin/nephele" render "$work/storm.nc" -o "$work/storm.png" --width 32 --height 18 \
+  > "$work/render.log" 2>&1 || { cat "$work/render.log"; exit 1; }
+grep -q "image codec: $module" "$work/render.log" ||
+  { echo "the installed nephele did not use the installed module $module:"; grep "image codec" "$work/render.log"; exit 1; }
+[ -s "$work/storm.png" ] || { echo "the installed nephele wrote no image"; exit 1; }
 cmake -S "$src/tests/install/consumer" -B "$work/build" -G Ninja -DCMAKE_PREFIX_PATH="$work/prefix" \
       -DCMAKE_BUILD_TYPE=Release > "$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/build" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
