@@ -40,6 +40,10 @@ struct RenderOptions {
 int runRender(const RenderOptions& o) {
   std::shared_ptr<const engine::Dataset> dataset;
   scene::SceneDescription s;
+  // A missing image codec (scene/image_codec.h) stops the command before any work, even before a
+  // quick look converts the data to frame it; a scene file's own outputs are checked once read.
+  if (!o.outputs.empty() || !o.layer.empty())
+    scene::image_codec::modulePath(!o.outputs.empty() ? o.outputs.front() : o.layer);
   if (isDataFile(o.scene)) {
     // Quick look: a scene written for the data; --print-scene shows it for editing.
     QuickLook q = makeQuickLook({o.scene, o.outputs, o.width > 0 ? o.width : 1920, o.height > 0 ? o.height : 1080});

@@ -334,6 +334,7 @@ XML
     expect_rc 1; expect_err "kept.png: cannot write or read images"; expect_err "/nonexistent/codec.so"
     expect_err "NEPHELE_IMAGE_CODEC"
     ! grep -q "ray cast" "$out/stderr" || fail "the frame was rendered before the missing module was found"
+    ! grep -q "converting" "$out/stderr" || fail "the quick look converted the data before the module was checked"
     # animate: stopped before frame 0, nothing written
     NEPHELE_IMAGE_CODEC=/nonexistent/codec.so run "$nephele" animate "$data/wrfout_lambert_thompson.nc" \
       -o "$out/frames" --width 32 --height 18
