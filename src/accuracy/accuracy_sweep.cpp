@@ -156,7 +156,7 @@ std::vector<Variant> sweepVariants(bool quick) {
   knob("dlm_step_voxels", quick ? L{1.0} : L{2.0, 1.0, 0.25});
   knob("dlm_step_growth_max", quick ? L{4.0} : L{2.0, 4.0, 8.0});  // issue 19: the adaptive light step
   knob("dlm_epsilon", quick ? L{0.04} : L{0.08, 0.04, 0.02, 0.005, 0.0025});
-  knob("light_cache_voxels", quick ? L{0.0} : L{0.0, 1.0, 4.0});  // issue 19: 0 = the map per sample
+  knob("light_cache_voxels", quick ? L{0.0} : L{0.0, 1.0, 4.0});   // issue 19: 0 = the map per sample
   knob("multiple_scattering", quick ? L{1.0} : L{0.0, 1.0, 2.0});  // single, octaves, two_stream (issue 12)
   model("scatter_downsample", quick ? L{8.0} : L{2.0, 8.0, 16.0},
         [](lighting::DlmSettings& d, double x) { d.scatter_downsample = int(x); });
