@@ -56,6 +56,14 @@ uniform int u_step_growth;           // adaptive step: at most this many Δ per 
 // limit"); the light function beyond the cut is missing. Counted, never silent.
 layout(std430, binding = SSBO_DLM_MARCH_STATS) buffer MarchStats { uint u_marched_steps, u_run_steps, u_runs, u_cut_short; };
 uniform float u_growth_budget;       // the bound of the adaptive step's difference per ray (above)
+// The overflow rule without a read-back (issue 19, "stats read-back optional in the per-frame
+// path"; render/dlm/deep_light_map.cpp): a texel that ends over its node budget sets the group
+// count x of the next retry's indirect dispatch (slot u_retry_slot, 3 uints: x, y, z; x starts at
+// 0), so a retry that nothing needs dispatches no group and the host never waits to find out.
+// u_retry_slot < 0: the host reads the counts back instead (the default, with statistics).
+layout(std430, binding = SSBO_DLM_RETRY_ARGS) buffer RetryArgs { uint u_retry_args[]; };
+uniform int u_retry_slot;
+uniform int u_retry_groups_x;        // the retry's group count across the texels
 
 // The step factor T + (1 − T)·CP(θ/4) of one fine step Δ through extinction β.
 float stepFactor(float beta) {
@@ -270,6 +278,7 @@ void main() {
   atomicAdd(u_run_steps, uint(inRuns));
   atomicAdd(u_runs, uint(runs));
   int count = finishCompressor(c);
+  if (c.overflow && u_retry_slot >= 0) atomicMax(u_retry_args[3 * u_retry_slot], uint(u_retry_groups_x));
   imageStore(u_counts, texel, uvec4(uint(count) | (c.overflow ? DLM_COUNT_UNBOUNDED : 0u)));
   imageStore(u_texel_eps, texel, vec4(u_epsilon));
 }

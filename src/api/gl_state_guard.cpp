@@ -100,6 +100,7 @@ GlStateGuard::GlStateGuard() {
               storage_);
   glGetIntegerv(GL_UNIFORM_BUFFER_BINDING, &uniform_buffer_);
   saveIndexed(GL_UNIFORM_BUFFER_BINDING, GL_UNIFORM_BUFFER_START, GL_UNIFORM_BUFFER_SIZE, uniform_);
+  glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &dispatch_indirect_buffer_);  // the DLM's retries
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer_);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer_);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
@@ -141,6 +142,7 @@ GlStateGuard::~GlStateGuard() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_framebuffer_));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_framebuffer_));
   for (const auto& p : pixel_store_) glPixelStorei(p.pname, p.value);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, GLuint(dispatch_indirect_buffer_));
   glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pack_buffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(unpack_buffer_));
   restoreIndexed(GL_SHADER_STORAGE_BUFFER, storage_);

@@ -59,7 +59,7 @@ class GlStateGuard {
   GLint storage_buffer_ = 0, uniform_buffer_ = 0;
   std::array<IndexedBuffer, kStorageBindings> storage_{};
   std::array<IndexedBuffer, kUniformBindings> uniform_{};
-  GLint pack_buffer_ = 0, unpack_buffer_ = 0;
+  GLint pack_buffer_ = 0, unpack_buffer_ = 0, dispatch_indirect_buffer_ = 0;
   std::vector<PixelStore> pixel_store_;
   GLint draw_framebuffer_ = 0, read_framebuffer_ = 0;
   std::array<GLint, 4> viewport_{};

@@ -4,10 +4,12 @@
 
 #include <fmt/format.h>
 
+#include "core/env.h"
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/log.h"
 #include "core/process_memory.h"
+#include "render/gl/context.h"
 
 namespace nph::engine {
 namespace {
@@ -198,11 +200,12 @@ void Session::update() {
     if (release_after_upload_) releaseFreedMemory();  // the build's freed scatter map and staging
     logMemoryPhase("deep light map build");
   }
-  stats_.dlm_builds = dlm_.stats().builds;
-  stats_.dlm_reuses = dlm_.stats().reuses;
+  stats_.dlm_builds = dlm_.builds();  // not stats(): that reads a pending build's counts back
+  stats_.dlm_reuses = dlm_.reuses();
 }
 
 render::RenderOutput Session::render(const scene::Camera& camera, const render::ReadBack& read_back) {
+  dlm_.setStatsReadBack(true);  // the frame is read back anyway: the map's passes timed, its stats logged
   update();
   auto out = renderer_.render(*textures_, dlm_, camera, sun_, render_settings_, read_back);
   stats_.raycast_ms = out.milliseconds;
@@ -211,6 +214,14 @@ render::RenderOutput Session::render(const scene::Camera& camera, const render::
 }
 
 void Session::dispatch(const render::ViewRays& view, render::HostDepth depth) {
+  // The per-frame path (`nephele view`, the plugin API): on a GPU a map build never waits for it to
+  // read its statistics back, unless they are logged (issue 19 item 2; DeepLightMap::setStatsReadBack).
+  // A software rasteriser keeps them: there the CPU has done the work by the time it would read,
+  // the empty indirect retries cost more than the read (docs/benchmarks.md "DLM statistics
+  // read-back"), and its loop limiter is what the read-back warns about.
+  // NEPHELE_DLM_STATS=on|off overrides the choice (tests run the GPU's path on llvmpipe with off).
+  const auto forced = env::get("NEPHELE_DLM_STATS");
+  dlm_.setStatsReadBack(forced ? *forced != "off" : log::threshold() >= log::Level::Debug || gl::softwareRasteriser());
   update();
   stats_.raycast_ms = renderer_.dispatch(*textures_, dlm_, view, sun_, render_settings_, depth, /*finish=*/false);
 }

@@ -239,6 +239,8 @@ static void dirty_host_state(GLuint program, GLuint fb) {
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, buffers[3]);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, buffers[1]);
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffers[2]);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffers[0]); /* the DLM's overflow retries bind one */
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, buffers[1]);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 8);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 7);
   glPixelStorei(GL_UNPACK_SKIP_ROWS, 1);

@@ -8,7 +8,7 @@
 
 #define UNITS 32 /* texture and sampler units checked: as many as the plugin saves (32) */
 #define IMAGE_UNITS 8
-#define SSBO_BINDINGS 8
+#define SSBO_BINDINGS 12
 
 typedef struct query {
   const char* name;
@@ -28,6 +28,7 @@ static const query kPlain[] = {
     Q(GL_UNIFORM_BUFFER_BINDING, 1),
     Q(GL_PIXEL_PACK_BUFFER_BINDING, 1),
     Q(GL_PIXEL_UNPACK_BUFFER_BINDING, 1),
+    Q(GL_DISPATCH_INDIRECT_BUFFER_BINDING, 1),
     Q(GL_DRAW_FRAMEBUFFER_BINDING, 1),
     Q(GL_READ_FRAMEBUFFER_BINDING, 1),
     Q(GL_RENDERBUFFER_BINDING, 1),

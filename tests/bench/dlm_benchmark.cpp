@@ -10,7 +10,9 @@
 // crossings in one cell against one SSBO addition per crossing (the sixteenth session's), interleaved.
 // Run: make bench, or build/tests/bench/nephele_dlm_benchmarks
 #include <benchmark/benchmark.h>
+
 #include <fmt/format.h>
+#include "bench_stats.h"
 
 #include <algorithm>
 #include <chrono>
@@ -173,6 +175,53 @@ BENCHMARK(BM_DlmBuild)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
+
+// The per-frame path's build without the statistics read back (issue 19 item 2;
+// DeepLightMap::setStatsReadBack(false): overflow retries dispatched indirectly, no pass timed,
+// no counts read) against the default build, interleaved in one run with the order alternating,
+// each timed to a glFinish so both are "the map is ready". Medians of the rounds and their ratio
+// (off / on). Arg: ε in 1e-6 (the default 5e-3 overflows nothing; 1e-4 makes the retries work).
+void BM_DlmStatsReadBack(benchmark::State& state) {
+  Fixture& fx = fixture();
+  fx.ctx->makeCurrent();
+  lighting::DlmSettings s;
+  s.epsilon = double(state.range(0)) * 1e-6;
+  render::DeepLightMap on, off;
+  off.setStatsReadBack(false);
+  std::vector<double> tOn, tOff;
+  int round = 0;
+  for (auto _ : state) {
+    double roundMs = 0.0;
+    for (int i = 0; i < 2; ++i) {
+      const bool readBack = (i + round) % 2 == 0;
+      render::DeepLightMap& dlm = readBack ? on : off;
+      s.max_texels = s.max_texels == 1024 ? 1025 : 1024;  // a new key, the same map: a rebuild
+      glFinish();
+      const auto t0 = std::chrono::steady_clock::now();
+      dlm.build(*fx.textures, fx.light, s);
+      glFinish();
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      (readBack ? tOn : tOff).push_back(ms);
+      roundMs += ms;
+    }
+    state.SetIterationTime(roundMs / 1000.0);
+    ++round;
+  }
+  state.counters["read_back_ms"] = bench::median(tOn);
+  state.counters["no_read_back_ms"] = bench::median(tOff);
+  state.counters["ratio"] = bench::median(tOff) / std::max(bench::median(tOn), 1e-9);
+  state.counters["read_backs_in_build"] =
+      double(on.stats().build_read_backs) / double(std::max<std::size_t>(1, tOn.size()));
+  state.counters["overflowed_texels"] = on.stats().overflowed_texels;
+  state.counters["same_histogram"] = on.stats().node_histogram == off.stats().node_histogram ? 1.0 : 0.0;
+}
+BENCHMARK(BM_DlmStatsReadBack)
+    ->ArgNames({"eps_x1e6"})
+    ->Args({5000})
+    ->Args({100})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(7);
 
 // Pass 1 against a plain fixed-step light volume of the same light space and step: every sample
 // stored (no compression, no empty-space skipping), as a non-DLM renderer would precompute it.

@@ -226,6 +226,63 @@ TEST_F(DlmTest, NodeBudgetOverflowIsCountedAndTheBoundKeptByDoublingEpsilon) {
   EXPECT_GT(dlm.stats().unbounded_texels, 0);
 }
 
+// The per-frame path's build without the statistics read back (issue 19 item 2;
+// DeepLightMap::setStatsReadBack): the overflow rule's retries are dispatched indirectly from the
+// march's own flags instead of from counts read on the CPU. Same settings on a scene whose texels
+// overflow the node budget in passes 1 and 3 (up to 3 doublings of ε, some texels left unbounded):
+// the map must be the same bit for bit, the statistics — read when first asked for — the same,
+// and the build itself must not have read anything back.
+TEST_F(DlmTest, WithoutStatsReadBackTheMapIsTheSame) {
+  const ExtinctionVolumes v = noisyVolume(12, 12, 12, 7);
+  const auto frame = volume::frameOf(v);
+  auto tex = render::VolumeTextures::upload(v, frame, "noise");
+  for (int doublings : {0, 3, 12}) {
+    SCOPED_TRACE(fmt::format("max_epsilon_doublings {}", doublings));
+    lighting::DlmSettings s;  // peripheral: pass 3 has its own retries
+    s.epsilon = 1e-4;
+    s.max_nodes = 6;
+    s.max_epsilon_doublings = doublings;
+    render::DeepLightMap withStats, without;
+    without.setStatsReadBack(false);
+    ASSERT_TRUE(withStats.build(tex, {0.2, 0.3, -1}, s));
+    ASSERT_TRUE(without.build(tex, {0.2, 0.3, -1}, s));
+    const std::uint64_t readBacksInBuild = without.stats().build_read_backs;  // stats() reads them now
+    EXPECT_EQ(readBacksInBuild, 0u);
+    EXPECT_GE(withStats.stats().build_read_backs, 3u + (doublings > 0 ? 1u : 0u));
+    EXPECT_TRUE(withStats.stats().timed);
+    EXPECT_FALSE(without.stats().timed);
+    const auto& a = withStats.stats();
+    const auto& b = without.stats();
+    EXPECT_GT(a.overflowed_texels, 0) << "the scene must overflow 6 nodes at eps 1e-4";
+    if (doublings == 3) {
+      EXPECT_GT(a.unbounded_texels, 0) << "some texels must stay over budget at 8 eps";
+    }
+    EXPECT_EQ(a.overflowed_texels, b.overflowed_texels);
+    EXPECT_EQ(a.unbounded_texels, b.unbounded_texels);
+    EXPECT_EQ(a.node_histogram, b.node_histogram);
+    EXPECT_EQ(a.texels_per_epsilon_doubling, b.texels_per_epsilon_doubling);
+    EXPECT_EQ(a.marched_steps, b.marched_steps);
+    EXPECT_EQ(a.runs, b.runs);
+    const auto ra = withStats.readBack();
+    const auto rb = without.readBack();
+    ASSERT_EQ(ra.nodes.size(), rb.nodes.size());
+    for (std::size_t t = 0; t < ra.nodes.size(); ++t) {
+      ASSERT_EQ(ra.nodes[t].size(), rb.nodes[t].size()) << "texel " << t;
+      for (std::size_t k = 0; k < ra.nodes[t].size(); ++k) {
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(ra.nodes[t][k].depth_m),
+                  std::bit_cast<std::uint32_t>(rb.nodes[t][k].depth_m));
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(ra.nodes[t][k].intensity),
+                  std::bit_cast<std::uint32_t>(rb.nodes[t][k].intensity));
+      }
+      EXPECT_EQ(ra.texel_epsilon[t], rb.texel_epsilon[t]) << "texel " << t;
+      EXPECT_EQ(ra.unbounded[t], rb.unbounded[t]) << "texel " << t;
+    }
+    // A second build reads the first's statistics before it clears their counts: still none inside.
+    ASSERT_TRUE(without.build(tex, {0.25, 0.3, -1}, s));
+    EXPECT_EQ(without.stats().build_read_backs, 0u);
+  }
+}
+
 // Empty-space skipping keeps the ε contract: it jumps only over steps whose β is 0 and pushes both
 // ends of the skipped run, along which the sampled function is linear, so the stored function is
 // within ε of the same samples as without skipping. (Node positions may differ: Algorithm 2 tests

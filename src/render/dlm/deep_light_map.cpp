@@ -146,10 +146,10 @@ double DeepLightMap::bakeLightCache(const VolumeTextures& volume) {
   glBindImageTexture(gl::binding::IMAGE_LIGHT_CACHE, light_cache_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
   light_cache_bake_.dispatchCovering(n);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  glFinish();
+  if (stats_read_back_) glFinish();  // timed only with the statistics (setStatsReadBack)
   stats_.light_cache_texels = n;
   gl::checkErrors("light cache bake");
-  return msSince(t0);
+  return stats_read_back_ ? msSince(t0) : 0.0;
 }
 
 std::size_t DeepLightMap::textureBytes() const {
@@ -160,7 +160,7 @@ std::size_t DeepLightMap::textureBytes() const {
 }
 
 void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, double epsilon, bool onlyOverflowed,
-                         glm::ivec2 invocations) {
+                         glm::ivec2 invocations, int retrySlot, GLintptr indirect) {
   p.use();
   volume.bind();
   light_space_block_.bind();
@@ -178,7 +178,19 @@ void DeepLightMap::march(const VolumeTextures& volume, const gl::Program& p, dou
   glBindImageTexture(gl::binding::IMAGE_DLM_COUNTS, counts_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(gl::binding::IMAGE_DLM_TEXEL_EPSILON, texel_eps_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_DLM_MARCH_STATS, march_stats_.id());
-  p.dispatchCovering({invocations.x, invocations.y, 1});
+  const glm::ivec3 g = p.workGroupSize();
+  p.set("u_retry_slot", retrySlot);
+  p.set("u_retry_groups_x", (invocations.x + g.x - 1) / g.x);
+  if (retrySlot >= 0 || indirect >= 0) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::SSBO_DLM_RETRY_ARGS, retry_args_.id());
+  }
+  if (indirect >= 0) {
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, retry_args_.id());
+    glDispatchComputeIndirect(indirect);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  } else {
+    p.dispatchCovering({invocations.x, invocations.y, 1});
+  }
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT);
 }
@@ -196,6 +208,7 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     stats_.rebuilt = false;
     return false;
   }
+  if (stats_pending_) readStats();  // the last build's, before this one clears its counts
   if (settings.max_nodes < 2) throw UsageError("DLM settings: max_nodes must be at least 2");
   if (settings.forward_peak_ice >= 0.0 || settings.forward_peak_water >= 0.0)
     throw UsageError("DLM settings: forward_peak_ice/water (a per-medium forward peak) exist in the CPU reference "
@@ -244,10 +257,31 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   if (march_stats_.size() == 0) march_stats_ = gl::Buffer::create(sizeof(noCounts)).label("DLM march counts");
   march_stats_.upload(0, sizeof(noCounts), noCounts);
 
+  const int doublings = std::max(settings.max_epsilon_doublings, 0);
   auto runWithOverflowRule = [&](const gl::Program& program, glm::ivec2 invocations) {
+    if (!stats_read_back_) {
+      // Retry d's indirect arguments in slot d − 1: (0, groups y, 1) until a texel of the march
+      // before it overflows and sets x (glsl/dlm/march.comp u_retry_args).
+      const glm::ivec3 g = program.workGroupSize();
+      const auto gy = std::uint32_t((invocations.y + g.y - 1) / g.y);
+      std::vector<std::uint32_t> args;
+      for (int d = 0; d < doublings; ++d) args.insert(args.end(), {0u, gy, 1u});
+      if (args.empty()) args.assign(3, 0u);
+      const std::size_t bytes = args.size() * sizeof(std::uint32_t);
+      if (retry_args_.size() < bytes) retry_args_ = gl::Buffer::create(bytes).label("DLM overflow retries (indirect)");
+      retry_args_.upload(0, bytes, args.data());
+      march(volume, program, settings.epsilon, false, invocations, doublings > 0 ? 0 : -1);
+      for (int d = 1; d <= doublings; ++d) {
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+        march(volume, program, settings.epsilon * std::ldexp(1.0, d), true, invocations, d < doublings ? d : -1,
+              GLintptr(3 * sizeof(std::uint32_t) * std::size_t(d - 1)));
+      }
+      return;
+    }
     march(volume, program, settings.epsilon, false, invocations);
-    for (int d = 1; d <= settings.max_epsilon_doublings; ++d) {
+    for (int d = 1; d <= doublings; ++d) {
       const auto counts = readCounts(counts_, n);
+      ++stats_.build_read_backs;
       if (std::none_of(counts.begin(), counts.end(),
                        [](std::uint32_t c) { return (c & gl::binding::DLM_COUNT_UNBOUNDED) != 0; }))
         break;
@@ -274,12 +308,17 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   march_.set("u_pass1_cells", glm::ivec2(axis[0].cells, axis[1].cells));
   march_.set("u_pass1_slots", glm::ivec2(axis[0].slots, axis[1].slots));
   stats_.pass1_texels = std::int64_t(axis[0].texels) * axis[1].texels;
-  glFinish();  // the pass times below are the passes' own, not the uploads queued before them
+  // Each pass timed with glFinish only with the statistics read back (setStatsReadBack).
+  const bool timed = stats_read_back_;
+  auto finish = [timed] {
+    if (timed) glFinish();
+  };
+  finish();  // the pass times below are the passes' own, not the uploads queued before them
   auto t0 = std::chrono::steady_clock::now();
   std::clock_t c0 = std::clock();
   runWithOverflowRule(march_, pass1Invocations);
-  glFinish();
-  const double pass1 = msSince(t0);
+  finish();
+  const double pass1 = timed ? msSince(t0) : 0.0;
   double cpu[3] = {cpuMsSince(c0), 0.0, 0.0};
 
   double pass2 = 0.0, pass3 = 0.0;
@@ -338,8 +377,8 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glFinish();
-    pass2 = msSince(t0);
+    finish();
+    pass2 = timed ? msSince(t0) : 0.0;
     cpu[1] = cpuMsSince(c0);
 
     t0 = std::chrono::steady_clock::now();
@@ -352,8 +391,8 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     march_peripheral_.set("u_slice_steps", sliceSteps);
     glClearTexImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     runWithOverflowRule(march_peripheral_, n);
-    glFinish();
-    pass3 = msSince(t0);
+    finish();
+    pass3 = timed ? msSince(t0) : 0.0;
     cpu[2] = cpuMsSince(c0);
     // Passes 2 and 3 are the scatter map's only readers: the look-up (glsl/dlm/lookup.glsl), the
     // light-cache bake and the eye pass read the nodes alone. Freed here rather than held through
@@ -367,20 +406,15 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   key_ = key;
   ++stats_.builds;
   stats_.rebuilt = true;
-  computeStats(pass1, pass2, pass3);
-  std::uint32_t marchCounts[4] = {0, 0, 0, 0};
-  march_stats_.download(0, sizeof(marchCounts), marchCounts);
-  stats_.marched_steps = marchCounts[0];
-  stats_.run_steps = marchCounts[1];
-  stats_.runs = marchCounts[2];
-  stats_.cut_short = marchCounts[3];
-  if (stats_.cut_short > 0) {
-    log::warn("deep light map: {} texels' marches were cut short by the GL driver's loop limit (Mesa llvmpipe ends a "
-              "shader's loops after 65 535 iterations): their light beyond the cut is missing; raise quality "
-              "dlm_step_voxels or render on a GPU (docs/rendering.md \"llvmpipe's loop limit\")",
-              stats_.cut_short);
-  }
+  stats_.timed = timed;
+  stats_.pass1_ms = pass1;
+  stats_.pass2_ms = pass2;
+  stats_.pass3_ms = pass3;
   stats_.light_cache_ms = bake;
+  stats_pending_ = true;
+  if (!stats_read_back_) return true;  // read when asked for (stats()) or before the next build
+  readStats();
+  stats_.build_read_backs += 3;  // the counts, ε and march counters, inside the build
   log::debug(
       "DLM built: {}x{} texels ({} in pass 1), {} steps of {:.1f} m, scatter map {}x{}x{}, mean {:.2f} nodes, {} "
       "unbounded, {:.1f}+{:.1f}+{:.1f} ms (CPU {:.0f}+{:.0f}+{:.0f} ms), light cache {:.1f} ms; {} steps marched, {} "
@@ -391,7 +425,13 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   return true;
 }
 
-void DeepLightMap::computeStats(double pass1Ms, double pass2Ms, double pass3Ms) {
+const DlmStats& DeepLightMap::stats() const {
+  if (stats_pending_) readStats();
+  return stats_;
+}
+
+void DeepLightMap::readStats() const {
+  stats_pending_ = false;
   const glm::ivec2 n = light_space_.texels;
   const auto counts = readCounts(counts_, n);
   std::vector<float> eps(counts.size());
@@ -423,12 +463,21 @@ void DeepLightMap::computeStats(double pass1Ms, double pass2Ms, double pass3Ms) 
   stats_.bytes = std::size_t(n.x) * std::size_t(n.y) * (std::size_t(settings_.max_nodes) * 8 + 4 + 4);
   const double uncompressed = double(n.x) * double(n.y) * double(steps_ + 1) * 4.0;
   stats_.compression_ratio = total > 0.0 ? uncompressed / (total * 8.0) : 0.0;
-  stats_.pass1_ms = pass1Ms;
-  stats_.pass2_ms = pass2Ms;
-  stats_.pass3_ms = pass3Ms;
   if (stats_.unbounded_texels > 0) {
     log::warn("DLM: {} texels exceed the node budget ({}) even at eps x{}; their error bound is not kept",
               stats_.unbounded_texels, settings_.max_nodes, 1 << settings_.max_epsilon_doublings);
+  }
+  std::uint32_t marchCounts[4] = {0, 0, 0, 0};
+  march_stats_.download(0, sizeof(marchCounts), marchCounts);
+  stats_.marched_steps = marchCounts[0];
+  stats_.run_steps = marchCounts[1];
+  stats_.runs = marchCounts[2];
+  stats_.cut_short = marchCounts[3];
+  if (stats_.cut_short > 0) {
+    log::warn("deep light map: {} texels' marches were cut short by the GL driver's loop limit (Mesa llvmpipe ends a "
+              "shader's loops after 65 535 iterations): their light beyond the cut is missing; raise quality "
+              "dlm_step_voxels or render on a GPU (docs/rendering.md \"llvmpipe's loop limit\")",
+              stats_.cut_short);
   }
 }
 

@@ -56,6 +56,12 @@ struct DlmStats {
   std::int64_t cut_short = 0;
   glm::ivec3 light_cache_texels{0};  ///< the light cache's size (0 without one; DlmSettings::light_cache_voxels)
   double light_cache_ms = 0.0;       ///< its bake, wall time incl. glFinish
+  /// Whether the pass and bake times above were measured (glFinish after each; only with the
+  /// statistics read back, DeepLightMap::setStatsReadBack). 0 ms when not.
+  bool timed = false;
+  /// Synchronous GPU → CPU read-backs made inside build() so far, each a wait for the GPU (the
+  /// overflow rule's counts, the statistics): 0 without the statistics read back.
+  std::uint64_t build_read_backs = 0;
   bool rebuilt = false;
   std::uint64_t builds = 0, reuses = 0;
 };
@@ -81,7 +87,25 @@ class DeepLightMap {
   bool build(const VolumeTextures& volume, const glm::dvec3& lightDirection, const lighting::DlmSettings& settings);
 
   const lighting::LightSpace& lightSpace() const { return light_space_; }
-  const DlmStats& stats() const { return stats_; }
+  /// The last build's statistics. Without the statistics read back (setStatsReadBack(false)) they
+  /// are read here, the first time they are asked for after a build — by then the work has usually
+  /// long finished, so the read does not stall — and logged as the build would have (the node
+  /// budget and loop-limit warnings); the next build reads them first if nobody asked, so no
+  /// warning is lost except the last build's of a session that never asks.
+  const DlmStats& stats() const;
+  /// Statistics read back inside every build (the default: the overflow rule's retries decided
+  /// from the counts on the CPU, each pass timed with glFinish, the counts and ε summarised), or
+  /// not (issue 19 item 2, "stats read-back optional in the per-frame path": engine::Session for
+  /// `nephele view` and the plugin API unless NEPHELE_LOG=debug). Without, build() never waits for
+  /// the GPU: the retries are dispatched indirectly (glDispatchComputeIndirect) with group counts
+  /// the march itself sets when a texel overflows (glsl/dlm/march.comp u_retry_args), so a retry
+  /// nothing needs costs no group; no pass is timed (DlmStats::timed). The map is the same bit for
+  /// bit (DeepLightMapTest.WithoutStatsReadBackTheMapIsTheSame).
+  void setStatsReadBack(bool on) { stats_read_back_ = on; }
+  /// Builds and reuses so far (DlmStats::builds, reuses) without reading anything back.
+  std::uint64_t builds() const { return stats_.builds; }
+  std::uint64_t reuses() const { return stats_.reuses; }
+  bool statsReadBack() const { return stats_read_back_; }
   /// The settings of the last build as applied (scatter_slice_steps may have been lengthened to
   /// fit GL_MAX_3D_TEXTURE_SIZE) — pass these to the CPU reference.
   const lighting::DlmSettings& settings() const { return settings_; }
@@ -122,14 +146,20 @@ class DeepLightMap {
 
  private:
   /// One march dispatch over `invocations` (the texels, or pass 1's compacted texels).
+  /// `retrySlot` ≥ 0: an overflowing texel sets that slot of retry_args_ (march.comp u_retry_args);
+  /// `indirect` ≥ 0: dispatched with glDispatchComputeIndirect from that byte offset of retry_args_.
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed,
-             glm::ivec2 invocations);
-  void computeStats(double pass1Ms, double pass2Ms, double pass3Ms);
+             glm::ivec2 invocations, int retrySlot = -1, GLintptr indirect = -1);
+  /// Reads the counts, ε and march counters of the last build into stats_ and logs its warnings.
+  void readStats() const;
   double bakeLightCache(const VolumeTextures& volume);
 
   gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_, light_cache_bake_;
   gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_, light_cache_;
   gl::Buffer march_stats_;  ///< SSBO_DLM_MARCH_STATS: 4 uint counters (DlmStats::marched_steps …)
+  gl::Buffer retry_args_;   ///< SSBO_DLM_RETRY_ARGS: indirect dispatch arguments of the retries
+  bool stats_read_back_ = true;
+  mutable bool stats_pending_ = false;  ///< a build whose statistics were not read yet
   DlmBaseline baseline_;
   lighting::LightSpace light_space_;
   gl::UniformBuffer<gl::LightSpaceBlock> light_space_block_;  // light_space_ for the GLSL passes
@@ -139,7 +169,7 @@ class DeepLightMap {
   double depth_scale_ = 1.0;  ///< β scale along the light (VolumeFrame::opticalDepthScale)
   int steps_ = 0;
   std::string key_;
-  DlmStats stats_;
+  mutable DlmStats stats_;  // mutable: stats() reads a pending build's counts (setStatsReadBack)
 };
 
 }  // namespace nph::render

@@ -45,6 +45,7 @@
   X(UNIT_SCATTER_RUNS, 6)       /* isampler3D: the same, read by pass 3 */                      \
   X(SSBO_LIGHT_VOLUME, 3)       /* float[]: uncompressed light volume (benchmark baseline) */   \
   X(SSBO_DLM_MARCH_STATS, 5)    /* uint[4]: steps marched, in runs, runs (issue 19), marches cut short */ \
+  X(SSBO_DLM_RETRY_ARGS, 8)     /* uint[3·D]: indirect dispatch of the overflow rule's retries (issue 19) */ \
   X(IMAGE_LIGHT_CACHE, 0)       /* image3D r16f: the map's sunlight baked per world cell (light_cache.comp) */ \
   X(UNIT_LIGHT_CACHE, 19)       /* sampler3D: the same, read by the eye pass (issue 19) */      \
   X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down): eye pass; all passes when packed only (issue 19) */ \
