@@ -200,7 +200,8 @@ const std::vector<std::string>& csvColumns() {
                                           "ref_mean_abs",
                                           "ref_max_abs",
                                           "ref_share_off_2_255",
-                                          "ref_alpha_max_abs"};
+                                          "ref_alpha_max_abs",
+                                          "truth_luminance_bias"};
   return c;
 }
 
@@ -218,11 +219,11 @@ void writeCsv(const std::vector<SweepRow>& rows, const std::string& path) {
     const ImageError& c = r.vs_reference;
     out << fmt::format(
         "{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},"
-        "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+        "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
         r.scene, r.knob, r.value, r.dlm_ms, r.raycast_ms, r.dlm_ms + r.raycast_ms, r.dlm_mean_nodes,
         r.dlm_unbounded_texels, t.rmse, t.rel_mse, t.mean_abs, t.max_abs, t.share_off_2_255, t.alpha_max_abs,
         t.ref_noise_rmse, biasRmse(t), r.truth_truncated_share, r.coverage, c.rmse, c.rel_mse, c.mean_abs, c.max_abs,
-        c.share_off_2_255, c.alpha_max_abs);
+        c.share_off_2_255, c.alpha_max_abs, t.luminance_bias);
   }
   if (!out) throw IoError(path + ": write failed");
 }
@@ -278,9 +279,10 @@ std::vector<SweepRow> runSweep(const SweepOptions& o) {
       row.vs_reference = compareImages(out.cloud_layer, cpu);
       row.truth_truncated_share = gt.truncated_share;
       row.coverage = coverage;
-      log::info("  {:>18} {:>6}: dlm {:7.1f} ms  cast {:7.1f} ms  rmse truth {:.4f} ref {:.2e}  off>2/255 {:.3f}",
+      log::info("  {:>18} {:>6}: dlm {:7.1f} ms  cast {:7.1f} ms  rmse truth {:.4f} ref {:.2e}  off>2/255 {:.3f}  "
+                "luminance {:+.1f} %",
                 v.knob, v.value, row.dlm_ms, row.raycast_ms, row.vs_truth.rmse, row.vs_reference.rmse,
-                row.vs_truth.share_off_2_255);
+                row.vs_truth.share_off_2_255, 100.0 * row.vs_truth.luminance_bias);
       if (o.write_images) {
         scene::writePng(
             out.cloud_layer,

@@ -8,7 +8,7 @@ rm -rf "$out"
 "$nephele" accuracy --quick -o "$out"
 csv="$out/accuracy.csv"
 test -s "$csv" || { echo "no $csv"; exit 1; }
-expected="scene,knob,value,dlm_ms,raycast_ms,total_ms,dlm_mean_nodes,dlm_unbounded_texels,truth_rmse,truth_rel_mse,truth_mean_abs,truth_max_abs,truth_share_off_2_255,truth_alpha_max_abs,truth_noise_rmse,truth_bias_rmse,truth_truncated_share,coverage,ref_rmse,ref_rel_mse,ref_mean_abs,ref_max_abs,ref_share_off_2_255,ref_alpha_max_abs"
+expected="scene,knob,value,dlm_ms,raycast_ms,total_ms,dlm_mean_nodes,dlm_unbounded_texels,truth_rmse,truth_rel_mse,truth_mean_abs,truth_max_abs,truth_share_off_2_255,truth_alpha_max_abs,truth_noise_rmse,truth_bias_rmse,truth_truncated_share,coverage,ref_rmse,ref_rel_mse,ref_mean_abs,ref_max_abs,ref_share_off_2_255,ref_alpha_max_abs,truth_luminance_bias"
 header=$(head -1 "$csv")
 [ "$header" = "$expected" ] || { echo "unexpected header: $header"; exit 1; }
 python3 - "$csv" <<'PY'
@@ -23,6 +23,9 @@ for r in rows:
             continue
         x = float(v)
         assert math.isfinite(x), f"{r['scene']} {r['knob']}={r['value']}: {k} = {v}"
+        if k == "truth_luminance_bias":  # sum Y / sum Y_truth - 1: signed, > -1
+            assert x > -1.0, f"{r['scene']} {r['knob']}={r['value']}: {k} = {v}"
+            continue
         assert x >= 0.0, f"{r['scene']} {r['knob']}={r['value']}: {k} = {v} < 0"
     assert float(r["total_ms"]) > 0.0
     assert float(r["truth_share_off_2_255"]) <= 1.0 and float(r["ref_share_off_2_255"]) <= 1.0
