@@ -115,6 +115,9 @@ int runConvert(const ConvertOptions& o) {
 
   io::LoadOptions load;
   load.memory_budget_bytes = o.memory_budget_mb * 1024 * 1024;
+  // WRF's detail fields (CLDFRA, TKE, W, U, V) are read after the optics' fields are freed, into
+  // their memory (io::LoadOptions::defer_detail; issue 19: five fields less at the peak).
+  load.defer_detail = true;
   // ICON condensate corrections (Muth 2026 §3.3.1): the loaders hand over the file's fields
   // unchanged; the optics apply the corrections (physics/icon_corrections.h, switches above).
 
@@ -181,7 +184,8 @@ int runConvert(const ConvertOptions& o) {
                       first_georef.proj_definition, first_georef.dx_m, first_georef.x0, first_georef.y0));
     }
     // Given up: each model field is freed once its last stage is done (issue 19, peak memory).
-    ExtinctionVolumes volumes = physics::buildExtinctionVolumes(std::move(ts), optics, vertical);
+    ExtinctionVolumes volumes = physics::buildExtinctionVolumes(
+        std::move(ts), optics, vertical, [&load](io::ModelTimestep& fields) { io::loadDeferredDetail(fields, load); });
     if (o.no_wind) {  // a smaller file that animates with the cross-fade (docs/animation.md)
       volumes.wind_u_m_per_s.clear();
       volumes.wind_v_m_per_s.clear();

@@ -22,6 +22,14 @@
 namespace nph::engine {
 namespace {
 
+/// Model files are opened with the detail fields deferred: a quick look converts a timestep with
+/// them read after the optics' fields are freed (physics::buildExtinctionVolumes; issue 19, memory).
+io::LoadOptions deferredDetailOptions() {
+  io::LoadOptions o;
+  o.defer_detail = true;
+  return o;
+}
+
 class NphDataset final : public Dataset {
  public:
   NphDataset(const std::string& path, cache::NphReader reader, std::vector<geo::OptionalUtcTime> times)
@@ -47,7 +55,10 @@ class ModelDataset final : public Dataset {
     static std::mutex netcdf_mutex;
     std::lock_guard lock(netcdf_mutex);
     log::info("{}: not a .nph cache; converting timestep {} with the default optics", sourceFile(t), t);
-    return convertModelTimestep(series_.load(t));
+    // WRF's detail fields are read once the optics' fields are freed (io::LoadOptions::defer_detail).
+    return physics::buildExtinctionVolumes(
+        series_.load(t), physics::defaultOptics(), physics::VerticalGridOptions{},
+        [](io::ModelTimestep& fields) { io::loadDeferredDetail(fields, deferredDetailOptions()); });
   }
 
  private:
@@ -148,7 +159,7 @@ std::shared_ptr<const Dataset> Dataset::openSeries(const std::vector<std::string
           fmt::format("{}: a .nph cache cannot be part of a series of model files; convert them together", p));
     }
   }
-  io::ModelSeries series = io::ModelSeries::open(files);
+  io::ModelSeries series = io::ModelSeries::open(files, deferredDetailOptions());
   std::vector<geo::OptionalUtcTime> times;
   std::vector<std::string> sources;
   for (const auto& ref : series.timesteps()) {

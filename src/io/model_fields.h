@@ -58,6 +58,9 @@ struct ModelTimestep {
   std::vector<float> cloud_fraction;                                  ///< WRF CLDFRA [0, 1]
   std::vector<float> tke_m2_per_s2;                                   ///< turbulent kinetic energy
   std::vector<float> wind_u_m_per_s, wind_v_m_per_s, wind_w_m_per_s;  ///< grid-relative x, y and vertical wind
+  /// The detail fields above are not loaded yet (LoadOptions::defer_detail): io::loadDeferredDetail
+  /// reads them.
+  bool detail_deferred = false;
 
   /// WRF MP_PHYSICS option (e.g. 3 = WSM3: no separate ice, frozen condensate lives in
   /// QCLOUD/QRAIN below 0 °C). -1 when unknown or not WRF.

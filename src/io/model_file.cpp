@@ -135,6 +135,12 @@ ModelTimestep loadTimestep(const TimestepRef& ref, const LoadOptions& options) {
                                           : loadIconTimestep(ref.file, ref.index, options);
 }
 
+void loadDeferredDetail(ModelTimestep& ts, const LoadOptions& options) {
+  if (!ts.detail_deferred) return;
+  if (ts.model == ModelKind::Wrf) loadWrfDetail(ts, options);
+  ts.detail_deferred = false;
+}
+
 ModelSeries ModelSeries::open(const std::vector<std::string>& paths, const LoadOptions& options) {
   ModelSeries series;
   series.options_ = options;

@@ -71,6 +71,10 @@ ModelFile openModelFile(const std::string& path, const LoadOptions& options = {}
 /// Loads one timestep described by `ref`.
 ModelTimestep loadTimestep(const TimestepRef& ref, const LoadOptions& options = {});
 
+/// Reads the sub-grid detail's fields of a timestep loaded with LoadOptions::defer_detail (its
+/// `detail_deferred` is then cleared); nothing for one that has them.
+void loadDeferredDetail(ModelTimestep& ts, const LoadOptions& options = {});
+
 /// Timesteps of several files in time order (stable: files without times keep their order).
 /// GRIB2 files among `paths` are indexed together as one data set (DWD writes one file per
 /// variable, level and step), whatever their order.

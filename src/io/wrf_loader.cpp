@@ -220,14 +220,25 @@ std::vector<geo::OptionalUtcTime> listWrfTimes(const std::string& path) {
   return times;
 }
 
-ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options) {
+namespace {
+
+/// What loadWrf reads: everything, all but the sub-grid detail's fields (LoadOptions::defer_detail),
+/// or those fields alone into a timestep that lacks them (loadDeferredDetail).
+enum class WrfPart : std::uint8_t { All, WithoutDetail, DetailOnly };
+
+void loadWrf(const std::string& path, std::int64_t time_index, const LoadOptions& options, WrfPart part,
+             ModelTimestep& ts) {
   const NcReader nc(path);
   const Dims d = wrfDims(nc);
   if (time_index < 0 || std::size_t(time_index) >= d.nt) {
     throw InputError(fmt::format("{}: timestep {} does not exist, expected 0 .. {}", path, time_index, d.nt - 1));
   }
+  if (part == WrfPart::DetailOnly && (ts.nx != d.nx || ts.ny != d.ny || ts.nz != d.nz)) {
+    throw InputError(fmt::format("{}: the grid is now {} x {} x {}, expected {} x {} x {} as when timestep {} was "
+                                 "loaded (the file changed?)",
+                                 path, d.nx, d.ny, d.nz, ts.nx, ts.ny, ts.nz, time_index));
+  }
   const std::size_t t = std::size_t(time_index);
-  ModelTimestep ts;
   ts.source_file = path;
   ts.time_index = time_index;
   ts.model = ModelKind::Wrf;
@@ -256,33 +267,6 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     }
   };
 
-  // Which hydrometeors and number concentrations exist: check their shapes before reading.
-  std::vector<const WrfClass*> present_q, present_n;
-  for (const WrfClass& c : kWrfClasses) {
-    if (nc.hasVar(c.q_name)) {
-      require(c.q_name, mass_dims);
-      present_q.push_back(&c);
-    }
-    if (nc.hasVar(c.n_name)) {
-      require(c.n_name, mass_dims);
-      present_n.push_back(&c);
-    }
-  }
-  if (present_q.empty()) {
-    throw InputError(fmt::format("{}: no hydrometeor variable, expected at least one of QCLOUD, QRAIN, QICE, QSNOW, "
-                                 "QGRAUP, QHAIL (Time, bottom_top, south_north, west_east)",
-                                 path));
-  }
-  for (const char* v : {"P", "PB", "T"}) require(v, mass_dims);
-  for (const char* v : {"PH", "PHB"}) require(v, stag_dims);
-  const bool has_qv = nc.hasVar("QVAPOR");
-  if (has_qv) require("QVAPOR", mass_dims);
-
-  // Memory: q + N + qv, p, T, height (+ 2 staggered temporaries), before allocating any of it.
-  const double points = double(d.nx) * double(d.ny) * double(d.nz + 1);
-  const int fields = static_cast<int>(present_q.size() + present_n.size()) + 4 + 3;
-  requireWithinBudget(path, "one timestep", points, fields, memoryBudgetBytes(options));
-
   const std::size_t nx = std::size_t(d.nx), ny = std::size_t(d.ny), nz = std::size_t(d.nz);
   const std::vector<std::size_t> count = {nz, ny, nx};
   const std::vector<std::size_t> count_stag = {nz + 1, ny, nx};
@@ -300,173 +284,203 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
     requireFinite(path, var, data);
     return data;
   };
-  auto read_mixing = [&](const char* var, double max_value, const char* what) {
-    nc.requireFloatingOrPacked(var);
-    std::vector<std::size_t> st, ct;
-    slab(var, count, st, ct);
-    auto data = nc.readFloats(var, st, ct, 0.0f, stats);
-    requireFinite(path, var, data);
-    requireAtMost(path, var, data, max_value, what);
-    const std::int64_t negative = clampNegative(data);
-    if (negative > 0) {
-      log::warn("{}: {} had {} negative values, set to 0", path, var, negative);
-      ts.repairs.negative_clamped += negative;
-    }
-    return data;
-  };
-
-  for (const WrfClass* c : present_q) {
-    ts.q_kg_per_kg[c->kind] = read_mixing(c->q_name, kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
-  }
-  for (const WrfClass* c : present_n) {
-    ts.number_per_kg[c->kind] = read_mixing(c->n_name, kMaxNumberConcentration_per_kg, "a number concentration [1/kg]");
-  }
-  if (has_qv) {
-    ts.water_vapour_kg_per_kg = read_mixing("QVAPOR", kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
-  } else {
-    log::warn("{}: QVAPOR is missing; water vapour taken as 0 (air density then ignores moisture)", path);
-    ts.water_vapour_kg_per_kg.assign(nx * ny * nz, 0.0f);
-  }
-  ts.repairs.missing_as_zero = stats.fill_values;
-  if (stats.fill_values > 0) log::warn("{}: {} missing values in mixing ratios read as 0", path, stats.fill_values);
-
-  // Pressure: full pressure = perturbation P + base state PB [Pa].
-  ts.pressure_pa = read_state("P", count);
-  {
-    const auto pb = read_state("PB", count);
-    for (std::size_t n = 0; n < pb.size(); ++n) ts.pressure_pa[n] += pb[n];
-  }
-  requireRange(path, "P+PB", ts.pressure_pa, 1.0, 2.0e5, "a pressure [Pa]");
-
-  // Temperature from potential temperature: theta = T + 300 K (WRF stores theta - t0, t0 = 300 K);
-  // T = theta (p / p0)^(R_d/c_p), the Exner function with p0 = 1000 hPa and R_d/c_p = 2/7
-  // (Skamarock et al. 2019, WRF ARW v4 tech note, §2.1; module_model_constants.F).
-  ts.temperature_k = read_state("T", count);
-  // Single-precision pow: its ~1e-7 relative error (3e-5 K) is below float32 storage of T.
-  constexpr auto kappa = static_cast<float>(kRdOverCp);
-  constexpr auto inv_p0 = static_cast<float>(1.0 / kWrfReferencePressure_pa);
-  constexpr auto theta_offset = static_cast<float>(kWrfThetaOffset_k);
-  for (std::size_t n = 0; n < ts.temperature_k.size(); ++n) {
-    ts.temperature_k[n] = (ts.temperature_k[n] + theta_offset) * std::pow(ts.pressure_pa[n] * inv_p0, kappa);
-  }
-  requireRange(path, "T (as temperature from theta and Exner)", ts.temperature_k, 100.0, 400.0, "a temperature [K]");
-
-  // Heights: geopotential PH + PHB on staggered (w) levels, divided by g, averaged to mass levels.
-  {
-    auto phi = read_state("PH", count_stag);
-    const auto phb = read_state("PHB", count_stag);
-    for (std::size_t n = 0; n < phi.size(); ++n)
-      phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
-    requireRange(path, "(PH+PHB)/g", phi, kLowestHeight_m, kHighestHeight_m, "a height [m]");
-    const std::size_t n2 = nx * ny;
-    ts.height_m = hugePageFloats(nx * ny * nz);
-    for (std::size_t k = 0; k < nz; ++k) {
-      for (std::size_t c = 0; c < n2; ++c) {
-        const double lo = phi[k * n2 + c], hi = phi[(k + 1) * n2 + c];
-        if (!(hi > lo)) {
-          throw InputError(
-              fmt::format("{}: PH+PHB does not increase with height at level {} (column {}): {} m then {} m, "
-                          "expected increasing geopotential",
-                          path, k, c, lo, hi));
-        }
-        ts.height_m[k * n2 + c] = static_cast<float>(0.5 * (lo + hi));
+  if (part != WrfPart::DetailOnly) {
+    // Which hydrometeors and number concentrations exist: check their shapes before reading.
+    std::vector<const WrfClass*> present_q, present_n;
+    for (const WrfClass& c : kWrfClasses) {
+      if (nc.hasVar(c.q_name)) {
+        require(c.q_name, mass_dims);
+        present_q.push_back(&c);
+      }
+      if (nc.hasVar(c.n_name)) {
+        require(c.n_name, mass_dims);
+        present_n.push_back(&c);
       }
     }
-    // Terrain: HGT when present, else the lowest staggered level (PHB + PH at the surface / g).
-    if (nc.hasVar("HGT")) {
-      require("HGT", surface_dims);
-      ts.terrain_height_m = read_state("HGT", {ny, nx});
-      requireRange(path, "HGT", ts.terrain_height_m, kLowestHeight_m, kHighestTerrain_m, "a terrain height [m]");
+    if (present_q.empty()) {
+      throw InputError(fmt::format("{}: no hydrometeor variable, expected at least one of QCLOUD, QRAIN, QICE, QSNOW, "
+                                   "QGRAUP, QHAIL (Time, bottom_top, south_north, west_east)",
+                                   path));
+    }
+    for (const char* v : {"P", "PB", "T"}) require(v, mass_dims);
+    for (const char* v : {"PH", "PHB"}) require(v, stag_dims);
+    const bool has_qv = nc.hasVar("QVAPOR");
+    if (has_qv) require("QVAPOR", mass_dims);
+
+    // Memory: q + N + qv, p, T, height (+ 2 staggered temporaries), before allocating any of it.
+    const double points = double(d.nx) * double(d.ny) * double(d.nz + 1);
+    const int fields = static_cast<int>(present_q.size() + present_n.size()) + 4 + 3;
+    requireWithinBudget(path, "one timestep", points, fields, memoryBudgetBytes(options));
+
+    auto read_mixing = [&](const char* var, double max_value, const char* what) {
+      nc.requireFloatingOrPacked(var);
+      std::vector<std::size_t> st, ct;
+      slab(var, count, st, ct);
+      auto data = nc.readFloats(var, st, ct, 0.0f, stats);
+      requireFinite(path, var, data);
+      requireAtMost(path, var, data, max_value, what);
+      const std::int64_t negative = clampNegative(data);
+      if (negative > 0) {
+        log::warn("{}: {} had {} negative values, set to 0", path, var, negative);
+        ts.repairs.negative_clamped += negative;
+      }
+      return data;
+    };
+
+    for (const WrfClass* c : present_q) {
+      ts.q_kg_per_kg[c->kind] = read_mixing(c->q_name, kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
+    }
+    for (const WrfClass* c : present_n) {
+      ts.number_per_kg[c->kind] =
+          read_mixing(c->n_name, kMaxNumberConcentration_per_kg, "a number concentration [1/kg]");
+    }
+    if (has_qv) {
+      ts.water_vapour_kg_per_kg = read_mixing("QVAPOR", kMaxMixingRatio_kg_per_kg, "a mixing ratio [kg/kg]");
     } else {
-      ts.terrain_height_m.assign(phi.begin(), phi.begin() + std::ptrdiff_t(n2));
+      log::warn("{}: QVAPOR is missing; water vapour taken as 0 (air density then ignores moisture)", path);
+      ts.water_vapour_kg_per_kg.assign(nx * ny * nz, 0.0f);
     }
-  }
+    ts.repairs.missing_as_zero = stats.fill_values;
+    if (stats.fill_values > 0) log::warn("{}: {} missing values in mixing ratios read as 0", path, stats.fill_values);
 
-  if (nc.globalNumber("MP_PHYSICS")) {
-    ts.microphysics_scheme = requireSmallInteger(nc, "MP_PHYSICS", "a WRF microphysics scheme number");
-  }
-  if (ts.microphysics_scheme >= 0 && ts.microphysics_scheme <= 3 && ts.q_kg_per_kg.count(Hydrometeor::Ice) == 0) {
-    log::debug("{}: MP_PHYSICS = {}: no separate ice; frozen condensate lives in QCLOUD/QRAIN below 0 °C", path,
-               ts.microphysics_scheme);
-  }
-
-  // Georeference.
-  WrfProjectionAttributes a;
-  a.map_proj = nc.globalNumber("MAP_PROJ") ? requireSmallInteger(nc, "MAP_PROJ", "a WRF map projection code") : 0;
-  a.dx_m = requireAttribute(nc, "DX", -1e300, 1e300, "the grid spacing [m]");
-  a.dy_m = requireAttribute(nc, "DY", -1e300, 1e300, "the grid spacing [m]");
-  const bool has_geo = nc.hasVar("XLAT") && nc.hasVar("XLONG");
-  if (a.map_proj != 0) {
-    a.truelat1 = nc.globalNumber("TRUELAT1").value_or(0.0);
-    a.truelat2 = nc.globalNumber("TRUELAT2").value_or(a.truelat1);
-    a.stand_lon = requireAttribute(nc, "STAND_LON", -1e300, 1e300, "the standard longitude [deg]");
-    a.cen_lat = requireAttribute(nc, "CEN_LAT", -1e300, 1e300, "the domain centre latitude [deg]");
-    a.cen_lon = requireAttribute(nc, "CEN_LON", -1e300, 1e300, "the domain centre longitude [deg]");
-    a.moad_cen_lat = nc.globalNumber("MOAD_CEN_LAT").value_or(a.cen_lat);
-    a.pole_lat = nc.globalNumber("POLE_LAT").value_or(90.0);
-    a.pole_lon = nc.globalNumber("POLE_LON").value_or(0.0);
-  } else if (has_geo) {
-    log::warn("{}: MAP_PROJ = 0 but XLAT/XLONG present; loading as Cartesian", path);
-  }
-  ts.georef = wrfGeoreference(a, d.nx, d.ny, path);
-  if (has_geo && a.map_proj != 0) {
-    require("XLAT", surface_dims);
-    require("XLONG", surface_dims);
-    ReadStats s;
-    std::vector<std::size_t> s2, c2;
-    slab("XLAT", {ny, nx}, s2, c2);
-    ts.georef.lat_deg = nc.readFloats("XLAT", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
-    slab("XLONG", {ny, nx}, s2, c2);
-    ts.georef.lon_deg = nc.readFloats("XLONG", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
-    requireFinite(path, "XLAT", ts.georef.lat_deg);
-    requireFinite(path, "XLONG", ts.georef.lon_deg);
-    // Consistency of the attribute georeference with the file's own geolocation (corners).
-    const geo::MapProjection projection(ts.georef.proj_definition);
-    double worst = 0.0;
-    for (const auto& [i, j] :
-         {std::pair{0, 0}, std::pair{d.nx - 1, 0}, std::pair{0, d.ny - 1}, std::pair{d.nx - 1, d.ny - 1}}) {
-      const auto [lon, lat] = geo::gridLonLat(projection, ts.georef, i, j);
-      const std::size_t c = std::size_t(j) * nx + std::size_t(i);
-      double dlon = std::fmod(std::abs(lon - double(ts.georef.lon_deg[c])), 360.0);
-      dlon = std::min(dlon, 360.0 - dlon);
-      worst = std::max({worst, std::abs(lat - double(ts.georef.lat_deg[c])), dlon});
+    // Pressure: full pressure = perturbation P + base state PB [Pa].
+    ts.pressure_pa = read_state("P", count);
+    {
+      const auto pb = read_state("PB", count);
+      for (std::size_t n = 0; n < pb.size(); ++n) ts.pressure_pa[n] += pb[n];
     }
-    if (worst > kGeolocationWarnTolerance_deg) {
-      // A window cut out of a larger domain (ncks -d, xarray isel, salem subset) keeps the
-      // parent's CEN_LAT/CEN_LON, so the grid is not centred there. Trust XLAT/XLONG: place the
-      // grid origin where the mass points' projected positions put it (the mean offset over all
-      // points), and keep it when that fit agrees with XLAT/XLONG everywhere.
-      glm::dvec2 offset{0.0};
-      std::vector<glm::dvec2> xy(nx * ny);
-      for (std::size_t j = 0; j < ny; ++j)
-        for (std::size_t i = 0; i < nx; ++i) {
-          const std::size_t c = j * nx + i;
-          xy[c] = projection.forward({double(ts.georef.lon_deg[c]), double(ts.georef.lat_deg[c])});
-          offset += xy[c] - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
+    requireRange(path, "P+PB", ts.pressure_pa, 1.0, 2.0e5, "a pressure [Pa]");
+
+    // Temperature from potential temperature: theta = T + 300 K (WRF stores theta - t0, t0 = 300 K);
+    // T = theta (p / p0)^(R_d/c_p), the Exner function with p0 = 1000 hPa and R_d/c_p = 2/7
+    // (Skamarock et al. 2019, WRF ARW v4 tech note, §2.1; module_model_constants.F).
+    ts.temperature_k = read_state("T", count);
+    // Single-precision pow: its ~1e-7 relative error (3e-5 K) is below float32 storage of T.
+    constexpr auto kappa = static_cast<float>(kRdOverCp);
+    constexpr auto inv_p0 = static_cast<float>(1.0 / kWrfReferencePressure_pa);
+    constexpr auto theta_offset = static_cast<float>(kWrfThetaOffset_k);
+    for (std::size_t n = 0; n < ts.temperature_k.size(); ++n) {
+      ts.temperature_k[n] = (ts.temperature_k[n] + theta_offset) * std::pow(ts.pressure_pa[n] * inv_p0, kappa);
+    }
+    requireRange(path, "T (as temperature from theta and Exner)", ts.temperature_k, 100.0, 400.0, "a temperature [K]");
+
+    // Heights: geopotential PH + PHB on staggered (w) levels, divided by g, averaged to mass levels.
+    {
+      auto phi = read_state("PH", count_stag);
+      const auto phb = read_state("PHB", count_stag);
+      for (std::size_t n = 0; n < phi.size(); ++n)
+        phi[n] = static_cast<float>((double(phi[n]) + double(phb[n])) / kWrfGravity_m_per_s2);
+      requireRange(path, "(PH+PHB)/g", phi, kLowestHeight_m, kHighestHeight_m, "a height [m]");
+      const std::size_t n2 = nx * ny;
+      ts.height_m = hugePageFloats(nx * ny * nz);
+      for (std::size_t k = 0; k < nz; ++k) {
+        for (std::size_t c = 0; c < n2; ++c) {
+          const double lo = phi[k * n2 + c], hi = phi[(k + 1) * n2 + c];
+          if (!(hi > lo)) {
+            throw InputError(
+                fmt::format("{}: PH+PHB does not increase with height at level {} (column {}): {} m then {} m, "
+                            "expected increasing geopotential",
+                            path, k, c, lo, hi));
+          }
+          ts.height_m[k * n2 + c] = static_cast<float>(0.5 * (lo + hi));
         }
-      offset /= double(nx * ny);
-      double misfit_cells = 0.0;
-      for (std::size_t j = 0; j < ny; ++j)
-        for (std::size_t i = 0; i < nx; ++i) {
-          const glm::dvec2 e =
-              xy[j * nx + i] - offset - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
-          misfit_cells = std::max({misfit_cells, std::abs(e.x) / ts.georef.dx_m, std::abs(e.y) / ts.georef.dy_m});
-        }
-      if (misfit_cells < kGeolocationFitTolerance_cells) {
-        log::info("{}: CEN_LAT/CEN_LON ({}, {}) are not the centre of this grid (off by {:.3f} deg at a corner: a "
-                  "window cropped from a larger domain?); placing the grid by XLAT/XLONG instead (fit within {:.3f} "
-                  "grid cells)",
-                  path, a.cen_lat, a.cen_lon, worst, misfit_cells);
-        ts.georef.x0 = offset.x;
-        ts.georef.y0 = offset.y;
+      }
+      // Terrain: HGT when present, else the lowest staggered level (PHB + PH at the surface / g).
+      if (nc.hasVar("HGT")) {
+        require("HGT", surface_dims);
+        ts.terrain_height_m = read_state("HGT", {ny, nx});
+        requireRange(path, "HGT", ts.terrain_height_m, kLowestHeight_m, kHighestTerrain_m, "a terrain height [m]");
       } else {
-        log::warn("{}: projection from MAP_PROJ={} disagrees with XLAT/XLONG by {:.3f} deg at a corner, and no shift "
-                  "of the grid fixes it (misfit {:.2f} grid cells); keeping the attributes' placement",
-                  path, a.map_proj, worst, misfit_cells);
+        ts.terrain_height_m.assign(phi.begin(), phi.begin() + std::ptrdiff_t(n2));
+      }
+    }
+
+    if (nc.globalNumber("MP_PHYSICS")) {
+      ts.microphysics_scheme = requireSmallInteger(nc, "MP_PHYSICS", "a WRF microphysics scheme number");
+    }
+    if (ts.microphysics_scheme >= 0 && ts.microphysics_scheme <= 3 && ts.q_kg_per_kg.count(Hydrometeor::Ice) == 0) {
+      log::debug("{}: MP_PHYSICS = {}: no separate ice; frozen condensate lives in QCLOUD/QRAIN below 0 °C", path,
+                 ts.microphysics_scheme);
+    }
+
+    // Georeference.
+    WrfProjectionAttributes a;
+    a.map_proj = nc.globalNumber("MAP_PROJ") ? requireSmallInteger(nc, "MAP_PROJ", "a WRF map projection code") : 0;
+    a.dx_m = requireAttribute(nc, "DX", -1e300, 1e300, "the grid spacing [m]");
+    a.dy_m = requireAttribute(nc, "DY", -1e300, 1e300, "the grid spacing [m]");
+    const bool has_geo = nc.hasVar("XLAT") && nc.hasVar("XLONG");
+    if (a.map_proj != 0) {
+      a.truelat1 = nc.globalNumber("TRUELAT1").value_or(0.0);
+      a.truelat2 = nc.globalNumber("TRUELAT2").value_or(a.truelat1);
+      a.stand_lon = requireAttribute(nc, "STAND_LON", -1e300, 1e300, "the standard longitude [deg]");
+      a.cen_lat = requireAttribute(nc, "CEN_LAT", -1e300, 1e300, "the domain centre latitude [deg]");
+      a.cen_lon = requireAttribute(nc, "CEN_LON", -1e300, 1e300, "the domain centre longitude [deg]");
+      a.moad_cen_lat = nc.globalNumber("MOAD_CEN_LAT").value_or(a.cen_lat);
+      a.pole_lat = nc.globalNumber("POLE_LAT").value_or(90.0);
+      a.pole_lon = nc.globalNumber("POLE_LON").value_or(0.0);
+    } else if (has_geo) {
+      log::warn("{}: MAP_PROJ = 0 but XLAT/XLONG present; loading as Cartesian", path);
+    }
+    ts.georef = wrfGeoreference(a, d.nx, d.ny, path);
+    if (has_geo && a.map_proj != 0) {
+      require("XLAT", surface_dims);
+      require("XLONG", surface_dims);
+      ReadStats s;
+      std::vector<std::size_t> s2, c2;
+      slab("XLAT", {ny, nx}, s2, c2);
+      ts.georef.lat_deg = nc.readFloats("XLAT", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
+      slab("XLONG", {ny, nx}, s2, c2);
+      ts.georef.lon_deg = nc.readFloats("XLONG", s2, c2, std::numeric_limits<float>::quiet_NaN(), s);
+      requireFinite(path, "XLAT", ts.georef.lat_deg);
+      requireFinite(path, "XLONG", ts.georef.lon_deg);
+      // Consistency of the attribute georeference with the file's own geolocation (corners).
+      const geo::MapProjection projection(ts.georef.proj_definition);
+      double worst = 0.0;
+      for (const auto& [i, j] :
+           {std::pair{0, 0}, std::pair{d.nx - 1, 0}, std::pair{0, d.ny - 1}, std::pair{d.nx - 1, d.ny - 1}}) {
+        const auto [lon, lat] = geo::gridLonLat(projection, ts.georef, i, j);
+        const std::size_t c = std::size_t(j) * nx + std::size_t(i);
+        double dlon = std::fmod(std::abs(lon - double(ts.georef.lon_deg[c])), 360.0);
+        dlon = std::min(dlon, 360.0 - dlon);
+        worst = std::max({worst, std::abs(lat - double(ts.georef.lat_deg[c])), dlon});
+      }
+      if (worst > kGeolocationWarnTolerance_deg) {
+        // A window cut out of a larger domain (ncks -d, xarray isel, salem subset) keeps the
+        // parent's CEN_LAT/CEN_LON, so the grid is not centred there. Trust XLAT/XLONG: place the
+        // grid origin where the mass points' projected positions put it (the mean offset over all
+        // points), and keep it when that fit agrees with XLAT/XLONG everywhere.
+        glm::dvec2 offset{0.0};
+        std::vector<glm::dvec2> xy(nx * ny);
+        for (std::size_t j = 0; j < ny; ++j)
+          for (std::size_t i = 0; i < nx; ++i) {
+            const std::size_t c = j * nx + i;
+            xy[c] = projection.forward({double(ts.georef.lon_deg[c]), double(ts.georef.lat_deg[c])});
+            offset += xy[c] - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
+          }
+        offset /= double(nx * ny);
+        double misfit_cells = 0.0;
+        for (std::size_t j = 0; j < ny; ++j)
+          for (std::size_t i = 0; i < nx; ++i) {
+            const glm::dvec2 e =
+                xy[j * nx + i] - offset - glm::dvec2(double(i) * ts.georef.dx_m, double(j) * ts.georef.dy_m);
+            misfit_cells = std::max({misfit_cells, std::abs(e.x) / ts.georef.dx_m, std::abs(e.y) / ts.georef.dy_m});
+          }
+        if (misfit_cells < kGeolocationFitTolerance_cells) {
+          log::info("{}: CEN_LAT/CEN_LON ({}, {}) are not the centre of this grid (off by {:.3f} deg at a corner: a "
+                    "window cropped from a larger domain?); placing the grid by XLAT/XLONG instead (fit within {:.3f} "
+                    "grid cells)",
+                    path, a.cen_lat, a.cen_lon, worst, misfit_cells);
+          ts.georef.x0 = offset.x;
+          ts.georef.y0 = offset.y;
+        } else {
+          log::warn("{}: projection from MAP_PROJ={} disagrees with XLAT/XLONG by {:.3f} deg at a corner, and no shift "
+                    "of the grid fixes it (misfit {:.2f} grid cells); keeping the attributes' placement",
+                    path, a.map_proj, worst, misfit_cells);
+        }
       }
     }
   }
-
+  if (part == WrfPart::WithoutDetail) return;
   // Fields for sub-grid detail (issue 13), where the file has them; destaggered to mass points.
   auto read_optional = [&](const char* var, const std::vector<std::string>& spatial, std::vector<std::size_t> cnt) {
     require(var, spatial);
@@ -506,7 +520,19 @@ ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, 
           ts.wind_v_m_per_s[(k * ny + j) * nx + i] = 0.5f * (v[a0] + v[a0 + nx]);
         }
   }
+}
+
+}  // namespace
+
+ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options) {
+  ModelTimestep ts;
+  loadWrf(path, time_index, options, options.defer_detail ? WrfPart::WithoutDetail : WrfPart::All, ts);
+  ts.detail_deferred = options.defer_detail;
   return ts;
+}
+
+void loadWrfDetail(ModelTimestep& ts, const LoadOptions& options) {
+  loadWrf(ts.source_file, ts.time_index, options, WrfPart::DetailOnly, ts);
 }
 
 }  // namespace nph::io

@@ -41,7 +41,12 @@ geo::GridGeoreference wrfGeoreference(const WrfProjectionAttributes& attributes,
 /// row is not a time (logged).
 std::vector<geo::OptionalUtcTime> listWrfTimes(const std::string& path);
 
-/// Loads timestep `time_index` of a wrfout file.
+/// Loads timestep `time_index` of a wrfout file. With LoadOptions::defer_detail the sub-grid
+/// detail's fields (CLDFRA, TKE_PBL/QKE, W, U, V) are left out and `detail_deferred` is set.
 ModelTimestep loadWrfTimestep(const std::string& path, std::int64_t time_index, const LoadOptions& options = {});
+
+/// Reads the detail fields that loadWrfTimestep left out into `ts` (from ts.source_file at
+/// ts.time_index; InputError if the file's grid is no longer ts's).
+void loadWrfDetail(ModelTimestep& ts, const LoadOptions& options = {});
 
 }  // namespace nph::io

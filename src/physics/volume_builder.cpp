@@ -1,5 +1,8 @@
 #include "physics/volume_builder.h"
 
+#include <fmt/format.h>
+
+#include "core/error.h"
 #include "physics/extinction.h"
 #include "volume/detail.h"
 
@@ -13,7 +16,13 @@ void release(std::vector<float>& field) { std::vector<float>().swap(field); }
 /// Both overloads: `owned` is the timestep when the caller gave it up (its fields are freed as
 /// they are done with), nullptr when it is only read.
 ExtinctionVolumes build(const io::ModelTimestep& ts, io::ModelTimestep* owned, const OpticsSettings& optics,
-                        const VerticalGridOptions& vertical) {
+                        const VerticalGridOptions& vertical,
+                        const std::function<void(io::ModelTimestep&)>& loadDetail) {
+  if (ts.detail_deferred && (owned == nullptr || !loadDetail)) {
+    throw UsageError(fmt::format("{}: timestep {} was loaded without its detail fields (defer_detail) and nothing "
+                                 "loads them",
+                                 ts.source_file, ts.time_index));
+  }
   ModelLevelExtinction beta = modelLevelExtinction(ts, optics);
   if (owned != nullptr) {  // what only the optics read (heights, terrain and ICON's clc stay)
     owned->q_kg_per_kg.clear();
@@ -21,6 +30,12 @@ ExtinctionVolumes build(const io::ModelTimestep& ts, io::ModelTimestep* owned, c
     release(owned->water_vapour_kg_per_kg);
     release(owned->pressure_pa);
     release(owned->temperature_k);
+    // The detail fields left out of the load, now into the memory the optics' fields gave back.
+    if (owned->detail_deferred) {
+      loadDetail(*owned);
+      if (owned->detail_deferred)
+        throw UsageError(fmt::format("{}: the detail fields were not loaded", ts.source_file));
+    }
   }
   const VerticalGrid grid = planVerticalGrid(ts, beta, vertical);
   ExtinctionVolumes v;
@@ -54,12 +69,13 @@ ExtinctionVolumes build(const io::ModelTimestep& ts, io::ModelTimestep* owned, c
 
 ExtinctionVolumes buildExtinctionVolumes(const io::ModelTimestep& ts, const OpticsSettings& optics,
                                          const VerticalGridOptions& vertical) {
-  return build(ts, nullptr, optics, vertical);
+  return build(ts, nullptr, optics, vertical, {});
 }
 
 ExtinctionVolumes buildExtinctionVolumes(io::ModelTimestep&& ts, const OpticsSettings& optics,
-                                         const VerticalGridOptions& vertical) {
-  return build(ts, &ts, optics, vertical);
+                                         const VerticalGridOptions& vertical,
+                                         const std::function<void(io::ModelTimestep&)>& loadDetail) {
+  return build(ts, &ts, optics, vertical, loadDetail);
 }
 
 }  // namespace nph::physics

@@ -21,6 +21,7 @@
 #include "core/error.h"
 #include "geo/grid_georeference.h"
 #include "geo/map_projection.h"
+#include "io/model_file.h"
 #include "io/wrf_loader.h"
 #include "io_test_support.h"
 #include "wrf_hurricane.h"
@@ -302,6 +303,55 @@ TEST(WrfVariants, SubgridFieldsAreReadWhenPresent) {
   EXPECT_TRUE(plain.tke_m2_per_s2.empty());
   EXPECT_TRUE(plain.wind_w_m_per_s.empty());
   EXPECT_EQ(plain.wind_u_m_per_s.size(), plain.voxelCount());  // the generator always writes U, V
+}
+
+// The detail fields deferred (LoadOptions::defer_detail, `convert`'s and the quick look's load;
+// issue 19, peak memory): left out of the first load and marked, then read by loadDeferredDetail
+// into the same timestep — bit for bit the fields of a whole load, on a static-field variant too
+// (the deferred read finds each variable's Time dimension again). A file whose grid changed
+// between the two reads is refused.
+TEST(WrfVariants, DeferredDetailFieldsAreTheWholeLoads) {
+  Files f(2, datagen::WrfCase::CoarseStorm);
+  Variant sv;
+  sv.static_without_time = true;
+  for (const std::string& path : {f.original, f.variant(sv, "static.nc")}) {
+    SCOPED_TRACE(path);
+    LoadOptions defer;
+    defer.defer_detail = true;
+    const ModelTimestep whole = loadWrfTimestep(path, 1);
+    ModelTimestep part = loadWrfTimestep(path, 1, defer);
+    EXPECT_TRUE(part.detail_deferred);
+    EXPECT_FALSE(whole.detail_deferred);
+    for (const auto* field : {&part.cloud_fraction, &part.tke_m2_per_s2, &part.wind_u_m_per_s, &part.wind_v_m_per_s,
+                              &part.wind_w_m_per_s}) {
+      EXPECT_TRUE(field->empty());
+    }
+    expectSameFields(part, whole);
+    loadDeferredDetail(part);
+    EXPECT_FALSE(part.detail_deferred);
+    ASSERT_EQ(part.cloud_fraction.size(), whole.voxelCount());
+    EXPECT_EQ(part.cloud_fraction, whole.cloud_fraction);
+    EXPECT_EQ(part.tke_m2_per_s2, whole.tke_m2_per_s2);
+    EXPECT_EQ(part.wind_u_m_per_s, whole.wind_u_m_per_s);
+    EXPECT_EQ(part.wind_v_m_per_s, whole.wind_v_m_per_s);
+    EXPECT_EQ(part.wind_w_m_per_s, whole.wind_w_m_per_s);
+    expectSameFields(part, whole);
+    loadDeferredDetail(part);  // nothing deferred any more: a no-op
+    EXPECT_EQ(part.wind_u_m_per_s, whole.wind_u_m_per_s);
+  }
+  LoadOptions defer;
+  defer.defer_detail = true;
+  ModelTimestep part = loadWrfTimestep(f.original, 0, defer);
+  Variant crop;
+  crop.crop_nx = 16;
+  crop.crop_ny = 12;
+  part.source_file = f.variant(crop, "changed.nc");  // the file "changed" under the timestep
+  try {
+    loadDeferredDetail(part);
+    FAIL() << "a changed grid must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the file changed"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -215,5 +215,57 @@ TEST(VolumeBuilder, GivenUpTimestepGivesTheSameVolumesAndFreesItsFields) {
   EXPECT_EQ(ts.height_m, heights);  // not the optics' alone: kept
 }
 
+// A timestep whose detail fields were deferred (io::LoadOptions::defer_detail): the builder asks
+// for them once the optics' fields are freed — the point: they then reuse that memory — and gives
+// the volumes of the whole timestep bit for bit. Without a loader it refuses.
+TEST(VolumeBuilder, DeferredDetailFieldsAreLoadedAfterTheOpticsFieldsAreFreed) {
+  io::ModelTimestep whole = twoColumns();
+  const std::size_t n = whole.voxelCount();
+  whole.pressure_pa.assign(n, 70000.0f);
+  whole.temperature_k.assign(n, 280.0f);
+  whole.water_vapour_kg_per_kg.assign(n, 0.005f);
+  whole.q_kg_per_kg[io::Hydrometeor::Cloud].assign(n, 0.0f);
+  whole.q_kg_per_kg[io::Hydrometeor::Cloud][whole.index(0, 0, 2)] = 5e-4f;
+  for (std::size_t m = 0; m < n; ++m) {
+    whole.tke_m2_per_s2.push_back(0.1f * float(m));
+    whole.cloud_fraction.push_back(float(m % 3) / 2.0f);
+    whole.wind_u_m_per_s.push_back(float(m) - 4.0f);
+    whole.wind_v_m_per_s.push_back(2.0f * float(m));
+    whole.wind_w_m_per_s.push_back(0.01f * float(m));
+  }
+  VerticalGridOptions o;
+  o.dz_m = 100.0;
+  const ExtinctionVolumes expected = buildExtinctionVolumes(whole, defaultOptics(), o);
+  io::ModelTimestep part = whole;
+  for (auto* f :
+       {&part.tke_m2_per_s2, &part.cloud_fraction, &part.wind_u_m_per_s, &part.wind_v_m_per_s, &part.wind_w_m_per_s}) {
+    std::vector<float>().swap(*f);
+  }
+  part.detail_deferred = true;
+  EXPECT_THROW((void)buildExtinctionVolumes(part, defaultOptics(), o), UsageError);
+  int calls = 0;
+  const ExtinctionVolumes got =
+      buildExtinctionVolumes(std::move(part), defaultOptics(), o, [&](io::ModelTimestep& fields) {
+        ++calls;
+        EXPECT_TRUE(fields.q_kg_per_kg.empty()) << "the optics' fields must be freed first";
+        EXPECT_EQ(fields.pressure_pa.capacity(), 0u);
+        EXPECT_EQ(fields.temperature_k.capacity(), 0u);
+        fields.tke_m2_per_s2 = whole.tke_m2_per_s2;
+        fields.cloud_fraction = whole.cloud_fraction;
+        fields.wind_u_m_per_s = whole.wind_u_m_per_s;
+        fields.wind_v_m_per_s = whole.wind_v_m_per_s;
+        fields.wind_w_m_per_s = whole.wind_w_m_per_s;
+        fields.detail_deferred = false;
+      });
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(got.water_per_m, expected.water_per_m);
+  EXPECT_EQ(got.tke_m2_per_s2, expected.tke_m2_per_s2);
+  EXPECT_EQ(got.cloud_fraction, expected.cloud_fraction);
+  EXPECT_EQ(got.wind_u_m_per_s, expected.wind_u_m_per_s);
+  EXPECT_EQ(got.wind_v_m_per_s, expected.wind_v_m_per_s);
+  EXPECT_EQ(got.wind_w_m_per_s, expected.wind_w_m_per_s);
+  EXPECT_FALSE(expected.wind_w_m_per_s.empty());
+}
+
 }  // namespace
 }  // namespace nph::physics
