@@ -170,6 +170,17 @@ TEST(VolumeBuilder, WholeTimestepWithGeoreference) {
   EXPECT_EQ(v.max_ice_per_m, 0.0f);
 }
 
+// The sub-grid detail's fields (TKE, cloud fraction, U, V, W), distinct values per voxel.
+void addDetailFields(io::ModelTimestep& ts) {
+  for (std::size_t m = 0; m < ts.voxelCount(); ++m) {
+    ts.tke_m2_per_s2.push_back(0.1f * float(m));
+    ts.cloud_fraction.push_back(float(m % 3) / 2.0f);
+    ts.wind_u_m_per_s.push_back(float(m) - 4.0f);
+    ts.wind_v_m_per_s.push_back(2.0f * float(m));
+    ts.wind_w_m_per_s.push_back(0.01f * float(m));
+  }
+}
+
 // The overload that takes the timestep over (`nephele convert`, issue 19) frees each model field
 // after its last stage and gives the const overload's volumes bit for bit, detail fields included.
 TEST(VolumeBuilder, GivenUpTimestepGivesTheSameVolumesAndFreesItsFields) {
@@ -182,13 +193,7 @@ TEST(VolumeBuilder, GivenUpTimestepGivesTheSameVolumesAndFreesItsFields) {
   ts.q_kg_per_kg[io::Hydrometeor::Cloud][ts.index(0, 0, 2)] = 5e-4f;
   ts.q_kg_per_kg[io::Hydrometeor::Ice][ts.index(1, 0, 5)] = 2e-4f;
   ts.number_per_kg[io::Hydrometeor::Ice].assign(n, 1e5f);
-  for (std::size_t m = 0; m < n; ++m) {
-    ts.tke_m2_per_s2.push_back(0.1f * float(m));
-    ts.cloud_fraction.push_back(float(m % 3) / 2.0f);
-    ts.wind_u_m_per_s.push_back(float(m) - 4.0f);
-    ts.wind_v_m_per_s.push_back(2.0f * float(m));
-    ts.wind_w_m_per_s.push_back(0.01f * float(m));
-  }
+  addDetailFields(ts);
   VerticalGridOptions o;
   o.dz_m = 100.0;
   const ExtinctionVolumes kept = buildExtinctionVolumes(ts, defaultOptics(), o);
@@ -226,13 +231,7 @@ TEST(VolumeBuilder, DeferredDetailFieldsAreLoadedAfterTheOpticsFieldsAreFreed) {
   whole.water_vapour_kg_per_kg.assign(n, 0.005f);
   whole.q_kg_per_kg[io::Hydrometeor::Cloud].assign(n, 0.0f);
   whole.q_kg_per_kg[io::Hydrometeor::Cloud][whole.index(0, 0, 2)] = 5e-4f;
-  for (std::size_t m = 0; m < n; ++m) {
-    whole.tke_m2_per_s2.push_back(0.1f * float(m));
-    whole.cloud_fraction.push_back(float(m % 3) / 2.0f);
-    whole.wind_u_m_per_s.push_back(float(m) - 4.0f);
-    whole.wind_v_m_per_s.push_back(2.0f * float(m));
-    whole.wind_w_m_per_s.push_back(0.01f * float(m));
-  }
+  addDetailFields(whole);
   VerticalGridOptions o;
   o.dz_m = 100.0;
   const ExtinctionVolumes expected = buildExtinctionVolumes(whole, defaultOptics(), o);
