@@ -277,9 +277,15 @@ TEST_F(DlmTest, WithoutStatsReadBackTheMapIsTheSame) {
       EXPECT_EQ(ra.texel_epsilon[t], rb.texel_epsilon[t]) << "texel " << t;
       EXPECT_EQ(ra.unbounded[t], rb.unbounded[t]) << "texel " << t;
     }
-    // A second build reads the first's statistics before it clears their counts: still none inside.
+    // Two more builds, nobody asking in between: the third summarises the second's copies (their
+    // fence long passed) without a read-back; the statistics are then the third build's.
     ASSERT_TRUE(without.build(tex, {0.25, 0.3, -1}, s));
+    ASSERT_TRUE(without.build(tex, {0.3, 0.2, -1}, s));
+    ASSERT_TRUE(withStats.build(tex, {0.3, 0.2, -1}, s));
     EXPECT_EQ(without.stats().build_read_backs, 0u);
+    EXPECT_EQ(without.stats().node_histogram, withStats.stats().node_histogram);
+    EXPECT_EQ(without.stats().overflowed_texels, withStats.stats().overflowed_texels);
+    EXPECT_EQ(without.stats().builds, 3u);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 
 #include <fmt/format.h>
@@ -208,7 +209,15 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
     stats_.rebuilt = false;
     return false;
   }
-  if (stats_pending_) readStats();  // the last build's, before this one clears its counts
+  if (stats_pending_) {  // the last build's, before this one clears its counts
+    if (stats_read_back_ || !stats_fence_ ||
+        glClientWaitSync(stats_fence_.get(), GL_SYNC_FLUSH_COMMANDS_BIT, 0) != GL_TIMEOUT_EXPIRED) {
+      readStats();
+    } else {
+      log::debug("deep light map: the last build's statistics are not copied yet; not waiting for them");
+      stats_pending_ = false;
+    }
+  }
   if (settings.max_nodes < 2) throw UsageError("DLM settings: max_nodes must be at least 2");
   if (settings.forward_peak_ice >= 0.0 || settings.forward_peak_water >= 0.0)
     throw UsageError("DLM settings: forward_peak_ice/water (a per-medium forward peak) exist in the CPU reference "
@@ -412,7 +421,10 @@ bool DeepLightMap::build(const VolumeTextures& volume, const glm::dvec3& lightDi
   stats_.pass3_ms = pass3;
   stats_.light_cache_ms = bake;
   stats_pending_ = true;
-  if (!stats_read_back_) return true;  // read when asked for (stats()) or before the next build
+  if (!stats_read_back_) {  // summarised when asked for (stats()) or before the next build
+    queueStatsCopy();
+    return true;
+  }
   readStats();
   stats_.build_read_backs += 3;  // the counts, ε and march counters, inside the build
   log::debug(
@@ -430,12 +442,56 @@ const DlmStats& DeepLightMap::stats() const {
   return stats_;
 }
 
+void DeepLightMap::SyncDeleter::operator()(GLsync s) const { glDeleteSync(s); }
+
+void DeepLightMap::queueStatsCopy() {
+  const glm::ivec2 n = light_space_.texels;
+  const std::size_t texels = std::size_t(n.x) * std::size_t(n.y), plane = texels * 4, bytes = 2 * plane + 16;
+  if (stats_pack_.size() < bytes) {
+    stats_pack_ = gl::Buffer::create(bytes, nullptr, GL_MAP_READ_BIT | GL_CLIENT_STORAGE_BIT).label("DLM statistics");
+  }
+  GLint previous = 0;
+  glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &previous);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, stats_pack_.id());
+  glGetTextureImage(counts_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(plane), nullptr);
+  glGetTextureImage(texel_eps_.id(), 0, GL_RED, GL_FLOAT, GLsizei(plane), reinterpret_cast<void*>(plane));
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(previous));
+  glCopyNamedBufferSubData(march_stats_.id(), stats_pack_.id(), 0, GLintptr(2 * plane), 16);
+  stats_fence_.reset(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
+}
+
 void DeepLightMap::readStats() const {
   stats_pending_ = false;
   const glm::ivec2 n = light_space_.texels;
+  const std::size_t texels = std::size_t(n.x) * std::size_t(n.y);
+  if (!stats_read_back_ && stats_fence_) {  // the build's asynchronous copies (queueStatsCopy)
+    // Waits only for those copies (usually long done); no deadline: the GPU finishes them.
+    while (glClientWaitSync(stats_fence_.get(), GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000) == GL_TIMEOUT_EXPIRED) {
+    }
+    const std::size_t plane = texels * 4;
+    const auto* mapped = static_cast<const std::uint8_t*>(
+        glMapNamedBufferRange(stats_pack_.id(), 0, GLsizeiptr(2 * plane + 16), GL_MAP_READ_BIT));
+    if (!mapped) throw GlError("deep light map statistics: the buffer could not be mapped");
+    std::vector<std::uint32_t> counts(texels), march(4);
+    std::vector<float> eps(texels);
+    std::memcpy(counts.data(), mapped, plane);
+    std::memcpy(eps.data(), mapped + plane, plane);
+    std::memcpy(march.data(), mapped + 2 * plane, 16);
+    glUnmapNamedBuffer(stats_pack_.id());
+    summariseStats(counts.data(), eps.data(), march.data());
+    return;
+  }
   const auto counts = readCounts(counts_, n);
   std::vector<float> eps(counts.size());
   glGetTextureImage(texel_eps_.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(eps.size() * 4), eps.data());
+  std::uint32_t march[4] = {0, 0, 0, 0};
+  march_stats_.download(0, sizeof(march), march);
+  summariseStats(counts.data(), eps.data(), march);
+}
+
+void DeepLightMap::summariseStats(const std::uint32_t* counts, const float* eps, const std::uint32_t* march) const {
+  const glm::ivec2 n = light_space_.texels;
+  const std::size_t texels = std::size_t(n.x) * std::size_t(n.y);
   stats_.texels = n;
   stats_.steps = steps_;
   stats_.step_m = step_m_;
@@ -445,7 +501,7 @@ void DeepLightMap::readStats() const {
   stats_.overflowed_texels = 0;
   stats_.max_nodes_used = 0;
   double total = 0.0;
-  for (std::size_t i = 0; i < counts.size(); ++i) {
+  for (std::size_t i = 0; i < texels; ++i) {
     const int c = int(counts[i] & gl::binding::DLM_COUNT_MASK);
     total += c;
     stats_.max_nodes_used = std::max(stats_.max_nodes_used, c);
@@ -459,7 +515,7 @@ void DeepLightMap::readStats() const {
   if (stats_.unbounded_texels > 0 && stats_.overflowed_texels < stats_.unbounded_texels) {
     stats_.overflowed_texels = stats_.unbounded_texels;
   }
-  stats_.mean_nodes = counts.empty() ? 0.0 : total / double(counts.size());
+  stats_.mean_nodes = texels == 0 ? 0.0 : total / double(texels);
   stats_.bytes = std::size_t(n.x) * std::size_t(n.y) * (std::size_t(settings_.max_nodes) * 8 + 4 + 4);
   const double uncompressed = double(n.x) * double(n.y) * double(steps_ + 1) * 4.0;
   stats_.compression_ratio = total > 0.0 ? uncompressed / (total * 8.0) : 0.0;
@@ -467,12 +523,10 @@ void DeepLightMap::readStats() const {
     log::warn("DLM: {} texels exceed the node budget ({}) even at eps x{}; their error bound is not kept",
               stats_.unbounded_texels, settings_.max_nodes, 1 << settings_.max_epsilon_doublings);
   }
-  std::uint32_t marchCounts[4] = {0, 0, 0, 0};
-  march_stats_.download(0, sizeof(marchCounts), marchCounts);
-  stats_.marched_steps = marchCounts[0];
-  stats_.run_steps = marchCounts[1];
-  stats_.runs = marchCounts[2];
-  stats_.cut_short = marchCounts[3];
+  stats_.marched_steps = march[0];
+  stats_.run_steps = march[1];
+  stats_.runs = march[2];
+  stats_.cut_short = march[3];
   if (stats_.cut_short > 0) {
     log::warn("deep light map: {} texels' marches were cut short by the GL driver's loop limit (Mesa llvmpipe ends a "
               "shader's loops after 65 535 iterations): their light beyond the cut is missing; raise quality "

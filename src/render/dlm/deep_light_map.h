@@ -20,7 +20,9 @@
 // Cache key: volume identity + sun direction + settings; build() returns false and does nothing
 // when the key is unchanged (an unchanged DLM is never rebuilt).
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "lighting/dlm_model.h"
@@ -87,11 +89,12 @@ class DeepLightMap {
   bool build(const VolumeTextures& volume, const glm::dvec3& lightDirection, const lighting::DlmSettings& settings);
 
   const lighting::LightSpace& lightSpace() const { return light_space_; }
-  /// The last build's statistics. Without the statistics read back (setStatsReadBack(false)) they
-  /// are read here, the first time they are asked for after a build — by then the work has usually
-  /// long finished, so the read does not stall — and logged as the build would have (the node
-  /// budget and loop-limit warnings); the next build reads them first if nobody asked, so no
-  /// warning is lost except the last build's of a session that never asks.
+  /// The last build's statistics. Without the statistics read back (setStatsReadBack(false)) the
+  /// build queues asynchronous copies of its counts into a buffer and a fence; they are summarised
+  /// here, the first time they are asked for (waiting for the fence if the GPU is still busy), and
+  /// logged as the build would have (the node budget and loop-limit warnings). The next build
+  /// summarises them first if nobody asked and the fence has passed — no wait — so a warning is
+  /// lost only when the GPU is still a whole build behind, or after the last build of a session.
   const DlmStats& stats() const;
   /// Statistics read back inside every build (the default: the overflow rule's retries decided
   /// from the counts on the CPU, each pass timed with glFinish, the counts and ε summarised), or
@@ -150,14 +153,26 @@ class DeepLightMap {
   /// `indirect` ≥ 0: dispatched with glDispatchComputeIndirect from that byte offset of retry_args_.
   void march(const VolumeTextures& volume, const gl::Program& program, double epsilon, bool onlyOverflowed,
              glm::ivec2 invocations, int retrySlot = -1, GLintptr indirect = -1);
-  /// Reads the counts, ε and march counters of the last build into stats_ and logs its warnings.
+  /// Reads the counts, ε and march counters of the last build into stats_ and logs its warnings:
+  /// from the textures (with the statistics read back) or from stats_pack_ once its fence says the
+  /// copies are done (without).
   void readStats() const;
+  /// Without the statistics read back: queues copies of the counts, ε and march counters into
+  /// stats_pack_ (asynchronous: a pixel-pack buffer and a buffer copy) and a fence after them.
+  void queueStatsCopy();
+  /// Summarises counts and ε of the last build's texels and its march counters into stats_.
+  void summariseStats(const std::uint32_t* counts, const float* eps, const std::uint32_t* march) const;
   double bakeLightCache(const VolumeTextures& volume);
 
   gl::Program march_, march_peripheral_, scatter_, scatter_runs_, uncompressed_, light_cache_bake_;
   gl::Texture nodes_, counts_, texel_eps_, scatter_map_, scatter_runs_map_, light_cache_;
   gl::Buffer march_stats_;  ///< SSBO_DLM_MARCH_STATS: 4 uint counters (DlmStats::marched_steps …)
   gl::Buffer retry_args_;   ///< SSBO_DLM_RETRY_ARGS: indirect dispatch arguments of the retries
+  gl::Buffer stats_pack_;   ///< the statistics copied asynchronously (setStatsReadBack(false))
+  struct SyncDeleter {
+    void operator()(GLsync s) const;
+  };
+  std::unique_ptr<std::remove_pointer_t<GLsync>, SyncDeleter> stats_fence_;  ///< after the copies
   bool stats_read_back_ = true;
   mutable bool stats_pending_ = false;  ///< a build whose statistics were not read yet
   DlmBaseline baseline_;
