@@ -216,9 +216,9 @@ render::RenderOutput Session::render(const scene::Camera& camera, const render::
 void Session::dispatch(const render::ViewRays& view, render::HostDepth depth) {
   // The per-frame path (`nephele view`, the plugin API): on a GPU a map build never waits for it to
   // read its statistics back, unless they are logged (issue 19 item 2; DeepLightMap::setStatsReadBack).
-  // A software rasteriser keeps them: there the CPU has done the work by the time it would read,
-  // the empty indirect retries cost more than the read (docs/benchmarks.md "DLM statistics
-  // read-back"), and its loop limiter is what the read-back warns about.
+  // A software rasteriser keeps them: there the CPU has done the work by the time it would read
+  // (nothing to win: docs/benchmarks.md "DLM statistics read-back"), and its loop limiter is what
+  // the statistics warn about.
   // NEPHELE_DLM_STATS=on|off overrides the choice (tests run the GPU's path on llvmpipe with off).
   const auto forced = env::get("NEPHELE_DLM_STATS");
   dlm_.setStatsReadBack(forced ? *forced != "off" : log::threshold() >= log::Level::Debug || gl::softwareRasteriser());
