@@ -201,7 +201,8 @@ const std::vector<std::string>& csvColumns() {
                                           "ref_max_abs",
                                           "ref_share_off_2_255",
                                           "ref_alpha_max_abs",
-                                          "truth_luminance_bias"};
+                                          "truth_luminance_bias",
+                                          "truth_rel_mse_noise"};
   return c;
 }
 
@@ -219,11 +220,11 @@ void writeCsv(const std::vector<SweepRow>& rows, const std::string& path) {
     const ImageError& c = r.vs_reference;
     out << fmt::format(
         "{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},"
-        "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+        "{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
         r.scene, r.knob, r.value, r.dlm_ms, r.raycast_ms, r.dlm_ms + r.raycast_ms, r.dlm_mean_nodes,
         r.dlm_unbounded_texels, t.rmse, t.rel_mse, t.mean_abs, t.max_abs, t.share_off_2_255, t.alpha_max_abs,
         t.ref_noise_rmse, biasRmse(t), r.truth_truncated_share, r.coverage, c.rmse, c.rel_mse, c.mean_abs, c.max_abs,
-        c.share_off_2_255, c.alpha_max_abs, t.luminance_bias);
+        c.share_off_2_255, c.alpha_max_abs, t.luminance_bias, t.rel_mse_noise);
   }
   if (!out) throw IoError(path + ": write failed");
 }

@@ -69,6 +69,16 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
   e.share_off_2_255 = double(off) / count;
   e.ref_noise_rmse = luminanceNoiseRmse(se);
   e.luminance_bias = sumYRef > 0.0 ? sumY / sumYRef - 1.0 : 0.0;
+  if (!se.empty()) {
+    double relNoise = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* b = &reference.rgba[4 * i];
+      const double yb = luminance(b[0], b[1], b[2]);
+      const double sy = luminance(se[3 * i], se[3 * i + 1], se[3 * i + 2]);  // as luminanceNoiseRmse
+      relNoise += sy * sy / (yb * yb + kRelMseFloor);
+    }
+    e.rel_mse_noise = relNoise / count;
+  }
   return e;
 }
 

@@ -14,6 +14,10 @@
 //                    path tracer's): the floor below which rmse says nothing
 //   luminance_bias   Σ Y / Σ Y_ref − 1: the mean brightness of the layer against the reference
 //                    (issue 12: "mean cloud-layer luminance within ±5 %")
+//   rel_mse_noise    mean σ²(Y_ref) / (Y_ref² + 0.01): what the reference's own noise adds to
+//                    rel_mse in expectation (zero-mean noise adds its variance to every squared
+//                    difference), so rel_mse − rel_mse_noise estimates the relMSE against the
+//                    converged reference (with the noisy Y_ref in the denominator)
 #include <vector>
 
 #include "scene/output_image.h"
@@ -29,6 +33,7 @@ struct ImageError {
   double alpha_max_abs = 0.0;
   double ref_noise_rmse = 0.0;
   double luminance_bias = 0.0;
+  double rel_mse_noise = 0.0;
 };
 
 /// `reference_standard_error`: empty, or 3 floats per pixel (RGB standard error of the mean).

@@ -8,7 +8,7 @@ rm -rf "$out"
 "$nephele" accuracy --quick -o "$out"
 csv="$out/accuracy.csv"
 test -s "$csv" || { echo "no $csv"; exit 1; }
-expected="scene,knob,value,dlm_ms,raycast_ms,total_ms,dlm_mean_nodes,dlm_unbounded_texels,truth_rmse,truth_rel_mse,truth_mean_abs,truth_max_abs,truth_share_off_2_255,truth_alpha_max_abs,truth_noise_rmse,truth_bias_rmse,truth_truncated_share,coverage,ref_rmse,ref_rel_mse,ref_mean_abs,ref_max_abs,ref_share_off_2_255,ref_alpha_max_abs,truth_luminance_bias"
+expected="scene,knob,value,dlm_ms,raycast_ms,total_ms,dlm_mean_nodes,dlm_unbounded_texels,truth_rmse,truth_rel_mse,truth_mean_abs,truth_max_abs,truth_share_off_2_255,truth_alpha_max_abs,truth_noise_rmse,truth_bias_rmse,truth_truncated_share,coverage,ref_rmse,ref_rel_mse,ref_mean_abs,ref_max_abs,ref_share_off_2_255,ref_alpha_max_abs,truth_luminance_bias,truth_rel_mse_noise"
 header=$(head -1 "$csv")
 [ "$header" = "$expected" ] || { echo "unexpected header: $header"; exit 1; }
 python3 - "$csv" <<'PY'

@@ -43,6 +43,7 @@
 #include <random>
 
 #include "accuracy/accuracy_scenes.h"
+#include "accuracy/image_error.h"
 #include "core/error.h"
 #include "reference/path_tracer.h"
 #include "render/dlm/deep_light_map.h"
@@ -341,6 +342,36 @@ TEST_F(StressConvergence, GpuAlphaMatchesPathTracerAndConvergesAtSecondOrder) {
     EXPECT_GT(std::max(order, order2), 1.6) << s.name;
     EXPECT_LT(rmse[3], rmse[0]) << s.name;
   }
+}
+
+// The truth-noise term of the relMSE (accuracy/image_error.h rel_mse_noise, issue 12): a reference
+// of known per-pixel standard error, and an image drawn around it with exactly that spread, give a
+// relMSE whose expectation is the term; the term itself is the closed form, and without a standard
+// error it is 0.
+TEST(ImageError, TruthNoiseTermOfTheRelMseIsItsExpectation) {
+  const int w = 200, h = 100;
+  scene::RgbaImage ref, img;
+  ref.width = img.width = w;
+  ref.height = img.height = h;
+  std::vector<float> se;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  double closedForm = 0.0;
+  for (int i = 0; i < w * h; ++i) {
+    const float y = 0.05f + 0.9f * float(i % 97) / 96.0f, sigma = 0.02f + 0.03f * float(i % 13) / 12.0f;
+    ref.rgba.insert(ref.rgba.end(), {y, y, y, 1.0f});
+    se.insert(se.end(), {sigma, sigma, sigma});  // grey: the luminance of (σ, σ, σ) is σ
+    const float noisy = float(double(y) + double(sigma) * gauss(rng));
+    img.rgba.insert(img.rgba.end(), {noisy, noisy, noisy, 1.0f});
+    closedForm += double(sigma) * double(sigma) / (double(y) * double(y) + 0.01);
+  }
+  closedForm /= double(w * h);
+  const accuracy::ImageError e = accuracy::compareImages(img, ref, se);
+  EXPECT_NEAR(e.rel_mse_noise, closedForm, 1e-6 * closedForm);
+  // 20 000 pixels: the sample mean of σ²·χ²₁ terms is within 3 % of its expectation (σ of the
+  // mean ≈ √2/√20 000 ≈ 1 % relative), and far from 0 — the term is what the noise adds.
+  EXPECT_NEAR(e.rel_mse, e.rel_mse_noise, 0.03 * e.rel_mse_noise);
+  EXPECT_EQ(accuracy::compareImages(img, ref).rel_mse_noise, 0.0);
 }
 
 }  // namespace
