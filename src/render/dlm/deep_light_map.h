@@ -95,6 +95,7 @@ class DeepLightMap {
   /// logged as the build would have (the node budget and loop-limit warnings). The next build
   /// summarises them first if nobody asked and the fence has passed — no wait — so a warning is
   /// lost only when the GPU is still a whole build behind, or after the last build of a session.
+  /// It may read GL (a pending build's copies): call it with the map's context current.
   const DlmStats& stats() const;
   /// Statistics read back inside every build (the default: the overflow rule's retries decided
   /// from the counts on the CPU, each pass timed with glFinish, the counts and ε summarised), or
