@@ -29,6 +29,14 @@ io::ModelTimestep twoColumns() {
   return ts;
 }
 
+// 700 hPa, 280 K and 5 g/kg of vapour in every voxel: the air the optics need.
+void addUniformAir(io::ModelTimestep& ts) {
+  const std::size_t n = ts.voxelCount();
+  ts.pressure_pa.assign(n, 70000.0f);
+  ts.temperature_k.assign(n, 280.0f);
+  ts.water_vapour_kg_per_kg.assign(n, 0.005f);
+}
+
 ModelLevelExtinction emptyBeta(const io::ModelTimestep& ts) {
   ModelLevelExtinction b;
   b.nx = ts.nx;
@@ -149,9 +157,7 @@ TEST(VolumeBuilder, WholeTimestepWithGeoreference) {
   ts.georef.lat_deg = {10.0f, 10.1f};
   ts.georef.lon_deg = {-60.0f, -60.0f};
   const std::size_t n = ts.voxelCount();
-  ts.pressure_pa.assign(n, 70000.0f);
-  ts.temperature_k.assign(n, 280.0f);
-  ts.water_vapour_kg_per_kg.assign(n, 0.005f);
+  addUniformAir(ts);
   ts.q_kg_per_kg[io::Hydrometeor::Cloud].assign(n, 0.0f);
   ts.q_kg_per_kg[io::Hydrometeor::Cloud][ts.index(0, 0, 2)] = 5e-4f;  // at 850 m
   VerticalGridOptions o;
@@ -186,9 +192,7 @@ void addDetailFields(io::ModelTimestep& ts) {
 TEST(VolumeBuilder, GivenUpTimestepGivesTheSameVolumesAndFreesItsFields) {
   io::ModelTimestep ts = twoColumns();
   const std::size_t n = ts.voxelCount();
-  ts.pressure_pa.assign(n, 70000.0f);
-  ts.temperature_k.assign(n, 280.0f);
-  ts.water_vapour_kg_per_kg.assign(n, 0.005f);
+  addUniformAir(ts);
   for (auto h : {io::Hydrometeor::Cloud, io::Hydrometeor::Ice}) ts.q_kg_per_kg[h].assign(n, 0.0f);
   ts.q_kg_per_kg[io::Hydrometeor::Cloud][ts.index(0, 0, 2)] = 5e-4f;
   ts.q_kg_per_kg[io::Hydrometeor::Ice][ts.index(1, 0, 5)] = 2e-4f;
@@ -226,9 +230,7 @@ TEST(VolumeBuilder, GivenUpTimestepGivesTheSameVolumesAndFreesItsFields) {
 TEST(VolumeBuilder, DeferredDetailFieldsAreLoadedAfterTheOpticsFieldsAreFreed) {
   io::ModelTimestep whole = twoColumns();
   const std::size_t n = whole.voxelCount();
-  whole.pressure_pa.assign(n, 70000.0f);
-  whole.temperature_k.assign(n, 280.0f);
-  whole.water_vapour_kg_per_kg.assign(n, 0.005f);
+  addUniformAir(whole);
   whole.q_kg_per_kg[io::Hydrometeor::Cloud].assign(n, 0.0f);
   whole.q_kg_per_kg[io::Hydrometeor::Cloud][whole.index(0, 0, 2)] = 5e-4f;
   addDetailFields(whole);
