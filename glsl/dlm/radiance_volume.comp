@@ -17,8 +17,9 @@
 // d_z/e)| along the flight (volume::VolumeFrame::opticalDepthScale), as the path tracer and the eye
 // pass do. At a real collision the photon scatters with the ice or the water lobe (chosen with the
 // ice weight β_ice/(β_ice + β_water), Nes eq. 5.12), Henyey–Greenstein sampled exactly, albedo 1;
-// past u_roulette_after collisions it survives with q = 1 − 1/u_roulette_after and its weight is
-// divided by q (unbiased Russian roulette, as the path tracer).
+// from its D-th collision on (D = u_roulette_after) the n-th survives with q_n = n/(n + 1) and its
+// weight is divided by q_n — (n + 1)/D after n collisions (unbiased Russian roulette with a weight
+// linear in the path's length, as the path tracer: reference/path_tracer.h).
 //
 // Tally: the track-length estimator (Spanier & Gelbard 1969 §3; PBRT 4th ed. §14.3): a flight of a
 // photon that has scattered at least u_min_order times adds w·ℓ·Y_lm(d) to every coarse cell it
@@ -27,7 +28,7 @@
 // 64-bit two's-complement integer held as two 32-bit words (low, high) in the SSBO, one addition
 // per crossing of x = round(w·ℓ·Y_lm / q) with q = u_quantum_m. The bound that fixes q
 // (render/dlm/radiance_volume.cpp): ℓ ≤ the cell's diagonal D, |Y_lm| ≤ √((2l + 1)/(4π)) ≤ 0.846
-// (Σ_m Y_lm² = (2l + 1)/(4π), the addition theorem) and w ≤ 16 (roulette's growth: 0.999^−2770), so
+// (Σ_m Y_lm² = (2l + 1)/(4π), the addition theorem) and w ≤ 16 (roulette: (n + 1)/D ≤ 16 up to n = 16 D), so
 // x fits in an int32 with q = 16·0.846·D / 2³¹ — one quantum is ≈ 10⁻⁸ of a typical crossing,
 // and the 64-bit sums cannot overflow (2³¹ crossings of the bound would be needed per 2⁻³² of the
 // range). A crossing beyond the bound is clamped and counted (stats[4]), never silent. The low
@@ -377,7 +378,7 @@ void main() {
       break;
     }
     if (u_roulette_after > 0 && order >= u_roulette_after) {
-      float q = 1.0 - 1.0 / float(u_roulette_after);
+      float q = float(order) / float(order + 1);
       if (uniform01() >= q) {
         atomicAdd(stats[2], 1u);
         alive = false;

@@ -86,6 +86,9 @@ std::string groundTruthKey(const AccuracyScene& sc, const render::RenderSettings
   h.add(gs.samples_per_pixel);
   h.add(gs.max_events);
   h.add(gs.roulette_after_events);
+  // The roulette's survival schedule (reference/path_tracer.h): 1 = q_n = n/(n + 1) (thirtieth
+  // session); the constant survival before it is not hashed, so its files are traced again.
+  if (gs.roulette_after_events > 0) h.add(std::int32_t{1});
   h.add(gs.seed);
   if (gs.part != TruthPart::Full) h.add(gs.part);  // the full truth's keys stay those of the cache
   return cache::toHex(h.digest());

@@ -173,7 +173,7 @@ class PhotonTracer {
         break;
       }
       if (s_.roulette_after_events > 0 && order >= s_.roulette_after_events) {
-        const double q = 1.0 - 1.0 / double(s_.roulette_after_events);
+        const double q = double(order) / double(order + 1);  // weight (order + 1)/D: reference/path_tracer.h
         if (rng.uniform() >= q) {
           ++st.rouletted;
           break;

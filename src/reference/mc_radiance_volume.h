@@ -66,7 +66,7 @@ struct McTallySpec {
 struct McSettings {
   std::uint64_t photons = 1 << 16;
   std::uint64_t seed = 15;           ///< not the path tracer's 1: its pixel streams are PathRng(1, pixel)
-  int roulette_after_events = 1000;  ///< as the path tracer (survival 1 − 1/this, weight ÷ survival)
+  int roulette_after_events = 1000;  ///< as the path tracer (n-th collision survives n/(n + 1), weight ÷ it)
   int max_events = 100000;
   physics::PhaseMix phase;  ///< the path tracer's (HG 0.75 ice / 0.85 water by default)
   volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;

@@ -36,6 +36,7 @@ void add(PathTracerStats& into, const PathTracerStats& s) {
   into.rouletted_paths += s.rouletted_paths;
   into.medium_collisions += s.medium_collisions;
   into.ground_hits += s.ground_hits;
+  into.max_path_weight = std::max(into.max_path_weight, s.max_path_weight);
 }
 
 }  // namespace
@@ -116,16 +117,20 @@ class PathTracer::Path {
   }
 
  private:
-  // Russian roulette past the depth (header comment): survival q = 1 − 1/D, throughput ÷ q.
+  // Russian roulette past the depth (header comment): the n-th collision (n ≥ D) survives with
+  // q_n = n/(n + 1) and the throughput is divided by q_n, so after N collisions it is (N + 1)/D —
+  // growing linearly with the path, not as q^−K (e^{K/D}) as with a constant survival, whose
+  // variance is infinite where paths diffuse for more than ~D collisions (the hurricane's fireflies).
   bool survivesRoulette(int events, glm::dvec3& beta) {
     const int depth = pt_.settings_.roulette_after_events;
     if (depth <= 0 || events < depth) return true;
-    const double q = 1.0 - 1.0 / double(depth);
+    const double q = double(events) / double(events + 1);
     if (rng_.uniform() >= q) {
       ++stats_.rouletted_paths;
       return false;
     }
     beta /= q;
+    stats_.max_path_weight = std::max(stats_.max_path_weight, maxComponent(beta));
     return true;
   }
 
@@ -305,10 +310,10 @@ PathTracedImage PathTracer::render(const scene::Camera& camera) const {
   for (const PathTracerStats& s : rowStats) add(img.stats, s);
   img.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (settings_.progress) {
-    log::info("path tracer: {}x{} at {} spp in {:.2f} s, {} paths, {} cut at max_events, {} rouletted, "
-              "{:.2f} collisions/path",
+    log::info("path tracer: {}x{} at {} spp in {:.2f} s, {} paths, {} cut at max_events, {} rouletted "
+              "(largest weight {:.1f}), {:.2f} collisions/path",
               camera.width, camera.height, settings_.samples_per_pixel, img.stats.seconds, img.stats.paths,
-              img.stats.truncated_paths, img.stats.rouletted_paths,
+              img.stats.truncated_paths, img.stats.rouletted_paths, img.stats.max_path_weight,
               double(img.stats.medium_collisions + img.stats.ground_hits) /
                   double(std::max<std::uint64_t>(1, img.stats.paths)));
   }

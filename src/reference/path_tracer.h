@@ -24,14 +24,18 @@
 //  * the sky is reached by paths escaping the volume (no NEE for the sky).
 //  * Russian roulette past a depth (PBRT 4th ed. §14.1.4; Novák et al. 2018 §5.3): albedo 1
 //    keeps the throughput at 1, so paths in optically thick cores would diffuse for O(τ²)
-//    collisions; after `roulette_after_events` collisions each further one survives with
-//    probability q = 1 − 1/roulette_after_events and the survivor's throughput is divided by q.
-//    Unbiased (E[weight] = 1 at every depth); the expected length beyond the depth is ≤ 1/(1 − q),
-//    and a path needing K more collisions than the depth carries a weight q^−K (≈ e^{K/D}), so
-//    the variance stays moderate for K up to a few D.
+//    collisions; from the D-th collision on (D = `roulette_after_events`) the n-th survives with
+//    probability q_n = n/(n + 1) and the survivor's throughput is divided by q_n. Unbiased
+//    (E[weight] = 1 at every depth); a path survives to its N-th collision with probability
+//    D/(N + 1) and then carries the weight (N + 1)/D — linear in its length, so a path of natural
+//    length N costs ≈ D·(1 + ln(N/D)) collisions and the estimator's variance stays finite
+//    however long the paths of a thick deck diffuse. (A constant survival q = 1 − 1/D, used until
+//    the thirtieth session, gives weights q^−K ≈ e^{K/D}: infinite variance once paths diffuse for
+//    more than ~D collisions — single pixels 400× their neighbours on the hurricane from above.)
 //  Paths end when they escape, are rouletted, or after `max_events` collisions (medium + ground);
 //  the number of paths cut by that hard cap is reported (their missing energy would be the only
-//  bias of the tracer; with roulette on, reaching the default cap has probability ≈ e^{−99}).
+//  bias of the tracer; with roulette on, a path reaches the cap with probability
+//  D/max_events at most, and only if it would naturally diffuse that long).
 //
 // Output convention (premultiplied, linear — what the compositor layers over the ground):
 //  * alpha = 1 − T(primary ray), T = exp(−τ) with τ integrated exactly through the volume box
@@ -64,8 +68,9 @@ struct PathTracerSettings {
   std::uint64_t seed = 1;
   /// Collisions (medium scatterings + ground bounces) per path; 1 = single scattering only.
   int max_events = 100000;
-  /// Russian roulette past this many collisions (survival 1 − 1/this per collision, weight ÷
-  /// survival): unbiased, bounds the expected path length. 0 = off (paths run to max_events).
+  /// Russian roulette from this many collisions on (the n-th survives with n/(n + 1), weight ÷
+  /// survival; header comment): unbiased, the weight grows linearly with the path's length.
+  /// 0 = off (paths run to max_events).
   int roulette_after_events = 1000;
   physics::PhaseMix phase;  ///< ice/water phase functions (defaults: HG 0.75 / 0.85)
   bool sun_enabled = true;
@@ -92,6 +97,7 @@ struct PathTracerStats {
   std::uint64_t rouletted_paths = 0;  ///< ended by Russian roulette (unbiased)
   std::uint64_t medium_collisions = 0;
   std::uint64_t ground_hits = 0;
+  double max_path_weight = 1.0;  ///< largest throughput component after a roulette (≤ (N + 1)/D)
   double seconds = 0.0;
 };
 

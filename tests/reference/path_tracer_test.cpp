@@ -85,6 +85,8 @@ double diffuseFlux(const PathTracer& pt, double z, double sign, int n, std::uint
     if (stats) {
       stats->truncated_paths += e.stats.truncated_paths;
       stats->rouletted_paths += e.stats.rouletted_paths;
+      stats->medium_collisions += e.stats.medium_collisions;
+      stats->max_path_weight = std::max(stats->max_path_weight, e.stats.max_path_weight);
     }
   }
   const double mean = sum / n;
@@ -398,9 +400,9 @@ TEST(PathTracer, ThickSlabTransmissionMatchesVanDeHulstUnderRoulette) {
   // escape function K(μ) = (√3/4)·H(μ) (normalised 2∫K μ dμ = 1), H(1) = 2.90781 (Chandrasekhar
   // 1960, table XI, ϖ = 1). At τ = 20: T = 0.07837, R = 1 − T. Russian roulette is set to start
   // after 128 collisions (transmitted paths take O(τ²) ≈ 400), so the balance also shows that the
-  // roulette is unbiased; no path may reach the hard cap. (Starting it after 16 collisions is
-  // unbiased too but multiplies the standard error of T by ~10: survivors carry q^−K.)
-  // Measured: T = 0.0744 ± 0.0021 (−5 %, 1.9 s.e.), R + T = 0.995 ± 0.004, ~10⁴ paths rouletted.
+  // roulette is unbiased; no path may reach the hard cap. (Starting it after 16 collisions: the
+  // next test.) Measured: T = 0.0765 ± 0.0016 (−2.5 %, 1.2 s.e.), R + T = 1.000 ± 0.003, 8 390
+  // paths rouletted (constant survival before the thirtieth session: T = 0.0744 ± 0.0021).
   const double tau = 20.0;
   const Slab slab(tau);
   scene::Sun sun;
@@ -432,6 +434,45 @@ TEST(PathTracer, ThickSlabTransmissionMatchesVanDeHulstUnderRoulette) {
   EXPECT_NEAR(reflected + transmitted, 1.0, 4.0 * std::hypot(seUp, seDown));
   EXPECT_EQ(stats.truncated_paths, 0u);
   EXPECT_GT(stats.rouletted_paths, 0u);
+}
+
+TEST(PathTracer, EarlyRouletteKeepsTheThickSlabsVarianceFinite) {
+  // The same τ = 20 slab (transmitted paths take O(τ²) ≈ 400 collisions), its transmission with
+  // Russian roulette from the 16th collision and from the 128th. The survival q_n = n/(n + 1) gives
+  // a path that lives to its N-th collision the weight (N + 1)/D, so the variance of a transmitted
+  // path grows like N/D: starting 8× earlier costs ≈ √8 in the standard error and halves the
+  // collisions. With the constant survival q = 1 − 1/D used before (weight q^−K ≈ e^{K/D} after K
+  // more collisions) a 400-collision path carried e^{24} at D = 16. Measured (D = 16 / 128, 40 000
+  // paths): T 0.0756 ± 0.0067 / 0.0742 ± 0.0023, largest weight 51 / 6.9, 15.6 / 33.7 collisions
+  // per path.
+  const Slab slab(20.0);
+  scene::Sun sun;
+  sun.elevation_deg = 90.0;
+  sun.intensity = 1.0;
+  const double expectedT =
+      4.0 * (std::sqrt(3.0) / 4.0 * 2.90781) / (3.0 * (slab.sigma_per_m * Slab::kThickness_m + 2.0 * 0.710446));
+  double se[2] = {}, t[2] = {};
+  PathTracerStats stats[2];
+  const int depths[2] = {16, 128};
+  for (int k = 0; k < 2; ++k) {
+    PathTracerSettings s = sunOnly(100000);
+    s.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, 0.0};
+    s.roulette_after_events = depths[k];
+    s.sun_transmittance = SunTransmittance::Exact;
+    const PathTracer pt(slab.volumes, volume::frameOf(slab.volumes), sun, s);
+    t[k] = diffuseFlux(pt, Slab::kBottom_m - 251.0, 1.0, 40000, 1u << 24, se[k], &stats[k]);
+    std::printf("roulette from %d: T %.5f +- %.5f (van de Hulst %.5f), %llu rouletted, largest weight %.2f, "
+                "%.1f collisions per path\n",
+                depths[k], t[k], se[k], expectedT, static_cast<unsigned long long>(stats[k].rouletted_paths),
+                stats[k].max_path_weight, double(stats[k].medium_collisions) / 40000.0);
+    EXPECT_NEAR(t[k], expectedT, 0.01 * expectedT + 4.0 * se[k]) << "roulette from " << depths[k];
+    EXPECT_EQ(stats[k].truncated_paths, 0u);
+    EXPECT_GT(stats[k].rouletted_paths, 0u);
+    // Linear growth: no weight beyond (N + 1)/D for the cap N (and far below it in practice).
+    EXPECT_LE(stats[k].max_path_weight, (100000.0 + 1.0) / depths[k]);
+  }
+  EXPECT_LT(se[0], 4.0 * se[1]);
+  EXPECT_LT(stats[0].max_path_weight, 200.0);
 }
 
 TEST(PathTracer, OpticallyThinSlabApproachesSingleScattering) {

@@ -18,8 +18,8 @@ namespace {
 // The fixed-point bound of glsl/dlm/radiance_volume.comp: one addition is w·ℓ·Y_lm with ℓ ≤ the
 // cell's diagonal, |Y_lm| ≤ √(9/(4π)) at l = 4 (the addition theorem) and w ≤ kWeightBound.
 constexpr double kMaxHarmonic = 0.8462843753216345;  // √(9/(4π))
-// Roulette divides w by 0.999 per collision past 1000: w = 16 needs 2770 more (a photon
-// surviving them is 0.999^2770 ≈ 6 % of those that reach them, and ≪ 10⁻⁶ of all).
+// Roulette leaves w = (n + 1)/D after n ≥ D collisions (reference/path_tracer.h): w = 16 needs
+// 16 000 collisions at D = 1000 (a photon diffusing that long survives to them with 1/16).
 constexpr double kWeightBound = 16.0;
 constexpr double kInt32Bound = 2147483520.0;  // float's largest below 2³¹ (the shader's clamp)
 // llvmpipe's loop limiter (glsl/dlm/radiance_volume.comp, header): every loop of a shader ends
