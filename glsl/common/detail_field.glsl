@@ -76,6 +76,9 @@ vec4 detailAdvectedNoiseAt(vec3 p_m, vec3 o_a, vec3 o_b, vec3 period_m, bool sec
     period = period / kDetailSecondFrameScale;
   }
   Number lod = detailNoiseLod(footprint_m, period);
+  // Still air (DETAIL_WIND_ON false: no U, V): o_a = o_b = 0 and phase a's weight is 1, so the
+  // blend is the one read, bit for bit (mix(x, y, 1) = y) — half the noise fetches.
+  if (!(DETAIL_WIND_ON)) return detailNoiseAt(qa, lod);
   return mix(detailNoiseAt(qb, lod), detailNoiseAt(qa, lod), u_detail_flow.z);
 }
 
@@ -101,7 +104,8 @@ vec2 detailedExtinctionAt(vec3 world_m, Number footprint_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(Number(0.0));
   vec4 c = detailControlsAt(uvw);
-  vec2 u = detailWindAt(uvw);
+  vec2 u = vec2(Number(0.0));
+  if (DETAIL_WIND_ON) u = detailWindAt(uvw);
   vec3 oa = vec3(-u.x * u_detail_flow.x, -u.y * u_detail_flow.x, Number(0.0));
   vec3 ob = vec3(-u.x * u_detail_flow.y, -u.y * u_detail_flow.y, Number(0.0));
   vec4 nd = detailAdvectedNoiseAt(world_m, oa, ob, Number(2.0) * u_noise_period_m, false, footprint_m);

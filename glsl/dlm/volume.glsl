@@ -50,7 +50,7 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
   vec4 u_noise_stats_ra;  // (mean, half range) of noise channels r and a
   vec4 u_noise_stats_gs;  // of channel g and of the stratiform term
   vec4 u_noise_stats_c;   // of the convective term
-  vec4 u_detail_flow;     // (τ_a, τ_b [s], phase a's weight, 0): the noise's advection (volume/detail.h)
+  vec4 u_detail_flow;     // (τ_a, τ_b [s], phase a's weight, 1 with a wind): the noise's advection (volume/detail.h)
 };
 
 // Compile-time specialisation (issue 19, "Frame time"): llvmpipe runs 8 lanes in lock-step and a
@@ -63,6 +63,13 @@ layout(std140, binding = UBO_VOLUME) uniform VolumeBlock {
 #define DETAIL_ON (SPEC_DETAIL != 0)
 #else
 #define DETAIL_ON (u_detail != 0)
+#endif
+// Whether the detail's noise is advected (the data has U, V; glsl/common/detail_field.glsl): in
+// still air one noise read per frame serves both flow phases.
+#ifdef SPEC_DETAIL_WIND
+#define DETAIL_WIND_ON (SPEC_DETAIL_WIND != 0)
+#else
+#define DETAIL_WIND_ON (u_detail_flow.w != 0.0)
 #endif
 #ifdef SPEC_CUBIC
 #define RECONSTRUCTION_CUBIC (SPEC_CUBIC != 0)

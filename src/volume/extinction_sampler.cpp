@@ -69,7 +69,8 @@ struct DetailField {
     u_detail_amplitude = Number(p.amplitude);
     packNoiseStats(noise.stats, u_noise_stats_ra, u_noise_stats_gs, u_noise_stats_c);
     const DetailFlow& flow = s.detailFlow();
-    u_detail_flow = vec4(Number(flow.tau_s.x), Number(flow.tau_s.y), Number(flow.weight_a), Number(0.0));
+    u_detail_flow = vec4(Number(flow.tau_s.x), Number(flow.tau_s.y), Number(flow.weight_a),
+                         s.wind().empty() ? Number(0.0) : Number(1.0));
     reach_voxels = Number(reachVoxels(s.reconstruction()) + p.reach_voxels);
   }
   vec3 volumeUvw(vec3 world_m) const {
@@ -98,7 +99,9 @@ struct DetailField {
     const int i = std::clamp(column.x, 0, u_voxels.x - 1), j = std::clamp(column.y, 0, u_voxels.y - 1);
     return (*correction)[std::size_t(j) * std::size_t(u_voxels.x) + std::size_t(i)];
   }
+#define DETAIL_WIND_ON (u_detail_flow.w != Number(0.0))  // as glsl/dlm/volume.glsl without SPEC_DETAIL_WIND
 #include "../glsl/common/detail_field.glsl"
+#undef DETAIL_WIND_ON
 };
 static_assert(kDetailNoiseTexels == kNoiseTexels, "detail_field.glsl's tile size is volume/noise.h's");
 }  // namespace f32

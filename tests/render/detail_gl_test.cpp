@@ -20,6 +20,7 @@
 #include "scene/scene_file.h"
 #include "scene/sun.h"
 #include "support/gl_fixture.h"
+#include "volume/detail.h"
 #include "volume/extinction_sampler.h"
 #include "volume/noise.h"
 
@@ -215,6 +216,57 @@ TEST_F(DetailTest, StillSceneIsBitIdenticalFrameToFrame) {
   dlm2.build(tex2, -d.sun.toSun(), lighting::DlmSettings{});
   const auto c = renderer.render(tex2, dlm2, d.camera, d.sun, rs);
   EXPECT_EQ(a.cloud_layer.rgba, c.cloud_layer.rgba);
+}
+
+// Still air reads the noise once (DETAIL_WIND_ON, glsl/common/detail_field.glsl): without U, V both
+// flow phases are the same read with phase a's weight 1. The same storm with a wind of zero
+// everywhere takes the two-read path (its wind texture exists: SPEC_DETAIL_WIND 1 in the eye pass,
+// u_detail_flow.w = 1 in the DLM passes and the CPU twin); at a clock where phase a's weight is
+// exactly 1 (φ = ½: half a flow period) its blend mix(b, a, 1) is a bit for bit. So the two
+// programs must give the same frame, and the CPU twin the same field, bit for bit.
+TEST_F(DetailTest, StillAirReadsTheNoiseOnceForTheSameField) {
+  ExtinctionVolumes still = coarseStorm();
+  ASSERT_FALSE(still.wind_u_m_per_s.empty());
+  ExtinctionVolumes calm = still;
+  still.wind_u_m_per_s.clear();
+  still.wind_v_m_per_s.clear();
+  std::fill(calm.wind_u_m_per_s.begin(), calm.wind_u_m_per_s.end(), 0.0f);
+  std::fill(calm.wind_v_m_per_s.begin(), calm.wind_v_m_per_s.end(), 0.0f);
+  still.detail_clock_s = calm.detail_clock_s = 0.5 * volume::kDetailFlowPeriod_s;
+  ASSERT_EQ(volume::detailFlow(calm.detail_clock_s, true).weight_a, 1.0);
+  const DemoView d = demoView(still, 96, 54);
+  render::RenderSettings rs;
+  rs.jitter = false;
+  render::RenderOutput out[2];
+  for (int k = 0; k < 2; ++k) {
+    const ExtinctionVolumes& v = k == 0 ? still : calm;
+    auto tex = render::VolumeTextures::upload(v, d.frame, k == 0 ? "still" : "calm", {.detail = Detail::Full});
+    EXPECT_EQ(tex.hasDetailWind(), k == 1);
+    render::DeepLightMap dlm;
+    dlm.build(tex, -d.sun.toSun(), lighting::DlmSettings{});
+    render::CloudRenderer renderer;
+    EXPECT_EQ(renderer.features(tex, dlm, rs).detail_wind, k == 1);
+    out[k] = renderer.render(tex, dlm, d.camera, d.sun, rs);
+  }
+  EXPECT_EQ(out[0].cloud_layer.rgba, out[1].cloud_layer.rgba);
+  double alpha = 0.0;
+  for (std::size_t i = 3; i < out[0].cloud_layer.rgba.size(); i += 4) alpha += double(out[0].cloud_layer.rgba[i]);
+  EXPECT_GT(alpha, 10.0);  // the storm is in the frame
+  // The CPU twin on a lattice through the storm.
+  const volume::ExtinctionSampler a(still, d.frame, volume::Reconstruction::Trilinear, Detail::Full);
+  const volume::ExtinctionSampler b(calm, d.frame, volume::Reconstruction::Trilinear, Detail::Full);
+  int cloudy = 0;
+  for (int i = 0; i < 24; ++i)
+    for (int j = 0; j < 24; ++j)
+      for (int k = 0; k < 12; ++k) {
+        const glm::dvec3 p = d.frame.worldFromGrid(
+            {(i + 0.37) * still.nx / 24.0, (j + 0.61) * still.ny / 24.0, (k + 0.5) * still.nz / 12.0});
+        const volume::ExtinctionSample x = a.at(p), y = b.at(p);
+        ASSERT_EQ(x.ice_per_m, y.ice_per_m);
+        ASSERT_EQ(x.water_per_m, y.water_per_m);
+        cloudy += x.ice_per_m + x.water_per_m > 0.0;
+      }
+  EXPECT_GT(cloudy, 100);
 }
 
 // Issue 13 "Artefact metric" with the detail on (tests/render/grid_artefacts.h, docs/rendering.md):

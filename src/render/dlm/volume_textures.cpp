@@ -236,7 +236,9 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     block.noise_period_m = glm::vec3(t.detail_.period_m);
     block.displacement_m = glm::vec3(t.detail_.reach_m);
     volume::packNoiseStats(st, block.noise_stats_ra, block.noise_stats_gs, block.noise_stats_c);
-    block.detail_flow = glm::vec4(float(flow.tau_s.x), float(flow.tau_s.y), float(flow.weight_a), 0.0f);
+    // w: 1 where the noise is advected (the data has U, V), 0 in still air (DETAIL_WIND_ON).
+    block.detail_flow =
+        glm::vec4(float(flow.tau_s.x), float(flow.tau_s.y), float(flow.weight_a), t.wind_ ? 1.0f : 0.0f);
   }
   t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
   // The per-column mass correction of the detail (volume/detail.h): measured with the correction

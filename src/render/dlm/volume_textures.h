@@ -74,6 +74,8 @@ class VolumeTextures {
   const volume::DetailParameters& detail() const { return detail_; }
   /// The noise tile in use (null without detail): pass it to the next upload to reuse it.
   const std::shared_ptr<const NoiseTexture>& noise() const { return noise_; }
+  /// Whether the detail's noise is advected by the data's U, V (the wind texture exists).
+  bool hasDetailWind() const { return bool(wind_); }
   bool hasIce() const { return has_ice_; }
   /// The packed texture of the eye pass (issue 19 item 3; glsl/render/clouds.comp packedAt): one
   /// RGBA16F texel per voxel holding (β_ice, β_water) in units of packedBetaUnit_per_m() and the

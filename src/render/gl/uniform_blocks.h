@@ -85,7 +85,7 @@ struct VolumeBlock {
   glm::vec4 noise_stats_ra{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_ra: (mean, half range) of r, a
   glm::vec4 noise_stats_gs{0.0f, 1.0f, 0.0f, 1.0f};  ///< u_noise_stats_gs: of g, the stratiform term
   glm::vec4 noise_stats_c{0.0f, 1.0f, 0.0f, 0.0f};   ///< u_noise_stats_c: of the convective term
-  /// u_detail_flow: (τ_a, τ_b [s], phase a's weight, 0) of the noise's advection (volume/detail.h
+  /// u_detail_flow: (τ_a, τ_b [s], phase a's weight, wind 1/0) of the noise's advection (volume/detail.h
   /// DetailFlow); (0, 0, 1, 0) without a wind: the world-fixed noise.
   glm::vec4 detail_flow{0.0f, 0.0f, 1.0f, 0.0f};
 };

@@ -22,15 +22,11 @@ namespace nph::render {
 
 gl::Defines EyePassFeatures::defines() const {
   auto bit = [](bool on) { return std::string(on ? "1" : "0"); };
-  return {{"SPEC_GLOBE", bit(globe)},
-          {"SPEC_TERRAIN", bit(terrain)},
-          {"SPEC_ATMOSPHERE", bit(atmosphere)},
-          {"SPEC_PASSES", bit(passes)},
-          {"SPEC_DETAIL", bit(detail)},
-          {"SPEC_CUBIC", bit(cubic)},
-          {"SPEC_LIGHT_CACHE", bit(light_cache)},
-          {"SPEC_PACKED", bit(packed)},
-          {"SPEC_CLOUD_PASS", std::to_string(cloud_pass)}};
+  return {{"SPEC_GLOBE", bit(globe)},           {"SPEC_TERRAIN", bit(terrain)},
+          {"SPEC_ATMOSPHERE", bit(atmosphere)}, {"SPEC_PASSES", bit(passes)},
+          {"SPEC_DETAIL", bit(detail)},         {"SPEC_DETAIL_WIND", bit(detail_wind)},
+          {"SPEC_CUBIC", bit(cubic)},           {"SPEC_LIGHT_CACHE", bit(light_cache)},
+          {"SPEC_PACKED", bit(packed)},         {"SPEC_CLOUD_PASS", std::to_string(cloud_pass)}};
 }
 
 namespace {
@@ -262,6 +258,7 @@ EyePassFeatures CloudRenderer::features(const VolumeTextures& volume, const Deep
   f.atmosphere = s.atmosphere;
   f.passes = passes_;
   f.detail = volume.detail().on();
+  f.detail_wind = f.detail && volume.hasDetailWind();
   f.cubic = volume::cubicWeights(volume.reconstruction());
   f.light_cache = dlm.hasLightCache();
   f.packed = volume.hasPacked() && !baseline_.separate_textures;

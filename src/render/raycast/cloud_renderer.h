@@ -107,12 +107,13 @@ struct ReadBack {
 /// glsl/dlm/volume.glsl take each as a 0/1 define (SPEC_GLOBE …) instead of a uniform branch, so a
 /// view pays only for what it draws. CloudRenderer keeps one program per distinct set.
 struct EyePassFeatures {
-  bool globe = false;       ///< rays in ECEF (setGlobe)
-  bool terrain = false;     ///< displaced ground (flat view and globe)
-  bool atmosphere = false;  ///< RenderSettings::atmosphere
-  bool passes = false;      ///< compositing passes written (setPasses)
-  bool detail = false;      ///< sub-grid detail in extinctionAt (VolumeTextures::detail)
-  bool cubic = false;       ///< tricubic B-spline reconstruction (VolumeTextures::reconstruction)
+  bool globe = false;        ///< rays in ECEF (setGlobe)
+  bool terrain = false;      ///< displaced ground (flat view and globe)
+  bool atmosphere = false;   ///< RenderSettings::atmosphere
+  bool passes = false;       ///< compositing passes written (setPasses)
+  bool detail = false;       ///< sub-grid detail in extinctionAt (VolumeTextures::detail)
+  bool cubic = false;        ///< tricubic B-spline reconstruction (VolumeTextures::reconstruction)
+  bool detail_wind = false;  ///< the detail's noise advected by U, V (VolumeTextures::hasDetailWind)
   /// the sunlight from the map's light cache (DeepLightMap::hasLightCache), not its look-up
   bool light_cache = false;
   /// one fetch per step from the packed texture (VolumeTextures::hasPacked), not three
