@@ -173,7 +173,7 @@ class PhotonTracer {
         break;
       }
       if (s_.roulette_after_events > 0 && order >= s_.roulette_after_events) {
-        const double q = double(order) / double(order + 1);  // weight (order + 1)/D: reference/path_tracer.h
+        const double q = rouletteSurvival(order);
         if (rng.uniform() >= q) {
           ++st.rouletted;
           break;

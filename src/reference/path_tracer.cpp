@@ -124,7 +124,7 @@ class PathTracer::Path {
   bool survivesRoulette(int events, glm::dvec3& beta) {
     const int depth = pt_.settings_.roulette_after_events;
     if (depth <= 0 || events < depth) return true;
-    const double q = double(events) / double(events + 1);
+    const double q = rouletteSurvival(events);
     if (rng_.uniform() >= q) {
       ++stats_.rouletted_paths;
       return false;

@@ -1,5 +1,5 @@
 #pragma once
-// Direction sampling helpers of the path tracer.
+// Sampling helpers of the path tracer (and of the Monte Carlo radiance volume, its twin in tallies).
 #include <algorithm>
 #include <cmath>
 
@@ -19,5 +19,11 @@ inline glm::dvec3 aroundAxis(const glm::dvec3& axis, double cos_theta, double ph
   const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
   return glm::normalize(sin_theta * std::cos(phi) * t + sin_theta * std::sin(phi) * bt + cos_theta * axis);
 }
+
+/// Russian roulette past a depth (reference/path_tracer.h): the probability that a path survives
+/// its n-th collision (n ≥ the depth D). Its weight is divided by it, so after N collisions it is
+/// (N + 1)/D — linear in the path's length, which keeps the estimator's variance finite.
+/// (glsl/dlm/radiance_volume.comp spells the same schedule for the GPU photons.)
+inline double rouletteSurvival(int collisions) { return double(collisions) / double(collisions + 1); }
 
 }  // namespace nph::reference
