@@ -44,7 +44,7 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
   if (n == 0) throw UsageError("compareImages: empty image");
   if (!se.empty() && se.size() != 3 * n) throw UsageError("compareImages: standard error needs 3 floats per pixel");
   ImageError e;
-  double sq = 0.0, rel = 0.0, abs = 0.0, sumY = 0.0, sumYRef = 0.0;
+  double sq = 0.0, rel = 0.0, relNoise = 0.0, abs = 0.0, sumY = 0.0, sumYRef = 0.0;
   std::size_t off = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float* a = &image.rgba[4 * i];
@@ -55,6 +55,10 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
     sumY += ya;
     sumYRef += yb;
     rel += d * d / (yb * yb + kRelMseFloor);
+    if (!se.empty()) {  // the truth's variance in the relMSE (ImageError::rel_mse_noise)
+      const double sy = luminance(se[3 * i], se[3 * i + 1], se[3 * i + 2]);  // as luminanceNoiseRmse
+      relNoise += sy * sy / (yb * yb + kRelMseFloor);
+    }
     abs += std::abs(d);
     e.max_abs = std::max(e.max_abs, std::abs(d));
     e.alpha_max_abs = std::max(e.alpha_max_abs, std::abs(double(a[3]) - double(b[3])));
@@ -69,16 +73,7 @@ ImageError compareImages(const scene::RgbaImage& image, const scene::RgbaImage& 
   e.share_off_2_255 = double(off) / count;
   e.ref_noise_rmse = luminanceNoiseRmse(se);
   e.luminance_bias = sumYRef > 0.0 ? sumY / sumYRef - 1.0 : 0.0;
-  if (!se.empty()) {
-    double relNoise = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const float* b = &reference.rgba[4 * i];
-      const double yb = luminance(b[0], b[1], b[2]);
-      const double sy = luminance(se[3 * i], se[3 * i + 1], se[3 * i + 2]);  // as luminanceNoiseRmse
-      relNoise += sy * sy / (yb * yb + kRelMseFloor);
-    }
-    e.rel_mse_noise = relNoise / count;
-  }
+  if (!se.empty()) e.rel_mse_noise = relNoise / count;
   return e;
 }
 
