@@ -366,6 +366,8 @@ MsComparison compareMultipleScattering(const SweepOptions& o) {
     gpuSettings.photons = std::uint32_t(std::min<std::uint64_t>(o.mc_photons, 1u << 30));
     gpuSettings.g_ice = float(march.g_ice);
     gpuSettings.g_water = float(march.g_water);
+    gpuSettings.backend = render::RadianceVolumeBackend::Gpu;  // the port itself, also on llvmpipe
+    gpuSettings.photons_per_column = 0;                        // the twin's photon count exactly
     render::RadianceVolume gpuVolume;
     gpuVolume.build(tex, toSun, gpuSettings);
     reference::McTallySpec gpuSpec;

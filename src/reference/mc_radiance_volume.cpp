@@ -380,23 +380,7 @@ std::vector<McRadianceVolume> traceMcRadianceVolumes(const ExtinctionVolumes& vo
     power.push_back(tracer.projectedArea() / double(n));
   }
   const std::uint64_t n = settings.photons;
-  std::vector<Chunk> chunks(kChunks);
-  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, kChunks, 1), [&](const tbb::blocked_range<int>& r) {
-      for (int c = r.begin(); c < r.end(); ++c) {
-        Chunk& ch = chunks[std::size_t(c)];
-        for (const Grid& g : grids)
-          ch.tallies.emplace_back(std::size_t(g.cells.x * g.cells.y * g.cells.z) *
-                                      std::size_t(harmonicsUpTo(specs[ch.tallies.size()].max_l)),
-                                  0.0);
-        const std::uint64_t b = n * std::uint64_t(c) / kChunks, e = n * std::uint64_t(c + 1) / kChunks;
-        for (std::uint64_t i = b; i < e; ++i) tracer.trace(i, power, ch);
-      }
-    });
-  });
   std::vector<McRadianceVolume> out(specs.size());
-  McStats total;
   for (std::size_t k = 0; k < specs.size(); ++k) {
     McRadianceVolume& v = out[k];
     v.spec = specs[k];
@@ -404,9 +388,41 @@ std::vector<McRadianceVolume> traceMcRadianceVolumes(const ExtinctionVolumes& vo
     v.cells = grids[k].cells;
     v.cell_m = grids[k].cell_m;
     v.moments.assign(std::size_t(v.cells.x * v.cells.y * v.cells.z) * std::size_t(v.harmonics()), 0.0);
+  }
+  // The chunks run in waves of as many as there are threads, each wave's tallies added to the
+  // volumes in chunk order and freed before the next: the same sums in the same order as all
+  // chunks at once (bit for bit), with the threads' tallies alive instead of kChunks' (on the demo
+  // storm's 609 000 cells 122 MB each: 0.4 instead of 1.1 GB on two threads).
+  std::vector<Chunk> chunks(kChunks);
+  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  const int wave = std::clamp(arena.max_concurrency(), 1, kChunks);
+  for (int first = 0; first < kChunks; first += wave) {
+    const int last = std::min(first + wave, kChunks);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& r) {
+        for (int c = r.begin(); c < r.end(); ++c) {
+          Chunk& ch = chunks[std::size_t(c)];
+          for (const Grid& g : grids)
+            ch.tallies.emplace_back(std::size_t(g.cells.x * g.cells.y * g.cells.z) *
+                                        std::size_t(harmonicsUpTo(specs[ch.tallies.size()].max_l)),
+                                    0.0);
+          const std::uint64_t b = n * std::uint64_t(c) / kChunks, e = n * std::uint64_t(c + 1) / kChunks;
+          for (std::uint64_t i = b; i < e; ++i) tracer.trace(i, power, ch);
+        }
+      });
+    });
+    for (int c = first; c < last; ++c) {
+      Chunk& ch = chunks[std::size_t(c)];
+      for (std::size_t k = 0; k < specs.size(); ++k) {
+        std::vector<double>& m = out[k].moments;
+        for (std::size_t i = 0; i < m.size(); ++i) m[i] += ch.tallies[k][i];
+      }
+      ch.tallies = {};
+    }
+  }
+  McStats total;
+  for (McRadianceVolume& v : out) {
     const double inv = 1.0 / (v.cell_m.x * v.cell_m.y * v.cell_m.z);
-    for (const Chunk& ch : chunks)
-      for (std::size_t c = 0; c < v.moments.size(); ++c) v.moments[c] += ch.tallies[k][c];
     for (double& x : v.moments) x *= inv;
   }
   for (const Chunk& ch : chunks) add(total, ch.stats);

@@ -249,13 +249,16 @@ void BM_Pass1VersusUncompressedLightVolume(benchmark::State& state) {
 }
 BENCHMARK(BM_Pass1VersusUncompressedLightVolume)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 
-// The radiance volume's build, the tally per run of crossings in one cell (the default) against one
-// SSBO addition of every moment per crossing (RadianceVolume(true), the sixteenth session's), on the
-// accuracy sweep's hurricane (96 × 96 model points at 7 km, × 8, sun 120°/70°: hurricane-above-sun-
-// high, src/accuracy/accuracy_scenes.cpp), `photons` per build, the two in rotating order each
-// round. Reported: median wall ms incl. glFinish of each, ratio every-crossing / runs (> 1: the runs
-// are faster), collisions per photon and the resumable build's dispatches. Both give the same sums
-// bit for bit (tests/render/radiance_volume_gl_test.cpp TallyRunsSumWhatEveryCrossingSums).
+// The radiance volume's build, three ways in rotating order each round, on the accuracy sweep's
+// hurricane (96 × 96 model points at 7 km, × 8, sun 120°/70°: hurricane-above-sun-high,
+// src/accuracy/accuracy_scenes.cpp), `photons` per build: the GPU port with its tally per run of
+// crossings in one cell (the default), the GPU port with one SSBO addition of every moment per
+// crossing (RadianceVolume(true), the sixteenth session's; the same sums bit for bit,
+// tests/render/radiance_volume_gl_test.cpp), and the CPU twin uploaded into the same textures
+// (RadianceVolumeBackend::Cpu, thirty-first session: Auto's choice on a software rasteriser; its
+// time includes reading β back from the textures and the upload). Reported: median wall ms incl.
+// glFinish of each, the ratios against the GPU runs (> 1: the runs are faster), collisions per
+// photon and the resumable build's dispatches.
 void BM_RadianceVolumeBuild(benchmark::State& state) {
   const std::uint32_t photons = std::uint32_t(state.range(0));
   gl::ContextOptions o;
@@ -275,17 +278,22 @@ void BM_RadianceVolumeBuild(benchmark::State& state) {
   std::filesystem::remove(path);
   const auto tex = render::VolumeTextures::upload(v, volume::frameOf(v, 8.0), "bench hurricane");
   const glm::dvec3 toSun = scene::Sun{120.0, 70.0}.toSun();
-  render::RadianceVolume runs, everyCrossing(true);
-  render::RadianceVolume* variant[2] = {&everyCrossing, &runs};
-  std::vector<double> ms[2];
+  render::RadianceVolume runs, everyCrossing(true), cpu;
+  constexpr int kVariants = 3;
+  render::RadianceVolume* variant[kVariants] = {&everyCrossing, &runs, &cpu};
+  const render::RadianceVolumeBackend backend[kVariants] = {
+      render::RadianceVolumeBackend::Gpu, render::RadianceVolumeBackend::Gpu, render::RadianceVolumeBackend::Cpu};
+  std::vector<double> ms[kVariants];
   render::RadianceVolumeSettings s;
   s.photons = photons;
+  s.photons_per_column = 0;
   int round = 0;
   for (auto _ : state) {
     double total = 0.0;
-    for (int j = 0; j < 2; ++j) {
-      const int k = (j + round) % 2;
-      s.seed = std::uint32_t(16 + round);  // a new key: rebuilt; both variants trace the same photons
+    for (int j = 0; j < kVariants; ++j) {
+      const int k = (j + round) % kVariants;
+      s.seed = std::uint32_t(16 + round);  // a new key: rebuilt; the GPU variants trace the same photons
+      s.backend = backend[k];
       variant[k]->build(tex, toSun, s);
       ms[k].push_back(variant[k]->stats().build_ms);
       total += variant[k]->stats().build_ms;
@@ -300,14 +308,19 @@ void BM_RadianceVolumeBuild(benchmark::State& state) {
   const render::RadianceVolumeStats& st = runs.stats();
   state.counters["every_crossing_ms"] = median(ms[0]);
   state.counters["runs_ms"] = median(ms[1]);
+  state.counters["cpu_twin_ms"] = median(ms[2]);
   state.counters["ratio"] = median(ms[0]) / median(ms[1]);
+  state.counters["runs_over_cpu"] = median(ms[1]) / median(ms[2]);
   state.counters["collisions_per_photon"] = double(st.collisions) / double(photons);
+  state.counters["cpu_collisions_per_photon"] = double(cpu.stats().collisions) / double(photons);
   state.counters["dispatches"] = st.dispatches;
   std::fprintf(stderr,
                "radiance volume build, hurricane %dx%dx%d x8, %u photons, %d rounds on %s: every crossing %.0f ms, "
-               "runs %.0f ms (median), ratio %.2f; %.1f collisions per photon, %d dispatches, %llu cut short\n",
+               "runs %.0f ms, CPU twin %.0f ms (medians); every crossing / runs %.2f, runs / CPU twin %.2f; %.1f "
+               "collisions per photon (CPU twin %.1f), %d dispatches, %llu cut short\n",
                v.nx, v.ny, v.nz, photons, round, ctx->info().renderer.c_str(), median(ms[0]), median(ms[1]),
-               median(ms[0]) / median(ms[1]), double(st.collisions) / double(photons), st.dispatches,
+               median(ms[2]), median(ms[0]) / median(ms[1]), median(ms[1]) / median(ms[2]),
+               double(st.collisions) / double(photons), double(cpu.stats().collisions) / double(photons), st.dispatches,
                static_cast<unsigned long long>(st.cut_short));
 }
 BENCHMARK(BM_RadianceVolumeBuild)

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -15,6 +16,7 @@
 #include "reference/mc_radiance_volume.h"
 #include "render/dlm/radiance_volume.h"
 #include "render/dlm/volume_textures.h"
+#include "render/gl/context.h"
 #include "support/gl_fixture.h"
 #include "volume/volume_frame.h"
 
@@ -39,6 +41,15 @@ ExtinctionVolumes structuredBox() {
   ExtinctionVolumes v = box(16, 16, 8, 200.0, 100.0, 0.01f, 0.002f);
   for (std::size_t i = 0; i < v.water_per_m.size(); i += 7) v.water_per_m[i] = 0.0f;
   return v;
+}
+
+// The GPU port itself, also on a software rasteriser (where Auto traces on the CPU), with the
+// photons the test sets and no more (photons_per_column off).
+render::RadianceVolumeSettings gpuBackend() {
+  render::RadianceVolumeSettings s;
+  s.backend = render::RadianceVolumeBackend::Gpu;
+  s.photons_per_column = 0;
+  return s;
 }
 
 const glm::dvec3 kObliqueSun = glm::normalize(glm::dvec3(-0.3, 0.5, 0.4));
@@ -91,7 +102,7 @@ double sumOf(const std::vector<double>& m, int k) {
 TEST_F(RadianceVolumeTest, MatchesTheCpuTwinWithinThePhotonNoise) {
   const ExtinctionVolumes v = structuredBox();
   const volume::VolumeFrame frame = volume::frameOf(v, 4.0);
-  render::RadianceVolumeSettings s;
+  render::RadianceVolumeSettings s = gpuBackend();
   s.photons = 1u << 17;
   s.min_order = 1;
   const auto tex = render::VolumeTextures::upload(v, frame, "twin");
@@ -155,7 +166,7 @@ TEST_F(RadianceVolumeTest, PhotonsWithManyNullCollisionsAreNotCutShort) {
   const ExtinctionVolumes v = spikyColumn();
   const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
   const glm::dvec3 overhead(0.0, 0.0, 1.0);
-  render::RadianceVolumeSettings s;
+  render::RadianceVolumeSettings s = gpuBackend();
   s.photons = 128;
   reference::McStats cpuStats;
   cpuVolume(v, frame, overhead, s, 15, &cpuStats);
@@ -188,7 +199,7 @@ TEST_F(RadianceVolumeTest, SameSeedSameVolumeBitForBit) {
   const ExtinctionVolumes v = structuredBox();
   const volume::VolumeFrame frame = volume::frameOf(v, 8.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "determinism");
-  render::RadianceVolumeSettings s;
+  render::RadianceVolumeSettings s = gpuBackend();
   s.photons = 20000;
   render::RadianceVolume a, b, c;
   ASSERT_TRUE(a.build(tex, kObliqueSun, s));
@@ -215,7 +226,7 @@ TEST_F(RadianceVolumeTest, ConservativeSlabCarriesTheSameNetFluxAtEveryDepth) {
   const ExtinctionVolumes v = box(32, 32, 8, 100.0, 25.0, 0.025f, 0.0f);  // τ = 5, 3.2 km × 200 m
   const volume::VolumeFrame frame = volume::frameOf(v, 1.0);
   const auto tex = render::VolumeTextures::upload(v, frame, "slab");
-  render::RadianceVolumeSettings s;
+  render::RadianceVolumeSettings s = gpuBackend();
   s.photons = 120000;
   s.min_order = 0;
   s.coarsen_xy = 8;
@@ -239,11 +250,132 @@ TEST_F(RadianceVolumeTest, ConservativeSlabCarriesTheSameNetFluxAtEveryDepth) {
   EXPECT_LT(hi - lo, 0.01) << "the net flux changes with depth";
 }
 
+// Thirty-first session: on a software rasteriser the volume is traced by the CPU twin and uploaded
+// (RadianceVolumeBackend). With the separate float textures (VolumeStorage::Reference) the field
+// read back is the upload's bit for bit, so the uploaded moments are the twin's own run with the
+// same seed, rounded to float, exactly; and the stats are the twin's.
+TEST_F(RadianceVolumeTest, CpuBackendUploadsTheTwinsVolume) {
+  const ExtinctionVolumes v = structuredBox();
+  const volume::VolumeFrame frame = volume::frameOf(v, 4.0);
+  render::UploadOptions o;
+  o.storage = render::VolumeStorage::Reference;
+  const auto tex = render::VolumeTextures::upload(v, frame, "cpu twin", o);
+  const ExtinctionVolumes back = tex.readBackExtinction();
+  EXPECT_EQ(back.ice_per_m, v.ice_per_m);
+  EXPECT_EQ(back.water_per_m, v.water_per_m);
+  render::RadianceVolumeSettings s;
+  s.backend = render::RadianceVolumeBackend::Cpu;
+  s.photons_per_column = 0;
+  s.photons = 20000;
+  s.seed = 15;
+  render::RadianceVolume rv;
+  ASSERT_TRUE(rv.build(tex, kObliqueSun, s));
+  EXPECT_TRUE(rv.stats().cpu);
+  EXPECT_TRUE(rv.readBackSums().empty());
+  reference::McStats twinStats;
+  const reference::McRadianceVolume twin = cpuVolume(v, frame, kObliqueSun, s, 15, &twinStats);
+  ASSERT_EQ(rv.cells(), twin.cells);
+  const std::vector<float> m = rv.readBackMoments();
+  ASSERT_EQ(m.size(), twin.moments.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) differ += m[i] != float(twin.moments[i]);
+  EXPECT_EQ(differ, 0u) << "moments not the twin's";
+  EXPECT_EQ(rv.stats().collisions, twinStats.collisions);
+  EXPECT_EQ(rv.stats().collided, twinStats.collided);
+  EXPECT_GT(twinStats.collisions, 0u);
+  EXPECT_FALSE(rv.build(tex, kObliqueSun, s)) << "an unchanged key must not rebuild";
+  s.backend = render::RadianceVolumeBackend::Gpu;
+  EXPECT_TRUE(rv.build(tex, kObliqueSun, s)) << "the backend is part of the key";
+  EXPECT_FALSE(rv.stats().cpu);
+}
+
+// The default (Compact) upload keeps β only as the packed texture's half floats: read back within
+// half precision, and the CPU backend's volume (from those halves) against the GPU port's within
+// the photon noise, measured as in MatchesTheCpuTwinWithinThePhotonNoise.
+TEST_F(RadianceVolumeTest, CpuBackendOfACompactUploadMatchesTheGpuWithinThePhotonNoise) {
+  const ExtinctionVolumes v = structuredBox();
+  const volume::VolumeFrame frame = volume::frameOf(v, 4.0);
+  const auto tex = render::VolumeTextures::upload(v, frame, "compact");
+  ASSERT_TRUE(tex.hasPacked());
+  ASSERT_FALSE(tex.hasSeparateTextures());
+  const ExtinctionVolumes back = tex.readBackExtinction();
+  ASSERT_EQ(back.water_per_m.size(), v.water_per_m.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < v.water_per_m.size(); ++i)
+    for (const auto& [a, b] : {std::pair{back.water_per_m[i], v.water_per_m[i]}, {back.ice_per_m[i], v.ice_per_m[i]}})
+      worst = std::max(worst, double(std::abs(a - b)) / std::max(double(b), 1e-30));
+  EXPECT_LT(worst, 1.0 / 1024.0) << "worst relative difference of the read-back β";  // half: 2⁻¹¹
+  render::RadianceVolumeSettings s;
+  s.photons = 1u << 16;
+  s.photons_per_column = 0;
+  s.min_order = 1;
+  s.backend = render::RadianceVolumeBackend::Cpu;
+  render::RadianceVolume cpuA, cpuB, gpu;
+  ASSERT_TRUE(cpuA.build(tex, kObliqueSun, s));
+  s.seed = 17;
+  ASSERT_TRUE(cpuB.build(tex, kObliqueSun, s));
+  s.backend = render::RadianceVolumeBackend::Gpu;
+  ASSERT_TRUE(gpu.build(tex, kObliqueSun, s));
+  const auto asDouble = [](const std::vector<float>& f) { return std::vector<double>(f.begin(), f.end()); };
+  const std::vector<double> a = asDouble(cpuA.readBackMoments()), b = asDouble(cpuB.readBackMoments()),
+                            g = asDouble(gpu.readBackMoments());
+  for (int k = 0; k < render::kRadianceVolumeMoments; ++k) {
+    const double noise = rmsDifference(b, a, k), port = rmsDifference(g, a, k);
+    EXPECT_LT(port, 1.5 * noise + 1e-4) << "moment " << k << ": GPU−CPU " << port << ", CPU seed to seed " << noise;
+  }
+  const double total = sumOf(a, 0);
+  ASSERT_GT(total, 0.0);
+  EXPECT_NEAR(sumOf(g, 0) / total, 1.0, 0.01) << "total fluence, GPU over the CPU backend";
+}
+
+// Auto traces on the CPU exactly where the driver is a software rasteriser and the twin can trace
+// the field; the interpolating spline's textures hold coefficients, so it stays on the GPU there
+// and the CPU backend asked for it is a clear error.
+TEST_F(RadianceVolumeTest, AutoTracesOnTheCpuOnASoftwareRasteriserOnly) {
+  const ExtinctionVolumes v = structuredBox();
+  const volume::VolumeFrame frame = volume::frameOf(v, 4.0);
+  const render::RadianceVolumeSettings automatic;
+  const auto tex = render::VolumeTextures::upload(v, frame, "auto");
+  EXPECT_EQ(render::RadianceVolume::tracesOnCpu(tex, automatic), gl::softwareRasteriser());
+  render::UploadOptions o;
+  o.reconstruction = volume::Reconstruction::CubicInterpolating;
+  const auto spline = render::VolumeTextures::upload(v, frame, "spline", o);
+  EXPECT_FALSE(render::RadianceVolume::tracesOnCpu(spline, automatic));
+  render::RadianceVolumeSettings cpu;
+  cpu.backend = render::RadianceVolumeBackend::Cpu;
+  cpu.photons = 64;
+  render::RadianceVolume rv;
+  EXPECT_THROW(rv.build(spline, kObliqueSun, cpu), nph::UsageError);
+  o.reconstruction = volume::Reconstruction::Cubic;  // the B-spline reads the voxels: traceable
+  const auto cubic = render::VolumeTextures::upload(v, frame, "cubic", o);
+  EXPECT_TRUE(render::RadianceVolume::tracesOnCpu(cubic, cpu));
+  EXPECT_TRUE(rv.build(cubic, kObliqueSun, cpu));
+}
+
+// A grid with more columns of cells than the accuracy scenes' gets photons_per_column a column:
+// the count photonsFor gives is the one traced (stats) and in the key.
+TEST_F(RadianceVolumeTest, LargerGridsGetPhotonsPerColumn) {
+  render::RadianceVolumeSettings s;                                            // 65 536 photons, 64 a column
+  EXPECT_EQ(render::RadianceVolume::photonsFor({24, 24, 20}, s), 65536u);      // the accuracy scenes
+  EXPECT_EQ(render::RadianceVolume::photonsFor({125, 125, 39}, s), 1000000u);  // the demo storm
+  EXPECT_EQ(render::RadianceVolume::photonsFor({4096, 4096, 2}, s), render::kRadianceVolumeMaxPhotons);
+  s.photons_per_column = 0;
+  EXPECT_EQ(render::RadianceVolume::photonsFor({125, 125, 39}, s), 65536u);
+  const ExtinctionVolumes v = box(64, 48, 4, 200.0, 100.0, 0.01f, 0.0f);  // 16 × 12 columns of cells
+  const auto tex = render::VolumeTextures::upload(v, volume::frameOf(v), "columns");
+  s.photons = 100;
+  s.photons_per_column = 8;
+  render::RadianceVolume rv;
+  ASSERT_TRUE(rv.build(tex, kObliqueSun, s));
+  EXPECT_EQ(rv.stats().photons, 16u * 12u * 8u);
+  EXPECT_NE(rv.cacheKey().find("|n=1536|"), std::string::npos) << rv.cacheKey();
+}
+
 TEST_F(RadianceVolumeTest, BadSettingsAreAClearError) {
   const ExtinctionVolumes v = structuredBox();
   const auto tex = render::VolumeTextures::upload(v, volume::frameOf(v), "bad");
   render::RadianceVolume gpu;
-  render::RadianceVolumeSettings s;
+  render::RadianceVolumeSettings s = gpuBackend();
   s.photons = 0;
   EXPECT_THROW(gpu.build(tex, kObliqueSun, s), nph::UsageError);
   s = {};

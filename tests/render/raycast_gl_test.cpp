@@ -529,10 +529,12 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   rs.empty_space_skipping = true;
   rs.atmosphere = false;  // the CPU reference ray marcher has no atmosphere
   render::CloudRenderer renderer;
-  // Both sides read the one radiance volume the GPU traced, so its convergence does not matter
-  // here: 4 096 photons instead of the default 65 536 (≈ 95 s of llvmpipe on this hurricane).
+  // Both sides read the one radiance volume the renderer built (on llvmpipe the CPU twin's,
+  // uploaded: RadianceVolumeBackend::Auto), so its convergence does not matter here: 4 096
+  // photons instead of the default 65 536 (≈ 95 s of llvmpipe's GPU port on this hurricane).
   render::RadianceVolumeSettings rv;
   rv.photons = 1u << 12;
+  rv.photons_per_column = 0;
   renderer.setRadianceVolumeSettings(rv);
   const auto map = dlm.readBack();
   const auto& ls = dlm.lightSpace();

@@ -8,7 +8,9 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "reference/mc_radiance_volume.h"
 #include "render/gl/bindings.h"
+#include "render/gl/context.h"
 #include "render/gl/debug.h"
 #include "volume/reconstruction.h"
 
@@ -40,31 +42,90 @@ RadianceVolume::RadianceVolume(bool tally_every_crossing)
       resolve_(gl::Program::compute("dlm/radiance_volume_resolve.comp")),
       stats_buffer_(gl::Buffer::create(8 * sizeof(std::uint32_t)).label("radiance volume stats")) {}
 
-bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_sun, const RadianceVolumeSettings& s) {
-  if (s.photons < 1) throw UsageError("radiance volume: photons must be at least 1");
-  if (s.coarsen_xy < 1 || s.coarsen_z < 1) throw UsageError("radiance volume: the coarsening must be at least 1");
-  if (s.roulette_after_events < 0 || s.roulette_after_events == 1)
+bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_sun,
+                           const RadianceVolumeSettings& settings) {
+  if (settings.photons < 1) throw UsageError("radiance volume: photons must be at least 1");
+  if (settings.coarsen_xy < 1 || settings.coarsen_z < 1)
+    throw UsageError("radiance volume: the coarsening must be at least 1");
+  if (settings.roulette_after_events < 0 || settings.roulette_after_events == 1)
     throw UsageError("radiance volume: roulette_after_events must be 0 (off) or at least 2");
-  if (s.max_events < 1) throw UsageError("radiance volume: max_events must be at least 1");
-  if (!(std::abs(s.g_ice) < 1.0f) || !(std::abs(s.g_water) < 1.0f))
+  if (settings.max_events < 1) throw UsageError("radiance volume: max_events must be at least 1");
+  if (!(std::abs(settings.g_ice) < 1.0f) || !(std::abs(settings.g_water) < 1.0f))
     throw UsageError("radiance volume: the phase asymmetries must lie in (−1, 1)");
   if (!(glm::length(to_sun) > 0.0)) throw UsageError("radiance volume: the sun direction is zero");
   const glm::dvec3 sun = glm::normalize(to_sun);
   const volume::VolumeFrame& frame = volume.frame();
-  const std::string key =
-      fmt::format("{}|sun={:.9g},{:.9g},{:.9g}|e={:.9g}|n={}|seed={}|c={}x{}|o={}|r={}|m={}|g={:.9g},{:.9g}",
-                  volume.identity(), sun.x, sun.y, sun.z, frame.height_exaggeration, s.photons, s.seed, s.coarsen_xy,
-                  s.coarsen_z, s.min_order, s.roulette_after_events, s.max_events, s.g_ice, s.g_water);
+  // The coarse grid (the CPU twin's gridOf): ⌈voxels / c⌉ cells of c voxels from the box's corner.
+  const glm::ivec3 c(settings.coarsen_xy, settings.coarsen_xy, settings.coarsen_z);
+  const glm::ivec3 cells = (frame.voxels + c - 1) / c;
+  cell_m_ = glm::dvec3(c) * frame.voxel_size_m;
+  RadianceVolumeSettings s = settings;  // photons: the count this grid gets
+  s.photons = photonsFor(cells, settings);
+  const bool cpu = tracesOnCpu(volume, s);
+  const std::string key = fmt::format(
+      "{}|sun={:.9g},{:.9g},{:.9g}|e={:.9g}|n={}|seed={}|c={}x{}|o={}|r={}|m={}|g={:.9g},{:.9g}|{}", volume.identity(),
+      sun.x, sun.y, sun.z, frame.height_exaggeration, s.photons, s.seed, s.coarsen_xy, s.coarsen_z, s.min_order,
+      s.roulette_after_events, s.max_events, s.g_ice, s.g_water, cpu ? "cpu" : "gpu");
   if (key == key_ && built()) {
     stats_.rebuilt = false;
     ++stats_.reuses;
     return false;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  // The coarse grid (the CPU twin's gridOf): ⌈voxels / c⌉ cells of c voxels from the box's corner.
-  const glm::ivec3 c(s.coarsen_xy, s.coarsen_xy, s.coarsen_z);
-  const glm::ivec3 cells = (frame.voxels + c - 1) / c;
-  cell_m_ = glm::dvec3(c) * frame.voxel_size_m;
+  if (!moments_[0] || moments_[0].width() != cells.x || moments_[0].height() != cells.y ||
+      moments_[0].depth() != cells.z)
+    for (int k = 0; k < kRadianceVolumeTextures; ++k)
+      moments_[k] = gl::Texture::create3D(GL_RGBA32F, cells.x, cells.y, cells.z)
+                        .label(fmt::format("radiance volume moments {}", k))
+                        .sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+  key_.clear();  // a build that throws leaves no volume claiming the new key
+  if (cpu) buildOnCpu(volume, sun, s, cells);
+  else buildOnGpu(volume, sun, s, cells);
+  glFinish();
+  gl::checkErrors("radiance volume");
+  stats_.photons = s.photons;
+  stats_.cpu = cpu;
+  stats_.cells = cells;
+  stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  stats_.rebuilt = true;
+  ++stats_.builds;
+  key_ = key;
+  if (stats_.clamped > 0)
+    log::warn("radiance volume: {} tally additions past the fixed-point bound were clamped", stats_.clamped);
+  if (stats_.cut_short > 0)
+    log::warn("radiance volume: {} loops ended by the driver's loop limiter (photons cut short)", stats_.cut_short);
+  log::debug("radiance volume ({}): {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {} dispatches, {:.0f} ms",
+             cpu ? "CPU twin" : "GPU", s.photons, double(stats_.collisions) / double(s.photons), cells.x, cells.y,
+             cells.z, stats_.dispatches, stats_.build_ms);
+  return true;
+}
+
+std::uint32_t RadianceVolume::photonsFor(const glm::ivec3& cells, const RadianceVolumeSettings& s) {
+  const std::uint64_t columns = std::uint64_t(std::max(cells.x, 0)) * std::uint64_t(std::max(cells.y, 0));
+  const std::uint64_t perColumn = std::min<std::uint64_t>(columns * s.photons_per_column, kRadianceVolumeMaxPhotons);
+  return std::max<std::uint32_t>(s.photons, std::uint32_t(perColumn));
+}
+
+bool RadianceVolume::tracesOnCpu(const VolumeTextures& volume, const RadianceVolumeSettings& s) {
+  // The twin traces the filtered voxels (reference::ExtinctionField): not the detail, and not the
+  // interpolating spline, whose textures hold its coefficients rather than the voxels.
+  const bool traceable = !volume.detail().on() && !volume::readsSplineCoefficients(volume.reconstruction());
+  switch (s.backend) {
+    case RadianceVolumeBackend::Gpu: return false;
+    case RadianceVolumeBackend::Cpu:
+      if (!traceable)
+        throw UsageError(
+            "radiance volume: the CPU backend traces neither the sub-grid detail nor the interpolating spline; use "
+            "the GPU backend");
+      return true;
+    case RadianceVolumeBackend::Auto: break;
+  }
+  return traceable && gl::softwareRasteriser();
+}
+
+void RadianceVolume::buildOnGpu(const VolumeTextures& volume, const glm::dvec3& sun, const RadianceVolumeSettings& s,
+                                const glm::ivec3& cells) {
+  const volume::VolumeFrame& frame = volume.frame();
   const std::size_t cellCount = std::size_t(cells.x) * std::size_t(cells.y) * std::size_t(cells.z);
   const std::size_t words = cellCount * kRadianceVolumeMoments * 2;
   if (tally_.id() == 0 || tally_.size() != words * sizeof(std::uint32_t))
@@ -116,12 +177,6 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
     stats_buffer_.download(5 * sizeof(std::uint32_t), sizeof(paused), &paused);
     ++dispatches;
   } while (paused > 0 && dispatches < kMaxDispatches);
-  if (!moments_[0] || moments_[0].width() != cells.x || moments_[0].height() != cells.y ||
-      moments_[0].depth() != cells.z)
-    for (int k = 0; k < kRadianceVolumeTextures; ++k)
-      moments_[k] = gl::Texture::create3D(GL_RGBA32F, cells.x, cells.y, cells.z)
-                        .label(fmt::format("radiance volume moments {}", k))
-                        .sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   resolve_.use();
   resolve_.set("u_cells", cells);
   resolve_.set("u_scale", float(moment_unit_));
@@ -130,33 +185,62 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
                        GL_RGBA32F);
   resolve_.dispatchCovering(cells);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  glFinish();
-  gl::checkErrors("radiance volume");
 
   std::uint32_t st[8] = {};
   stats_buffer_.download(0, sizeof(st), st);
-  stats_.photons = s.photons;
   stats_.collided = st[0];
   stats_.collisions = st[1];
   stats_.rouletted = st[2];
-  stats_.truncated = st[3];
+  stats_.truncated = st[3] + paused;  // paused: still paused after kMaxDispatches (not expected)
   stats_.clamped = st[4];
-  stats_.truncated += paused;  // still paused after kMaxDispatches (not expected)
   stats_.cut_short = st[6];
   stats_.dispatches = dispatches;
-  stats_.cells = cells;
-  stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  stats_.rebuilt = true;
-  ++stats_.builds;
-  key_ = key;
-  if (stats_.clamped > 0)
-    log::warn("radiance volume: {} tally additions past the fixed-point bound were clamped", stats_.clamped);
-  if (stats_.cut_short > 0)
-    log::warn("radiance volume: {} loops ended by the driver's loop limiter (photons cut short)", stats_.cut_short);
-  log::debug("radiance volume: {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {} dispatches, {:.0f} ms",
-             s.photons, double(stats_.collisions) / double(s.photons), cells.x, cells.y, cells.z, dispatches,
-             stats_.build_ms);
-  return true;
+}
+
+void RadianceVolume::buildOnCpu(const VolumeTextures& volume, const glm::dvec3& sun, const RadianceVolumeSettings& s,
+                                const glm::ivec3& cells) {
+  // The twin with the GPU build's settings (tests/render/radiance_volume_gl_test.cpp pairs them
+  // the same way): the field the eye pass reads, read back from the textures it reads.
+  const ExtinctionVolumes field = volume.readBackExtinction();
+  reference::McTallySpec spec;
+  spec.coarsen_xy = s.coarsen_xy;
+  spec.coarsen_z = s.coarsen_z;
+  spec.min_order = s.min_order;
+  spec.max_l = 4;
+  static_assert(kRadianceVolumeMoments == reference::harmonicsUpTo(4));
+  reference::McSettings ms;
+  ms.photons = s.photons;
+  ms.seed = s.seed;
+  ms.roulette_after_events = s.roulette_after_events;
+  ms.max_events = s.max_events;
+  ms.phase.ice = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, double(s.g_ice)};
+  ms.phase.water = physics::PhaseFunction{physics::PhaseModel::HenyeyGreenstein, double(s.g_water)};
+  ms.reconstruction = volume.reconstruction();
+  reference::McStats st;
+  const reference::McRadianceVolume mc =
+      reference::traceMcRadianceVolumes(field, volume.frame(), sun, {spec}, ms, &st).front();
+  if (mc.cells != cells) throw UsageError("radiance volume: the CPU twin's grid differs from the GPU's");
+  // Moment k goes to texture k / 4, channel k mod 4 (the resolve pass's layout).
+  const std::size_t cellCount = std::size_t(cells.x) * std::size_t(cells.y) * std::size_t(cells.z);
+  std::vector<float> rgba(cellCount * 4);
+  for (int t = 0; t < kRadianceVolumeTextures; ++t) {
+    for (std::size_t c = 0; c < cellCount; ++c)
+      for (int ch = 0; ch < 4; ++ch) {
+        const int k = 4 * t + ch;
+        rgba[4 * c + std::size_t(ch)] = k < kRadianceVolumeMoments ? float(mc.moment(c, k)) : 0.0f;
+      }
+    glTextureSubImage3D(moments_[t].id(), 0, 0, 0, 0, cells.x, cells.y, cells.z, GL_RGBA, GL_FLOAT, rgba.data());
+  }
+  tally_ = {};  // no integer sums on this path (readBackSums: empty)
+  quantum_m_ = 0.0;
+  moment_unit_ = 0.0;
+  stats_.collided = st.collided;
+  stats_.collisions = st.collisions;
+  stats_.rouletted = st.rouletted;
+  stats_.truncated = st.truncated;
+  stats_.clamped = 0;
+  stats_.cut_short = 0;
+  stats_.dispatches = 0;
 }
 
 void RadianceVolume::bind() const {

@@ -11,6 +11,11 @@
 //   resolve  glsl/dlm/radiance_volume_resolve.comp: the sums → c_lm = ∫ L Y_lm dω per unit
 //            irradiance in seven RGBA32F 3-D textures (moment k: texture k/4, channel k mod 4),
 //            GL_LINEAR between the cell centres, clamped to the edge cells.
+// On a software rasteriser (llvmpipe) the same volume is traced on the CPU instead (thirty-first
+// session): the twin, reference::traceMcRadianceVolumes, with the same photons, grid, orders,
+// phases and roulette, its 25 moments uploaded into the same seven textures. llvmpipe runs the
+// photon kernel 10-15× slower than the twin runs on the same cores (docs/accuracy.md "Thirty-first
+// session"); RadianceVolumeBackend picks, Auto by the driver.
 // The eye pass (multiple_scattering = radiance_volume, glsl/render/clouds.comp) reads
 // J(x, ω) = Σ_l G_l Σ_m c_lm Y_lm(ω) from them (glsl/common/cloud_light.glsl
 // radianceVolumeSource).
@@ -26,11 +31,22 @@
 
 namespace nph::render {
 
-inline constexpr int kRadianceVolumeMoments = 25;  ///< real spherical harmonics l ≤ 4
-inline constexpr int kRadianceVolumeTextures = 7;  ///< RGBA32F textures holding them
+inline constexpr int kRadianceVolumeMoments = 25;                     ///< real spherical harmonics l ≤ 4
+inline constexpr int kRadianceVolumeTextures = 7;                     ///< RGBA32F textures holding them
+inline constexpr std::uint32_t kRadianceVolumeMaxPhotons = 1u << 24;  ///< photons_per_column's ceiling
+
+/// Where the photons are traced. Auto: the CPU twin on a software rasteriser (gl::softwareRasteriser)
+/// when it can trace the field the eye pass reads (no sub-grid detail, not the interpolating
+/// spline, whose textures hold coefficients), else the GPU.
+enum class RadianceVolumeBackend { Auto, Gpu, Cpu };
 
 struct RadianceVolumeSettings {
   std::uint32_t photons = 1u << 16;  ///< fifteenth session: 65 536 per build suffice (16 384 within 2.5 points)
+  /// ... on the accuracy scenes' 24 × 24 columns of cells (114 photons a column). A larger grid
+  /// gets at least this many photons per column of cells (cells.x · cells.y), at most
+  /// kRadianceVolumeMaxPhotons: the demo storm's 125 × 125 columns took 65 536 photons as a
+  /// mottled canopy (4 a column; thirty-first session, docs/accuracy.md). 0: `photons` alone.
+  std::uint32_t photons_per_column = 64;
   std::uint32_t seed = 16;
   int coarsen_xy = 4;  ///< fine voxels per coarse cell horizontally (the CPU row's 4 × 4 × 2)
   int coarsen_z = 2;   ///< and vertically
@@ -42,6 +58,7 @@ struct RadianceVolumeSettings {
   int max_events = 100000;           ///< a photon is cut after this many collisions (counted)
   float g_ice = 0.75f;               ///< the Henyey–Greenstein lobes photons scatter with
   float g_water = 0.85f;
+  RadianceVolumeBackend backend = RadianceVolumeBackend::Auto;
 };
 
 struct RadianceVolumeStats {
@@ -55,6 +72,7 @@ struct RadianceVolumeStats {
   /// back-edges per SIMD group) cutting photons short; expected 0 (glsl/dlm/radiance_volume.comp).
   std::uint64_t cut_short = 0;
   int dispatches = 0;  ///< of the resumable build (photons paused after a step budget, then resumed)
+  bool cpu = false;    ///< the last build traced on the CPU (RadianceVolumeBackend)
   glm::ivec3 cells{0};
   double build_ms = 0.0;  ///< both passes, wall time incl. glFinish
   bool rebuilt = false;
@@ -69,8 +87,9 @@ class RadianceVolume {
   explicit RadianceVolume(bool tally_every_crossing = false);
 
   /// Traces the volume for `volume` lit from `to_sun` (unit, world, towards the sun). Returns false
-  /// and does nothing when the cache key (volume identity, sun, settings) is unchanged. Throws
-  /// UsageError for bad settings (no photons, a coarsening below 1, roulette 1, g outside (−1, 1)).
+  /// and does nothing when the cache key (volume identity, sun, settings, backend) is unchanged.
+  /// Throws UsageError for bad settings (no photons, a coarsening below 1, roulette 1, g outside
+  /// (−1, 1), the CPU backend asked for a field it cannot trace).
   bool build(const VolumeTextures& volume, const glm::dvec3& to_sun, const RadianceVolumeSettings& settings);
 
   /// Binds the seven moment textures to units UNIT_MC_MOMENTS + 0 … 6 (render/gl/bindings.h).
@@ -84,13 +103,24 @@ class RadianceVolume {
   double quantum_m() const { return quantum_m_; }
   /// q·P/V: one unit of a sum in c_lm (per unit irradiance).
   double momentUnit() const { return moment_unit_; }
+  /// The photons a build traces: max(photons, photons_per_column · columns), the second at most
+  /// kRadianceVolumeMaxPhotons (stats().photons after a build).
+  static std::uint32_t photonsFor(const glm::ivec3& cells, const RadianceVolumeSettings& settings);
+  /// Whether `settings.backend` resolves to the CPU twin for `volume` on the current context.
+  static bool tracesOnCpu(const VolumeTextures& volume, const RadianceVolumeSettings& settings);
   /// The 64-bit sums, 25 per cell, cell-major (x fastest): the determinism test compares them.
+  /// Empty after a CPU build (it sums in double).
   std::vector<std::int64_t> readBackSums() const;
   /// The resolved moments c_lm from the textures, 25 per cell, cell-major.
   std::vector<float> readBackMoments() const;
   std::size_t textureBytes() const;
 
  private:
+  void buildOnGpu(const VolumeTextures& volume, const glm::dvec3& sun, const RadianceVolumeSettings& s,
+                  const glm::ivec3& cells);
+  void buildOnCpu(const VolumeTextures& volume, const glm::dvec3& sun, const RadianceVolumeSettings& s,
+                  const glm::ivec3& cells);
+
   gl::Program build_, resolve_;
   gl::Buffer tally_, stats_buffer_, photons_;
   gl::Texture moments_[kRadianceVolumeTextures];

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "render/gl/bindings.h"
+#include "render/gl/debug.h"
 #include "render/gl/program.h"
 #include "volume/column_depth.h"
 #include "volume/spline_coefficients.h"
@@ -340,6 +341,29 @@ std::vector<std::uint16_t> VolumeTextures::readBackPacked() const {
   glGetTextureImage(packed_.id(), 0, GL_RGBA, GL_HALF_FLOAT, GLsizei(texels.size() * sizeof(std::uint16_t)),
                     texels.data());
   return texels;
+}
+
+ExtinctionVolumes VolumeTextures::readBackExtinction() const {
+  const glm::ivec3 n = frame_.voxels;
+  ExtinctionVolumes v = ExtinctionVolumes::zeros(n.x, n.y, n.z, frame_.voxel_size_m.x, frame_.voxel_size_m.z, 0.0);
+  const std::size_t layer = std::size_t(n.x) * std::size_t(n.y);
+  const auto bytes = [](const std::vector<float>& a) { return GLsizei(a.size() * sizeof(float)); };
+  if (hasSeparateTextures()) {  // an absent phase is all zero
+    if (ice_) glGetTextureImage(ice_.id(), 0, GL_RED, GL_FLOAT, bytes(v.ice_per_m), v.ice_per_m.data());
+    if (water_) glGetTextureImage(water_.id(), 0, GL_RED, GL_FLOAT, bytes(v.water_per_m), v.water_per_m.data());
+  } else if (packed_) {
+    std::vector<float> rg(2 * layer);
+    for (int k = 0; k < n.z; ++k) {
+      glGetTextureSubImage(packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RG, GL_FLOAT, bytes(rg), rg.data());
+      for (std::size_t i = 0; i < layer; ++i) {
+        v.ice_per_m[std::size_t(k) * layer + i] = rg[2 * i] * packed_beta_unit_per_m_;
+        v.water_per_m[std::size_t(k) * layer + i] = rg[2 * i + 1] * packed_beta_unit_per_m_;
+      }
+    }
+  }
+  gl::checkErrors("reading the extinction back");
+  v.updateMaxima();
+  return v;
 }
 
 std::size_t VolumeTextures::bytes() const {

@@ -87,6 +87,11 @@ class VolumeTextures {
   /// The packed texture's texels as half bits, (β_ice, β_water, τ_up, τ_down) per voxel in
   /// ExtinctionVolumes::index order; empty without it (tests: a layered upload against a float one).
   std::vector<std::uint16_t> readBackPacked() const;
+  /// β as the passes read it, back from the GPU: the separate float textures where they exist,
+  /// else the packed texture's half floats × its unit, a layer at a time; on the frame's grid
+  /// (nx, ny, nz and the arrays; the geometry is frame()'s). For the CPU twin of the radiance
+  /// volume (render/dlm/radiance_volume.h) where the upload kept no float copy.
+  ExtinctionVolumes readBackExtinction() const;
   bool hasWater() const { return has_water_; }
   /// The separate R32F ice and water textures exist (VolumeStorage; the cubic filter, the detail).
   bool hasSeparateTextures() const { return bool(column_depth_); }
