@@ -79,6 +79,9 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
                         .label(fmt::format("radiance volume moments {}", k))
                         .sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   key_.clear();  // a build that throws leaves no volume claiming the new key
+  // Seconds to a minute on a software rasteriser: say what is being done before doing it.
+  log::info("radiance volume: tracing {} photons into {}x{}x{} cells on the {}", s.photons, cells.x, cells.y, cells.z,
+            cpu ? "CPU (the GL driver is a software rasteriser)" : "GPU");
   if (cpu) buildOnCpu(volume, sun, s, cells);
   else buildOnGpu(volume, sun, s, cells);
   glFinish();
@@ -94,9 +97,9 @@ bool RadianceVolume::build(const VolumeTextures& volume, const glm::dvec3& to_su
     log::warn("radiance volume: {} tally additions past the fixed-point bound were clamped", stats_.clamped);
   if (stats_.cut_short > 0)
     log::warn("radiance volume: {} loops ended by the driver's loop limiter (photons cut short)", stats_.cut_short);
-  log::debug("radiance volume ({}): {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {} dispatches, {:.0f} ms",
-             cpu ? "CPU twin" : "GPU", s.photons, double(stats_.collisions) / double(s.photons), cells.x, cells.y,
-             cells.z, stats_.dispatches, stats_.build_ms);
+  log::info("radiance volume ({}): {} photons, {:.1f} collisions per photon, {}x{}x{} cells, {} dispatches, {:.0f} ms",
+            cpu ? "CPU twin" : "GPU", s.photons, double(stats_.collisions) / double(s.photons), cells.x, cells.y,
+            cells.z, stats_.dispatches, stats_.build_ms);
   return true;
 }
 
