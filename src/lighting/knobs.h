@@ -53,10 +53,11 @@ struct QualitySettings {
   bool jitter{};                             ///< per-pixel start offset against banding
   bool shadows{};                            ///< cloud shadows on the basemap
   int samples_per_pixel{};                   ///< eye-pass samples per pixel (RenderSettings::samples_per_pixel)
-  int cloud_resolution{};     ///< divisor of the clouds' march resolution (RenderSettings::cloud_resolution)
-  int reconstruction{};       ///< 0 trilinear, 1 cubic B-spline, 2 auto (reconstructionOf)
-  int detail{};               ///< volume::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
-  int multiple_scattering{};  ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream, 3 radiance_volume
+  int cloud_resolution{};         ///< divisor of the clouds' march resolution (RenderSettings::cloud_resolution)
+  int reconstruction{};           ///< 0 trilinear, 1 cubic B-spline, 2 auto (reconstructionOf)
+  int detail{};                   ///< volume::Detail: 0 none, 1 subtle, 2 full (volume/detail.h)
+  int multiple_scattering{};      ///< MultipleScattering: 0 single, 1 octaves, 2 two_stream, 3 radiance_volume
+  int radiance_volume_photons{};  ///< per column of its cells (RenderSettings::radiance_volume_photons_per_column)
 
   bool operator==(const QualitySettings&) const = default;
 };

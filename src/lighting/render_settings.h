@@ -103,6 +103,9 @@ struct RenderSettings : StyleSettings {
   /// Which multiple-scattering term lights the clouds (the knob `multiple_scattering`); the
   /// octaves above are read only by MultipleScattering::Octaves.
   MultipleScattering multiple_scattering = MultipleScattering::TwoStream;
+  /// The radiance volume's photons per column of its cells (render::RadianceVolumeSettings::
+  /// photons_per_column, the knob `radiance_volume_photons`); 0: the volume settings' photons alone.
+  int radiance_volume_photons_per_column = 64;
   /// The extinction filter of the CPU references (reference/ray_marcher.h). The GPU passes take
   /// it from the uploaded volume (render::VolumeTextures::upload); engine::Session keeps both equal.
   volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;

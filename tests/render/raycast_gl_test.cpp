@@ -534,7 +534,7 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
   // photons instead of the default 65 536 (≈ 95 s of llvmpipe's GPU port on this hurricane).
   render::RadianceVolumeSettings rv;
   rv.photons = 1u << 12;
-  rv.photons_per_column = 0;
+  rs.radiance_volume_photons_per_column = 0;  // those photons alone
   renderer.setRadianceVolumeSettings(rv);
   const auto map = dlm.readBack();
   const auto& ls = dlm.lightSpace();
@@ -551,6 +551,8 @@ TEST_F(RaycastTest, GpuMatchesTheCpuReferenceRayMarcher) {
     std::optional<reference::McRadianceVolume> mc;
     if (ms == lighting::MultipleScattering::RadianceVolume) {
       ASSERT_NE(renderer.radianceVolume(), nullptr);
+      // RenderSettings::radiance_volume_photons_per_column reached the build (64 would trace 24 × 24 × 64)
+      EXPECT_EQ(renderer.radianceVolume()->stats().photons, rv.photons);
       const std::vector<float> m = renderer.radianceVolume()->readBackMoments();
       reference::McTallySpec spec;
       spec.coarsen_xy = rv.coarsen_xy;

@@ -352,6 +352,7 @@ double CloudRenderer::dispatch(const VolumeTextures& volume, const DeepLightMap&
     RadianceVolumeSettings rv = radiance_volume_settings_;
     rv.g_ice = float(s.g_ice);
     rv.g_water = float(s.g_water);
+    rv.photons_per_column = std::uint32_t(std::max(0, s.radiance_volume_photons_per_column));
     radiance_volume_->build(volume, sun.toSun(), rv);
   }
   EyePassFeatures lowFeatures = f, fullFeatures = f;

@@ -239,7 +239,8 @@ class CloudRenderer {
   /// The last temporal frame's cloud depth per pixel (R32F, row 0 = top; clouds.comp
   /// SPEC_MOTION_DEPTH): the cloud layer's mean depth along the ray, 0 where no cloud is seen.
   const gl::Texture& motionDepth() const { return motion_depth_tex_; }
-  /// Its settings (photons, grid, seed); the phases are RenderSettings::g_ice, g_water.
+  /// Its settings (photons, grid, seed); the phases are RenderSettings::g_ice, g_water and the photons
+  /// per column RenderSettings::radiance_volume_photons_per_column.
   void setRadianceVolumeSettings(const RadianceVolumeSettings& settings) { radiance_volume_settings_ = settings; }
 
  private:
