@@ -23,12 +23,18 @@ layout(binding = UNIT_WATER_PER_M) uniform sampler3D u_water_per_m;
 layout(binding = UNIT_OCCUPANCY_PER_M) uniform sampler3D u_occupancy_per_m;  // per brick: max β (dilated by u_reach_voxels), a lower bound of β (volume/occupancy.h)
 layout(binding = UNIT_DETAIL_CONTROLS) uniform sampler3D u_detail_controls;  // RGBA8 (turbulence, convective, fraction, core)
 layout(binding = UNIT_DETAIL_NOISE) uniform sampler3D u_detail_noise;        // RGBA8 periodic noise tile, GL_REPEAT
-layout(binding = UNIT_DETAIL_CORRECTION) uniform sampler2D u_detail_correction;  // R32F per-column mass correction (texelFetch)
+// Per model column (render/dlm/volume_textures.cpp): r the detail's mass correction (texelFetch),
+// g the column's total optical depth T (bilinear, clamped to the edge; volume/column_depth.h).
+layout(binding = UNIT_COLUMNS) uniform sampler2D u_columns;
+// The vertical optical depth above each voxel centre, τ_up (R16F where the packed texture is the
+// only copy, else RG16F (τ_up, T)), GL_LINEAR, GL_CLAMP_TO_EDGE (volume/column_depth.h).
+layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;
 layout(binding = UNIT_DETAIL_WIND) uniform sampler3D u_detail_wind;  // RG32F horizontal wind [m/s] advecting the noise
-// The packed texture (issue 19; render/dlm/volume_textures.h hasPacked): RGBA16F (β_ice, β_water in
-// units of u_packed_beta_unit_per_m, τ_up, τ_down) per voxel, GL_LINEAR, GL_CLAMP_TO_EDGE. With
-// u_packed_only (VolumeStorage::Compact, the default upload) it is the only copy of the volume:
-// every pass reads β (plainExtinctionAt) and the eye pass its column depths from it.
+// The packed texture (issue 19; render/dlm/volume_textures.h hasPacked): RG16F (β_ice, β_water in
+// units of u_packed_beta_unit_per_m) per voxel, GL_LINEAR, GL_CLAMP_TO_EDGE. With u_packed_only
+// (VolumeStorage::Compact, the default upload) it is the only copy of the volume: every pass reads
+// β (plainExtinctionAt) from it and the eye pass its column depths from u_column_depth (τ_up) and
+// u_columns (T): 6 bytes per voxel (RGB16F would be padded to 8 by the drivers).
 layout(binding = UNIT_PACKED_VOLUME) uniform sampler3D u_packed_volume;
 // One std140 block, declared in C++ as gl::VolumeBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocks.MatchTheLinkedPrograms checks every offset.
@@ -122,24 +128,34 @@ float reconstruct(sampler3D volume, vec3 uvw) {
   return RECONSTRUCTION_CUBIC ? cubicBSpline(volume, uvw) : texture(volume, uvw).r;
 }
 
-// The packed texel at uvw (inside the grown box) with β in 1/m: the texture clamps to the edge, as
-// the column depths need; the extinction's zero border (β fades to 0 over the ½ voxel outside the
-// box, as GL_CLAMP_TO_BORDER with a zero border gives the R32F textures) is the trilinear filter's
-// weight on the texels inside the grid, per axis 1 + min(c, n − 1 − c) clamped to [0, 1] for the
-// continuous index c = uvw·n − ½, multiplied onto β. Only the trilinear filter has a packed
-// texture (the cubic B-spline reads the zero border at 8 positions).
-vec4 packedTexel(vec3 uvw) {
-  vec4 s = texture(u_packed_volume, uvw);
+// (β_ice, β_water) of the packed texture at uvw (inside the grown box) in 1/m: the texture clamps
+// to the edge, as the column depths need; the extinction's zero border (β fades to 0 over the ½
+// voxel outside the box, as GL_CLAMP_TO_BORDER with a zero border gives the R32F textures) is the
+// trilinear filter's weight on the texels inside the grid, per axis 1 + min(c, n − 1 − c) clamped
+// to [0, 1] for the continuous index c = uvw·n − ½, multiplied onto β. Only the trilinear filter
+// has a packed texture (the cubic B-spline reads the zero border at 8 positions).
+vec2 packedBeta(vec3 uvw) {
+  vec2 s = texture(u_packed_volume, uvw).xy;
   vec3 c = uvw * vec3(u_voxels) - 0.5;
   vec3 inGrid = clamp(1.0 + min(c, vec3(u_voxels) - 1.0 - c), 0.0, 1.0);
-  return vec4(s.xy * (u_packed_beta_unit_per_m * inGrid.x * inGrid.y * inGrid.z), s.zw);
+  return s * (u_packed_beta_unit_per_m * inGrid.x * inGrid.y * inGrid.z);
 }
+
+// (τ_up, τ_down) trilinearly at uvw, clamped to the edge: τ_up from u_column_depth, τ_down = T − τ_up
+// with T bilinear from u_columns (the CPU twin: volume/column_depth.h columnDepthAt).
+vec2 trilinearColumnDepth(vec3 uvw) {
+  float up = texture(u_column_depth, uvw).r;
+  return vec2(up, texture(u_columns, uvw.xy).g - up);
+}
+
+// (β_ice, β_water, τ_up, τ_down) at uvw: the eye pass's step with the packed texture.
+vec4 packedTexel(vec3 uvw) { return vec4(packedBeta(uvw), trilinearColumnDepth(uvw)); }
 
 // (β_ice, β_water) at a world position, without the sub-grid detail.
 vec2 plainExtinctionAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
   if (!insideGrownVolume(uvw)) return vec2(0.0);
-  if (u_packed_only) return packedTexel(uvw).xy;
+  if (u_packed_only) return packedBeta(uvw);
   // ≥ 0: the interpolating spline's coefficients ring below 0 at cloud edges (volume/spline_coefficients.h).
   return max(vec2(u_has_ice ? reconstruct(u_ice_per_m, uvw) : 0.0, u_has_water ? reconstruct(u_water_per_m, uvw) : 0.0),
              vec2(0.0));
@@ -154,7 +170,7 @@ float columnExtinctionAt(vec2 column_uv, float w) {
   return (u_has_ice ? texture(u_ice_per_m, t).r : 0.0) + (u_has_water ? texture(u_water_per_m, t).r : 0.0);
 }
 float detailCorrectionTexel(ivec2 column) {
-  return texelFetch(u_detail_correction, clamp(column, ivec2(0), textureSize(u_detail_correction, 0) - 1), 0).r;
+  return texelFetch(u_columns, clamp(column, ivec2(0), textureSize(u_columns, 0) - 1), 0).r;
 }
 vec2 detailWindAt(vec3 uvw) { return texture(u_detail_wind, uvw).rg; }
 #include "common/detail_field.glsl"

@@ -72,7 +72,6 @@ layout(rgba32f, binding = IMAGE_TEMPORAL_BACKGROUND) uniform image2D u_backgroun
 #endif
 layout(binding = UNIT_BASEMAP) uniform sampler2D u_basemap;  // RGB linear albedo, A city lights, over u_basemap_min..max (world m)
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_host_depth;  // host depth, GL rows (0 = bottom), [0, 1]
-layout(binding = UNIT_COLUMN_DEPTH) uniform sampler3D u_column_depth;  // (τ_up, τ_down) per voxel centre
 
 // One std140 block, declared in C++ as gl::RaycastBlock (render/gl/uniform_blocks.h): keep the
 // members in its order; the GL test UniformBlocksMatchTheLinkedPrograms checks every offset.
@@ -178,10 +177,10 @@ float sampleSunlight(vec3 world_m) { return dlmIntensity(world_m); }
 
 // The packed texture (issue 19 item 3): with SPEC_PACKED = 1 (CloudRenderer, when the upload built
 // one: VolumeTextures::hasPacked, the trilinear filter without sub-grid detail) a step reads
-// (β_ice, β_water, τ_up, τ_down) with one RGBA16F fetch instead of three fetches (ice, water, the
-// column depths; Muth 2026 §3.4 packs the cloud's channels the same way); glsl/dlm/volume.glsl
-// packedTexel applies the extinction's zero border and β's unit (u_packed_beta_unit_per_m: 1e-3,
-// per km, in the half's normal range).
+// (β_ice, β_water) with one RG16F fetch instead of two R32F fetches (ice, water; Muth 2026 §3.4
+// packs the cloud's channels the same way), and (τ_up, τ_down) from τ_up (R16F) and the column's
+// total T; glsl/dlm/volume.glsl packedTexel applies the extinction's zero border and β's unit
+// (u_packed_beta_unit_per_m: 1e-3, per km, in the half's normal range).
 #if defined(SPEC_PACKED) && SPEC_PACKED != 0
 #define PACKED_VOLUME true
 vec4 packedAt(vec3 world_m) {
@@ -333,10 +332,17 @@ vec3 globeFootprint(vec3 o, vec3 D, vec3 dD, vec3 g, float t) {
 // volume/column_depth.h columnDepthAt). The same filter matters: trilinear depths under a cubic
 // field would put the grid back into the sky light and the two-stream term (issue 13's artefact
 // metric: the power at the column spacing).
+// The separate RG16F texture holds (τ_up, T); τ_down = T − τ_up after the filter (the column's
+// weights sum to 1 under either filter and T is constant along it).
 vec2 columnDepthAt(vec3 world_m) {
   vec3 uvw = volumeUvw(world_m);
-  if (u_packed_only) return texture(u_packed_volume, uvw).zw;  // trilinear, clamped to the edge
-  return RECONSTRUCTION_CUBIC ? cubicBSplineRgba(u_column_depth, uvw).rg : texture(u_column_depth, uvw).rg;
+  if (u_packed_only) return trilinearColumnDepth(uvw);
+  // precise: the same arithmetic in the program specialised per feature and the uniform-branch
+  // one (EyePassVariants compares them bit for bit); unmarked, the compiler fused the cubic's last
+  // multiply-adds with the difference in one program and not in the other (1 ulp).
+  precise vec2 upTotal = RECONSTRUCTION_CUBIC ? cubicBSplineRgba(u_column_depth, uvw).rg : texture(u_column_depth, uvw).rg;
+  precise float down = upTotal.y - upTotal.x;
+  return vec2(upTotal.x, down);
 }
 
 // Sky light at a point inside the cloud, scattered isotropically: the mean radiance of the

@@ -7,7 +7,7 @@
 // non-zero, none for a footprint without plain mass; docs/detail.md "A cheaper mass measurement").
 // Per ray, not summed per footprint: the correction blends between columns near their faces, so
 // the CPU solves it with each ray's own weights (solveDetailCorrection). The CPU twin is
-// ExtinctionSampler::measureRayMasses. Run at upload, with u_detail_correction bound to a
+// ExtinctionSampler::measureRayMasses. Run at upload, with u_columns' correction bound to a
 // 1-texel texture of 1.
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "dlm/volume.glsl"

@@ -56,7 +56,7 @@ const std::vector<std::uint16_t>& ColumnDepthSlices::next(int k) {
   for (std::size_t c = 0; c < total_.size(); ++c) {
     const double full = betaDz(beta_, c, dz_m_), half = 0.5 * full;
     slice_[2 * c] = halfBits(std::max(total_[c] - below_[c] - half, 0.0));
-    slice_[2 * c + 1] = halfBits(below_[c] + half);
+    slice_[2 * c + 1] = halfBits(total_[c]);
     below_[c] += full;
   }
   ++next_k_;
@@ -88,9 +88,11 @@ ColumnDepths columnDepths(const ExtinctionVolumes& v, volume::Reconstruction rec
   const std::vector<std::uint16_t> rg = columnDepthsHalf(v);
   d.up.resize(v.voxelCount());
   d.down.resize(v.voxelCount());
+  // τ_down = T − τ_up in float from the two halves, as the shaders form it (glsl/dlm/volume.glsl
+  // packedTexel, glsl/render/clouds.comp columnDepthAt) after filtering both.
   for (std::size_t i = 0; i < d.up.size(); ++i) {
     d.up[i] = glm::unpackHalf1x16(rg[2 * i]);
-    d.down[i] = glm::unpackHalf1x16(rg[2 * i + 1]);
+    d.down[i] = glm::unpackHalf1x16(rg[2 * i + 1]) - d.up[i];
   }
   return d;
 }

@@ -28,12 +28,19 @@
 
 namespace nph {
 
-/// Depths rounded to half precision, the GPU texture's storage (RG16F), so that the CPU twin
-/// samples exactly the values the eye pass does.
+// Stored as τ_up and the column's total T = τ_up + τ_down (issue 19, memory): τ_down is T − τ_up,
+// formed after filtering (both filters' weights along the column sum to 1 and T is constant along
+// it, so filtering T − τ_up and subtracting the filtered values agree). The compact upload then
+// keeps 2 bytes per voxel (R16F τ_up) and T per column instead of 4 (τ_up, τ_down); the two-stream
+// and sky terms read τ_down only beside the total (cloud_light.glsl: k·τ_down over 4/3 + k·T), so
+// its absolute error, ≤ T·2⁻¹¹ from τ_up's half, is ≤ 2⁻¹¹ of what it is compared with.
+
+/// Depths rounded to half precision, the GPU texture's storage (τ_up and T as halves), so that
+/// the CPU twin samples the values the eye pass does.
 struct ColumnDepths {
   int nx = 0, ny = 0, nz = 0;
   std::vector<float> up;    ///< τ_up per voxel, ExtinctionVolumes::index layout
-  std::vector<float> down;  ///< τ_down per voxel
+  std::vector<float> down;  ///< τ_down = T − τ_up per voxel, in float from the two halves
   /// The filter columnDepthAt applies: the extinction's (the eye pass's RECONSTRUCTION_CUBIC).
   volume::Reconstruction reconstruction = volume::Reconstruction::Trilinear;
 };
@@ -45,8 +52,8 @@ ColumnDepths columnDepths(const ExtinctionVolumes& volumes,
 
 /// The column depths slice by slice from the bottom (k = 0 up to nz − 1), for an upload that never
 /// holds them for the whole grid (render/dlm/volume_textures.cpp, issue 19's memory): per column
-/// τ_down = B + ½β·dz and τ_up = (T − B) − ½β·dz in double, B the sum below the voxel, T the
-/// column's total, then rounded to half; columnDepthsHalf is built from it, so both agree bit for
+/// τ_up = (T − B) − ½β·dz in double, B the sum below the voxel, T the column's total, then τ_up
+/// and T rounded to half; columnDepthsHalf is built from it, so both agree bit for
 /// bit. Holds two doubles per column. Upwards, as a `.nph` timestep decodes its layers
 /// (cache::NphReader::readSlices streams the chunk's zstd frame from its first layer).
 class ColumnDepthSlices {
@@ -59,7 +66,8 @@ class ColumnDepthSlices {
   /// also checks the voxels (the packed upload; a `.nph` source decodes its chunk once per pass).
   ColumnDepthSlices(const ExtinctionSlices& slices,
                     const std::function<void(int k, const ExtinctionSlices::Slice& layer)>& see);
-  /// Slice k's (τ_up, τ_down) half bits, interleaved, x fastest (2·nx·ny values): call for
+  /// Slice k's (τ_up, T) half bits, interleaved, x fastest (2·nx·ny values; T the column's
+  /// total, the same in every slice): call for
   /// k = 0, 1, …, nz − 1 in turn (UsageError otherwise).
   const std::vector<std::uint16_t>& next(int k);
   /// The β of the layer the last next(k) read (valid until the next call): the packed upload
@@ -79,9 +87,9 @@ class ColumnDepthSlices {
   int next_k_;
 };
 
-/// The same depths as half-precision bit patterns, interleaved (τ_up, τ_down) per voxel in
-/// ExtinctionVolumes::index layout: the RG16F texel, 4 bytes per voxel (columnDepths holds 8 as
-/// floats). The upload's form (render/dlm/volume_textures.cpp); columnDepths unpacks it.
+/// The same depths as half-precision bit patterns, interleaved (τ_up, T) per voxel in
+/// ExtinctionVolumes::index layout: the separate RG16F texel, 4 bytes per voxel (columnDepths
+/// holds 8 as floats). The upload's form (render/dlm/volume_textures.cpp); columnDepths unpacks it.
 std::vector<std::uint16_t> columnDepthsHalf(const ExtinctionVolumes& volumes);
 
 /// (τ_up, τ_down) at a world point: trilinear or cubic B-spline between voxel centres

@@ -269,19 +269,18 @@ TEST_F(AdaptiveStepsTest, AGrownStepDoesNotJumpAThinCloudBeyondClearAir) {
                            << clippedWorst << ")";
 }
 
-// The packed texture (VolumeTextures::hasPacked; glsl/render/clouds.comp packedAt): one RGBA16F
-// fetch of (β_ice, β_water, τ_up, τ_down) per step against the separate R32F ice and water and
-// RG16F column-depth textures (EyePassBaseline::separate_textures), on the small hurricane and on
-// a homogeneous slab that fills the whole box (every face: the zero border's fade, which the packed
-// path computes instead of sampling). The difference is β's half precision (11 bits, relative
-// 2⁻¹¹) and the fade's weights computed in float rather than by the sampler. It shows only where a
-// ray's transmittance ends next to the early-termination threshold T_min = 0.01: one side stops
-// and is renormalised to α = 1, the other leaves the box with α = 1 − T ≈ 0.99, a step of at most
-// T_min in a value (3 levels of the straight-alpha code). Measured: 0.11 % (hurricane) and 0.12 %
-// (slab) of the values differ, max |Δ| = 0.0100, 3 levels. Bounds: |Δ| ≤ T_min + 1e-4, ≤ 3 levels,
-// ≤ 0.5 % of the values, and against the CPU reference no worse than that step.
-// A cubic upload has no packed texture (the B-spline reads the zero border at 8 positions) and
-// renders bit for bit as the separate path.
+// The packed texture (VolumeTextures::hasPacked; glsl/render/clouds.comp packedAt): one RG16F
+// fetch of (β_ice, β_water) with τ_up (R16F) and the column total T per step against the separate R32F ice and water
+// and RG16F column-depth textures (EyePassBaseline::separate_textures), on the small hurricane and on a homogeneous
+// slab that fills the whole box (every face: the zero border's fade, which the packed path computes instead of
+// sampling). The difference is β's half precision (11 bits, relative 2⁻¹¹) and the fade's weights computed in float
+// rather than by the sampler. It shows only where a ray's transmittance ends next to the early-termination threshold
+// T_min = 0.01: one side stops and is renormalised to α = 1, the other leaves the box with α = 1 − T ≈ 0.99, a step of
+// at most T_min in a value (3 levels of the straight-alpha code). Measured: 0.11 % (hurricane) and 0.12 % (slab) of the
+// values differ, max |Δ| = 0.0100, 3 levels (since τ_down = T − τ_up, thirty-second session: the hurricane 1 level on
+// 0.01 %, the slab unchanged). Bounds: |Δ| ≤ T_min + 1e-4, ≤ 3 levels, ≤ 0.5 % of the values, and against
+// the CPU reference no worse than that step. A cubic upload has no packed texture (the B-spline reads the zero border
+// at 8 positions) and renders bit for bit as the separate path.
 TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
   const ObliqueHurricane h;
   struct Scene {
@@ -341,15 +340,17 @@ TEST_F(LightCacheTest, PackedTextureDiffersOnlyAtTheTerminationThreshold) {
 }
 
 // Memory (issue 19, docs/benchmarks.md "Memory"): a Compact upload (the default, what `nephele
-// render`, the API and the session make) holds the volume once, in the packed RGBA16F texture: 8
-// bytes per voxel plus the occupancy grid (one RG32F per brick of 8³ voxels: max, lower bound), the terrain heights and
-// three 1-texel defaults; the Reference upload adds the R32F ice and water and the RG16F column
-// depths, 12 bytes per voxel more. Counted by the renderer's own accounting (gl::Texture::bytes, the
-// storage each glTextureStorage call asked for). The DLM passes of the Compact upload read β in
-// half precision (11 significant bits) instead of float: the frame against the Reference upload's
-// (packed eye pass, float DLM) and both against the CPU reference, in 8-bit levels of the cloud
-// layer. Measured on llvmpipe: 1 level on 0.02 % of the values (max |Δ| 1.2e-5, mean 2e-7), 3
-// levels from the CPU reference for both (8.06 and 20.06 bytes per voxel on this small storm).
+// render`, the API and the session make) holds the volume once, in the packed RG16F β and the R16F
+// τ_up: 6 bytes per voxel, plus the occupancy grid (one RG32F per brick of 8³ voxels: max, lower
+// bound), the terrain heights, one RG32F per model column (detail correction, total depth T) and
+// two 1-texel defaults; the Reference upload adds the R32F ice and water and the RG16F column
+// depths (τ_up, T) in place of the R16F, 10 bytes per voxel more. Counted by the renderer's own
+// accounting (gl::Texture::bytes, the storage each glTextureStorage call asked for). The DLM passes
+// of the Compact upload read β in half precision (11 significant bits) instead of float: the frame
+// against the Reference upload's (packed eye pass, float DLM) and both against the CPU reference,
+// in 8-bit levels of the cloud layer. Measured on llvmpipe: 1 level on 0.02 % of the values (max
+// |Δ| 1.2e-5, mean 2e-7; since τ_down = T − τ_up, 1 level on < 0.01 %, max |Δ| 3.7e-5), 1 level
+// from the CPU reference for both (6.18 and 16.18 bytes per voxel on this small storm).
 // Bounds: the measured maximum with one level of room, and the Compact frame no further from the
 // CPU reference than the Reference frame plus one level.
 // The cubic filter and the detail keep their separate textures (no packed one to read).
@@ -368,8 +369,10 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
   const std::size_t occupancyBytes = 8 * std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z);
   // The model's terrain (or a 1-texel sea level) and the user DEM's far field, absent here: 1 texel.
   const std::size_t terrainBytes = (compact.terrain().present() ? 4 * std::size_t(v.nx) * std::size_t(v.ny) : 4) + 4;
-  EXPECT_EQ(compact.bytes(), 8 * voxels + occupancyBytes + terrainBytes + 3 * 4);
-  EXPECT_EQ(reference.bytes() - compact.bytes(), 12 * voxels);
+  // Per model column, RG32F (detail correction, total optical depth T); two 1-texel defaults.
+  const std::size_t columnBytes = 8 * std::size_t(v.nx) * std::size_t(v.ny);
+  EXPECT_EQ(compact.bytes(), 6 * voxels + occupancyBytes + terrainBytes + columnBytes + 2 * 4);
+  EXPECT_EQ(reference.bytes() - compact.bytes(), 10 * voxels);
   std::printf("[ memory   ] %zu voxels: compact %.2f bytes/voxel, reference %.2f bytes/voxel\n", voxels,
               double(compact.bytes()) / double(voxels), double(reference.bytes()) / double(voxels));
 
@@ -398,7 +401,7 @@ TEST_F(LightCacheTest, CompactUploadHoldsOnlyThePackedTextureWithinALevel) {
       render::VolumeTextures::upload(v, frame, "hurricane-x8", {.reconstruction = volume::Reconstruction::Cubic});
   EXPECT_FALSE(cubic.hasPacked());
   EXPECT_TRUE(cubic.hasSeparateTextures());
-  EXPECT_EQ(cubic.bytes(), 12 * voxels + 8 * cubic.occupancy().max_per_m.size() + terrainBytes + 3 * 4);
+  EXPECT_EQ(cubic.bytes(), 12 * voxels + 8 * cubic.occupancy().max_per_m.size() + terrainBytes + columnBytes + 2 * 4);
 
   // The DLM after its build holds the nodes (RG32F × node budget), the counts (R32UI), the texel ε
   // (R32F) and the light cache (R16F): the scatter map and its flat runs (passes 2 and 3 only) are
@@ -499,7 +502,7 @@ TEST_F(LightCacheTest, LayeredUploadIsTheFloatUploadBitForBit) {
     EXPECT_EQ(layered.occupancy().nonEmptyMaxVoxel, floats.occupancy().nonEmptyMaxVoxel);
     EXPECT_EQ(layered.packedBetaUnit_per_m(), floats.packedBetaUnit_per_m());
     const std::vector<std::uint16_t> a = layered.readBackPacked(), b = floats.readBackPacked();
-    EXPECT_EQ(a.size(), r == volume::Reconstruction::Trilinear ? 4 * v.voxelCount() : 0u);
+    EXPECT_EQ(a.size(), r == volume::Reconstruction::Trilinear ? 3 * v.voxelCount() + std::size_t(v.nx * v.ny) : 0u);
     EXPECT_TRUE(a == b) << "the packed texels differ";
   }
 }

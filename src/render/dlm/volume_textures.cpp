@@ -72,13 +72,18 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
   }
   const glm::ivec3 n(header.nx, header.ny, header.nz);
   const std::size_t layer = std::size_t(n.x) * std::size_t(n.y);
-  // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β and the column
-  // depths in 8 bytes per voxel. Where it serves (the trilinear filter without sub-grid detail) a
-  // Compact upload makes it the only copy: the R32F ice and water and the RG16F column depths
-  // (12 bytes per voxel more) are made only for the cubic filter and the detail, whose fetches need
-  // the zero border or displaced positions, and for VolumeStorage::Reference (the float baseline).
+  // Memory (issue 19, docs/benchmarks.md "Memory"): the packed texture holds β (RG16F) and the
+  // column depths τ_up (R16F; τ_down = T − τ_up with T per column, volume/column_depth.h) in 6 bytes
+  // per voxel. Where it serves (the trilinear filter without sub-grid detail) a Compact upload
+  // makes it the only copy: the R32F ice and water and the RG16F column depths (τ_up, T) are made
+  // only for the cubic filter and the detail, whose fetches need the zero border or displaced
+  // positions, and for VolumeStorage::Reference (the float baseline; its packed eye pass then reads
+  // τ_up from the RG16F texture's first channel).
   const bool packed = reconstruction == volume::Reconstruction::Trilinear && !t.detail_.on();
   const bool separate = !packed || o.storage == VolumeStorage::Reference;
+  t.separate_ = separate;
+  // T, the column's total optical depth (as the half the depths are stored as), per column.
+  std::vector<float> columnTotals(layer, 0.0f);
   // The voxel checks and which phases are present, a layer at a time (an absent phase reads 0).
   const auto check = [&](int k, const ExtinctionSlices::Slice& s) {
     checkVoxels(s.ice, layer, std::size_t(k) * layer, "ice_per_m");
@@ -123,19 +128,23 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     t.water_ = upload3D(whole->water_per_m, n, "water extinction [1/m]");
     t.water_.sampling(GL_LINEAR, GL_CLAMP_TO_BORDER);
   }
-  // Vertical optical depths above and below each voxel for the sky light (volume/column_depth.h),
-  // interleaved (τ_up, τ_down) as RG16F: 0.1 % precision is far below the two-stream model's own
-  // error, and the 65504 ceiling of a half float is a column no sky light crosses anyway. Built as
-  // half bit patterns, for the separate texture over the whole grid (4 bytes per voxel, transient),
-  // for the packed one slice by slice (ColumnDepthSlices: the same values, two doubles per column).
+  // Vertical optical depths above each voxel and through its column for the sky light
+  // (volume/column_depth.h), interleaved (τ_up, T) as RG16F: 0.1 % precision is far below the
+  // two-stream model's own error, and the 65504 ceiling of a half float is a column no sky light
+  // crosses anyway. Built as half bit patterns, for the separate texture over the whole grid (4
+  // bytes per voxel, transient), for the packed one slice by slice (ColumnDepthSlices: the same
+  // values, two doubles per column).
   if (separate) {
     const std::vector<std::uint16_t> rg = columnDepthsHalf(*whole);
-    t.column_depth_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("column optical depth (up, down)");
+    t.column_depth_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("column optical depth (up, total)");
     glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RG, GL_HALF_FLOAT, rg.data());
     t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    for (std::size_t c = 0; c < layer; ++c) columnTotals[c] = glm::unpackHalf1x16(rg[2 * c + 1]);
   }
-  // The packed texture (issue 19 item 3; hasPacked): (β_ice, β_water, τ_up, τ_down) per voxel,
-  // RGBA16F, one trilinear fetch per view-ray step instead of three. β is stored per kilometre (a
+  // The packed texture (issue 19 item 3; hasPacked): (β_ice, β_water) per voxel, RG16F, with τ_up
+  // beside it (R16F; the RG16F (τ_up, T) of the separate textures where those exist) and T per
+  // column (the columns' texture): a view-ray step reads β, τ_up and T in three fetches, two of
+  // them 3-D, instead of ice, water and the column depths (8-tap fetches each). β is stored per kilometre (a
   // half's normal range starts at 6.1e-5: β of thin cloud, ~1e-6 /m, keeps 11 significant bits as
   // 1e-3 /km), or coarser where the largest β would overflow the half's 65504. Clamp to edge, as
   // the column depths need; the zero border the extinction's trilinear filter fades to outside the
@@ -150,22 +159,27 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
     const float storedPerM = std::min(1000.0f, 60000.0f / maxBeta);
     t.packed_beta_unit_per_m_ = 1.0f / storedPerM;
     if (!depths) depths.emplace(src);
-    t.packed_ = gl::Texture::create3D(GL_RGBA16F, n.x, n.y, n.z).label("packed (ice, water, tau up, tau down)");
-    std::vector<std::uint16_t> slice(4 * std::size_t(n.x) * std::size_t(n.y));
+    t.packed_ = gl::Texture::create3D(GL_RG16F, n.x, n.y, n.z).label("packed (ice, water)");
+    if (!separate) t.column_depth_ = gl::Texture::create3D(GL_R16F, n.x, n.y, n.z).label("column optical depth (up)");
+    std::vector<std::uint16_t> slice(2 * layer), up(separate ? 0 : layer);
     const std::uint16_t zero = glm::packHalf1x16(0.0f);
     for (int k = 0; k < n.z; ++k) {
       const std::vector<std::uint16_t>& rg = depths->next(k);
       const ExtinctionSlices::Slice& beta = depths->beta();  // layer k, as the depths read it
       occupancy.add(k, beta);
-      for (std::size_t i = 0; i < slice.size() / 4; ++i) {
-        slice[4 * i] = t.has_ice_ ? glm::packHalf1x16(beta.ice[i] * storedPerM) : zero;
-        slice[4 * i + 1] = t.has_water_ ? glm::packHalf1x16(beta.water[i] * storedPerM) : zero;
-        slice[4 * i + 2] = rg[2 * i];
-        slice[4 * i + 3] = rg[2 * i + 1];
+      for (std::size_t i = 0; i < layer; ++i) {
+        slice[2 * i] = t.has_ice_ ? glm::packHalf1x16(beta.ice[i] * storedPerM) : zero;
+        slice[2 * i + 1] = t.has_water_ ? glm::packHalf1x16(beta.water[i] * storedPerM) : zero;
       }
-      glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RGBA, GL_HALF_FLOAT, slice.data());
+      glTextureSubImage3D(t.packed_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RG, GL_HALF_FLOAT, slice.data());
+      if (separate) continue;  // the RG16F (τ_up, T) above holds the same halves
+      for (std::size_t i = 0; i < layer; ++i) up[i] = rg[2 * i];
+      if (k == 0)
+        for (std::size_t c = 0; c < layer; ++c) columnTotals[c] = glm::unpackHalf1x16(rg[2 * c + 1]);
+      glTextureSubImage3D(t.column_depth_.id(), 0, 0, 0, k, n.x, n.y, 1, GL_RED, GL_HALF_FLOAT, up.data());
     }
     t.packed_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
+    t.column_depth_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   // The terrain's surface: its interpolating spline's coefficients (TerrainField::spline_m),
   // fetched texel by texel (glsl/common/terrain.glsl interpolates itself: fixed-function bilinear
@@ -242,22 +256,27 @@ VolumeTextures VolumeTextures::upload(const ExtinctionSlices& data, const volume
         glm::vec4(float(flow.tau_s.x), float(flow.tau_s.y), float(flow.weight_a), t.wind_ ? 1.0f : 0.0f);
   }
   t.block_ = gl::UniformBuffer<gl::VolumeBlock>::create(block, "volume block");
-  // The per-column mass correction of the detail (volume/detail.h): measured with the correction
-  // at 1, solved on the CPU; the occupancy maxima then bound ρ·c ≤ 2·max c.
+  // Per model column, RG32F (UNIT_COLUMNS): the detail's mass correction (volume/detail.h;
+  // measured with the correction at 1, solved on the CPU; the occupancy maxima then bound
+  // ρ·c ≤ 2·max c; 1 without detail), read by texelFetch and blended in the shader, and the column's
+  // total optical depth T, read bilinearly (GL_LINEAR, clamped to the edge like the depths).
   float maxScale = 1.0f;
-  {
-    const float one = 1.0f;
-    t.correction_ = gl::Texture::create2D(GL_R32F, 1, 1).label("detail correction (none)");
-    glTextureSubImage2D(t.correction_.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &one);
-    t.correction_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
-  }
+  std::vector<float> correction(layer, 1.0f);
   if (t.detail_.on()) {
+    // measured before the columns' texture exists: measureRayMasses binds a 1-texel correction of 1
     const volume::RayMasses masses = t.measureRayMasses(*whole, o.mass);
-    const std::vector<float> c = volume::solveDetailCorrection(masses);
-    maxScale = float(volume::kMaxDetailDensity) * *std::max_element(c.begin(), c.end());
-    t.correction_ = gl::Texture::create2D(GL_R32F, n.x, n.y).label("detail correction per column");
-    glTextureSubImage2D(t.correction_.id(), 0, 0, 0, n.x, n.y, GL_RED, GL_FLOAT, c.data());
-    t.correction_.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);  // texelFetch, blended in the shader (volume/detail.h)
+    correction = volume::solveDetailCorrection(masses);
+    maxScale = float(volume::kMaxDetailDensity) * *std::max_element(correction.begin(), correction.end());
+  }
+  {
+    std::vector<float> rg(2 * layer);
+    for (std::size_t c = 0; c < layer; ++c) {
+      rg[2 * c] = correction[c];
+      rg[2 * c + 1] = columnTotals[c];
+    }
+    t.columns_ = gl::Texture::create2D(GL_RG32F, n.x, n.y).label("per column (detail correction, total depth)");
+    glTextureSubImage2D(t.columns_.id(), 0, 0, 0, n.x, n.y, GL_RG, GL_FLOAT, rg.data());
+    t.columns_.sampling(GL_LINEAR, GL_CLAMP_TO_EDGE);
   }
   t.occupancy_ = packed ? occupancy.finish()
                  : t.detail_.on()
@@ -303,7 +322,7 @@ volume::RayMasses VolumeTextures::measureRayMasses(const ExtinctionVolumes& v,
   const float unity = 1.0f;
   glTextureSubImage2D(one.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &unity);
   one.sampling(GL_NEAREST, GL_CLAMP_TO_EDGE);
-  glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, one.id());
+  glBindTextureUnit(gl::binding::UNIT_COLUMNS, one.id());
   glBindImageTexture(gl::binding::IMAGE_DETAIL_MASS, image.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
   glBindImageTexture(gl::binding::IMAGE_DETAIL_MASS_RANGE, rangeImage.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32I);
   program.dispatchCovering({h.x, h.y, 1});
@@ -337,9 +356,16 @@ void VolumeTextures::nonEmptyBox(glm::dvec3& lo, glm::dvec3& hi) const {
 std::vector<std::uint16_t> VolumeTextures::readBackPacked() const {
   if (!packed_) return {};
   const glm::ivec3 n = frame_.voxels;
-  std::vector<std::uint16_t> texels(4 * std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z));
-  glGetTextureImage(packed_.id(), 0, GL_RGBA, GL_HALF_FLOAT, GLsizei(texels.size() * sizeof(std::uint16_t)),
-                    texels.data());
+  const std::size_t voxels = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
+  const std::size_t columns = std::size_t(n.x) * std::size_t(n.y);
+  std::vector<std::uint16_t> texels(3 * voxels + columns);
+  const auto bytes = [](std::size_t values) { return GLsizei(values * sizeof(std::uint16_t)); };
+  glGetTextureImage(packed_.id(), 0, GL_RG, GL_HALF_FLOAT, bytes(2 * voxels), texels.data());
+  glGetTextureImage(column_depth_.id(), 0, GL_RED, GL_HALF_FLOAT, bytes(voxels), texels.data() + 2 * voxels);
+  std::vector<float> rg(2 * columns);
+  glGetTextureImage(columns_.id(), 0, GL_RG, GL_FLOAT, GLsizei(rg.size() * sizeof(float)), rg.data());
+  for (std::size_t c = 0; c < columns; ++c) texels[3 * voxels + c] = glm::packHalf1x16(rg[2 * c + 1]);
+  gl::checkErrors("reading the packed texture back");
   return texels;
 }
 
@@ -369,7 +395,7 @@ ExtinctionVolumes VolumeTextures::readBackExtinction() const {
 std::size_t VolumeTextures::bytes() const {
   std::size_t b = 0;
   for (const gl::Texture* tex : {&ice_, &water_, &occupancy_tex_, &column_depth_, &zero_, &terrain_tex_,
-                                 &far_terrain_tex_, &controls_, &zero_rgba_, &correction_, &packed_, &wind_})
+                                 &far_terrain_tex_, &controls_, &zero_rgba_, &columns_, &packed_, &wind_})
     b += tex->bytes();
   return b;
 }
@@ -383,7 +409,7 @@ void VolumeTextures::bind() const {
   glBindTextureUnit(gl::binding::UNIT_FAR_TERRAIN, far_terrain_tex_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_CONTROLS, controls_ ? controls_.id() : zero_rgba_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_NOISE, noise_ ? noise_->texture().id() : zero_rgba_.id());
-  glBindTextureUnit(gl::binding::UNIT_DETAIL_CORRECTION, correction_.id());
+  glBindTextureUnit(gl::binding::UNIT_COLUMNS, columns_.id());
   glBindTextureUnit(gl::binding::UNIT_DETAIL_WIND, wind_ ? wind_.id() : zero_.id());  // no wind: calm
   glBindTextureUnit(gl::binding::UNIT_PACKED_VOLUME, packed_ ? packed_.id() : zero_rgba_.id());
   block_.bind();

@@ -78,14 +78,16 @@ class VolumeTextures {
   bool hasDetailWind() const { return bool(wind_); }
   bool hasIce() const { return has_ice_; }
   /// The packed texture of the eye pass (issue 19 item 3; glsl/render/clouds.comp packedAt): one
-  /// RGBA16F texel per voxel holding (β_ice, β_water) in units of packedBetaUnit_per_m() and the
-  /// column depths (τ_up, τ_down), GL_LINEAR, GL_CLAMP_TO_EDGE, so a view-ray step is one fetch.
+  /// RG16F texel per voxel holding (β_ice, β_water) in units of packedBetaUnit_per_m(), GL_LINEAR,
+  /// GL_CLAMP_TO_EDGE, beside the column depth τ_up (R16F, or the separate RG16F (τ_up, T)) and
+  /// the column totals T (UNIT_COLUMNS): 6 bytes per voxel.
   /// Built for the trilinear filter without sub-grid detail only (the cubic B-spline reads the zero
   /// border, the detail displaces its fetches): otherwise the separate textures serve.
   bool hasPacked() const { return bool(packed_); }
   float packedBetaUnit_per_m() const { return packed_beta_unit_per_m_; }
-  /// The packed texture's texels as half bits, (β_ice, β_water, τ_up, τ_down) per voxel in
-  /// ExtinctionVolumes::index order; empty without it (tests: a layered upload against a float one).
+  /// The packed texture's texels as half bits: (β_ice, β_water) per voxel in ExtinctionVolumes::index
+  /// order, then τ_up per voxel, then T per column; empty without it (tests: a layered upload
+  /// against a float one).
   std::vector<std::uint16_t> readBackPacked() const;
   /// β as the passes read it, back from the GPU: the separate float textures where they exist,
   /// else the packed texture's half floats × its unit, a layer at a time; on the frame's grid
@@ -94,7 +96,7 @@ class VolumeTextures {
   ExtinctionVolumes readBackExtinction() const;
   bool hasWater() const { return has_water_; }
   /// The separate R32F ice and water textures exist (VolumeStorage; the cubic filter, the detail).
-  bool hasSeparateTextures() const { return bool(column_depth_); }
+  bool hasSeparateTextures() const { return separate_; }
   /// Bytes of the GL textures this upload allocated (gl::Texture::bytes; not the shared noise tile).
   std::size_t bytes() const;
   /// World AABB of the non-empty voxels grown by the filter's reach (1 voxel trilinear, 2 cubic);
@@ -106,8 +108,9 @@ class VolumeTextures {
 
   /// Binds the textures to units UNIT_ICE_PER_M, UNIT_WATER_PER_M, UNIT_OCCUPANCY_PER_M and
   /// UNIT_COLUMN_DEPTH (the sky light's column optical depths, volume/column_depth.h),
-  /// UNIT_DETAIL_CONTROLS, UNIT_DETAIL_NOISE (1-texel zeros without detail), UNIT_DETAIL_CORRECTION
-  /// (the per-column mass correction, 1 texel of 1 without detail), UNIT_DETAIL_WIND (the wind
+  /// UNIT_DETAIL_CONTROLS, UNIT_DETAIL_NOISE (1-texel zeros without detail), UNIT_COLUMNS
+  /// (per model column the detail's mass correction, 1 without detail, and the total optical depth
+  /// T), UNIT_DETAIL_WIND (the wind
   /// advecting the noise, RG32F; a 1-texel zero without detail or without U, V) and the
   /// VolumeBlock of glsl/dlm/volume.glsl to UBO_VOLUME (render/gl/bindings.h), for every program,
   /// and the terrain heights (R32F, one texel per mass point, 1×1 zero without terrain) to
@@ -122,10 +125,10 @@ class VolumeTextures {
 
  private:
   gl::Texture ice_, water_, occupancy_tex_, column_depth_, zero_, terrain_tex_, far_terrain_tex_, controls_, zero_rgba_,
-      correction_, wind_;
+      columns_, wind_;
   gl::Texture packed_;
   float packed_beta_unit_per_m_ = 0.0f;
-  bool has_ice_ = false, has_water_ = false;
+  bool has_ice_ = false, has_water_ = false, separate_ = false;
   volume::TerrainField terrain_;
   std::shared_ptr<const NoiseTexture> noise_;
   volume::DetailParameters detail_;

@@ -27,7 +27,7 @@
   X(UNIT_OCCUPANCY_PER_M, 2)    /* sampler3D: max β per occupancy brick [1/m] */                \
   X(UNIT_DETAIL_CONTROLS, 16)   /* sampler3D: RGBA8 sub-grid detail controls (volume/detail.h) */ \
   X(UNIT_DETAIL_NOISE, 17)      /* sampler3D: RGBA8 periodic noise tile (volume/noise.h) */     \
-  X(UNIT_DETAIL_CORRECTION, 18) /* sampler2D: R32F per-column mass correction (volume/detail.h) */ \
+  X(UNIT_COLUMNS, 18)           /* sampler2D: RG32F per model column: detail mass correction (volume/detail.h), total τ T */ \
   X(UNIT_DETAIL_WIND, 31)       /* sampler3D: RG32F horizontal wind advecting the noise (volume/detail.h) */ \
   X(IMAGE_DETAIL_NOISE, 0)      /* image3D rgba8, written once by glsl/render/noise.comp */     \
   X(IMAGE_DETAIL_MASS, 0)       /* image2D rg32f: half-column masses (detail_mass.comp) */      \
@@ -48,7 +48,7 @@
   X(SSBO_DLM_RETRY_ARGS, 8)     /* uint[3·D]: indirect dispatch of the overflow rule's retries (issue 19) */ \
   X(IMAGE_LIGHT_CACHE, 0)       /* image3D r16f: the map's sunlight baked per world cell (light_cache.comp) */ \
   X(UNIT_LIGHT_CACHE, 19)       /* sampler3D: the same, read by the eye pass (issue 19) */      \
-  X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RGBA16F (β_ice, β_water, τ_up, τ_down): eye pass; all passes when packed only (issue 19) */ \
+  X(UNIT_PACKED_VOLUME, 20)     /* sampler3D: RG16F (β_ice, β_water): eye pass; all passes when packed only (issue 19) */ \
   /* Monte Carlo radiance volume, glsl/dlm/radiance_volume*.comp (render/dlm/radiance_volume.cpp) */ \
   X(SSBO_MC_TALLY, 4)           /* uint[]: fixed-point SH tallies, (low, high) words per moment */ \
   X(SSBO_MC_STATS, 5)           /* uint[8]: collided, collisions, rouletted, cut, clamped, paused, cut short */ \
@@ -62,7 +62,7 @@
   X(UNIT_HOST_DEPTH, 7)         /* sampler2D: the host's depth buffer [0, 1] */                 \
   X(UNIT_GLOBE_WORLD_XY, 8)     /* sampler2D: RG32F world x, y per rotated lon/lat */           \
   X(UNIT_GLOBE_BASEMAP, 9)      /* sampler2D: equirectangular basemap, linear RGB */            \
-  X(UNIT_COLUMN_DEPTH, 14)      /* sampler3D: RG16F vertical τ above, below (volume/column_depth.h) */ \
+  X(UNIT_COLUMN_DEPTH, 14)      /* sampler3D: vertical τ above: R16F (packed only) or RG16F (τ_up, T) (volume/column_depth.h) */ \
   X(UBO_TERRAIN, 5)             /* TerrainBlock (render/gl/uniform_blocks.h) */                 \
   X(UNIT_TERRAIN, 15)           /* sampler2D: R32F terrain height [m] per mass point (issue 14) */ \
   X(UNIT_FAR_TERRAIN, 21)       /* sampler2D: R32F far terrain height [m], a user DEM beyond the domain */ \
